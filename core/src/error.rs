@@ -1,0 +1,244 @@
+//! Error types of `neurotac-core`, one enum per concern, chained into [`CoreError`].
+//!
+//! Build-time problems (a wrong shape, a dangling id) are [`GraphError`]s returned by
+//! [`NetworkBuilder`](crate::NetworkBuilder) methods and `build()`; nothing in a built network's
+//! run loop can fail on shapes.
+
+use std::path::PathBuf;
+use thiserror::Error;
+
+/// Invalid spike times or spike-train layout.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum SpikeError {
+    /// A time is NaN or infinite.
+    #[error("channel {channel}, spike {index}: time {value} is not finite")]
+    NonFinite {
+        /// Channel (0 for a single train).
+        channel: usize,
+        /// Position within the channel (or within the input list).
+        index: usize,
+        /// The offending value.
+        value: f64,
+    },
+    /// A time is smaller than the one before it in the same channel.
+    #[error("channel {channel}, spike {index}: times not sorted ({value} s after {previous} s)")]
+    Unsorted {
+        /// Channel (0 for a single train).
+        channel: usize,
+        /// Position within the channel.
+        index: usize,
+        /// The time before it.
+        previous: f64,
+        /// The offending time.
+        value: f64,
+    },
+    /// A spike names a channel that does not exist.
+    #[error("spike on channel {channel}, but there are only {n_channels} channels")]
+    ChannelOutOfRange {
+        /// The channel named.
+        channel: usize,
+        /// Number of channels.
+        n_channels: usize,
+    },
+    /// CSR offsets that do not describe the time buffer.
+    #[error(
+        "invalid CSR offsets for {n_times} times: must start at 0, never decrease and end at {n_times}"
+    )]
+    InvalidOffsets {
+        /// Length of the time buffer.
+        n_times: usize,
+    },
+    /// A time window with NaN bounds or start after end.
+    #[error("invalid time window [{start_s}, {end_s}) s")]
+    InvalidWindow {
+        /// Window start (s).
+        start_s: f64,
+        /// Window end (s).
+        end_s: f64,
+    },
+}
+
+/// A spike dataset that cannot be read, written or is inconsistent.
+#[derive(Debug, Error)]
+pub enum DatasetError {
+    /// The file could not be opened, read or written.
+    #[error("{path}: {source}")]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The I/O error.
+        source: std::io::Error,
+    },
+    /// The JSON text is malformed or does not have the dataset's shape.
+    #[error("{path}: invalid spike-dataset JSON: {source}")]
+    Json {
+        /// The file.
+        path: PathBuf,
+        /// The parser's error, with line and column.
+        source: serde_json::Error,
+    },
+    /// The compact binary form is corrupt or truncated.
+    #[error("{path}: byte {offset}: {what}")]
+    Binary {
+        /// The file.
+        path: PathBuf,
+        /// Byte offset where decoding failed.
+        offset: usize,
+        /// What was wrong there.
+        what: String,
+    },
+    /// An observation's spike trains are invalid.
+    #[error("observation {observation}: {source}")]
+    Spikes {
+        /// Index of the observation.
+        observation: usize,
+        /// The spike error.
+        source: SpikeError,
+    },
+    /// `labels` and `observations` differ in length.
+    #[error("{labels} labels for {observations} observations")]
+    LabelCount {
+        /// Number of labels.
+        labels: usize,
+        /// Number of observations.
+        observations: usize,
+    },
+    /// A label has no class name.
+    #[error("observation {observation}: label {label} but only {n_classes} class names")]
+    LabelOutOfRange {
+        /// Index of the observation.
+        observation: usize,
+        /// The label.
+        label: usize,
+        /// Number of class names.
+        n_classes: usize,
+    },
+    /// Observations with different channel counts.
+    #[error("observation {observation} has {got} channels, observation 0 has {expected}")]
+    ChannelCount {
+        /// Index of the observation.
+        observation: usize,
+        /// Channels of observation 0.
+        expected: usize,
+        /// Channels of this observation.
+        got: usize,
+    },
+}
+
+/// A network that cannot be built as described.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum GraphError {
+    /// A node id that this builder did not hand out.
+    #[error("unknown node id {0}")]
+    UnknownNode(usize),
+    /// A projection id that this builder did not hand out.
+    #[error("unknown projection id {0}")]
+    UnknownProjection(usize),
+    /// The node cannot play the role asked of it (e.g. a current source as a spike source).
+    #[error("node '{node}' is a {kind}, which cannot be {role}")]
+    WrongRole {
+        /// Node name.
+        node: String,
+        /// What the node is.
+        kind: &'static str,
+        /// What was asked of it.
+        role: &'static str,
+    },
+    /// Sizes that do not match (e.g. a one-to-one projection between 49 and 48 neurons).
+    #[error("{what}: expected {expected}, got {got}")]
+    SizeMismatch {
+        /// What was being connected.
+        what: String,
+        /// Expected size.
+        expected: usize,
+        /// Given size.
+        got: usize,
+    },
+    /// An explicit synapse names a neuron outside its population.
+    #[error("{what}: synapse {index} names neuron {neuron}, but the population has {size}")]
+    IndexOutOfRange {
+        /// Which side and projection.
+        what: String,
+        /// Position in the synapse list.
+        index: usize,
+        /// The neuron named.
+        neuron: usize,
+        /// The population size.
+        size: usize,
+    },
+    /// A parameter outside its domain (non-finite weight, τ ≤ 0, dt ≤ 0, rate < 0 …).
+    #[error("{what} = {value}: {expected}")]
+    InvalidParameter {
+        /// Parameter name, with its owner.
+        what: String,
+        /// The value given.
+        value: f64,
+        /// What is allowed.
+        expected: &'static str,
+    },
+    /// A neuron model refused its parameters or the time step.
+    #[error("population '{population}': {source}")]
+    Model {
+        /// Population name.
+        population: String,
+        /// The model's error.
+        source: ModelError,
+    },
+    /// Two nodes with the same name.
+    #[error("duplicate node name '{0}'")]
+    DuplicateName(String),
+}
+
+/// A neuron model that rejects its parameters, integrator or time step.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum ModelError {
+    /// A parameter outside its domain.
+    #[error("{model}: parameter {field} = {value}: {expected}")]
+    InvalidParameter {
+        /// Model name.
+        model: &'static str,
+        /// Parameter name.
+        field: &'static str,
+        /// The value given.
+        value: f64,
+        /// What is allowed.
+        expected: &'static str,
+    },
+    /// The model has no implementation of this integrator.
+    #[error("{model} does not support the {integrator} integrator (supported: {supported})")]
+    UnsupportedIntegrator {
+        /// Model name.
+        model: &'static str,
+        /// Integrator asked for.
+        integrator: &'static str,
+        /// Integrators it supports.
+        supported: &'static str,
+    },
+    /// A state variable name the model does not have.
+    #[error("{model} has no state variable '{name}' (has: {available})")]
+    UnknownVariable {
+        /// Model name.
+        model: &'static str,
+        /// Variable asked for.
+        name: String,
+        /// Variables it has.
+        available: String,
+    },
+}
+
+/// Any error of `neurotac-core`.
+#[derive(Debug, Error)]
+pub enum CoreError {
+    /// See [`SpikeError`].
+    #[error(transparent)]
+    Spike(#[from] SpikeError),
+    /// See [`DatasetError`].
+    #[error(transparent)]
+    Dataset(#[from] DatasetError),
+    /// See [`GraphError`].
+    #[error(transparent)]
+    Graph(#[from] GraphError),
+    /// See [`ModelError`].
+    #[error(transparent)]
+    Model(#[from] ModelError),
+}

@@ -1,0 +1,314 @@
+//! Input nodes: spike sources ([`SpikeSource`]: [`SpikeArrayInput`], [`PoissonInput`]) and
+//! current sources ([`CurrentInput`]).
+
+use crate::error::GraphError;
+use crate::model::SpikeBuffer;
+use crate::spikes::MultiSpikeTrain;
+use rand::{RngExt, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+/// A node that emits spikes every step (taxel spike arrays, Poisson generators, user sources).
+pub trait SpikeSource: Send {
+    /// Number of channels.
+    fn len(&self) -> usize;
+
+    /// `true` for a source without channels.
+    fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Precomputes what depends on the time step; called once at build for needed sources.
+    fn prepare(&mut self, dt_s: f64) -> Result<(), GraphError>;
+
+    /// Rewinds to step 0 (as right after `prepare`).
+    fn reset(&mut self);
+
+    /// Pushes the spikes of step `step` (covering `[step·dt, (step+1)·dt)`) into `out`.
+    fn emit(&mut self, step: u64, out: &mut SpikeBuffer);
+}
+
+/// Tolerance on `t/dt` when assigning a spike time to a step: 0.3 s / 0.1 s evaluates to
+/// 2.9999999999999996 and must land in step 3.
+const STEP_EPS: f64 = 1e-9;
+
+/// Replays recorded spike trains (e.g. the 49 taxel trains of one slide) into the network.
+///
+/// A spike at time `t` is emitted in step `k = ⌊t/dt + 10⁻⁹⌋`, with in-step fraction
+/// `(t − k·dt)/dt`; spikes at negative times are never emitted.
+#[derive(Debug, Clone)]
+pub struct SpikeArrayInput {
+    trains: MultiSpikeTrain,
+    /// `(step, channel, fraction)` in emission order, built by `prepare`.
+    schedule: Vec<(u64, u32, f64)>,
+    cursor: usize,
+}
+
+impl SpikeArrayInput {
+    /// A source replaying `trains` (one channel per output neuron).
+    pub fn new(trains: MultiSpikeTrain) -> Self {
+        Self {
+            trains,
+            schedule: Vec::new(),
+            cursor: 0,
+        }
+    }
+
+    /// The trains being replayed.
+    pub fn trains(&self) -> &MultiSpikeTrain {
+        &self.trains
+    }
+}
+
+impl SpikeSource for SpikeArrayInput {
+    fn len(&self) -> usize {
+        self.trains.n_channels()
+    }
+
+    fn prepare(&mut self, dt_s: f64) -> Result<(), GraphError> {
+        self.schedule.clear();
+        for (c, t) in self.trains.pooled_with_channels() {
+            if t < 0.0 {
+                continue;
+            }
+            let k = (t / dt_s + STEP_EPS).floor();
+            let phi = ((t - k * dt_s) / dt_s).clamp(0.0, 1.0);
+            self.schedule.push((k as u64, c, phi));
+        }
+        self.cursor = 0;
+        Ok(())
+    }
+
+    fn reset(&mut self) {
+        self.cursor = 0;
+    }
+
+    fn emit(&mut self, step: u64, out: &mut SpikeBuffer) {
+        // Skip anything scheduled before `step` (e.g. when a run starts late); emit this step's.
+        while let Some(&(k, c, phi)) = self.schedule.get(self.cursor) {
+            if k > step {
+                break;
+            }
+            if k == step {
+                out.push_at(c, phi);
+            }
+            self.cursor += 1;
+        }
+    }
+}
+
+/// Independent Poisson spike generators, one per channel, at `rate_hz` each.
+///
+/// Each step, each channel spikes with probability `p = rate·dt` (a Bernoulli approximation of
+/// a Poisson process, exact as `dt → 0`; `rate·dt ≤ 1` is required). Spikes are stamped at the
+/// start of the step. The stream is a pure function of `seed` (ChaCha8), so runs repeat bit for
+/// bit.
+#[derive(Debug, Clone)]
+pub struct PoissonInput {
+    n: usize,
+    rate_hz: f64,
+    seed: u64,
+    p: f64,
+    rng: ChaCha8Rng,
+}
+
+impl PoissonInput {
+    /// `n` channels firing at `rate_hz`, drawn from the generator seeded with `seed`.
+    pub fn new(n: usize, rate_hz: f64, seed: u64) -> Self {
+        Self {
+            n,
+            rate_hz,
+            seed,
+            p: 0.0,
+            rng: ChaCha8Rng::seed_from_u64(seed),
+        }
+    }
+}
+
+impl SpikeSource for PoissonInput {
+    fn len(&self) -> usize {
+        self.n
+    }
+
+    fn prepare(&mut self, dt_s: f64) -> Result<(), GraphError> {
+        let p = self.rate_hz * dt_s;
+        if !(self.rate_hz.is_finite() && self.rate_hz >= 0.0 && p <= 1.0) {
+            return Err(GraphError::InvalidParameter {
+                what: "PoissonInput rate_hz".into(),
+                value: self.rate_hz,
+                expected: "finite, ≥ 0 and ≤ 1/dt",
+            });
+        }
+        self.p = p;
+        self.reset();
+        Ok(())
+    }
+
+    fn reset(&mut self) {
+        self.rng = ChaCha8Rng::seed_from_u64(self.seed);
+    }
+
+    fn emit(&mut self, _step: u64, out: &mut SpikeBuffer) {
+        for i in 0..self.n {
+            if self.rng.random::<f64>() < self.p {
+                out.push_at(i as u32, 0.0);
+            }
+        }
+    }
+}
+
+/// A current injected directly into a population (no synapse), in the model's input units.
+#[derive(Debug, Clone, PartialEq)]
+pub enum CurrentInput {
+    /// A constant current per neuron (one value is broadcast to every neuron).
+    Constant {
+        /// Amplitudes, one per neuron or a single one.
+        amplitude: Vec<f64>,
+    },
+    /// A piecewise-constant current shared by all neurons: 0 until the first change, then the
+    /// amplitude of the latest change whose time `≤ t_k` (the step's start time).
+    Steps {
+        /// Number of neurons it feeds (1 = broadcast).
+        size: usize,
+        /// `(time_s, amplitude)` changes, sorted by time.
+        changes: Vec<(f64, f64)>,
+    },
+}
+
+impl CurrentInput {
+    /// A constant `amplitude` for any population (broadcast).
+    pub fn constant(amplitude: f64) -> Self {
+        CurrentInput::Constant {
+            amplitude: vec![amplitude],
+        }
+    }
+
+    /// Number of neurons this source defines (1 means broadcast).
+    pub fn len(&self) -> usize {
+        match self {
+            CurrentInput::Constant { amplitude } => amplitude.len(),
+            CurrentInput::Steps { size, .. } => *size,
+        }
+    }
+
+    /// `true` when the source defines no neuron.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    pub(crate) fn validate(&self, name: &str) -> Result<(), GraphError> {
+        let bad = |value: f64, expected| GraphError::InvalidParameter {
+            what: format!("current input '{name}'"),
+            value,
+            expected,
+        };
+        match self {
+            CurrentInput::Constant { amplitude } => {
+                if let Some(&a) = amplitude.iter().find(|a| !a.is_finite()) {
+                    return Err(bad(a, "finite amplitudes"));
+                }
+            }
+            CurrentInput::Steps { changes, .. } => {
+                let mut last = f64::NEG_INFINITY;
+                for &(t, a) in changes {
+                    if !t.is_finite() || t < last {
+                        return Err(bad(t, "finite change times in increasing order"));
+                    }
+                    if !a.is_finite() {
+                        return Err(bad(a, "finite amplitudes"));
+                    }
+                    last = t;
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Adds this source's current at step start time `t_s` into `out` (one entry per neuron).
+    pub(crate) fn add_into(&self, t_s: f64, out: &mut [f64]) {
+        match self {
+            CurrentInput::Constant { amplitude } if amplitude.len() == 1 => {
+                let a = amplitude[0];
+                out.iter_mut().for_each(|o| *o += a);
+            }
+            CurrentInput::Constant { amplitude } => {
+                out.iter_mut().zip(amplitude).for_each(|(o, a)| *o += a);
+            }
+            CurrentInput::Steps { changes, .. } => {
+                let k = changes.partition_point(|&(tc, _)| tc <= t_s + STEP_EPS * 1e-3);
+                if k > 0 {
+                    let a = changes[k - 1].1;
+                    out.iter_mut().for_each(|o| *o += a);
+                }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn spike_array_lands_each_spike_in_the_step_that_contains_it() {
+        let trains = MultiSpikeTrain::from_channels(vec![vec![0.0, 0.3], vec![0.25, 0.3]]).unwrap();
+        let mut src = SpikeArrayInput::new(trains);
+        src.prepare(0.1).unwrap();
+        let mut seen = Vec::new();
+        for k in 0..5 {
+            let mut b = SpikeBuffer::new();
+            src.emit(k, &mut b);
+            for (&i, &phi) in b.indices().iter().zip(b.fractions()) {
+                seen.push((k, i, (phi * 1e6).round() / 1e6));
+            }
+        }
+        assert_eq!(
+            seen,
+            vec![(0, 0, 0.0), (2, 1, 0.5), (3, 0, 0.0), (3, 1, 0.0)]
+        );
+    }
+
+    #[test]
+    fn poisson_is_seeded_and_has_the_asked_rate() {
+        let run = |seed| {
+            let mut src = PoissonInput::new(100, 50.0, seed);
+            src.prepare(1e-3).unwrap();
+            let mut total = Vec::new();
+            for k in 0..1000 {
+                let mut b = SpikeBuffer::new();
+                src.emit(k, &mut b);
+                total.extend_from_slice(b.indices());
+            }
+            total
+        };
+        let (a, b, c) = (run(7), run(7), run(8));
+        assert_eq!(a, b);
+        assert_ne!(a, c);
+        // 100 channels × 1 s × 50 Hz = 5000 expected; 5 σ ≈ 350.
+        assert!((a.len() as f64 - 5000.0).abs() < 350.0, "{}", a.len());
+        assert!(PoissonInput::new(1, 2000.0, 0).prepare(1e-3).is_err());
+        assert!(PoissonInput::new(1, f64::NAN, 0).prepare(1e-3).is_err());
+    }
+
+    #[test]
+    fn step_current_switches_at_its_change_times() {
+        let c = CurrentInput::Steps {
+            size: 1,
+            changes: vec![(0.1, 2.0), (0.2, -1.0)],
+        };
+        let at = |t| {
+            let mut o = [0.0];
+            c.add_into(t, &mut o);
+            o[0]
+        };
+        assert_eq!(
+            (at(0.0), at(0.1), at(0.15), at(0.2), at(5.0)),
+            (0.0, 2.0, 2.0, -1.0, -1.0)
+        );
+        assert!(CurrentInput::constant(f64::INFINITY).validate("x").is_err());
+        let unsorted = CurrentInput::Steps {
+            size: 1,
+            changes: vec![(0.2, 1.0), (0.1, 1.0)],
+        };
+        assert!(unsorted.validate("x").is_err());
+    }
+}

@@ -1,0 +1,476 @@
+use super::*;
+use crate::{ModelError, MultiSpikeTrain};
+use std::sync::Arc;
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+/// Spikes whenever its input exceeds `threshold`; its one variable `x` is the last input.
+/// Counts `prepare` and `step` calls so tests can see what the network instantiates.
+struct Probe {
+    n: usize,
+    threshold: f64,
+    x: Vec<f64>,
+    prepared: Arc<AtomicUsize>,
+    stepped: Arc<AtomicUsize>,
+}
+
+impl Probe {
+    fn new(n: usize) -> (Self, Arc<AtomicUsize>, Arc<AtomicUsize>) {
+        let (p, s) = (Arc::new(AtomicUsize::new(0)), Arc::new(AtomicUsize::new(0)));
+        (
+            Self {
+                n,
+                threshold: 0.5,
+                x: Vec::new(),
+                prepared: p.clone(),
+                stepped: s.clone(),
+            },
+            p,
+            s,
+        )
+    }
+}
+
+impl NeuronModel for Probe {
+    fn model_name(&self) -> &'static str {
+        "probe"
+    }
+    fn len(&self) -> usize {
+        self.n
+    }
+    fn variables(&self) -> &'static [&'static str] {
+        &["x"]
+    }
+    fn prepare(&mut self, _dt_s: f64) -> Result<(), ModelError> {
+        if !self.threshold.is_finite() {
+            return Err(ModelError::InvalidParameter {
+                model: "probe",
+                field: "threshold",
+                value: self.threshold,
+                expected: "finite",
+            });
+        }
+        self.prepared.fetch_add(1, Ordering::Relaxed);
+        self.x = vec![0.0; self.n];
+        Ok(())
+    }
+    fn reset(&mut self) {
+        self.x.iter_mut().for_each(|x| *x = 0.0);
+    }
+    fn step(&mut self, current: &[f64], spikes: &mut SpikeBuffer) {
+        self.stepped.fetch_add(1, Ordering::Relaxed);
+        for (i, (&c, x)) in current.iter().zip(&mut self.x).enumerate() {
+            *x = c;
+            if c > self.threshold {
+                spikes.push(i as u32);
+            }
+        }
+    }
+    fn read_variable(&self, _var: usize, neurons: &[u32], out: &mut Vec<f64>) {
+        out.extend(neurons.iter().map(|&i| self.x[i as usize]));
+    }
+}
+
+fn trains(channels: Vec<Vec<f64>>) -> SpikeArrayInput {
+    SpikeArrayInput::new(MultiSpikeTrain::from_channels(channels).unwrap())
+}
+
+#[test]
+fn unreferenced_population_is_never_prepared_or_stepped() {
+    let mut b = NetworkBuilder::new();
+    let input = b
+        .add_spike_input("taxels", trains(vec![vec![0.001]; 3]))
+        .unwrap();
+    let (used, used_prepared, used_stepped) = Probe::new(3);
+    let (unused, unused_prepared, unused_stepped) = Probe::new(1_000_000);
+    let used = b.add_population("used", used).unwrap();
+    let unused = b.add_population("unused", unused).unwrap();
+    let syn = ExpSynapse::new(1e-3).with_delay(0);
+    b.connect(input, used, Connectivity::OneToOne { weight: 1.0 }, syn)
+        .unwrap();
+    // The unused population is even fed by the used one and by a current: still never needed.
+    b.connect(
+        used,
+        unused,
+        Connectivity::AllToAll { weight: 1.0 },
+        ExpSynapse::new(1e-3),
+    )
+    .unwrap();
+    let drive = b
+        .add_current_input("drive", CurrentInput::constant(2.0))
+        .unwrap();
+    b.inject(drive, unused).unwrap();
+    let rec = b.record_spikes(used).unwrap();
+    let mut net = b.build(NetworkConfig { dt_s: 1e-3 }).unwrap();
+    net.run(0.01).unwrap();
+    assert_eq!(used_prepared.load(Ordering::Relaxed), 1);
+    assert_eq!(used_stepped.load(Ordering::Relaxed), 10);
+    assert_eq!(
+        unused_prepared.load(Ordering::Relaxed),
+        0,
+        "pruned population was prepared"
+    );
+    assert_eq!(
+        unused_stepped.load(Ordering::Relaxed),
+        0,
+        "pruned population was stepped"
+    );
+    assert!(net.is_active(used) && !net.is_active(unused));
+    assert_eq!(
+        net.pruned_nodes(),
+        &["unused".to_string(), "drive".to_string()]
+    );
+    assert_eq!(
+        net.n_synapses(),
+        3,
+        "the pruned all-to-all projection is not compiled"
+    );
+    assert_eq!(net.readout(rec).counts(), vec![1, 1, 1]);
+}
+
+#[test]
+fn a_network_without_readouts_models_nothing() {
+    let mut b = NetworkBuilder::new();
+    let (p, prepared, _) = Probe::new(10);
+    b.add_population("p", p).unwrap();
+    let mut net = b.build(NetworkConfig::default()).unwrap();
+    net.run(1.0).unwrap();
+    assert_eq!(prepared.load(Ordering::Relaxed), 0);
+}
+
+#[test]
+fn builder_rejects_wrong_shapes_roles_and_parameters() {
+    let mut b = NetworkBuilder::new();
+    let input = b.add_spike_input("in", trains(vec![vec![]; 49])).unwrap();
+    let pop = b.add_population("pop", Probe::new(48).0).unwrap();
+    let cur = b
+        .add_current_input(
+            "cur",
+            CurrentInput::Constant {
+                amplitude: vec![1.0; 3],
+            },
+        )
+        .unwrap();
+    let syn = ExpSynapse::new(5e-3);
+    let e = b
+        .connect(input, pop, Connectivity::OneToOne { weight: 1.0 }, syn)
+        .unwrap_err();
+    assert!(
+        matches!(
+            e,
+            GraphError::SizeMismatch {
+                expected: 49,
+                got: 48,
+                ..
+            }
+        ),
+        "{e}"
+    );
+    assert!(e.to_string().contains("'in' → 'pop'"), "{e}");
+    let e = b
+        .connect(cur, pop, Connectivity::AllToAll { weight: 1.0 }, syn)
+        .unwrap_err();
+    assert!(
+        matches!(
+            e,
+            GraphError::WrongRole {
+                kind: "current source",
+                ..
+            }
+        ),
+        "{e}"
+    );
+    assert!(matches!(
+        b.connect(pop, input, Connectivity::AllToAll { weight: 1.0 }, syn),
+        Err(GraphError::WrongRole { .. })
+    ));
+    assert!(matches!(
+        b.inject(cur, pop),
+        Err(GraphError::SizeMismatch {
+            expected: 48,
+            got: 3,
+            ..
+        })
+    ));
+    assert!(matches!(
+        b.connect(NodeId(99), pop, Connectivity::AllToAll { weight: 1.0 }, syn),
+        Err(GraphError::UnknownNode(99))
+    ));
+    assert!(matches!(
+        b.connect(
+            pop,
+            pop,
+            Connectivity::AllToAll { weight: 1.0 },
+            ExpSynapse::new(5e-3).with_delay(0)
+        ),
+        Err(GraphError::InvalidParameter { .. })
+    ));
+    for tau in [0.0, -1.0, f64::NAN, f64::INFINITY] {
+        assert!(
+            b.connect(
+                input,
+                pop,
+                Connectivity::AllToAll { weight: 1.0 },
+                ExpSynapse::new(tau)
+            )
+            .is_err()
+        );
+    }
+    assert!(
+        b.connect(input, pop, Connectivity::AllToAll { weight: f64::NAN }, syn)
+            .is_err()
+    );
+    let e = b
+        .connect(
+            input,
+            pop,
+            Connectivity::Sparse(vec![Synapse {
+                pre: 0,
+                post: 48,
+                weight: 1.0,
+            }]),
+            syn,
+        )
+        .unwrap_err();
+    assert!(
+        matches!(
+            e,
+            GraphError::IndexOutOfRange {
+                index: 0,
+                neuron: 48,
+                size: 48,
+                ..
+            }
+        ),
+        "{e}"
+    );
+    assert!(
+        b.connect(
+            input,
+            pop,
+            Connectivity::Random {
+                probability: 1.5,
+                weight: 1.0,
+                seed: 0
+            },
+            syn
+        )
+        .is_err()
+    );
+    assert!(matches!(
+        b.add_population("pop", Probe::new(1).0),
+        Err(GraphError::DuplicateName(_))
+    ));
+    let e = b.record_state(pop, "v", None, 1).unwrap_err();
+    assert!(
+        e.to_string().contains("no state variable 'v' (has: x)"),
+        "{e}"
+    );
+    assert!(matches!(
+        b.record_state(pop, "x", Some(vec![48]), 1),
+        Err(GraphError::IndexOutOfRange { .. })
+    ));
+    assert!(matches!(
+        b.record_spikes(cur),
+        Err(GraphError::WrongRole { .. })
+    ));
+    assert!(matches!(
+        b.record_synaptic_trace(ProjectionId(7), None),
+        Err(GraphError::UnknownProjection(7))
+    ));
+    assert!(
+        b.add_current_input("nan", CurrentInput::constant(f64::NAN))
+            .is_err()
+    );
+    b.record_spikes(pop).unwrap();
+    for dt in [0.0, -1e-3, f64::NAN] {
+        let mut b = NetworkBuilder::new();
+        let p = b.add_population("p", Probe::new(1).0).unwrap();
+        b.record_spikes(p).unwrap();
+        assert!(matches!(
+            b.build(NetworkConfig { dt_s: dt }),
+            Err(GraphError::InvalidParameter { .. })
+        ));
+    }
+    // A model's own validation surfaces at build with the population's name.
+    let mut b = NetworkBuilder::new();
+    let (mut bad, _, _) = Probe::new(1);
+    bad.threshold = f64::NAN;
+    let p = b.add_population("afferents", bad).unwrap();
+    b.record_spikes(p).unwrap();
+    let e = b.build(NetworkConfig::default()).err().unwrap();
+    assert!(
+        e.to_string()
+            .starts_with("population 'afferents': probe: parameter threshold"),
+        "{e}"
+    );
+}
+
+#[test]
+fn spikes_arrive_after_their_delay_and_decay_exactly() {
+    let dt = 1e-3;
+    let mut b = NetworkBuilder::new();
+    let input = b.add_spike_input("in", trains(vec![vec![0.0105]])).unwrap();
+    let pop = b.add_population("pop", Probe::new(1).0).unwrap();
+    let proj = b
+        .connect(
+            input,
+            pop,
+            Connectivity::OneToOne { weight: 2.0 },
+            ExpSynapse::new(4e-3).with_delay(3),
+        )
+        .unwrap();
+    let trace = b.record_synaptic_trace(proj, None).unwrap();
+    let state = b.record_state(pop, "x", None, 1).unwrap();
+    let input_spikes = b.record_spikes(input).unwrap();
+    let mut net = b.build(NetworkConfig { dt_s: dt }).unwrap();
+    net.run(0.02).unwrap();
+    let tr = net.readout(trace);
+    assert_eq!(tr.times().len(), 20);
+    let trace = tr.trace(0);
+    // Emitted in step 10 (t = 10.5 ms lies in [10, 11) ms), delivered 3 steps later.
+    assert!(trace[..13].iter().all(|&x| x == 0.0));
+    for (k, &x) in trace.iter().enumerate().skip(13) {
+        let expected = 2.0 * (-((k - 13) as f64) * dt / 4e-3).exp();
+        assert!((x - expected).abs() < 1e-12, "step {k}: {x} vs {expected}");
+    }
+    // The population integrates the current of the same step; its state is sampled at step end.
+    let st = net.readout(state);
+    assert_eq!(st.trace(0), trace);
+    assert!((st.times()[13] - 0.014).abs() < 1e-15);
+    // A spike source's recorded spike keeps its own time.
+    assert_eq!(net.readout(input_spikes).spikes(), &[(0, 0.0105)]);
+}
+
+#[test]
+fn population_to_population_delay_counts_from_the_emitting_step() {
+    let mut b = NetworkBuilder::new();
+    let input = b.add_spike_input("in", trains(vec![vec![0.0]])).unwrap();
+    let a = b.add_population("a", Probe::new(1).0).unwrap();
+    let c = b.add_population("c", Probe::new(1).0).unwrap();
+    let syn0 = ExpSynapse::new(1e-6).with_delay(0);
+    b.connect(input, a, Connectivity::OneToOne { weight: 1.0 }, syn0)
+        .unwrap();
+    b.connect(
+        a,
+        c,
+        Connectivity::OneToOne { weight: 1.0 },
+        ExpSynapse::new(1e-6).with_delay(2),
+    )
+    .unwrap();
+    let (ra, rc) = (b.record_spikes(a).unwrap(), b.record_spikes(c).unwrap());
+    let mut net = b.build(NetworkConfig { dt_s: 1e-3 }).unwrap();
+    net.run(0.01).unwrap();
+    // `a` spikes in step 0 (stamped at its end, 1 ms); `c` receives it in step 2 (spike at 3 ms).
+    assert_eq!(net.readout(ra).spikes(), &[(0, 1e-3)]);
+    assert_eq!(net.readout(rc).spikes(), &[(0, 3e-3)]);
+}
+
+#[test]
+fn currents_add_to_synaptic_input() {
+    let mut b = NetworkBuilder::new();
+    let pop = b.add_population("p", Probe::new(2).0).unwrap();
+    let c1 = b
+        .add_current_input(
+            "c1",
+            CurrentInput::Constant {
+                amplitude: vec![0.25, 1.0],
+            },
+        )
+        .unwrap();
+    let c2 = b
+        .add_current_input(
+            "c2",
+            CurrentInput::Steps {
+                size: 1,
+                changes: vec![(0.005, 0.5)],
+            },
+        )
+        .unwrap();
+    b.inject(c1, pop).unwrap();
+    b.inject(c2, pop).unwrap();
+    let st = b.record_state(pop, "x", None, 5).unwrap();
+    let mut net = b.build(NetworkConfig { dt_s: 1e-3 }).unwrap();
+    net.run(0.01).unwrap();
+    let st = net.readout(st);
+    assert_eq!(st.times().len(), 2);
+    assert_eq!(st.values(), &[0.25, 1.0, 0.75, 1.5]);
+}
+
+struct StopAfter(usize, usize);
+impl Readout for StopAfter {
+    fn on_step(&mut self, view: &StepView<'_>) -> ControlFlow<()> {
+        self.1 += view.spikes.len();
+        if self.1 >= self.0 {
+            ControlFlow::Break(())
+        } else {
+            ControlFlow::Continue(())
+        }
+    }
+}
+
+#[test]
+fn a_readout_can_stop_the_run_cleanly() {
+    let mut b = NetworkBuilder::new();
+    let input = b
+        .add_spike_input("in", trains(vec![vec![0.001, 0.002, 0.003, 0.004]]))
+        .unwrap();
+    let stop = b
+        .add_readout(ReadoutSource::Node(input), StopAfter(2, 0))
+        .unwrap();
+    let mut net = b.build(NetworkConfig { dt_s: 1e-3 }).unwrap();
+    let summary = net.run(1.0).unwrap();
+    assert_eq!(
+        summary,
+        RunSummary {
+            steps: 3,
+            stopped_early: true
+        }
+    );
+    assert_eq!(net.readout(stop).1, 2);
+    assert!((net.time_s() - 0.003).abs() < 1e-15);
+    assert!(net.run(f64::NAN).is_err());
+}
+
+#[test]
+fn reset_and_replaced_inputs_reproduce_runs() {
+    let build = || {
+        let mut b = NetworkBuilder::new();
+        let input = b
+            .add_spike_input("in", PoissonInput::new(20, 100.0, 42))
+            .unwrap();
+        let pop = b.add_population("p", Probe::new(5).0).unwrap();
+        b.connect(
+            input,
+            pop,
+            Connectivity::Random {
+                probability: 0.3,
+                weight: 0.4,
+                seed: 9,
+            },
+            ExpSynapse::new(2e-3).with_delay(1),
+        )
+        .unwrap();
+        let rec = b.record_spikes(pop).unwrap();
+        (b.build(NetworkConfig { dt_s: 1e-4 }).unwrap(), rec, input)
+    };
+    let (mut a, ra, input) = build();
+    let (mut b, rb, _) = build();
+    a.run(0.2).unwrap();
+    b.run(0.2).unwrap();
+    let first = a.readout(ra).spikes().to_vec();
+    assert!(!first.is_empty());
+    assert_eq!(first, b.readout(rb).spikes());
+    a.reset();
+    a.run(0.2).unwrap();
+    assert_eq!(a.readout(ra).spikes(), first.as_slice());
+    // Swap the input for silence: no spikes after a reset.
+    a.replace_spike_input(input, trains(vec![vec![]; 20]))
+        .unwrap();
+    a.reset();
+    a.run(0.2).unwrap();
+    assert!(a.readout(ra).spikes().is_empty());
+    assert!(matches!(
+        a.replace_spike_input(input, trains(vec![vec![]; 3])),
+        Err(GraphError::SizeMismatch { .. })
+    ));
+}

@@ -1,0 +1,49 @@
+//! # neurotac-core
+//!
+//! The core of neurotac, a spiking-neural-network framework for neuromorphic touch: the types
+//! every other crate speaks and the network graph that runs spiking models.
+//!
+//! | concept | types |
+//! |---|---|
+//! | time (µs events, s spikes, one conversion) | [`Timestamp`], [`us_to_s`], [`s_to_us`] |
+//! | pixel events | [`Event`], [`EventBuffer`] |
+//! | spike trains | [`SpikeTrain`], [`MultiSpikeTrain`] (CSR, N channels) |
+//! | labelled spike data | [`SpikeDataset`] (JSON and binary) |
+//! | neuron-model interface | [`NeuronModel`], [`SpikeBuffer`] |
+//! | the network graph | [`NetworkBuilder`] → [`Network`], [`ExpSynapse`], [`Connectivity`], [`SpikeArrayInput`], [`PoissonInput`], [`CurrentInput`] |
+//! | readouts (monitors) | [`Readout`], [`SpikeRecorder`], [`StateRecorder`], [`SynapticTraceRecorder`] |
+//! | errors | [`SpikeError`], [`DatasetError`], [`GraphError`], [`ModelError`], [`CoreError`] |
+//!
+//! Data flows one way through neurotac: sensor → core graph → readouts → experiments. Neuron
+//! models (LIF, Izhikevich) live in `neurotac-neurons`; the DAVIS240 and the sensor simulator in
+//! `neurotac-sensor`.
+//!
+//! ```
+//! use neurotac_core::{MultiSpikeTrain, SpikeDataset};
+//! let slide = MultiSpikeTrain::from_channels(vec![vec![0.010, 0.030], vec![0.020]])?;
+//! let data = SpikeDataset::new(vec![slide], vec![0], vec!["5 mm".into()], Default::default())?;
+//! assert_eq!(data.n_channels(), 2);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+#![deny(missing_docs)]
+
+pub mod dataset;
+pub mod error;
+pub mod event;
+pub mod graph;
+pub mod model;
+pub mod spikes;
+pub mod time;
+
+pub use dataset::SpikeDataset;
+pub use error::{CoreError, DatasetError, GraphError, ModelError, SpikeError};
+pub use event::{Event, EventBuffer};
+pub use graph::{
+    Connectivity, CurrentInput, ExpSynapse, Network, NetworkBuilder, NetworkConfig, NodeId,
+    PoissonInput, ProjectionId, Readout, ReadoutContext, ReadoutId, ReadoutSource, RunSummary,
+    SpikeArrayInput, SpikeRecorder, SpikeSource, StateRecorder, StepView, Synapse,
+    SynapticTraceRecorder,
+};
+pub use model::{NeuronModel, SpikeBuffer};
+pub use spikes::{MultiSpikeTrain, SpikeTrain};
+pub use time::{Timestamp, s_to_us, us_to_s};

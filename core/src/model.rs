@@ -1,0 +1,114 @@
+//! The interface between the network graph and neuron models: [`NeuronModel`] and the
+//! per-step [`SpikeBuffer`].
+//!
+//! Models live in `neurotac-neurons` (LIF, Izhikevich) or in user code. The graph makes one
+//! dynamic call per population per step ([`NeuronModel::step`]); everything inside a step is
+//! the model's own, statically dispatched, structure-of-arrays loop.
+//!
+//! # Spike-time stamp convention
+//! A step advances the state from `t_k` to `t_k + dt`. A spike found in that step is pushed with
+//! a *fraction* `φ ∈ [0, 1]` and its time is `t_k + φ·dt`. Models that do not interpolate use
+//! `φ = 1`: the spike is stamped at the **end** of the step, the first grid time at which the
+//! state is known to be past threshold. Interpolating models give the linear threshold crossing
+//! inside the step. Spike sources (inputs) give the spike's own time within the step.
+
+use crate::error::ModelError;
+
+/// The spikes of one node in one time step: neuron indices and in-step fractions.
+///
+/// Cleared and refilled every step; its capacity is kept, so a steady run allocates nothing.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct SpikeBuffer {
+    indices: Vec<u32>,
+    fractions: Vec<f64>,
+}
+
+impl SpikeBuffer {
+    /// An empty buffer.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Removes all spikes, keeping capacity.
+    #[inline]
+    pub fn clear(&mut self) {
+        self.indices.clear();
+        self.fractions.clear();
+    }
+
+    /// Records a spike of neuron `i` stamped at the end of the step (`φ = 1`).
+    #[inline]
+    pub fn push(&mut self, i: u32) {
+        self.indices.push(i);
+        self.fractions.push(1.0);
+    }
+
+    /// Records a spike of neuron `i` at fraction `phi ∈ [0, 1]` of the step.
+    #[inline]
+    pub fn push_at(&mut self, i: u32, phi: f64) {
+        self.indices.push(i);
+        self.fractions.push(phi);
+    }
+
+    /// Number of spikes.
+    #[inline]
+    pub fn len(&self) -> usize {
+        self.indices.len()
+    }
+
+    /// `true` when no neuron spiked.
+    #[inline]
+    pub fn is_empty(&self) -> bool {
+        self.indices.is_empty()
+    }
+
+    /// Indices of the neurons that spiked, in push order.
+    #[inline]
+    pub fn indices(&self) -> &[u32] {
+        &self.indices
+    }
+
+    /// In-step fractions `φ`, parallel to [`indices`](Self::indices).
+    #[inline]
+    pub fn fractions(&self) -> &[f64] {
+        &self.fractions
+    }
+}
+
+/// A population of neurons of one model, advanced by the network at a fixed `dt`.
+///
+/// Life cycle: the builder owns the model with its parameters; `build()` calls
+/// [`prepare`](Self::prepare) (validate, allocate state, precompute decay factors) only for
+/// populations some readout depends on; the network then calls [`step`](Self::step) once per
+/// time step. `step` must not allocate (beyond amortised growth of `spikes`) and must not fail:
+/// everything that can be wrong is caught by `prepare`.
+pub trait NeuronModel: Send {
+    /// Model name used in messages (e.g. `"lif"`).
+    fn model_name(&self) -> &'static str;
+
+    /// Number of neurons.
+    fn len(&self) -> usize;
+
+    /// `true` for a population of zero neurons.
+    fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Names of the state variables a state recorder may read (e.g. `["v", "u"]`).
+    fn variables(&self) -> &'static [&'static str];
+
+    /// Validates parameters against `dt_s`, allocates state and precomputes per-step factors.
+    fn prepare(&mut self, dt_s: f64) -> Result<(), ModelError>;
+
+    /// Restores the initial state (as right after `prepare`).
+    fn reset(&mut self);
+
+    /// Advances every neuron by one step. `current[i]` is neuron `i`'s input (same units as the
+    /// membrane potential per unit of the model's time constant, e.g. `R·I` for LIF), held
+    /// constant over the step. Spikes are pushed into `spikes` (already cleared).
+    fn step(&mut self, current: &[f64], spikes: &mut SpikeBuffer);
+
+    /// Appends the value of variable `var` (an index into [`variables`](Self::variables)) of
+    /// each neuron in `neurons` to `out`.
+    fn read_variable(&self, var: usize, neurons: &[u32], out: &mut Vec<f64>);
+}

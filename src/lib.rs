@@ -1,0 +1,2 @@
+//! facade
+pub use neurotac_core as core;
