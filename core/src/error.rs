@@ -214,6 +214,16 @@ pub enum ModelError {
         /// Integrators it supports.
         supported: &'static str,
     },
+    /// An input value that is NaN or infinite.
+    #[error("{model}: input to neuron {neuron} is {value}, not finite")]
+    NonFiniteInput {
+        /// Model name.
+        model: &'static str,
+        /// Neuron index.
+        neuron: usize,
+        /// The value.
+        value: f64,
+    },
     /// A state variable name the model does not have.
     #[error("{model} has no state variable '{name}' (has: {available})")]
     UnknownVariable {

@@ -1,0 +1,521 @@
+//! # Izhikevich neuron (Izhikevich 2003, IEEE Trans. Neural Networks 14:1569)
+//!
+//! ```text
+//! dv/dt = 0.04·v² + 5·v + 140 − u + I      (v in mV, t in ms)
+//! du/dt = a·(b·v − u)
+//! v ≥ v_peak (30 mV)  ⇒  spike, v ← c, u ← u + d
+//! ```
+//!
+//! The equations are in Izhikevich's units (mV, ms, `I` in mV/ms); the network's `dt` in
+//! seconds is converted once, `h = 1000·dt`. `I` is the step's input, held constant over the step.
+//!
+//! | symbol | field | unit | RS default |
+//! |---|---|---|---|
+//! | a | [`IzhikevichParams::a`] | 1/ms | 0.02 |
+//! | b | [`IzhikevichParams::b`] | 1 | 0.2 |
+//! | c | [`IzhikevichParams::c`] | mV | −65 |
+//! | d | [`IzhikevichParams::d`] | mV/ms | 8 |
+//! | v_peak | [`IzhikevichParams::v_peak`] | mV | 30 |
+//! | v_min | [`IzhikevichParams::v_min`] | mV | −∞ (only the finite range is enforced) |
+//!
+//! Named presets (Izhikevich 2003, Fig. 2): [`rs`](IzhikevichParams::rs),
+//! [`ib`](IzhikevichParams::ib), [`ch`](IzhikevichParams::ch), [`fs`](IzhikevichParams::fs),
+//! [`lts`](IzhikevichParams::lts), [`tc`](IzhikevichParams::tc), [`rz`](IzhikevichParams::rz).
+//! Initial state: `v = −65 mV` unless set, `u = b·v`.
+//!
+//! ## Integrators
+//! - `izhikevich2003`: `v` advanced in two half steps of `h/2` (0.5 ms each at the paper's
+//!   1 ms), then `u ← u + h·a·(b·v − u)` with the new `v` — the paper's own scheme;
+//! - `euler`, `rk2`, `rk4`: the shared steps of [`crate::integrate`] on `(v, u)`;
+//! - `exp-euler`: `v` by Euler, `u` exactly for `v` held at its start value,
+//!   `u ← b·v + (u − b·v)·e^(−a·h)`;
+//! - `exact` does not exist for this non-linear model (a build-time error).
+//!
+//! ## Spike times and extremes
+//! A spike is stamped at the end of its step, or with interpolation at the linear crossing of
+//! `v_peak` between the step's start and (unclamped) end values; the reset happens at the end of
+//! the step. After every step `v` is clamped to `[v_min, v_peak]` — a step that overshoots (large
+//! `dt` under Euler, huge currents) spikes with `v` clamped at the peak — and `u` to the finite
+//! range, so the state is never NaN or infinite.
+
+use crate::integrate::{self, Integrator};
+use crate::population::{
+    BLOCK, Drive, InitialPotential, block_len, check_dt, check_input, check_param,
+    collect_block_spikes, for_blocks, n_blocks,
+};
+use crate::real::Real;
+use neurotac_core::{ModelError, NeuronModel, SpikeBuffer};
+
+const MODEL: &str = "izhikevich";
+const SUPPORTED: &str = "izhikevich2003, euler, exp-euler, rk2, rk4";
+
+/// Izhikevich parameters (see the module docs for equations and units).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct IzhikevichParams {
+    /// Recovery time scale `a` (1/ms).
+    pub a: f64,
+    /// Recovery sensitivity `b`.
+    pub b: f64,
+    /// Reset potential `c` (mV).
+    pub c: f64,
+    /// Recovery jump `d` after a spike.
+    pub d: f64,
+    /// Spike peak (mV). Default 30.
+    pub v_peak: f64,
+    /// Lowest potential kept (mV); default −∞, i.e. only the finite range is enforced.
+    pub v_min: f64,
+}
+
+impl Default for IzhikevichParams {
+    /// Regular spiking ([`rs`](Self::rs)).
+    fn default() -> Self {
+        Self::rs()
+    }
+}
+
+impl IzhikevichParams {
+    const fn preset(a: f64, b: f64, c: f64, d: f64) -> Self {
+        Self {
+            a,
+            b,
+            c,
+            d,
+            v_peak: 30.0,
+            v_min: f64::NEG_INFINITY,
+        }
+    }
+
+    /// Regular spiking (cortical excitatory): a = 0.02, b = 0.2, c = −65, d = 8.
+    pub const fn rs() -> Self {
+        Self::preset(0.02, 0.2, -65.0, 8.0)
+    }
+
+    /// Intrinsically bursting: a = 0.02, b = 0.2, c = −55, d = 4.
+    pub const fn ib() -> Self {
+        Self::preset(0.02, 0.2, -55.0, 4.0)
+    }
+
+    /// Chattering: a = 0.02, b = 0.2, c = −50, d = 2.
+    pub const fn ch() -> Self {
+        Self::preset(0.02, 0.2, -50.0, 2.0)
+    }
+
+    /// Fast spiking (inhibitory): a = 0.1, b = 0.2, c = −65, d = 2.
+    pub const fn fs() -> Self {
+        Self::preset(0.1, 0.2, -65.0, 2.0)
+    }
+
+    /// Low-threshold spiking: a = 0.02, b = 0.25, c = −65, d = 2.
+    pub const fn lts() -> Self {
+        Self::preset(0.02, 0.25, -65.0, 2.0)
+    }
+
+    /// Thalamo-cortical: a = 0.02, b = 0.25, c = −65, d = 0.05.
+    pub const fn tc() -> Self {
+        Self::preset(0.02, 0.25, -65.0, 0.05)
+    }
+
+    /// Resonator: a = 0.1, b = 0.26, c = −65, d = 2.
+    pub const fn rz() -> Self {
+        Self::preset(0.1, 0.26, -65.0, 2.0)
+    }
+
+    /// The preset with this (case-insensitive) name: rs, ib, ch, fs, lts, tc, rz.
+    pub fn named(name: &str) -> Option<Self> {
+        Some(match name.to_ascii_lowercase().as_str() {
+            "rs" => Self::rs(),
+            "ib" => Self::ib(),
+            "ch" => Self::ch(),
+            "fs" => Self::fs(),
+            "lts" => Self::lts(),
+            "tc" => Self::tc(),
+            "rz" => Self::rz(),
+            _ => return None,
+        })
+    }
+
+    fn validate(&self) -> Result<(), ModelError> {
+        check_param(MODEL, "a", self.a, false)?;
+        check_param(MODEL, "b", self.b, false)?;
+        check_param(MODEL, "c", self.c, false)?;
+        check_param(MODEL, "d", self.d, false)?;
+        check_param(MODEL, "v_peak", self.v_peak, false)?;
+        if self.c >= self.v_peak {
+            return Err(ModelError::InvalidParameter {
+                model: MODEL,
+                field: "c",
+                value: self.c,
+                expected: "< v_peak",
+            });
+        }
+        if self.v_min.is_nan() || self.v_min > self.c {
+            return Err(ModelError::InvalidParameter {
+                model: MODEL,
+                field: "v_min",
+                value: self.v_min,
+                expected: "≤ c (−∞ allowed)",
+            });
+        }
+        Ok(())
+    }
+}
+
+/// The state of one block of up to [`BLOCK`] Izhikevich neurons, structure of arrays.
+#[derive(Debug, Clone, Default)]
+pub struct IzhikevichState<F> {
+    /// Membrane potentials (mV).
+    pub v: Vec<F>,
+    /// Recovery variables.
+    pub u: Vec<F>,
+    phi: Vec<F>,
+    spiked: Vec<u8>,
+}
+
+#[derive(Debug, Clone, Copy, Default)]
+struct IzhikevichConstants<F> {
+    a: F,
+    b: F,
+    c: F,
+    d: F,
+    v_peak: F,
+    v_floor: F,
+    h: F,
+    u_decay: F,
+}
+
+/// `(dv/dt, du/dt)` at `(v, u)` for input `i`.
+#[inline(always)]
+fn derivative<F: Real>(k: &IzhikevichConstants<F>, x: [F; 2], i: F) -> [F; 2] {
+    let v = x[0];
+    [
+        F::of(0.04) * v * v + F::of(5.0) * v + F::of(140.0) - x[1] + i,
+        k.a * (k.b * v - x[1]),
+    ]
+}
+
+/// Advances one block by one step: fused update, clamp, threshold and reset, writing the
+/// spike mask; returns the number of spikes. `update(v, u, I)` is the integrator.
+#[inline(always)]
+fn step_block<F: Real, const INTERPOLATE: bool>(
+    s: &mut IzhikevichState<F>,
+    drive: Drive<'_>,
+    k: &IzhikevichConstants<F>,
+    update: &impl Fn(F, F, F) -> (F, F),
+) -> u64 {
+    match drive {
+        Drive::Constant(c) => {
+            let i = F::of(c);
+            step_block_with::<F, INTERPOLATE>(s, k, update, |_| i)
+        }
+        Drive::PerNeuron(x) => {
+            let x = &x[..s.v.len()];
+            step_block_with::<F, INTERPOLATE>(s, k, update, |j| F::of(x[j]))
+        }
+    }
+}
+
+#[inline(always)]
+fn step_block_with<F: Real, const INTERPOLATE: bool>(
+    s: &mut IzhikevichState<F>,
+    k: &IzhikevichConstants<F>,
+    update: &impl Fn(F, F, F) -> (F, F),
+    input: impl Fn(usize) -> F,
+) -> u64 {
+    let n = s.v.len();
+    let IzhikevichState { v, u, phi, spiked } = s;
+    let (v, u, spiked) = (&mut v[..n], &mut u[..n], &mut spiked[..n]);
+    let phi = if INTERPOLATE {
+        &mut phi[..n]
+    } else {
+        &mut phi[..0]
+    };
+    // Constants as locals: selects between values, not between addresses (which LLVM would
+    // turn into gathers).
+    let IzhikevichConstants {
+        c,
+        d,
+        v_peak,
+        v_floor,
+        ..
+    } = *k;
+    let (u_max, u_min) = (F::max_value(), F::min_value());
+    let mut count = 0u32;
+    for j in 0..n {
+        let v_old = v[j];
+        let (v_raw, u_raw) = update(v_old, u[j], input(j));
+        // One compare + select each: anything not below the peak (NaN and +∞ included) becomes
+        // the peak, and so a spike; u outside the finite range (NaN included) becomes a bound.
+        let v_new = if v_raw < v_peak { v_raw } else { v_peak };
+        let v_new = if v_new > v_floor { v_new } else { v_floor };
+        let u_new = if u_raw < u_max { u_raw } else { u_max };
+        let u_new = if u_new > u_min { u_new } else { u_min };
+        let spike = v_new >= v_peak;
+        if INTERPOLATE {
+            phi[j] = if spike {
+                (v_peak - v_old) / (v_raw - v_old)
+            } else {
+                F::one()
+            };
+        }
+        let u_reset = u_new + d;
+        let u_reset = if u_reset < u_max { u_reset } else { u_max };
+        v[j] = if spike { c } else { v_new };
+        u[j] = if spike { u_reset } else { u_new };
+        spiked[j] = spike as u8;
+        count += spike as u32;
+    }
+    count as u64
+}
+
+/// A population of Izhikevich neurons in precision `F` (`f32` or `f64`).
+///
+/// ```
+/// use neurotac_neurons::{Izhikevich, IzhikevichParams};
+/// let mut rs = Izhikevich::<f64>::new(1, IzhikevichParams::rs());
+/// let spikes = rs.run_constant(10.0, 1e-4, 10_000)?; // 1 s of I = 10 at 0.1 ms
+/// assert_eq!(spikes, 23); // tonic firing at 23 Hz, as a 1 µs RK4 run also gives
+/// # Ok::<(), neurotac_core::ModelError>(())
+/// ```
+#[derive(Debug, Clone)]
+pub struct Izhikevich<F: Real> {
+    n: usize,
+    params: IzhikevichParams,
+    integrator: Integrator,
+    interpolate: bool,
+    initial: InitialPotential,
+    blocks: Vec<IzhikevichState<F>>,
+    k: IzhikevichConstants<F>,
+    dt_s: f64,
+}
+
+impl<F: Real> Izhikevich<F> {
+    /// `n` neurons with `params`, Izhikevich's 2003 scheme, grid spike times, `v = −65 mV`.
+    pub fn new(n: usize, params: IzhikevichParams) -> Self {
+        Self {
+            n,
+            params,
+            integrator: Integrator::Izhikevich2003,
+            interpolate: false,
+            initial: InitialPotential::Constant(-65.0),
+            blocks: Vec::new(),
+            k: IzhikevichConstants::default(),
+            dt_s: 0.0,
+        }
+    }
+
+    /// Chooses the integrator (checked by `prepare`).
+    pub fn with_integrator(mut self, integrator: Integrator) -> Self {
+        self.integrator = integrator;
+        self
+    }
+
+    /// Interpolates spike times inside the step.
+    pub fn with_interpolation(mut self, interpolate: bool) -> Self {
+        self.interpolate = interpolate;
+        self
+    }
+
+    /// Sets the initial membrane potentials (mV); `u` starts at `b·v`.
+    pub fn with_initial_potential(mut self, initial: InitialPotential) -> Self {
+        self.initial = initial;
+        self
+    }
+
+    /// The parameters.
+    pub fn params(&self) -> &IzhikevichParams {
+        &self.params
+    }
+
+    /// The integrator.
+    pub fn integrator(&self) -> Integrator {
+        self.integrator
+    }
+
+    /// `(v, u)` of neuron `i` (after `prepare`).
+    pub fn state_of(&self, i: usize) -> (f64, f64) {
+        let s = &self.blocks[i / BLOCK];
+        (s.v[i % BLOCK].f64(), s.u[i % BLOCK].f64())
+    }
+
+    /// Prepares (if needed) and runs `steps` steps with the same input for every neuron,
+    /// without recording spike indices; returns the number of spikes (the benchmark path).
+    pub fn run_constant(&mut self, current: f64, dt_s: f64, steps: u64) -> Result<u64, ModelError> {
+        if !current.is_finite() {
+            return Err(ModelError::NonFiniteInput {
+                model: MODEL,
+                neuron: 0,
+                value: current,
+            });
+        }
+        if self.dt_s != dt_s || self.blocks.len() != n_blocks(self.n) {
+            self.prepare(dt_s)?;
+        }
+        Ok((0..steps)
+            .map(|_| self.advance(Drive::Constant(current)))
+            .sum())
+    }
+
+    /// One step with per-neuron input, rejecting NaN/±∞ input with a typed error.
+    pub fn step_checked(
+        &mut self,
+        current: &[f64],
+        spikes: &mut SpikeBuffer,
+    ) -> Result<(), ModelError> {
+        check_input(MODEL, current)?;
+        if current.len() != self.n {
+            return Err(ModelError::InvalidParameter {
+                model: MODEL,
+                field: "input length",
+                value: current.len() as f64,
+                expected: "one value per neuron",
+            });
+        }
+        spikes.clear();
+        self.step(current, spikes);
+        Ok(())
+    }
+
+    fn advance(&mut self, drive: Drive<'_>) -> u64 {
+        let k = self.k;
+        let h = k.h;
+        match self.integrator {
+            Integrator::Izhikevich2003 => self.advance_with(
+                drive,
+                #[inline(always)]
+                move |v, u, i| {
+                    let half = h * F::of(0.5);
+                    let v1 = v + half * derivative(&k, [v, u], i)[0];
+                    let v2 = v1 + half * derivative(&k, [v1, u], i)[0];
+                    (v2, u + h * k.a * (k.b * v2 - u))
+                },
+            ),
+            Integrator::Euler => self.advance_with(
+                drive,
+                #[inline(always)]
+                move |v, u, i| {
+                    let x = integrate::euler([v, u], h, |x| derivative(&k, x, i));
+                    (x[0], x[1])
+                },
+            ),
+            Integrator::ExponentialEuler => self.advance_with(
+                drive,
+                #[inline(always)]
+                move |v, u, i| {
+                    let u_inf = k.b * v;
+                    (
+                        v + h * derivative(&k, [v, u], i)[0],
+                        u_inf + (u - u_inf) * k.u_decay,
+                    )
+                },
+            ),
+            Integrator::Rk2 => self.advance_with(
+                drive,
+                #[inline(always)]
+                move |v, u, i| {
+                    let x = integrate::rk2([v, u], h, |x| derivative(&k, x, i));
+                    (x[0], x[1])
+                },
+            ),
+            Integrator::Rk4 => self.advance_with(
+                drive,
+                #[inline(always)]
+                move |v, u, i| {
+                    let x = integrate::rk4([v, u], h, |x| derivative(&k, x, i));
+                    (x[0], x[1])
+                },
+            ),
+            Integrator::Exact => unreachable!("rejected by prepare"),
+        }
+    }
+
+    fn advance_with(&mut self, drive: Drive<'_>, update: impl Fn(F, F, F) -> (F, F) + Sync) -> u64 {
+        let (n, k, interpolate) = (self.n, self.k, self.interpolate);
+        for_blocks(&mut self.blocks, n, |b, s| {
+            let d = drive.block(b, s.v.len());
+            if interpolate {
+                step_block::<F, true>(s, d, &k, &update)
+            } else {
+                step_block::<F, false>(s, d, &k, &update)
+            }
+        })
+    }
+}
+
+impl<F: Real> NeuronModel for Izhikevich<F> {
+    fn model_name(&self) -> &'static str {
+        MODEL
+    }
+
+    fn len(&self) -> usize {
+        self.n
+    }
+
+    fn variables(&self) -> &'static [&'static str] {
+        &["v", "u"]
+    }
+
+    fn prepare(&mut self, dt_s: f64) -> Result<(), ModelError> {
+        check_dt(MODEL, dt_s)?;
+        self.params.validate()?;
+        if self.integrator == Integrator::Exact {
+            return Err(ModelError::UnsupportedIntegrator {
+                model: MODEL,
+                integrator: self.integrator.name(),
+                supported: SUPPORTED,
+            });
+        }
+        let p = &self.params;
+        let h = dt_s * 1e3;
+        self.k = IzhikevichConstants {
+            a: F::of(p.a),
+            b: F::of(p.b),
+            c: F::of(p.c),
+            d: F::of(p.d),
+            v_peak: F::of(p.v_peak),
+            v_floor: F::of(p.v_min).max(F::min_value()),
+            h: F::of(h),
+            u_decay: F::of((-p.a * h).exp()),
+        };
+        let v0 = self.initial.values(MODEL, self.n)?;
+        let b = p.b;
+        self.blocks = (0..n_blocks(self.n))
+            .map(|blk| {
+                let v = &v0[blk * BLOCK..blk * BLOCK + block_len(self.n, blk)];
+                IzhikevichState {
+                    v: v.iter().map(|&x| F::of(x)).collect(),
+                    u: v.iter().map(|&x| F::of(b * x)).collect(),
+                    phi: if self.interpolate {
+                        vec![F::one(); v.len()]
+                    } else {
+                        Vec::new()
+                    },
+                    spiked: vec![0; v.len()],
+                }
+            })
+            .collect();
+        self.dt_s = dt_s;
+        Ok(())
+    }
+
+    fn reset(&mut self) {
+        // `prepare` succeeded before, so this cannot fail.
+        let _ = self.prepare(self.dt_s);
+    }
+
+    fn step(&mut self, current: &[f64], spikes: &mut SpikeBuffer) {
+        if self.advance(Drive::PerNeuron(current)) == 0 {
+            return;
+        }
+        let interpolate = self.interpolate;
+        for (b, s) in self.blocks.iter().enumerate() {
+            collect_block_spikes(b, &s.spiked, interpolate.then_some(&s.phi[..]), spikes);
+        }
+    }
+
+    fn read_variable(&self, var: usize, neurons: &[u32], out: &mut Vec<f64>) {
+        out.extend(neurons.iter().map(|&i| {
+            let (v, u) = self.state_of(i as usize);
+            if var == 0 { v } else { u }
+        }));
+    }
+}
