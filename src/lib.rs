@@ -1,2 +1,19 @@
-//! facade
+//! # neurotac
+//!
+//! Spiking neural networks for neuromorphic touch. This facade re-exports the workspace crates:
+//!
+//! | module | crate | what it holds |
+//! |---|---|---|
+//! | [`core`] | `neurotac-core` | time, spikes, events, datasets, the network graph, readouts |
+//! | [`neurons`] | `neurotac-neurons` | LIF and Izhikevich populations, integrators |
+//! | [`sensor`] | `neurotac-sensor` | the DAVIS240 camera, event files, transduction, the simulator |
+//! | [`experiments`] | `neurotac-experiments` | texture experiments, protocols, reports |
+//!
+//! Data flows one way: sensor → core graph → readouts → experiments. See `examples/` for
+//! networks defined in Rust code.
+#![deny(missing_docs)]
+
 pub use neurotac_core as core;
+pub use neurotac_experiments as experiments;
+pub use neurotac_neurons as neurons;
+pub use neurotac_sensor as sensor;

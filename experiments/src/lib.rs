@@ -1,1 +1,6 @@
-//! placeholder
+//! # neurotac-experiments
+//!
+//! The experiments of neurotac and the `neurotac` command-line tool.
+#![deny(missing_docs)]
+
+pub mod afferents;

@@ -132,11 +132,10 @@ pub fn rk4<F: Real, const D: usize>(x: [F; D], h: F, f: impl Fn([F; D]) -> [F; D
 mod tests {
     use super::*;
 
+    type Step = fn([f64; 1], f64, &dyn Fn([f64; 1]) -> [f64; 1]) -> [f64; 1];
+
     /// dx/dt = −x from x = 1 to t = 1; error at the integrator's global order.
-    fn global_error(
-        step: fn([f64; 1], f64, &dyn Fn([f64; 1]) -> [f64; 1]) -> [f64; 1],
-        n: usize,
-    ) -> f64 {
+    fn global_error(step: Step, n: usize) -> f64 {
         let h = 1.0 / n as f64;
         let mut x = [1.0];
         for _ in 0..n {
@@ -147,9 +146,7 @@ mod tests {
 
     #[test]
     fn errors_shrink_at_each_integrators_order() {
-        let order = |step: fn([f64; 1], f64, &dyn Fn([f64; 1]) -> [f64; 1]) -> [f64; 1]| {
-            (global_error(step, 64) / global_error(step, 128)).log2()
-        };
+        let order = |step: Step| (global_error(step, 64) / global_error(step, 128)).log2();
         let e = order(|x, h, f| euler(x, h, f));
         let r2 = order(|x, h, f| rk2(x, h, f));
         let r4 = order(|x, h, f| rk4(x, h, f));

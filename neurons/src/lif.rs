@@ -40,7 +40,7 @@
 use crate::integrate::{self, Integrator};
 use crate::population::{
     BLOCK, Drive, InitialPotential, block_len, check_dt, check_input, check_param,
-    collect_block_spikes, for_blocks, n_blocks,
+    collect_block_spikes, for_blocks, n_blocks, unit_fraction,
 };
 use crate::real::Real;
 use neurotac_core::{ModelError, NeuronModel, SpikeBuffer};
@@ -406,7 +406,7 @@ fn finish_interpolated_spikes<F: Real>(
         if s.spiked[i] == 0 {
             continue;
         }
-        let phi = s.phi[i].max(F::zero()).min(F::one());
+        let phi = F::of(unit_fraction(s.phi[i].f64()));
         s.phi[i] = phi;
         let v_inf = k.v_rest + F::of(drive.at(i));
         let h = k.h * (F::one() - phi);

@@ -161,13 +161,23 @@ pub(crate) fn collect_block_spikes<F: crate::Real>(
                 if m != 0 {
                     let idx = (base + i + j) as u32;
                     match phi {
-                        Some(p) => out.push_at(idx, p[i + j].f64().max(0.0).min(1.0)),
+                        Some(p) => out.push_at(idx, unit_fraction(p[i + j].f64())),
                         None => out.push(idx),
                     }
                 }
             }
         }
         i += word.len();
+    }
+}
+
+/// An in-step spike fraction limited to `[0, 1]`; NaN (a 0/0 crossing) means the end of the step.
+#[inline]
+pub(crate) fn unit_fraction(phi: f64) -> f64 {
+    if phi.is_nan() {
+        1.0
+    } else {
+        phi.clamp(0.0, 1.0)
     }
 }
 

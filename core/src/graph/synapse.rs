@@ -205,7 +205,7 @@ impl Connectivity {
                     loop {
                         let u: f64 = rng.random::<f64>();
                         let gap = ((1.0 - u).ln() / log_q).floor();
-                        if !(gap < (total - k) as f64) {
+                        if gap >= (total - k) as f64 {
                             break;
                         }
                         k += gap as usize;

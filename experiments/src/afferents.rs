@@ -1,0 +1,149 @@
+//! Afferent networks: taxel spike trains → exponential synapses → one afferent neuron per taxel.
+//!
+//! This is the smallest network that turns the sensor's taxel spikes into the spikes of model
+//! mechanoreceptor afferents (the paper's discussion proposes feeding taxel output to spiking
+//! neuron models). Each taxel drives its own afferent one-to-one.
+//!
+//! Defaults, and why:
+//! - synapse τ = 5 ms: a fast AMPA-like current, shorter than the 20 ms pooling window, so one
+//!   taxel event is one brief input;
+//! - LIF weight 5 (potential units; τ_m = 10 ms, v_th = 1): one taxel spike gives the PSP
+//!   `w·τ_s/(τ_m − τ_s)·(e^(−t/τ_m) − e^(−t/τ_s))`, peaking at `0.25·w = 1.25·v_th` at
+//!   `t = τ_m·ln 2 = 6.9 ms` — each taxel event makes exactly one afferent spike, ~3 ms later;
+//! - Izhikevich RS weight 20 (mV/ms): likewise one RS spike per taxel event from rest, and again
+//!   for an event 20 ms later (a smaller weight, 15, is silenced by adaptation on the second);
+//! - dt = 0.1 ms: below a tenth of both time constants.
+
+use neurotac_core::{
+    Connectivity, ExpSynapse, GraphError, MultiSpikeTrain, NetworkBuilder, NetworkConfig,
+    ReadoutId, SpikeArrayInput, SpikeRecorder, SpikeSource,
+};
+use neurotac_neurons::{Integrator, Izhikevich, IzhikevichParams, Lif, LifParams};
+
+/// Which afferent model to use, with its default parameters.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum AfferentModel {
+    /// LIF with [`LifParams::default`] (τ_m = 10 ms, threshold 1, reset 0), exact integrator.
+    Lif,
+    /// Izhikevich regular spiking ([`IzhikevichParams::rs`]), Izhikevich's 2003 scheme.
+    Izhikevich,
+}
+
+/// Settings of an afferent network.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AfferentConfig {
+    /// The afferent model.
+    pub model: AfferentModel,
+    /// Synaptic weight (jump of the synaptic current per taxel spike, in the model's input
+    /// units). Default 5 for LIF, 20 for Izhikevich (see the module docs).
+    pub weight: f64,
+    /// Synaptic time constant (s). Default 5 ms.
+    pub tau_syn_s: f64,
+    /// Time step (s). Default 0.1 ms.
+    pub dt_s: f64,
+}
+
+impl AfferentConfig {
+    /// LIF afferents with the documented defaults.
+    pub fn lif() -> Self {
+        Self {
+            model: AfferentModel::Lif,
+            weight: 5.0,
+            tau_syn_s: 5e-3,
+            dt_s: 1e-4,
+        }
+    }
+
+    /// Izhikevich RS afferents with the documented defaults.
+    pub fn izhikevich() -> Self {
+        Self {
+            model: AfferentModel::Izhikevich,
+            weight: 20.0,
+            tau_syn_s: 5e-3,
+            dt_s: 1e-4,
+        }
+    }
+}
+
+/// A built afferent network and the handle of its spike recorder.
+pub struct AfferentNetwork {
+    /// The runnable network.
+    pub network: neurotac_core::Network,
+    /// The taxel input node (for [`neurotac_core::Network::replace_spike_input`]).
+    pub input: neurotac_core::NodeId,
+    /// The afferents' spike recorder.
+    pub spikes: ReadoutId<SpikeRecorder>,
+    /// The taxels' spike recorder (the input as the network saw it).
+    pub taxel_spikes: ReadoutId<SpikeRecorder>,
+}
+
+/// Builds `source` (one channel per taxel) → one-to-one exponential synapses → one afferent
+/// per taxel → spike recorder.
+pub fn build_afferent_network(
+    source: impl SpikeSource + 'static,
+    config: AfferentConfig,
+) -> Result<AfferentNetwork, GraphError> {
+    let n = source.len();
+    let mut b = NetworkBuilder::new();
+    let input = b.add_spike_input("taxels", source)?;
+    let afferents = match config.model {
+        AfferentModel::Lif => b.add_population(
+            "afferents",
+            Lif::<f64>::new(n, LifParams::default()).with_integrator(Integrator::Exact),
+        )?,
+        AfferentModel::Izhikevich => b.add_population(
+            "afferents",
+            Izhikevich::<f64>::new(n, IzhikevichParams::rs()),
+        )?,
+    };
+    b.connect(
+        input,
+        afferents,
+        Connectivity::OneToOne {
+            weight: config.weight,
+        },
+        ExpSynapse::new(config.tau_syn_s).with_delay(0),
+    )?;
+    let spikes = b.record_spikes(afferents)?;
+    let taxel_spikes = b.record_spikes(input)?;
+    let network = b.build(NetworkConfig { dt_s: config.dt_s })?;
+    Ok(AfferentNetwork {
+        network,
+        input,
+        spikes,
+        taxel_spikes,
+    })
+}
+
+/// Runs taxel spike trains through a fresh afferent network for `duration_s` and returns the
+/// afferents' spike trains.
+pub fn afferent_response(
+    taxels: &MultiSpikeTrain,
+    duration_s: f64,
+    config: AfferentConfig,
+) -> Result<MultiSpikeTrain, GraphError> {
+    let mut net = build_afferent_network(SpikeArrayInput::new(taxels.clone()), config)?;
+    net.network.run(duration_s)?;
+    Ok(net.network.readout(net.spikes).to_spike_trains())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn default_afferents_spike_once_per_taxel_event() {
+        let taxels =
+            MultiSpikeTrain::from_channels(vec![vec![0.010], vec![0.010, 0.030], vec![]]).unwrap();
+        for config in [AfferentConfig::lif(), AfferentConfig::izhikevich()] {
+            let out = afferent_response(&taxels, 0.2, config).unwrap();
+            assert_eq!(out.counts(), vec![1, 2, 0], "{:?}", config.model);
+            // The afferent spike follows its taxel event within one PSP rise time.
+            assert!(
+                (0.010..0.017).contains(&out.channel(0)[0]),
+                "{:?}",
+                out.channel(0)
+            );
+        }
+    }
+}

@@ -1,0 +1,76 @@
+//! `neurotac demo`: 49 taxels (Poisson spike trains) → exponential synapses → 49 afferents.
+
+use anyhow::Context;
+use clap::{Args, ValueEnum};
+use neurotac_core::PoissonInput;
+use neurotac_experiments::afferents::{AfferentConfig, build_afferent_network};
+
+#[derive(Debug, Clone, Copy, ValueEnum)]
+enum Model {
+    Lif,
+    Izhikevich,
+}
+
+#[derive(Debug, Args)]
+pub struct DemoArgs {
+    /// Afferent model.
+    #[arg(long, value_enum, default_value = "lif")]
+    model: Model,
+    /// Number of taxels (the NeuroTac has 49).
+    #[arg(long, default_value_t = 49)]
+    taxels: usize,
+    /// Firing rate of each taxel's Poisson spike train (Hz).
+    #[arg(long, default_value_t = 20.0)]
+    rate_hz: f64,
+    /// Simulated duration (s).
+    #[arg(long, default_value_t = 1.0)]
+    duration: f64,
+    /// Seed of the taxel spike trains.
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Print one JSON object instead of a table.
+    #[arg(long)]
+    json: bool,
+}
+
+pub fn run(args: DemoArgs) -> anyhow::Result<()> {
+    let config = match args.model {
+        Model::Lif => AfferentConfig::lif(),
+        Model::Izhikevich => AfferentConfig::izhikevich(),
+    };
+    let source = PoissonInput::new(args.taxels, args.rate_hz, args.seed);
+    let mut net =
+        build_afferent_network(source, config).context("building the afferent network")?;
+    let start = std::time::Instant::now();
+    net.network
+        .run(args.duration)
+        .context("running the afferent network")?;
+    let wall_s = start.elapsed().as_secs_f64();
+    let inputs = net.network.readout(net.taxel_spikes).counts();
+    let counts = net.network.readout(net.spikes).counts();
+    let (total_in, total): (usize, usize) = (inputs.iter().sum(), counts.iter().sum());
+    if args.json {
+        let out = serde_json::json!({
+            "model": format!("{:?}", args.model).to_lowercase(),
+            "taxels": args.taxels,
+            "duration_s": args.duration,
+            "taxel_spike_counts": inputs,
+            "afferent_spike_counts": counts,
+            "total_taxel_spikes": total_in,
+            "total_afferent_spikes": total,
+            "wall_s": wall_s,
+        });
+        println!("{out}");
+    } else {
+        println!(
+            "{} taxels at {} Hz → {} {:?} afferents, {} s simulated in {:.3} s",
+            args.taxels, args.rate_hz, args.taxels, args.model, args.duration, wall_s
+        );
+        println!("  neuron   taxel spikes → afferent spikes");
+        for (i, (a, b)) in inputs.iter().zip(&counts).enumerate() {
+            println!("  {i:6}   {a:12} → {b}");
+        }
+        println!("  total    {total_in:12} → {total}");
+    }
+    Ok(())
+}
