@@ -1,4 +1,6 @@
-//! The commands of the `neurotac` binary, one module each.
+//! The commands of the `neurotac` binary, one module each. To add a command: a module with an
+//! `Args` struct (clap derive) and a `run(args) -> anyhow::Result<()>`, one variant in
+//! [`Command`] and one arm in [`run`].
 
 use clap::{Parser, Subcommand};
 
