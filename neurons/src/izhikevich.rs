@@ -32,16 +32,20 @@
 //! - `exact` does not exist for this non-linear model (a build-time error).
 //!
 //! ## Spike times and extremes
-//! A spike is stamped at the end of its step, or with interpolation at the linear crossing of
-//! `v_peak` between the step's start and (unclamped) end values; the reset happens at the end of
-//! the step. After every step `v` is clamped to `[v_min, v_peak]` — a step that overshoots (large
+//! A spike is stamped at the end of its step. With interpolation it is placed at the linear
+//! crossing of `v_peak` between the step's start and (unclamped) end values, the neuron is reset
+//! there (`v ← c`, `u ← u(φ) + d`) and integrated over the rest of the step, so spike times
+//! converge at second order instead of first. After every step `v` is clamped to `[v_min, v_peak]` — a step that overshoots (large
 //! `dt` under Euler, huge currents) spikes with `v` clamped at the peak — and `u` to the finite
-//! range, so the state is never NaN or infinite.
+//! range, so the state is never NaN or infinite. Explicit steps are stable only while
+//! `h·|0.08·v + 5| < 2` (per ms): very large negative currents (−10⁶ drives `v` towards
+//! −5 000 mV, where that rate is ≈ 400/ms) need microsecond steps, or the state oscillates —
+//! finite, but with spurious spikes. `neurotac tradeoff neurons` shows where each scheme breaks.
 
 use crate::integrate::{self, Integrator};
 use crate::population::{
     BLOCK, Drive, InitialPotential, block_len, check_dt, check_input, check_param,
-    collect_block_spikes, for_blocks, n_blocks,
+    collect_block_spikes, for_blocks, n_blocks, unit_fraction,
 };
 use crate::real::Real;
 use neurotac_core::{ModelError, NeuronModel, SpikeBuffer};
@@ -167,7 +171,11 @@ pub struct IzhikevichState<F> {
     pub v: Vec<F>,
     /// Recovery variables.
     pub u: Vec<F>,
+    /// In-step spike fractions of the last step (empty unless interpolating).
     phi: Vec<F>,
+    /// `u` at the interpolated crossing (empty unless interpolating).
+    u_at_spike: Vec<F>,
+    /// 1 where the neuron spiked in the last step.
     spiked: Vec<u8>,
 }
 
@@ -191,6 +199,38 @@ fn derivative<F: Real>(k: &IzhikevichConstants<F>, x: [F; 2], i: F) -> [F; 2] {
         F::of(0.04) * v * v + F::of(5.0) * v + F::of(140.0) - x[1] + i,
         k.a * (k.b * v - x[1]),
     ]
+}
+
+/// One step of length `h` (ms) with `integrator`; `u_decay = e^(−a·h)` (used by exp-euler).
+#[inline(always)]
+fn advance_state<F: Real>(
+    integrator: Integrator,
+    k: &IzhikevichConstants<F>,
+    (v, u): (F, F),
+    i: F,
+    h: F,
+    u_decay: F,
+) -> (F, F) {
+    let pair = |x: [F; 2]| (x[0], x[1]);
+    match integrator {
+        Integrator::Izhikevich2003 => {
+            let half = h * F::of(0.5);
+            let v1 = v + half * derivative(k, [v, u], i)[0];
+            let v2 = v1 + half * derivative(k, [v1, u], i)[0];
+            (v2, u + h * k.a * (k.b * v2 - u))
+        }
+        Integrator::ExponentialEuler => {
+            let u_inf = k.b * v;
+            (
+                v + h * derivative(k, [v, u], i)[0],
+                u_inf + (u - u_inf) * u_decay,
+            )
+        }
+        Integrator::Euler => pair(integrate::euler([v, u], h, |x| derivative(k, x, i))),
+        Integrator::Rk2 => pair(integrate::rk2([v, u], h, |x| derivative(k, x, i))),
+        Integrator::Rk4 => pair(integrate::rk4([v, u], h, |x| derivative(k, x, i))),
+        Integrator::Exact => unreachable!("rejected by prepare"),
+    }
 }
 
 /// Advances one block by one step: fused update, clamp, threshold and reset, writing the
@@ -222,12 +262,18 @@ fn step_block_with<F: Real, const INTERPOLATE: bool>(
     input: impl Fn(usize) -> F,
 ) -> u64 {
     let n = s.v.len();
-    let IzhikevichState { v, u, phi, spiked } = s;
+    let IzhikevichState {
+        v,
+        u,
+        phi,
+        u_at_spike,
+        spiked,
+    } = s;
     let (v, u, spiked) = (&mut v[..n], &mut u[..n], &mut spiked[..n]);
-    let phi = if INTERPOLATE {
-        &mut phi[..n]
+    let (phi, u_at_spike) = if INTERPOLATE {
+        (&mut phi[..n], &mut u_at_spike[..n])
     } else {
-        &mut phi[..0]
+        (&mut phi[..0], &mut u_at_spike[..0])
     };
     // Constants as locals: selects between values, not between addresses (which LLVM would
     // turn into gathers).
@@ -241,8 +287,8 @@ fn step_block_with<F: Real, const INTERPOLATE: bool>(
     let (u_max, u_min) = (F::max_value(), F::min_value());
     let mut count = 0u32;
     for j in 0..n {
-        let v_old = v[j];
-        let (v_raw, u_raw) = update(v_old, u[j], input(j));
+        let (v_old, u_old) = (v[j], u[j]);
+        let (v_raw, u_raw) = update(v_old, u_old, input(j));
         // One compare + select each: anything not below the peak (NaN and +∞ included) becomes
         // the peak, and so a spike; u outside the finite range (NaN included) becomes a bound.
         let v_new = if v_raw < v_peak { v_raw } else { v_peak };
@@ -251,11 +297,9 @@ fn step_block_with<F: Real, const INTERPOLATE: bool>(
         let u_new = if u_new > u_min { u_new } else { u_min };
         let spike = v_new >= v_peak;
         if INTERPOLATE {
-            phi[j] = if spike {
-                (v_peak - v_old) / (v_raw - v_old)
-            } else {
-                F::one()
-            };
+            let f = (v_peak - v_old) / (v_raw - v_old);
+            phi[j] = if spike { f } else { F::one() };
+            u_at_spike[j] = u_old + f * (u_new - u_old);
         }
         let u_reset = u_new + d;
         let u_reset = if u_reset < u_max { u_reset } else { u_max };
@@ -377,67 +421,76 @@ impl<F: Real> Izhikevich<F> {
 
     fn advance(&mut self, drive: Drive<'_>) -> u64 {
         let k = self.k;
-        let h = k.h;
+        let (h, u_decay) = (k.h, k.u_decay);
+        // One closure per integrator, so each gets its own vectorised loop.
+        macro_rules! with {
+            ($integrator:expr) => {
+                self.advance_with(
+                    drive,
+                    #[inline(always)]
+                    move |v, u, i| advance_state($integrator, &k, (v, u), i, h, u_decay),
+                )
+            };
+        }
         match self.integrator {
-            Integrator::Izhikevich2003 => self.advance_with(
-                drive,
-                #[inline(always)]
-                move |v, u, i| {
-                    let half = h * F::of(0.5);
-                    let v1 = v + half * derivative(&k, [v, u], i)[0];
-                    let v2 = v1 + half * derivative(&k, [v1, u], i)[0];
-                    (v2, u + h * k.a * (k.b * v2 - u))
-                },
-            ),
-            Integrator::Euler => self.advance_with(
-                drive,
-                #[inline(always)]
-                move |v, u, i| {
-                    let x = integrate::euler([v, u], h, |x| derivative(&k, x, i));
-                    (x[0], x[1])
-                },
-            ),
-            Integrator::ExponentialEuler => self.advance_with(
-                drive,
-                #[inline(always)]
-                move |v, u, i| {
-                    let u_inf = k.b * v;
-                    (
-                        v + h * derivative(&k, [v, u], i)[0],
-                        u_inf + (u - u_inf) * k.u_decay,
-                    )
-                },
-            ),
-            Integrator::Rk2 => self.advance_with(
-                drive,
-                #[inline(always)]
-                move |v, u, i| {
-                    let x = integrate::rk2([v, u], h, |x| derivative(&k, x, i));
-                    (x[0], x[1])
-                },
-            ),
-            Integrator::Rk4 => self.advance_with(
-                drive,
-                #[inline(always)]
-                move |v, u, i| {
-                    let x = integrate::rk4([v, u], h, |x| derivative(&k, x, i));
-                    (x[0], x[1])
-                },
-            ),
+            Integrator::Izhikevich2003 => with!(Integrator::Izhikevich2003),
+            Integrator::Euler => with!(Integrator::Euler),
+            Integrator::ExponentialEuler => with!(Integrator::ExponentialEuler),
+            Integrator::Rk2 => with!(Integrator::Rk2),
+            Integrator::Rk4 => with!(Integrator::Rk4),
             Integrator::Exact => unreachable!("rejected by prepare"),
         }
     }
 
     fn advance_with(&mut self, drive: Drive<'_>, update: impl Fn(F, F, F) -> (F, F) + Sync) -> u64 {
-        let (n, k, interpolate) = (self.n, self.k, self.interpolate);
+        let (n, k, interpolate, integrator) = (self.n, self.k, self.interpolate, self.integrator);
         for_blocks(&mut self.blocks, n, |b, s| {
             let d = drive.block(b, s.v.len());
             if interpolate {
-                step_block::<F, true>(s, d, &k, &update)
+                let count = step_block::<F, true>(s, d, &k, &update);
+                if count > 0 {
+                    finish_interpolated_spikes(s, d, &k, integrator);
+                }
+                count
             } else {
                 step_block::<F, false>(s, d, &k, &update)
             }
         })
+    }
+}
+
+/// After an interpolated spike at fraction φ: reset at the crossing (`v ← c`, `u ← u(φ) + d`)
+/// and integrate over the rest of the step, `(1 − φ)·h`, with the population's integrator.
+fn finish_interpolated_spikes<F: Real>(
+    s: &mut IzhikevichState<F>,
+    drive: Drive<'_>,
+    k: &IzhikevichConstants<F>,
+    integrator: Integrator,
+) {
+    for j in 0..s.v.len() {
+        if s.spiked[j] == 0 {
+            continue;
+        }
+        let phi = F::of(unit_fraction(s.phi[j].f64()));
+        s.phi[j] = phi;
+        let h = k.h * (F::one() - phi);
+        let u0 = s.u_at_spike[j] + k.d;
+        let (v, u) = advance_state(
+            integrator,
+            k,
+            (k.c, u0),
+            F::of(drive.at(j)),
+            h,
+            (-k.a * h).exp(),
+        );
+        // The remainder is shorter than a step: a second spike in it is not modelled.
+        s.v[j] = if v < k.v_peak {
+            v
+        } else {
+            k.v_peak - F::of(1e-3)
+        }
+        .max(k.v_floor);
+        s.u[j] = if u.is_finite() { u } else { u0 };
     }
 }
 
@@ -486,6 +539,11 @@ impl<F: Real> NeuronModel for Izhikevich<F> {
                     u: v.iter().map(|&x| F::of(b * x)).collect(),
                     phi: if self.interpolate {
                         vec![F::one(); v.len()]
+                    } else {
+                        Vec::new()
+                    },
+                    u_at_spike: if self.interpolate {
+                        vec![F::zero(); v.len()]
                     } else {
                         Vec::new()
                     },

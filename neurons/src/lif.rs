@@ -35,7 +35,9 @@
 //!
 //! ## Extremes
 //! After each step `v` is clamped to `[max(v_min, lowest finite), ∞)`; `v ≥ v_th` resets, so the
-//! state is always finite, even for Euler with `dt > 2τ_m` (unstable but never NaN).
+//! state is always finite, even for Euler with `dt > 2τ_m` (unstable but never NaN). Values
+//! below the smallest normal number in magnitude are flushed to 0, so a long silence never
+//! leaves subnormal numbers in the loop.
 
 use crate::integrate::{self, Integrator};
 use crate::population::{
@@ -199,12 +201,20 @@ fn step_block_with<F: Real, const REFRACTORY: bool, const INTERPOLATE: bool>(
         refractory_steps: n_ref,
         ..
     } = *k;
+    let tiny = F::min_positive_value();
     let mut count = 0u32;
     for i in 0..n {
         let v_old = v[i];
         let v_raw = update(v_old, v_inf(i));
         // One compare + select: NaN and −∞ (unstable Euler) become the floor, never the state.
-        let mut v_new = if v_raw > v_floor { v_raw } else { v_floor };
+        let v_new = if v_raw > v_floor { v_raw } else { v_floor };
+        // Flush subnormals to 0: a long silence decays v towards v_rest = 0 through the
+        // subnormal range, where x86 arithmetic is 10–100× slower.
+        let mut v_new = if v_new.abs() >= tiny {
+            v_new
+        } else {
+            F::zero()
+        };
         if REFRACTORY {
             v_new = if refractory_steps[i] == 0 {
                 v_new
@@ -345,30 +355,21 @@ impl<F: Real> Lif<F> {
 
     fn advance(&mut self, drive: Drive<'_>) -> u64 {
         let k = self.k;
-        match self.integrator {
-            Integrator::Exact | Integrator::ExponentialEuler => {
-                let (d, one_minus_d) = (k.decay, F::one() - k.decay);
+        // One closure per integrator, so each gets its own vectorised loop.
+        macro_rules! with {
+            ($integrator:expr) => {
                 self.advance_with(
                     drive,
                     #[inline(always)]
-                    move |v, v_inf| v * d + v_inf * one_minus_d,
+                    move |v, v_inf| advance_potential($integrator, v, v_inf, k.h, k.decay),
                 )
-            }
-            Integrator::Euler => self.advance_with(
-                drive,
-                #[inline(always)]
-                move |v, v_inf| v + k.h * (v_inf - v),
-            ),
-            Integrator::Rk2 => self.advance_with(
-                drive,
-                #[inline(always)]
-                move |v, v_inf| integrate::rk2([v], k.h, |x| [v_inf - x[0]])[0],
-            ),
-            Integrator::Rk4 => self.advance_with(
-                drive,
-                #[inline(always)]
-                move |v, v_inf| integrate::rk4([v], k.h, |x| [v_inf - x[0]])[0],
-            ),
+            };
+        }
+        match self.integrator {
+            Integrator::Exact | Integrator::ExponentialEuler => with!(Integrator::Exact),
+            Integrator::Euler => with!(Integrator::Euler),
+            Integrator::Rk2 => with!(Integrator::Rk2),
+            Integrator::Rk4 => with!(Integrator::Rk4),
             Integrator::Izhikevich2003 => unreachable!("rejected by prepare"),
         }
     }
@@ -395,6 +396,19 @@ impl<F: Real> Lif<F> {
     }
 }
 
+/// One step of `h = dt/τ_m` with `integrator` towards `v∞`; `decay = e^(−h)` (exact step).
+#[inline(always)]
+fn advance_potential<F: Real>(integrator: Integrator, v: F, v_inf: F, h: F, decay: F) -> F {
+    let f = |x: [F; 1]| [v_inf - x[0]];
+    match integrator {
+        Integrator::Exact | Integrator::ExponentialEuler => v * decay + v_inf * (F::one() - decay),
+        Integrator::Euler => integrate::euler([v], h, f)[0],
+        Integrator::Rk2 => integrate::rk2([v], h, f)[0],
+        Integrator::Rk4 => integrate::rk4([v], h, f)[0],
+        Integrator::Izhikevich2003 => unreachable!("rejected by prepare"),
+    }
+}
+
 /// After an interpolated spike at fraction φ, integrates from `v_reset` over `(1 − φ)·dt`.
 fn finish_interpolated_spikes<F: Real>(
     s: &mut LifState<F>,
@@ -408,16 +422,10 @@ fn finish_interpolated_spikes<F: Real>(
         }
         let phi = F::of(unit_fraction(s.phi[i].f64()));
         s.phi[i] = phi;
-        let v_inf = k.v_rest + F::of(drive.at(i));
         let h = k.h * (F::one() - phi);
-        let v = k.v_reset;
-        s.v[i] = match integrator {
-            Integrator::Euler => integrate::euler([v], h, |x| [v_inf - x[0]])[0],
-            Integrator::Rk2 => integrate::rk2([v], h, |x| [v_inf - x[0]])[0],
-            Integrator::Rk4 => integrate::rk4([v], h, |x| [v_inf - x[0]])[0],
-            _ => v_inf + (v - v_inf) * (-h).exp(),
-        }
-        .max(k.v_floor);
+        let v_inf = k.v_rest + F::of(drive.at(i));
+        let v = advance_potential(integrator, k.v_reset, v_inf, h, (-h).exp());
+        s.v[i] = if v > k.v_floor { v } else { k.v_floor };
     }
 }
 
