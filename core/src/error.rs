@@ -1,5 +1,9 @@
 //! Error types of `neurotac-core`, one enum per concern, chained into [`CoreError`].
 //!
+//! Following the Rust API guidelines, an error's message describes its own layer only; the
+//! cause is its [`source`](std::error::Error::source). Print the whole chain (e.g. anyhow's
+//! `{:#}`, or [`error_chain`]) to see every layer on one line.
+//!
 //! Build-time problems (a wrong shape, a dangling id) are [`GraphError`]s returned by
 //! [`NetworkBuilder`](crate::NetworkBuilder) methods and `build()`; nothing in a built network's
 //! run loop can fail on shapes.
@@ -62,7 +66,7 @@ pub enum SpikeError {
 #[derive(Debug, Error)]
 pub enum DatasetError {
     /// The file could not be opened, read or written.
-    #[error("{path}: {source}")]
+    #[error("cannot read or write {path}")]
     Io {
         /// The file.
         path: PathBuf,
@@ -70,7 +74,7 @@ pub enum DatasetError {
         source: std::io::Error,
     },
     /// The JSON text is malformed or does not have the dataset's shape.
-    #[error("{path}: invalid spike-dataset JSON: {source}")]
+    #[error("{path}: invalid spike-dataset JSON")]
     Json {
         /// The file.
         path: PathBuf,
@@ -88,7 +92,7 @@ pub enum DatasetError {
         what: String,
     },
     /// An observation's spike trains are invalid.
-    #[error("observation {observation}: {source}")]
+    #[error("observation {observation}")]
     Spikes {
         /// Index of the observation.
         observation: usize,
@@ -177,7 +181,7 @@ pub enum GraphError {
         expected: &'static str,
     },
     /// A neuron model refused its parameters or the time step.
-    #[error("population '{population}': {source}")]
+    #[error("population '{population}'")]
     Model {
         /// Population name.
         population: String,
@@ -251,4 +255,16 @@ pub enum CoreError {
     /// See [`ModelError`].
     #[error(transparent)]
     Model(#[from] ModelError),
+}
+
+/// Formats an error and its chain of sources on one line, `outer: inner: innermost`.
+pub fn error_chain(error: &dyn std::error::Error) -> String {
+    let mut out = error.to_string();
+    let mut next = error.source();
+    while let Some(e) = next {
+        out.push_str(": ");
+        out.push_str(&e.to_string());
+        next = e.source();
+    }
+    out
 }

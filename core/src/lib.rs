@@ -36,7 +36,7 @@ pub mod spikes;
 pub mod time;
 
 pub use dataset::SpikeDataset;
-pub use error::{CoreError, DatasetError, GraphError, ModelError, SpikeError};
+pub use error::{CoreError, DatasetError, GraphError, ModelError, SpikeError, error_chain};
 pub use event::{Event, EventBuffer};
 pub use graph::{
     Connectivity, CurrentInput, ExpSynapse, Network, NetworkBuilder, NetworkConfig, NodeId,

@@ -4,3 +4,8 @@
 #![deny(missing_docs)]
 
 pub mod afferents;
+pub mod bench;
+pub mod neuron_setup;
+pub mod neuron_tradeoff;
+pub mod peers;
+pub mod svg;

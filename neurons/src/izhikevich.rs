@@ -45,7 +45,7 @@
 use crate::integrate::{self, Integrator};
 use crate::population::{
     BLOCK, Drive, InitialPotential, block_len, check_dt, check_input, check_param,
-    collect_block_spikes, for_blocks, n_blocks, unit_fraction,
+    collect_block_spikes, for_blocks, for_each_spike, n_blocks, unit_fraction,
 };
 use crate::real::Real;
 use neurotac_core::{ModelError, NeuronModel, SpikeBuffer};
@@ -467,31 +467,33 @@ fn finish_interpolated_spikes<F: Real>(
     k: &IzhikevichConstants<F>,
     integrator: Integrator,
 ) {
-    for j in 0..s.v.len() {
-        if s.spiked[j] == 0 {
-            continue;
-        }
-        let phi = F::of(unit_fraction(s.phi[j].f64()));
-        s.phi[j] = phi;
-        let h = k.h * (F::one() - phi);
-        let u0 = s.u_at_spike[j] + k.d;
-        let (v, u) = advance_state(
-            integrator,
-            k,
-            (k.c, u0),
-            F::of(drive.at(j)),
-            h,
-            (-k.a * h).exp(),
-        );
+    let IzhikevichState {
+        v,
+        u,
+        phi,
+        u_at_spike,
+        spiked,
+    } = s;
+    for_each_spike(spiked, |j| {
+        let f = F::of(unit_fraction(phi[j].f64()));
+        phi[j] = f;
+        let h = k.h * (F::one() - f);
+        let u0 = u_at_spike[j] + k.d;
+        let i = F::of(drive.at(j));
+        let (v_next, u_next) = advance_state(integrator, k, (k.c, u0), i, h, (-k.a * h).exp());
         // The remainder is shorter than a step: a second spike in it is not modelled.
-        s.v[j] = if v < k.v_peak {
-            v
+        let v_next = if v_next < k.v_peak {
+            v_next
         } else {
             k.v_peak - F::of(1e-3)
-        }
-        .max(k.v_floor);
-        s.u[j] = if u.is_finite() { u } else { u0 };
-    }
+        };
+        v[j] = if v_next > k.v_floor {
+            v_next
+        } else {
+            k.v_floor
+        };
+        u[j] = if u_next.is_finite() { u_next } else { u0 };
+    });
 }
 
 impl<F: Real> NeuronModel for Izhikevich<F> {

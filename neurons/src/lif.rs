@@ -42,7 +42,7 @@
 use crate::integrate::{self, Integrator};
 use crate::population::{
     BLOCK, Drive, InitialPotential, block_len, check_dt, check_input, check_param,
-    collect_block_spikes, for_blocks, n_blocks, unit_fraction,
+    collect_block_spikes, for_blocks, for_each_spike, n_blocks, unit_fraction,
 };
 use crate::real::Real;
 use neurotac_core::{ModelError, NeuronModel, SpikeBuffer};
@@ -416,17 +416,19 @@ fn finish_interpolated_spikes<F: Real>(
     k: &LifConstants<F>,
     integrator: Integrator,
 ) {
-    for i in 0..s.v.len() {
-        if s.spiked[i] == 0 {
-            continue;
-        }
-        let phi = F::of(unit_fraction(s.phi[i].f64()));
-        s.phi[i] = phi;
-        let h = k.h * (F::one() - phi);
+    let LifState { v, phi, spiked, .. } = s;
+    for_each_spike(spiked, |i| {
+        let f = F::of(unit_fraction(phi[i].f64()));
+        phi[i] = f;
+        let h = k.h * (F::one() - f);
         let v_inf = k.v_rest + F::of(drive.at(i));
-        let v = advance_potential(integrator, k.v_reset, v_inf, h, (-h).exp());
-        s.v[i] = if v > k.v_floor { v } else { k.v_floor };
-    }
+        let v_next = advance_potential(integrator, k.v_reset, v_inf, h, (-h).exp());
+        v[i] = if v_next > k.v_floor {
+            v_next
+        } else {
+            k.v_floor
+        };
+    });
 }
 
 impl<F: Real> NeuronModel for Lif<F> {

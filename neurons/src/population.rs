@@ -145,6 +145,23 @@ pub(crate) fn for_blocks<B: Send>(
     }
 }
 
+/// Calls `f(i)` for every `i` with `mask[i] != 0`, skipping eight silent neurons at a time.
+#[inline]
+pub(crate) fn for_each_spike(mask: &[u8], mut f: impl FnMut(usize)) {
+    let mut words = mask.chunks_exact(8);
+    let mut base = 0;
+    for word in words.by_ref() {
+        if u64::from_ne_bytes(word.try_into().expect("8 bytes")) != 0 {
+            (0..8).filter(|&j| word[j] != 0).for_each(|j| f(base + j));
+        }
+        base += 8;
+    }
+    let rest = words.remainder();
+    (0..rest.len())
+        .filter(|&j| rest[j] != 0)
+        .for_each(|j| f(base + j));
+}
+
 /// Pushes the spikes recorded in `mask` (block `b`) into `out`, with `phi` fractions when given.
 #[inline]
 pub(crate) fn collect_block_spikes<F: crate::Real>(
@@ -154,21 +171,10 @@ pub(crate) fn collect_block_spikes<F: crate::Real>(
     out: &mut SpikeBuffer,
 ) {
     let base = b * BLOCK;
-    let mut i = 0;
-    for word in mask.chunks(8) {
-        if word.iter().any(|&m| m != 0) {
-            for (j, &m) in word.iter().enumerate() {
-                if m != 0 {
-                    let idx = (base + i + j) as u32;
-                    match phi {
-                        Some(p) => out.push_at(idx, unit_fraction(p[i + j].f64())),
-                        None => out.push(idx),
-                    }
-                }
-            }
-        }
-        i += word.len();
-    }
+    for_each_spike(mask, |i| match phi {
+        Some(p) => out.push_at((base + i) as u32, unit_fraction(p[i].f64())),
+        None => out.push((base + i) as u32),
+    });
 }
 
 /// An in-step spike fraction limited to `[0, 1]`; NaN (a 0/0 crossing) means the end of the step.

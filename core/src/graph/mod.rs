@@ -15,13 +15,14 @@
 //! # Phase order of one step
 //! Step `k` advances time from `t_k = k·dt` to `t_k + dt`:
 //! 1. **inputs**: every spike source emits the spikes that fall in `[t_k, t_k + dt)`;
-//! 2. **synapses**: every projection decays its currents by `e^(−dt/τ)` and adds the weights of
-//!    the presynaptic spikes emitted `delay` steps ago (this step's, for delay 0 from an input);
-//! 3. **integration**: every population sums its projections' currents and direct currents
-//!    (evaluated at `t_k`) and advances one step, holding that input constant;
+//! 2. **synapses**: every projection adds the weights of the presynaptic spikes emitted `delay`
+//!    steps ago (this step's, for delay 0 from an input) to its currents, giving `I(t_k)`;
+//! 3. **integration**: every population sums its projections' currents `I(t_k)` and direct
+//!    currents (evaluated at `t_k`) and advances one step, holding that input constant; in the
+//!    same pass each projection's currents decay exactly to `I(t_k + dt) = I(t_k)·e^(−dt/τ)`;
 //! 4. **threshold/reset**: inside the model's step, which pushes this step's spikes;
 //! 5. **readouts**: each sees this step's spikes of its source, the population state at
-//!    `t_k + dt`, or the projection currents as used in this step.
+//!    `t_k + dt`, or the projection currents at `t_k + dt` (decayed, before the next delivery).
 //!
 //! ```
 //! use neurotac_core::{ExpSynapse, Connectivity, MultiSpikeTrain, NetworkBuilder, NetworkConfig, SpikeArrayInput};
@@ -462,6 +463,7 @@ impl NetworkBuilder {
             });
         }
         let mut projections = Vec::new();
+        let mut untargeted = Vec::new();
         let mut projection_index = vec![None; self.projections.len()];
         for (i, p) in self.projections.iter().enumerate() {
             if !proj_needed[i] {
@@ -475,9 +477,9 @@ impl NetworkBuilder {
                 history.resize(delay + 1, SpikeBuffer::new());
             }
             // A projection kept only for a trace readout may have a pruned target.
-            let post = runtime_index[p.post];
-            if let Some(post) = post {
-                nodes[post].incoming.push(projections.len());
+            match runtime_index[p.post] {
+                Some(post) => nodes[post].incoming.push(projections.len()),
+                None => untargeted.push(projections.len()),
             }
             projection_index[i] = Some(projections.len());
             projections.push(RunningProjection {
@@ -518,6 +520,7 @@ impl NetworkBuilder {
             begun: false,
             pruned,
             node_index: runtime_index,
+            untargeted,
         })
     }
 }
@@ -566,6 +569,8 @@ pub struct Network {
     begun: bool,
     pruned: Vec<String>,
     node_index: Vec<Option<usize>>,
+    /// Projections kept only for a trace readout (their target was pruned): decayed on their own.
+    untargeted: Vec<usize>,
 }
 
 impl Network {
@@ -728,21 +733,19 @@ impl Network {
         }
         // 2. synapses
         for p in &mut self.projections {
-            p.decay();
             if k >= p.delay as u64 {
                 let h = &self.nodes[p.pre].history;
                 p.deliver(h[((k - p.delay as u64) % h.len() as u64) as usize].indices());
             }
         }
-        // 3–4. integration, threshold and reset
+        // 3–4. integration, threshold and reset (synaptic decay fused into the input sum)
         for n in &mut self.nodes {
             if let RunningKind::Population(m) = &mut n.kind {
-                n.input.iter_mut().for_each(|x| *x = 0.0);
-                for &p in &n.incoming {
-                    n.input
-                        .iter_mut()
-                        .zip(&self.projections[p].current)
-                        .for_each(|(x, c)| *x += c);
+                if n.incoming.is_empty() {
+                    n.input.iter_mut().for_each(|x| *x = 0.0);
+                }
+                for (j, &p) in n.incoming.iter().enumerate() {
+                    self.projections[p].drain_into(&mut n.input, j == 0);
                 }
                 for &c in &n.currents {
                     self.currents[c].add_into(t_k, &mut n.input);
@@ -751,6 +754,9 @@ impl Network {
                 n.history[slot].clear();
                 m.step(&n.input, &mut n.history[slot]);
             }
+        }
+        for &p in &self.untargeted {
+            self.projections[p].decay();
         }
         // 5. readouts
         let mut stop = false;

@@ -34,7 +34,8 @@ pub struct StepView<'a> {
     pub spikes: &'a SpikeBuffer,
     /// The source population after the step (`None` for inputs and projections).
     pub population: Option<&'a dyn NeuronModel>,
-    /// A projection source's synaptic currents after this step's delivery (`None` otherwise).
+    /// A projection source's synaptic currents at the end of the step, `t_start + dt`: this
+    /// step's delivery decayed by one step (`None` for node sources).
     pub synaptic_current: Option<&'a [f64]>,
 }
 
@@ -171,8 +172,8 @@ impl Readout for StateRecorder {
     }
 }
 
-/// Records a projection's synaptic currents of chosen target neurons every step, after the
-/// step's decay and delivery (time `t_start`).
+/// Records a projection's synaptic currents onto chosen target neurons at the end of every step
+/// (time `t_start + dt`, the current the next step starts from before its own delivery).
 #[derive(Debug, Clone)]
 pub struct SynapticTraceRecorder {
     neurons: Vec<u32>,
@@ -224,7 +225,7 @@ impl Readout for SynapticTraceRecorder {
 
     fn on_step(&mut self, view: &StepView<'_>) -> ControlFlow<()> {
         if let Some(current) = view.synaptic_current {
-            self.times.push(view.t_start_s);
+            self.times.push(view.t_start_s + view.dt_s);
             self.values
                 .extend(self.neurons.iter().map(|&i| current[i as usize]));
         }

@@ -261,9 +261,9 @@ fn builder_rejects_wrong_shapes_roles_and_parameters() {
         Err(GraphError::DuplicateName(_))
     ));
     let e = b.record_state(pop, "v", None, 1).unwrap_err();
-    assert!(
-        e.to_string().contains("no state variable 'v' (has: x)"),
-        "{e}"
+    assert_eq!(
+        crate::error_chain(&e),
+        "population 'pop': probe has no state variable 'v' (has: x)"
     );
     assert!(matches!(
         b.record_state(pop, "x", Some(vec![48]), 1),
@@ -298,10 +298,9 @@ fn builder_rejects_wrong_shapes_roles_and_parameters() {
     let p = b.add_population("afferents", bad).unwrap();
     b.record_spikes(p).unwrap();
     let e = b.build(NetworkConfig::default()).err().unwrap();
-    assert!(
-        e.to_string()
-            .starts_with("population 'afferents': probe: parameter threshold"),
-        "{e}"
+    assert_eq!(
+        crate::error_chain(&e),
+        "population 'afferents': probe: parameter threshold = NaN: finite"
     );
 }
 
@@ -327,15 +326,21 @@ fn spikes_arrive_after_their_delay_and_decay_exactly() {
     let tr = net.readout(trace);
     assert_eq!(tr.times().len(), 20);
     let trace = tr.trace(0);
-    // Emitted in step 10 (t = 10.5 ms lies in [10, 11) ms), delivered 3 steps later.
+    // Emitted in step 10 (t = 10.5 ms lies in [10, 11) ms), delivered 3 steps later; the trace
+    // is sampled at the end of each step, one decay after the delivery.
     assert!(trace[..13].iter().all(|&x| x == 0.0));
     for (k, &x) in trace.iter().enumerate().skip(13) {
-        let expected = 2.0 * (-((k - 13) as f64) * dt / 4e-3).exp();
+        let expected = 2.0 * (-((k - 12) as f64) * dt / 4e-3).exp();
         assert!((x - expected).abs() < 1e-12, "step {k}: {x} vs {expected}");
     }
-    // The population integrates the current of the same step; its state is sampled at step end.
+    assert!((tr.times()[13] - 0.014).abs() < 1e-15);
+    // The population integrates the current at the start of the step: the undecayed jump.
     let st = net.readout(state);
-    assert_eq!(st.trace(0), trace);
+    let decay = (-dt / 4e-3f64).exp();
+    for (k, &x) in st.trace(0).iter().enumerate().skip(13) {
+        assert!((x * decay - trace[k]).abs() < 1e-12, "step {k}");
+    }
+    assert_eq!(st.trace(0)[13], 2.0);
     assert!((st.times()[13] - 0.014).abs() < 1e-15);
     // A spike source's recorded spike keeps its own time.
     assert_eq!(net.readout(input_spikes).spikes(), &[(0, 0.0105)]);

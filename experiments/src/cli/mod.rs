@@ -4,7 +4,10 @@
 
 use clap::{Parser, Subcommand};
 
+mod bench;
 mod demo;
+mod neuron;
+mod tradeoff;
 
 /// neurotac: spiking neural networks for neuromorphic touch (the NeuroTac sensor).
 #[derive(Debug, Parser)]
@@ -18,11 +21,20 @@ pub struct Cli {
 enum Command {
     /// Run 49 taxel spike trains through 49 afferent neurons and print their spike counts.
     Demo(demo::DemoArgs),
+    /// Measure throughput: neuron updates per second, or the CUBA network.
+    Bench(bench::BenchArgs),
+    /// Simulate one neuron under a constant current and print its spike times.
+    Neuron(neuron::NeuronArgs),
+    /// Speed ↔ accuracy reports (tables and SVG plots).
+    Tradeoff(tradeoff::TradeoffArgs),
 }
 
 /// Runs the parsed command.
 pub fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         Command::Demo(args) => demo::run(args),
+        Command::Bench(args) => bench::run(args),
+        Command::Neuron(args) => neuron::run(args),
+        Command::Tradeoff(args) => tradeoff::run(args),
     }
 }

@@ -1,0 +1,86 @@
+//! Neuron updates per second (N × steps / s) on one core: LIF and Izhikevich, f32 and f64,
+//! every integrator, N = 10³ … 10⁶ at dt = 0.1 ms; plus 10⁷ neurons (memory-bound) and all
+//! cores at 10⁶. The cases are Brian2's: LIF I = 1.04, Izhikevich RS I = 10.
+//!
+//! `cargo bench --bench neuron_throughput`; criterion reports "elem/s" = neuron updates/s.
+
+use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
+use neurotac::experiments::bench::with_threads;
+use neurotac::experiments::neuron_setup::{NeuronKind, NeuronSetup, Precision};
+use std::time::Duration;
+
+const DT: f64 = 1e-4;
+
+/// Times `steps` steps of `n` neurons; only stepping is timed.
+fn bench_setup(
+    c: &mut Criterion,
+    group: &str,
+    setup: &NeuronSetup,
+    sizes: &[usize],
+    threads: usize,
+) {
+    let mut g = c.benchmark_group(group);
+    g.sample_size(10)
+        .warm_up_time(Duration::from_millis(300))
+        .measurement_time(Duration::from_secs(1));
+    for &n in sizes {
+        // About 10⁷ updates per iteration, at least 2 steps.
+        let steps = ((1e7 / n as f64) as u64).max(2);
+        g.throughput(Throughput::Elements(n as u64 * steps));
+        let id = BenchmarkId::new(setup.integrator.name(), format!("{n:.0e}"));
+        g.bench_function(id, |b| {
+            b.iter_custom(|iters| {
+                let mut total = Duration::ZERO;
+                for _ in 0..iters {
+                    let (_, wall) = with_threads(threads, || {
+                        setup
+                            .run_constant(n, setup.kind.benchmark_current(), DT, steps)
+                            .expect("valid set-up")
+                    })
+                    .expect("thread pool");
+                    total += Duration::from_secs_f64(wall);
+                }
+                total
+            })
+        });
+    }
+    g.finish();
+}
+
+fn per_core(c: &mut Criterion) {
+    for kind in [NeuronKind::Lif, NeuronKind::Izhikevich] {
+        for precision in [Precision::F32, Precision::F64] {
+            for &integrator in kind.integrators() {
+                let setup = NeuronSetup {
+                    integrator,
+                    ..NeuronSetup::benchmark(kind, precision)
+                };
+                let group = format!("{}_{}", kind.name(), precision.name());
+                bench_setup(c, &group, &setup, &[1_000, 10_000, 100_000, 1_000_000], 1);
+            }
+        }
+    }
+}
+
+fn memory_bound_and_all_cores(c: &mut Criterion) {
+    for kind in [NeuronKind::Lif, NeuronKind::Izhikevich] {
+        let setup = NeuronSetup::benchmark(kind, Precision::F32);
+        bench_setup(
+            c,
+            &format!("{}_f32_1e7_one_core", kind.name()),
+            &setup,
+            &[10_000_000],
+            1,
+        );
+        bench_setup(
+            c,
+            &format!("{}_f32_all_cores", kind.name()),
+            &setup,
+            &[1_000_000, 10_000_000],
+            0,
+        );
+    }
+}
+
+criterion_group!(benches, per_core, memory_bound_and_all_cores);
+criterion_main!(benches);

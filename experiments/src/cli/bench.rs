@@ -1,0 +1,193 @@
+//! `neurotac bench neurons|cuba`: throughput on the cases Brian2 is measured on.
+
+use clap::{Args, Subcommand};
+use neurotac_experiments::bench::{CubaConfig, cuba, neuron_throughput};
+use neurotac_experiments::neuron_setup::{NeuronKind, Precision};
+use neurotac_experiments::peers::run_brian2;
+use neurotac_neurons::Integrator;
+use serde_json::{Value, json};
+use std::path::{Path, PathBuf};
+
+#[derive(Debug, Args)]
+pub struct BenchArgs {
+    #[command(subcommand)]
+    what: BenchCommand,
+}
+
+#[derive(Debug, Subcommand)]
+enum BenchCommand {
+    /// Neuron updates per second of N uncoupled neurons under constant input.
+    Neurons(NeuronsArgs),
+    /// The CUBA network: 4000 LIF, 80/20 exc/inh, 2 % connectivity, exponential synapses.
+    Cuba(CubaArgs),
+}
+
+#[derive(Debug, Args)]
+struct NeuronsArgs {
+    /// Model: LIF (I = 1.04, τ = 10 ms) or Izhikevich RS (I = 10).
+    #[arg(long, value_enum, default_value = "lif")]
+    model: NeuronKind,
+    /// Number of neurons.
+    #[arg(long, default_value_t = 100_000)]
+    n: usize,
+    /// Simulated duration (s).
+    #[arg(long, default_value_t = 1.0)]
+    duration: f64,
+    /// Time step (s).
+    #[arg(long, default_value_t = 1e-4)]
+    dt: f64,
+    /// Floating-point precision.
+    #[arg(long, value_enum, default_value = "f32")]
+    precision: Precision,
+    /// Integrator (default: exact for LIF, izhikevich2003 for Izhikevich).
+    #[arg(long)]
+    integrator: Option<Integrator>,
+    /// Worker threads (0 = one per core).
+    #[arg(long, default_value_t = 0)]
+    threads: usize,
+    /// Also run the same case in Brian2 (C++ standalone) with this Python and report the ratio.
+    #[arg(long, value_name = "PYTHON")]
+    brian2: Option<PathBuf>,
+    /// Print one JSON object.
+    #[arg(long)]
+    json: bool,
+}
+
+#[derive(Debug, Args)]
+struct CubaArgs {
+    /// Simulated duration (s).
+    #[arg(long, default_value_t = 1.0)]
+    duration: f64,
+    /// Time step (s).
+    #[arg(long, default_value_t = 1e-4)]
+    dt: f64,
+    /// Seed of the connectivity and initial potentials.
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Worker threads (0 = one per core).
+    #[arg(long, default_value_t = 0)]
+    threads: usize,
+    /// Also run CUBA in Brian2 (C++ standalone) with this Python and report the ratio.
+    #[arg(long, value_name = "PYTHON")]
+    brian2: Option<PathBuf>,
+    /// Print one JSON object.
+    #[arg(long)]
+    json: bool,
+}
+
+/// Adds the peer's numbers and `speedup = peer time / our time` to `report`.
+fn compare(
+    report: &mut Value,
+    python: &Path,
+    peer_args: Vec<String>,
+    our_wall_s: f64,
+    work: f64,
+) -> anyhow::Result<()> {
+    let peer = run_brian2(python, &peer_args)?;
+    report["peer"] = json!(peer.peer);
+    report["peer_wall_s"] = json!(peer.run_s);
+    report["peer_spikes"] = json!(peer.spikes);
+    report["peer_per_s"] = json!(work / peer.run_s);
+    report["speedup"] = json!(peer.run_s / our_wall_s);
+    Ok(())
+}
+
+fn print(report: &Value, json: bool, line: String) {
+    if json {
+        println!("{report}");
+        return;
+    }
+    println!("{line}");
+    if let Some(peer) = report["peer"].as_str() {
+        println!(
+            "{peer}: {:.4} s wall, {} spikes → neurotac is {:.2}× faster",
+            report["peer_wall_s"].as_f64().unwrap_or(f64::NAN),
+            report["peer_spikes"],
+            report["speedup"].as_f64().unwrap_or(f64::NAN)
+        );
+    }
+}
+
+pub fn run(args: BenchArgs) -> anyhow::Result<()> {
+    match args.what {
+        BenchCommand::Neurons(a) => {
+            let r = neuron_throughput(
+                a.model,
+                a.n,
+                a.duration,
+                a.dt,
+                a.precision,
+                a.integrator,
+                a.threads,
+            )?;
+            let mut report = serde_json::to_value(&r)?;
+            if let Some(python) = &a.brian2 {
+                let peer_args = ["neurons", r.model.name()].map(String::from).into_iter();
+                let peer_args = peer_args.chain([
+                    a.n.to_string(),
+                    a.duration.to_string(),
+                    a.dt.to_string(),
+                    r.threads.to_string(),
+                ]);
+                compare(
+                    &mut report,
+                    python,
+                    peer_args.collect(),
+                    r.wall_s,
+                    r.updates,
+                )?;
+            }
+            let line = format!(
+                "{} {} {} n={} dt={} s: {:.3e} updates/s ({:.3e} per thread, {} threads), {} spikes, {:.3} s wall",
+                r.model.name(),
+                r.integrator,
+                r.precision.name(),
+                r.n,
+                r.dt_s,
+                r.updates_per_s,
+                r.updates_per_s_per_thread,
+                r.threads,
+                r.spikes,
+                r.wall_s
+            );
+            print(&report, a.json, line);
+        }
+        BenchCommand::Cuba(a) => {
+            let config = CubaConfig {
+                duration_s: a.duration,
+                dt_s: a.dt,
+                seed: a.seed,
+                ..CubaConfig::default()
+            };
+            let (r, threads) = neurotac_experiments::bench::with_threads(a.threads, || {
+                (cuba(config), rayon::current_num_threads())
+            })?;
+            let r = r?;
+            let mut report = serde_json::to_value(&r)?;
+            report["threads"] = json!(threads);
+            if let Some(python) = &a.brian2 {
+                let peer_args = vec![
+                    "cuba".into(),
+                    a.duration.to_string(),
+                    a.dt.to_string(),
+                    threads.to_string(),
+                ];
+                compare(&mut report, python, peer_args, r.run_s, r.duration_s)?;
+            }
+            let line = format!(
+                "CUBA: {} neurons, {} synapses, {} s simulated in {:.4} s ({:.4} s per simulated second, {} threads; build {:.3} s), {} spikes ({:.1} Hz)",
+                r.neurons,
+                r.synapses,
+                r.duration_s,
+                r.run_s,
+                r.wall_s,
+                threads,
+                r.build_s,
+                r.spikes,
+                r.rate_hz
+            );
+            print(&report, a.json, line);
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,23 @@
+//! `neurotac tradeoff …`: speed ↔ accuracy reports, one subcommand per trade.
+
+use clap::{Args, Subcommand};
+
+mod neurons;
+
+#[derive(Debug, Args)]
+pub struct TradeoffArgs {
+    #[command(subcommand)]
+    what: TradeoffCommand,
+}
+
+#[derive(Debug, Subcommand)]
+enum TradeoffCommand {
+    /// Neuron simulation: model × integrator × dt × precision × spike stamping.
+    Neurons(neurons::NeuronsArgs),
+}
+
+pub fn run(args: TradeoffArgs) -> anyhow::Result<()> {
+    match args.what {
+        TradeoffCommand::Neurons(a) => neurons::run(a),
+    }
+}
