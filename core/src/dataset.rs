@@ -421,6 +421,29 @@ mod tests {
     }
 
     #[test]
+    fn json_round_trips_full_precision_times_bit_for_bit() {
+        // Times with all 17 significant digits (serde_json's exact float parsing is required).
+        let channels: Vec<Vec<f64>> = (0..49)
+            .map(|c| {
+                (1..30)
+                    .map(|k| (k as f64 * 0.1 + c as f64 * 1e-3).sqrt() / 3.0)
+                    .collect()
+            })
+            .collect();
+        let d = SpikeDataset::unlabelled(vec![MultiSpikeTrain::from_channels(&channels).unwrap()])
+            .unwrap();
+        let back = SpikeDataset::from_json_str(&d.to_json_string(), Path::new("x")).unwrap();
+        let bits = |d: &SpikeDataset| {
+            d.observations()[0]
+                .flat_times()
+                .iter()
+                .map(|t| t.to_bits())
+                .collect::<Vec<_>>()
+        };
+        assert_eq!(bits(&back), bits(&d));
+    }
+
+    #[test]
     fn json_with_only_observations_is_accepted() {
         let d = SpikeDataset::from_json_str(
             r#"{"observations": [[[0.1], [0.2, 0.3]]]}"#,

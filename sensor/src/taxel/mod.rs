@@ -1,0 +1,13 @@
+//! Taxels: the 49 receptive fields of the NeuroTac's pins, and turning pixel events into taxel
+//! spikes ([`Transducer`]; stages [`ReceptiveFieldMask`] and [`TaxelPooling`]; re-centring
+//! [`PositionUpdate`]; layouts [`TaxelLayout`]).
+
+mod fields;
+mod layout;
+mod pooling;
+mod transducer;
+
+pub use fields::{ReceptiveFieldMask, ReceptiveFields, TaxelPixelEvent};
+pub use layout::{LayoutDetection, TaxelLayout};
+pub use pooling::{PositionUpdate, TaxelEvent, TaxelPooling};
+pub use transducer::{Transducer, TransductionConfig, TransductionCounts};

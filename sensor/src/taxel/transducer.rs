@@ -1,0 +1,263 @@
+//! The whole NeuroTac transduction (paper, Methods, "Sensor operation"): pixel events →
+//! background-activity filter → receptive-field mask → 20 ms pooling → position update, giving
+//! the 49 taxel spike trains of a recording.
+//!
+//! Events are processed one pooling window at a time: a window's taxel events re-centre the
+//! fields before any event of the next window is assigned, so the result never depends on how
+//! the input stream was cut into chunks (live USB transfers or file reads). Live use: call
+//! [`Transducer::advance_to`] with the device clock to close a window without waiting for the
+//! next event — taxel events then lag their window by at most one window.
+
+use super::fields::ReceptiveFields;
+use super::layout::TaxelLayout;
+use super::pooling::{PositionUpdate, TaxelEvent, TaxelPooling};
+use crate::error::TransductionError;
+use crate::filter::{BackgroundActivityFilter, MapStart, RefractoryFilter};
+use crate::geometry::{DAVIS240_HEIGHT, DAVIS240_WIDTH};
+use neurotac_core::{EventBuffer, MultiSpikeTrain};
+
+/// Transduction settings; the defaults are the paper's.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TransductionConfig {
+    /// Sensor width (px). Default 240.
+    pub width: u16,
+    /// Sensor height (px). Default 180.
+    pub height: u16,
+    /// Background-activity window (µs); `None` disables the filter. Default 5000 (paper).
+    pub ba_window_us: Option<i64>,
+    /// How the BA time surface starts. Default [`MapStart::Zero`] (dv-processing).
+    pub ba_start: MapStart,
+    /// Refractory period (µs); `None` (default) disables the refractory filter.
+    pub refractory_us: Option<i64>,
+    /// Receptive-field radius (px). Default 6 (the paper's "6 px"; radius, not diameter).
+    pub rf_radius_px: f64,
+    /// How far a field may move from home (px). Default 10 (pins move 2–9 px).
+    pub max_shift_px: f64,
+    /// Pooling window (µs). Default 20 000 (paper).
+    pub pool_window_us: i64,
+    /// Pixel events needed for a taxel event. Default 1.
+    pub min_events: u32,
+    /// Re-centring gain in [0, 1]; 0 disables. Default 0.5 (the paper gives no value).
+    pub recentre_gain: f64,
+    /// Origin of the pooling windows and of spike times (µs); `None` = the first event of the
+    /// recording (before filtering).
+    pub origin_us: Option<i64>,
+}
+
+impl Default for TransductionConfig {
+    fn default() -> Self {
+        Self {
+            width: DAVIS240_WIDTH,
+            height: DAVIS240_HEIGHT,
+            ba_window_us: Some(5000),
+            ba_start: MapStart::Zero,
+            refractory_us: None,
+            rf_radius_px: 6.0,
+            max_shift_px: 10.0,
+            pool_window_us: 20_000,
+            min_events: 1,
+            recentre_gain: 0.5,
+            origin_us: None,
+        }
+    }
+}
+
+/// Counts of what each stage passed.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct TransductionCounts {
+    /// Pixel events in.
+    pub events_in: u64,
+    /// Events kept by the noise filters.
+    pub after_filters: u64,
+    /// Events inside a receptive field.
+    pub in_fields: u64,
+    /// Taxel events (spikes) out.
+    pub taxel_events: u64,
+}
+
+/// Pixel events in, taxel events out (see the module docs).
+#[derive(Debug, Clone)]
+pub struct Transducer {
+    ba: Option<BackgroundActivityFilter>,
+    refractory: Option<RefractoryFilter>,
+    fields: ReceptiveFields,
+    pooling: TaxelPooling,
+    update: PositionUpdate,
+    width: u16,
+    height: u16,
+    last_t: i64,
+    /// End of the open pooling window (µs); `i64::MIN` before the first window.
+    window_end_us: i64,
+    counts: TransductionCounts,
+    closed: Vec<TaxelEvent>,
+    taxel_events: Vec<TaxelEvent>,
+}
+
+impl Transducer {
+    /// A transducer for `layout` with `config` (validated here).
+    pub fn new(
+        layout: &TaxelLayout,
+        config: TransductionConfig,
+    ) -> Result<Self, TransductionError> {
+        let c = config;
+        if !(0.0..=1.0).contains(&c.recentre_gain) {
+            return Err(TransductionError::InvalidParameter {
+                what: "re-centring gain",
+                value: c.recentre_gain,
+                expected: "in [0, 1]",
+            });
+        }
+        let ba = c
+            .ba_window_us
+            .map(|w| BackgroundActivityFilter::new(c.width, c.height, w, c.ba_start))
+            .transpose()?;
+        let refractory = c
+            .refractory_us
+            .map(|p| RefractoryFilter::new(c.width, c.height, p))
+            .transpose()?;
+        Ok(Self {
+            ba,
+            refractory,
+            fields: ReceptiveFields::new(
+                layout,
+                c.rf_radius_px,
+                c.max_shift_px,
+                c.width,
+                c.height,
+            )?,
+            pooling: TaxelPooling::new(layout.len(), c.pool_window_us, c.min_events, c.origin_us)?,
+            update: PositionUpdate {
+                gain: c.recentre_gain,
+            },
+            width: c.width,
+            height: c.height,
+            last_t: i64::MIN,
+            window_end_us: i64::MIN,
+            counts: TransductionCounts::default(),
+            closed: Vec::new(),
+            taxel_events: Vec::new(),
+        })
+    }
+
+    /// Processes a chunk of events (time-ordered, continuing the previous chunk).
+    pub fn push(&mut self, events: &EventBuffer) -> Result<(), TransductionError> {
+        let (width, height) = (self.width, self.height);
+        // Counters live in registers during the loop and are written back on every exit.
+        let mut counts = self.counts;
+        let result = (|| {
+            for ((&t, &x), &y) in events.t.iter().zip(&events.x).zip(&events.y) {
+                let index = counts.events_in;
+                if t < self.last_t {
+                    return Err(TransductionError::Backwards {
+                        index,
+                        previous_us: self.last_t,
+                        got_us: t,
+                    });
+                }
+                if x >= width || y >= height {
+                    return Err(TransductionError::OutOfRange {
+                        index,
+                        x,
+                        y,
+                        width,
+                        height,
+                    });
+                }
+                if index == 0 {
+                    self.pooling.fix_origin(t);
+                }
+                self.last_t = t;
+                counts.events_in += 1;
+                let mut keep = true;
+                if let Some(ba) = &mut self.ba {
+                    keep &= ba.support_and_update(t, x, y);
+                }
+                if let Some(r) = &mut self.refractory {
+                    keep &= r.keep_and_update(t, x, y);
+                }
+                if !keep {
+                    continue;
+                }
+                counts.after_filters += 1;
+                // A new window: close the open one and re-centre before assigning this event.
+                if t >= self.window_end_us {
+                    self.closed.clear();
+                    self.window_end_us = self.pooling.roll_to(t, &mut self.closed)?;
+                    counts.taxel_events += self.closed.len() as u64;
+                    self.update.apply(&self.closed, &mut self.fields);
+                    self.taxel_events.append(&mut self.closed);
+                }
+                if let Some(taxel) = self.fields.assign(x, y) {
+                    counts.in_fields += 1;
+                    self.pooling.accumulate(taxel, t, x, y);
+                }
+            }
+            Ok(())
+        })();
+        self.counts = counts;
+        result
+    }
+
+    fn close_window(&mut self) {
+        self.closed.clear();
+        self.pooling.close(&mut self.closed);
+        self.window_end_us = i64::MIN;
+        self.finish_closed();
+    }
+
+    fn finish_closed(&mut self) {
+        self.update.apply(&self.closed, &mut self.fields);
+        self.counts.taxel_events += self.closed.len() as u64;
+        self.taxel_events.append(&mut self.closed);
+    }
+
+    /// Closes the open window if `t_us` is past its end (live streams).
+    pub fn advance_to(&mut self, t_us: i64) {
+        if t_us >= self.window_end_us {
+            self.close_window();
+        }
+    }
+
+    /// Closes the last window (end of a recording).
+    pub fn finish(&mut self) {
+        self.close_window();
+    }
+
+    /// Taxel events so far, in window order (taxel order within a window).
+    pub fn taxel_events(&self) -> &[TaxelEvent] {
+        &self.taxel_events
+    }
+
+    /// Takes the taxel events so far (live use), leaving none.
+    pub fn drain_taxel_events(&mut self) -> Vec<TaxelEvent> {
+        std::mem::take(&mut self.taxel_events)
+    }
+
+    /// What each stage passed so far.
+    pub fn counts(&self) -> TransductionCounts {
+        self.counts
+    }
+
+    /// The receptive fields (current centres).
+    pub fn fields(&self) -> &ReceptiveFields {
+        &self.fields
+    }
+
+    /// The time origin of windows and spike times (µs), once known.
+    pub fn origin_us(&self) -> Option<i64> {
+        self.pooling.origin_us()
+    }
+
+    /// The taxel events so far as one spike train per taxel, in seconds since the origin
+    /// (`(t̄ − origin) / 10⁶`).
+    pub fn spike_trains(&self) -> MultiSpikeTrain {
+        let origin = self.origin_us().unwrap_or(0) as f64;
+        let spikes: Vec<(u32, f64)> = self
+            .taxel_events
+            .iter()
+            .map(|e| (e.taxel as u32, (e.t_us - origin) / 1e6))
+            .collect();
+        MultiSpikeTrain::from_labelled_spikes(self.fields.centres().len(), &spikes)
+            .expect("taxel indices are in range and mean times finite")
+    }
+}
