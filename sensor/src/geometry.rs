@@ -88,7 +88,7 @@ mod tests {
         }
         assert!(
             px.iter()
-                .all(|&(x, y)| x >= 0.0 && x < 240.0 && y >= 0.0 && y < 180.0)
+                .all(|&(x, y)| (0.0..240.0).contains(&x) && (0.0..180.0).contains(&y))
         );
     }
 }
