@@ -8,7 +8,7 @@
 use clap::ValueEnum;
 use neurotac_core::{ModelError, NeuronModel, SpikeBuffer};
 use neurotac_neurons::{
-    InitialPotential, Integrator, Izhikevich, IzhikevichParams, Lif, LifParams,
+    InitialPotential, Integrator, Izhikevich, IzhikevichParams, Lif, LifParams, Population,
 };
 
 /// A neuron model family.

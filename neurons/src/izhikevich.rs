@@ -44,7 +44,7 @@
 
 use crate::integrate::{self, Integrator};
 use crate::population::{
-    BLOCK, Drive, InitialPotential, block_len, check_dt, check_input, check_param,
+    BLOCK, Drive, InitialPotential, Population, block_len, check_dt, check_param,
     collect_block_spikes, for_blocks, for_each_spike, n_blocks, unit_fraction,
 };
 use crate::real::Real;
@@ -314,7 +314,7 @@ fn step_block_with<F: Real, const INTERPOLATE: bool>(
 /// A population of Izhikevich neurons in precision `F` (`f32` or `f64`).
 ///
 /// ```
-/// use neurotac_neurons::{Izhikevich, IzhikevichParams};
+/// use neurotac_neurons::{Izhikevich, IzhikevichParams, Population};
 /// let mut rs = Izhikevich::<f64>::new(1, IzhikevichParams::rs());
 /// let spikes = rs.run_constant(10.0, 1e-4, 10_000)?; // 1 s of I = 10 at 0.1 ms
 /// assert_eq!(spikes, 23); // tonic firing at 23 Hz, as a 1 µs RK4 run also gives
@@ -381,45 +381,7 @@ impl<F: Real> Izhikevich<F> {
         (s.v[i % BLOCK].f64(), s.u[i % BLOCK].f64())
     }
 
-    /// Prepares (if needed) and runs `steps` steps with the same input for every neuron,
-    /// without recording spike indices; returns the number of spikes (the benchmark path).
-    pub fn run_constant(&mut self, current: f64, dt_s: f64, steps: u64) -> Result<u64, ModelError> {
-        if !current.is_finite() {
-            return Err(ModelError::NonFiniteInput {
-                model: MODEL,
-                neuron: 0,
-                value: current,
-            });
-        }
-        if self.dt_s != dt_s || self.blocks.len() != n_blocks(self.n) {
-            self.prepare(dt_s)?;
-        }
-        Ok((0..steps)
-            .map(|_| self.advance(Drive::Constant(current)))
-            .sum())
-    }
-
-    /// One step with per-neuron input, rejecting NaN/±∞ input with a typed error.
-    pub fn step_checked(
-        &mut self,
-        current: &[f64],
-        spikes: &mut SpikeBuffer,
-    ) -> Result<(), ModelError> {
-        check_input(MODEL, current)?;
-        if current.len() != self.n {
-            return Err(ModelError::InvalidParameter {
-                model: MODEL,
-                field: "input length",
-                value: current.len() as f64,
-                expected: "one value per neuron",
-            });
-        }
-        spikes.clear();
-        self.step(current, spikes);
-        Ok(())
-    }
-
-    fn advance(&mut self, drive: Drive<'_>) -> u64 {
+    fn advance_blocks(&mut self, drive: Drive<'_>) -> u64 {
         let k = self.k;
         let (h, u_decay) = (k.h, k.u_decay);
         // One closure per integrator, so each gets its own vectorised loop.
@@ -496,6 +458,16 @@ fn finish_interpolated_spikes<F: Real>(
     });
 }
 
+impl<F: Real> Population for Izhikevich<F> {
+    fn advance(&mut self, drive: Drive<'_>) -> u64 {
+        self.advance_blocks(drive)
+    }
+
+    fn prepared_dt(&self) -> Option<f64> {
+        (self.dt_s > 0.0 && self.blocks.len() == n_blocks(self.n)).then_some(self.dt_s)
+    }
+}
+
 impl<F: Real> NeuronModel for Izhikevich<F> {
     fn model_name(&self) -> &'static str {
         MODEL
@@ -563,7 +535,7 @@ impl<F: Real> NeuronModel for Izhikevich<F> {
     }
 
     fn step(&mut self, current: &[f64], spikes: &mut SpikeBuffer) {
-        if self.advance(Drive::PerNeuron(current)) == 0 {
+        if self.advance_blocks(Drive::PerNeuron(current)) == 0 {
             return;
         }
         let interpolate = self.interpolate;

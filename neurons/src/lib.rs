@@ -37,5 +37,5 @@ pub mod real;
 pub use integrate::{Integrator, UnknownIntegrator};
 pub use izhikevich::{Izhikevich, IzhikevichParams, IzhikevichState};
 pub use lif::{Lif, LifParams, LifState};
-pub use population::{Drive, InitialPotential};
+pub use population::{Drive, InitialPotential, Population};
 pub use real::Real;

@@ -41,7 +41,7 @@
 
 use crate::integrate::{self, Integrator};
 use crate::population::{
-    BLOCK, Drive, InitialPotential, block_len, check_dt, check_input, check_param,
+    BLOCK, Drive, InitialPotential, Population, block_len, check_dt, check_param,
     collect_block_spikes, for_blocks, for_each_spike, n_blocks, unit_fraction,
 };
 use crate::real::Real;
@@ -247,7 +247,7 @@ fn step_block_with<F: Real, const REFRACTORY: bool, const INTERPOLATE: bool>(
 /// A population of LIF neurons in precision `F` (`f32` or `f64`).
 ///
 /// ```
-/// use neurotac_neurons::{Integrator, Lif, LifParams};
+/// use neurotac_neurons::{Integrator, Lif, LifParams, Population};
 /// let mut lif = Lif::<f64>::new(100, LifParams::default()).with_integrator(Integrator::Exact);
 /// let spikes = lif.run_constant(1.04, 1e-4, 10_000)?; // 1 s at 0.1 ms
 /// // Closed form: period τ·ln(I/(I−1)) = 10 ms · ln 26 = 32.58 ms → 30 spikes per neuron in 1 s.
@@ -314,46 +314,7 @@ impl<F: Real> Lif<F> {
         self.blocks[i / BLOCK].v[i % BLOCK].f64()
     }
 
-    /// Prepares (if needed) and runs `steps` steps of `dt_s` with the same input `current` for
-    /// every neuron, without recording spike indices; returns the number of spikes. This is the
-    /// benchmark path; it steps exactly like a network does.
-    pub fn run_constant(&mut self, current: f64, dt_s: f64, steps: u64) -> Result<u64, ModelError> {
-        if !current.is_finite() {
-            return Err(ModelError::NonFiniteInput {
-                model: MODEL,
-                neuron: 0,
-                value: current,
-            });
-        }
-        if self.dt_s != dt_s || self.blocks.len() != n_blocks(self.n) {
-            self.prepare(dt_s)?;
-        }
-        Ok((0..steps)
-            .map(|_| self.advance(Drive::Constant(current)))
-            .sum())
-    }
-
-    /// One step with per-neuron input, rejecting NaN/±∞ input with a typed error.
-    pub fn step_checked(
-        &mut self,
-        current: &[f64],
-        spikes: &mut SpikeBuffer,
-    ) -> Result<(), ModelError> {
-        check_input(MODEL, current)?;
-        if current.len() != self.n {
-            return Err(ModelError::InvalidParameter {
-                model: MODEL,
-                field: "input length",
-                value: current.len() as f64,
-                expected: "one value per neuron",
-            });
-        }
-        spikes.clear();
-        self.step(current, spikes);
-        Ok(())
-    }
-
-    fn advance(&mut self, drive: Drive<'_>) -> u64 {
+    fn advance_blocks(&mut self, drive: Drive<'_>) -> u64 {
         let k = self.k;
         // One closure per integrator, so each gets its own vectorised loop.
         macro_rules! with {
@@ -431,6 +392,16 @@ fn finish_interpolated_spikes<F: Real>(
     });
 }
 
+impl<F: Real> Population for Lif<F> {
+    fn advance(&mut self, drive: Drive<'_>) -> u64 {
+        self.advance_blocks(drive)
+    }
+
+    fn prepared_dt(&self) -> Option<f64> {
+        (self.dt_s > 0.0 && self.blocks.len() == n_blocks(self.n)).then_some(self.dt_s)
+    }
+}
+
 impl<F: Real> NeuronModel for Lif<F> {
     fn model_name(&self) -> &'static str {
         MODEL
@@ -499,7 +470,7 @@ impl<F: Real> NeuronModel for Lif<F> {
     }
 
     fn step(&mut self, current: &[f64], spikes: &mut SpikeBuffer) {
-        if self.advance(Drive::PerNeuron(current)) == 0 {
+        if self.advance_blocks(Drive::PerNeuron(current)) == 0 {
             return;
         }
         let interpolate = self.interpolate;

@@ -7,7 +7,7 @@
 //! has more than one thread, else in order on the caller's thread. The arithmetic of a neuron
 //! never depends on the block split, so results are bit-identical at any thread count.
 
-use neurotac_core::{ModelError, SpikeBuffer};
+use neurotac_core::{ModelError, NeuronModel, SpikeBuffer};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
@@ -103,15 +103,61 @@ impl<'a> Drive<'a> {
     }
 }
 
-/// Rejects NaN/±∞ inputs, naming the neuron.
-pub(crate) fn check_input(model: &'static str, input: &[f64]) -> Result<(), ModelError> {
-    match input.iter().position(|x| !x.is_finite()) {
-        Some(i) => Err(ModelError::NonFiniteInput {
-            model,
-            neuron: i,
-            value: input[i],
-        }),
-        None => Ok(()),
+/// What block-stepped populations (LIF, Izhikevich) share beyond [`NeuronModel`]: stepping
+/// under a [`Drive`], and the checked and benchmark entry points built on it.
+pub trait Population: NeuronModel {
+    /// Advances every neuron one step under `drive` and returns the number of spikes, without
+    /// recording indices. The population must be prepared.
+    fn advance(&mut self, drive: Drive<'_>) -> u64;
+
+    /// The time step the population is prepared for, if it is.
+    fn prepared_dt(&self) -> Option<f64>;
+
+    /// Prepares (if needed) and runs `steps` steps of `dt_s` with the same input `current` for
+    /// every neuron, without recording spike indices; returns the number of spikes. This is the
+    /// benchmark path; it steps exactly as a network does.
+    fn run_constant(&mut self, current: f64, dt_s: f64, steps: u64) -> Result<u64, ModelError> {
+        if !current.is_finite() {
+            return Err(ModelError::NonFiniteInput {
+                model: self.model_name(),
+                neuron: 0,
+                value: current,
+            });
+        }
+        if self.prepared_dt() != Some(dt_s) {
+            self.prepare(dt_s)?;
+        }
+        Ok((0..steps)
+            .map(|_| self.advance(Drive::Constant(current)))
+            .sum())
+    }
+
+    /// One network-style step with per-neuron input, rejecting input of the wrong length or
+    /// with NaN/±∞ values with a typed error (the state is then untouched).
+    fn step_checked(
+        &mut self,
+        current: &[f64],
+        spikes: &mut SpikeBuffer,
+    ) -> Result<(), ModelError> {
+        let model = self.model_name();
+        if let Some(i) = current.iter().position(|x| !x.is_finite()) {
+            return Err(ModelError::NonFiniteInput {
+                model,
+                neuron: i,
+                value: current[i],
+            });
+        }
+        if current.len() != self.len() {
+            return Err(ModelError::InvalidParameter {
+                model,
+                field: "input length",
+                value: current.len() as f64,
+                expected: "one value per neuron",
+            });
+        }
+        spikes.clear();
+        self.step(current, spikes);
+        Ok(())
     }
 }
 

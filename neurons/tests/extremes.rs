@@ -3,7 +3,7 @@
 
 use neurotac_core::{ModelError, NeuronModel, SpikeBuffer};
 use neurotac_neurons::{
-    InitialPotential, Integrator, Izhikevich, IzhikevichParams, Lif, LifParams,
+    InitialPotential, Integrator, Izhikevich, IzhikevichParams, Lif, LifParams, Population,
 };
 
 const LIF_INTEGRATORS: [Integrator; 5] = [

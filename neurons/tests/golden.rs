@@ -2,7 +2,7 @@
 
 use neurotac_core::{NeuronModel, SpikeBuffer};
 use neurotac_neurons::{
-    InitialPotential, Integrator, Izhikevich, IzhikevichParams, Lif, LifParams, Real,
+    InitialPotential, Integrator, Izhikevich, IzhikevichParams, Lif, LifParams, Population, Real,
 };
 
 /// Spike times of a one-neuron population under constant input.

@@ -107,3 +107,25 @@ pub enum TransductionError {
         source: serde_json::Error,
     },
 }
+
+/// `Ok` when pixel `(x, y)` lies on a `width × height` sensor, else
+/// [`TransductionError::OutOfRange`] naming event `index`.
+#[inline]
+pub(crate) fn check_in_sensor(
+    index: u64,
+    x: u16,
+    y: u16,
+    width: u16,
+    height: u16,
+) -> Result<(), TransductionError> {
+    if x >= width || y >= height {
+        return Err(TransductionError::OutOfRange {
+            index,
+            x,
+            y,
+            width,
+            height,
+        });
+    }
+    Ok(())
+}

@@ -13,7 +13,7 @@
 //! cluster is dropped whatever the time origin.
 
 use super::NEVER;
-use crate::error::TransductionError;
+use crate::error::{TransductionError, check_in_sensor};
 use crate::stage::EventFilter;
 use neurotac_core::Event;
 
@@ -110,15 +110,7 @@ impl EventFilter for BackgroundActivityFilter {
     fn retain(&mut self, e: Event) -> Result<bool, TransductionError> {
         let index = self.index;
         self.index += 1;
-        if e.x >= self.width || e.y >= self.height {
-            return Err(TransductionError::OutOfRange {
-                index,
-                x: e.x,
-                y: e.y,
-                width: self.width,
-                height: self.height,
-            });
-        }
+        check_in_sensor(index, e.x, e.y, self.width, self.height)?;
         Ok(self.support_and_update(e.t.0, e.x, e.y))
     }
 }

@@ -3,7 +3,7 @@
 //! updated for every event. The map starts empty (no pixel is refractory at start).
 
 use super::NEVER;
-use crate::error::TransductionError;
+use crate::error::{TransductionError, check_in_sensor};
 use crate::stage::EventFilter;
 use neurotac_core::Event;
 
@@ -42,15 +42,7 @@ impl EventFilter for RefractoryFilter {
     fn retain(&mut self, e: Event) -> Result<bool, TransductionError> {
         let index = self.index;
         self.index += 1;
-        if e.x >= self.width || e.y >= self.height {
-            return Err(TransductionError::OutOfRange {
-                index,
-                x: e.x,
-                y: e.y,
-                width: self.width,
-                height: self.height,
-            });
-        }
+        check_in_sensor(index, e.x, e.y, self.width, self.height)?;
         Ok(self.keep_and_update(e.t.0, e.x, e.y))
     }
 }

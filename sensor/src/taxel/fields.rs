@@ -7,7 +7,7 @@
 //! lookup with one or two distance tests, and moving a centre costs nothing.
 
 use super::layout::{TaxelLayout, dist};
-use crate::error::TransductionError;
+use crate::error::{TransductionError, check_in_sensor};
 use crate::stage::Stage;
 use neurotac_core::{Event, EventBuffer};
 
@@ -168,16 +168,7 @@ impl ReceptiveFields {
 
     /// Checks that `(x, y)` is inside the image.
     pub(crate) fn check(&self, index: u64, e: &Event) -> Result<(), TransductionError> {
-        if e.x >= self.width || e.y >= self.height {
-            return Err(TransductionError::OutOfRange {
-                index,
-                x: e.x,
-                y: e.y,
-                width: self.width,
-                height: self.height,
-            });
-        }
-        Ok(())
+        check_in_sensor(index, e.x, e.y, self.width, self.height)
     }
 }
 

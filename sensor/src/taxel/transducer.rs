@@ -11,7 +11,7 @@
 use super::fields::ReceptiveFields;
 use super::layout::TaxelLayout;
 use super::pooling::{PositionUpdate, TaxelEvent, TaxelPooling};
-use crate::error::TransductionError;
+use crate::error::{TransductionError, check_in_sensor};
 use crate::filter::{BackgroundActivityFilter, MapStart, RefractoryFilter};
 use crate::geometry::{DAVIS240_HEIGHT, DAVIS240_WIDTH};
 use neurotac_core::{EventBuffer, MultiSpikeTrain};
@@ -154,15 +154,7 @@ impl Transducer {
                         got_us: t,
                     });
                 }
-                if x >= width || y >= height {
-                    return Err(TransductionError::OutOfRange {
-                        index,
-                        x,
-                        y,
-                        width,
-                        height,
-                    });
-                }
+                check_in_sensor(index, x, y, width, height)?;
                 if index == 0 {
                     self.pooling.fix_origin(t);
                 }
