@@ -5,6 +5,7 @@
 
 pub mod afferents;
 pub mod bench;
+pub mod figures;
 pub mod neuron_setup;
 pub mod neuron_tradeoff;
 pub mod peers;

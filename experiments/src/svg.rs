@@ -46,6 +46,8 @@ pub enum Marker {
     Square,
     /// Triangle.
     Triangle,
+    /// A short vertical tick (spike rasters).
+    Tick,
 }
 
 /// A named set of points.
@@ -169,6 +171,12 @@ fn marker_svg(out: &mut String, m: Marker, x: f64, y: f64, color: &str, filled: 
     let fill = if filled { color } else { "white" };
     let _ = match m {
         Marker::None => Ok(()),
+        Marker::Tick => write!(
+            out,
+            r#"<line x1="{x:.1}" y1="{:.1}" x2="{x:.1}" y2="{:.1}" stroke="{color}" stroke-width="1"/>"#,
+            y - 3.5,
+            y + 3.5
+        ),
         Marker::Circle => write!(
             out,
             r#"<circle cx="{x:.1}" cy="{y:.1}" r="4" fill="{fill}" stroke="{color}" stroke-width="1.5"/>"#
