@@ -18,6 +18,17 @@ use rand_chacha::ChaCha8Rng;
 /// Magnitude below which a decaying synaptic current is set to exactly 0.
 pub const FLUSH_TO_ZERO: f64 = 1e-30;
 
+/// The synapse filter's decay of one step: `x ← x·factor`, then values below [`FLUSH_TO_ZERO`]
+/// in magnitude become exactly 0 (branch-free, so it vectorises). Shared by projections and the
+/// trace-sampling spatiotemporal coding, so both filter spikes identically.
+#[inline]
+pub(crate) fn decay_and_flush(values: &mut [f64], factor: f64) {
+    for v in values.iter_mut() {
+        let x = *v * factor;
+        *v = if x.abs() < FLUSH_TO_ZERO { 0.0 } else { x };
+    }
+}
+
 /// Exponential current synapse parameters shared by all synapses of a projection.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ExpSynapse {
@@ -233,11 +244,7 @@ impl RunningProjection {
     /// Decays every synaptic current by one step, flushing tiny values to 0 (branch-free).
     #[inline]
     pub fn decay(&mut self) {
-        let d = self.decay;
-        for i in self.current.iter_mut() {
-            let x = *i * d;
-            *i = if x.abs() < FLUSH_TO_ZERO { 0.0 } else { x };
-        }
+        decay_and_flush(&mut self.current, self.decay);
     }
 
     /// Adds the weights of the presynaptic neurons `spikes` to their targets' currents.
