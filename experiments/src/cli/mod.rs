@@ -1,10 +1,17 @@
-//! The commands of the `neurotac` binary, one module each. To add a command: a module with an
-//! `Args` struct (clap derive) and a `run(args) -> anyhow::Result<()>`, one variant in
-//! [`Command`] and one arm in [`run`].
+//! The commands of the `neurotac` binary, one module each (a group of subcommands is a folder).
+//! To add a command: a module with an `Args` struct (clap derive) and a
+//! `run(args) -> anyhow::Result<()>`, one variant in [`Command`] and one arm in [`run`]. To add
+//! a subcommand to a group (`tradeoff`, `search`), do the same inside the group's `mod.rs`.
 
 use clap::{Parser, Subcommand};
 
+mod classify;
+mod common;
 mod demo;
+mod distances;
+mod search;
+mod synth;
+mod tradeoff;
 
 /// neurotac: spiking neural networks for neuromorphic touch (the NeuroTac sensor).
 #[derive(Debug, Parser)]
@@ -18,11 +25,28 @@ pub struct Cli {
 enum Command {
     /// Run 49 taxel spike trains through 49 afferent neurons and print their spike counts.
     Demo(demo::DemoArgs),
+    /// Write the N×N distance matrix of a spike dataset as {"matrix": [[…]]}.
+    Distances(distances::DistancesArgs),
+    /// Classify a spike dataset with KNN under one coding and protocol.
+    Classify(classify::ClassifyArgs),
+    /// Speed ↔ accuracy trade-offs.
+    #[command(subcommand)]
+    Tradeoff(tradeoff::TradeoffCommand),
+    /// Parameter searches (Δt brute force, Bayesian optimisation of τ and cos θ).
+    #[command(subcommand)]
+    Search(search::SearchCommand),
+    /// Write a seeded synthetic NeuroTac-like texture dataset.
+    Synth(synth::SynthArgs),
 }
 
 /// Runs the parsed command.
 pub fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         Command::Demo(args) => demo::run(args),
+        Command::Distances(args) => distances::run(args),
+        Command::Classify(args) => classify::run(args),
+        Command::Tradeoff(command) => tradeoff::run(command),
+        Command::Search(command) => search::run(command),
+        Command::Synth(args) => synth::run(args),
     }
 }

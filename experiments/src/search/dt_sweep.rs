@@ -35,6 +35,9 @@ use serde::Serialize;
 /// Δ values per block (lanes of the inner loop).
 pub const LANES: usize = 40;
 
+/// Rows computed together so that each column sample's arrays are reused from cache.
+const ROW_BLOCK: usize = 16;
+
 /// Leave-one-out accuracy at every window of the sweep.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct DtSweep {
@@ -69,15 +72,15 @@ macro_rules! lane {
 }
 lane!(i32, i64);
 
-/// One sample: its spike bins (sorted, with repeats) and `Q`, forward and reversed, padded by
-/// [`LANES`] so block loads never leave the arrays.
+/// One sample: its spike bins (sorted, with repeats) and `Q`, forward (padded with `Q[T + 1]`)
+/// and reversed (padded with `Q[0] = 0`), long enough that every block load stays inside.
 struct Prepared<L> {
     bins: Vec<u32>,
     q: Vec<L>,
     q_reversed: Vec<L>,
 }
 
-fn prepare<L: Lane>(bin_counts: &[u32]) -> Prepared<L> {
+fn prepare<L: Lane>(bin_counts: &[u32], delta_max: usize) -> Prepared<L> {
     let t = bin_counts.len();
     let mut bins = Vec::new();
     for (b, &c) in bin_counts.iter().enumerate() {
@@ -96,13 +99,35 @@ fn prepare<L: Lane>(bin_counts: &[u32]) -> Prepared<L> {
     }
     let mut q_reversed: Vec<L> = q.iter().rev().copied().collect();
     let (last, first) = (*q.last().expect("T + 2 ≥ 2 entries"), L::from_i64(0));
-    q.resize(t + 2 + LANES, last);
-    q_reversed.resize(t + 2 + LANES, first);
+    q.resize(t + 2 + delta_max + LANES, last);
+    q_reversed.resize(t + 2 + delta_max + LANES, first);
     Prepared {
         bins,
         q,
         q_reversed,
     }
+}
+
+/// `Σ_k (Q_b[k + 1 + Δ] + Q_b[k + 1 − Δ])` over interior spikes `k` for the block's Δ values,
+/// and `Σ_k Q_b[k + 1]`. Kept apart so the block accumulators stay in registers.
+#[inline(never)]
+fn interior_sum<L: Lane>(bins: &[u32], b: &Prepared<L>, t: usize, d0: usize) -> ([L; LANES], L) {
+    let mut acc = [L::default(); LANES];
+    let mut centre = L::default();
+    for &k in bins {
+        let k = k as usize;
+        let forward: &[L; LANES] = b.q[k + 2 + d0..k + 2 + d0 + LANES]
+            .try_into()
+            .expect("LANES values");
+        let backward: &[L; LANES] = b.q_reversed[t - k + d0 + 1..t - k + d0 + 1 + LANES]
+            .try_into()
+            .expect("LANES values");
+        for l in 0..LANES {
+            acc[l] = acc[l].wadd(forward[l]).wadd(backward[l]);
+        }
+        centre = centre.wadd(b.q[k + 1]);
+    }
+    (acc, centre)
 }
 
 /// `⟨w_a, w_b⟩(Δ)` for `Δ = d0 + 1 + l`, `l < LANES`, lanes with `Δ > delta_max` left at 0.
@@ -114,39 +139,36 @@ fn inner_block<L: Lane>(
     delta_max: usize,
 ) -> [L; LANES] {
     let delta_hi = (d0 + LANES).min(delta_max);
-    let mut acc = [L::default(); LANES];
     // Spikes whose term is the interior one for every Δ of the block.
     let lo = a.bins.partition_point(|&k| (k as usize + 1) < delta_hi);
     let hi = a
         .bins
         .partition_point(|&k| k as usize + delta_hi <= t)
         .max(lo);
-    let mut centre = L::default();
-    for &k in &a.bins[lo..hi] {
-        let k = k as usize;
-        let forward = &b.q[k + 2 + d0..k + 2 + d0 + LANES];
-        let backward = &b.q_reversed[t - k + d0 + 1..t - k + d0 + 1 + LANES];
-        for l in 0..LANES {
-            acc[l] = acc[l].wadd(forward[l]).wadd(backward[l]);
-        }
-        centre = centre.wadd(b.q[k + 1]);
-    }
+    let (mut acc, centre) = interior_sum(&a.bins[lo..hi], b, t, d0);
     let twice = centre.wadd(centre);
     for a in acc.iter_mut() {
         *a = a.wsub(twice);
     }
-    // Spikes near either end: the general term, lane by lane.
+    // Spikes near either end: the general term, branch-free over the block. With the padding
+    // (forward Q by Q[T + 1], reversed Q by Q[0] = 0) the clamped indices become:
+    // Q[min(k+Δ+1, T+1)] = forward, Q[max(0, k+1−Δ)] = reversed, and two selects.
+    let delta0 = &b.q[d0 + 1..d0 + 1 + LANES]; // Q[Δ]
+    let tail = &b.q_reversed[d0 + 1..d0 + 1 + LANES]; // Q[T + 1 − Δ]
     for &k in a.bins[..lo].iter().chain(&a.bins[hi..]) {
         let k = k as usize;
-        for (l, slot) in acc.iter_mut().enumerate().take(delta_hi.saturating_sub(d0)) {
+        let forward = &b.q[k + 2 + d0..k + 2 + d0 + LANES];
+        let backward = &b.q_reversed[t - k + d0 + 1..t - k + d0 + 1 + LANES];
+        let qk = b.q[k + 1];
+        for l in 0..LANES {
             let delta = d0 + 1 + l;
-            let lo_s = (k + 1).saturating_sub(delta);
-            let hi_s = k.min(t - delta);
-            let term = b.q[hi_s + delta + 1]
-                .wsub(b.q[lo_s + delta])
-                .wsub(b.q[hi_s + 1])
-                .wadd(b.q[lo_s]);
-            *slot = slot.wadd(term);
+            let low = if delta <= k + 1 { qk } else { delta0[l] };
+            let high = if delta + k <= t { qk } else { tail[l] };
+            acc[l] = acc[l]
+                .wadd(forward[l])
+                .wadd(backward[l])
+                .wsub(low)
+                .wsub(high);
         }
     }
     for slot in acc.iter_mut().skip(delta_hi.saturating_sub(d0)) {
@@ -164,8 +186,8 @@ pub fn window_squared_distances(
     delta_max: u32,
 ) -> Vec<i64> {
     let (pa, pb) = (
-        prepare::<i64>(&pooled_bin_counts(a, duration_ms)),
-        prepare::<i64>(&pooled_bin_counts(b, duration_ms)),
+        prepare::<i64>(&pooled_bin_counts(a, duration_ms), delta_max as usize),
+        prepare::<i64>(&pooled_bin_counts(b, duration_ms), delta_max as usize),
     );
     let (t, dm) = (duration_ms as usize, delta_max as usize);
     let mut out = Vec::with_capacity(dm);
@@ -249,7 +271,7 @@ fn sweep<L: Lane>(
 ) -> Result<DtSweep, ExperimentError> {
     let n = counts.len();
     let (t, dm) = (duration_ms as usize, max_window_ms as usize);
-    let prepared: Vec<Prepared<L>> = counts.par_iter().map(|c| prepare(c)).collect();
+    let prepared: Vec<Prepared<L>> = counts.par_iter().map(|c| prepare(c, dm)).collect();
     // Row a of the upper triangle holds LANES blocks of n − a − 1 squared distances.
     let mut storage: Vec<L> = vec![L::default(); LANES * n * n.saturating_sub(1) / 2];
     let mut accuracy = Vec::with_capacity(dm);
@@ -266,13 +288,28 @@ fn sweep<L: Lane>(
             rows.push(row);
             rest = tail;
         }
-        rows.into_par_iter().enumerate().for_each(|(a, row)| {
-            let width = n - a - 1;
-            for b in a + 1..n {
-                let ab = inner_block(&prepared[a], &prepared[b], t, d0, dm);
-                for l in 0..LANES {
-                    row[l * width + b - a - 1] =
-                        norms[a][l].wadd(norms[b][l]).wsub(ab[l].wadd(ab[l]));
+        // Blocks of ROW_BLOCK rows; inside a block, column b outermost so its Q arrays stay in
+        // cache while every row of the block uses them.
+        let mut blocks: Vec<(usize, Vec<&mut [L]>)> = Vec::new();
+        for (a, row) in rows.into_iter().enumerate() {
+            if a % ROW_BLOCK == 0 {
+                blocks.push((a, Vec::with_capacity(ROW_BLOCK)));
+            }
+            blocks.last_mut().expect("pushed above").1.push(row);
+        }
+        blocks.into_par_iter().for_each(|(first, mut block_rows)| {
+            for b in first + 1..n {
+                for (offset, row) in block_rows.iter_mut().enumerate() {
+                    let a = first + offset;
+                    if a >= b {
+                        break;
+                    }
+                    let width = n - a - 1;
+                    let ab = inner_block(&prepared[a], &prepared[b], t, d0, dm);
+                    for l in 0..LANES {
+                        row[l * width + b - a - 1] =
+                            norms[a][l].wadd(norms[b][l]).wsub(ab[l].wadd(ab[l]));
+                    }
                 }
             }
         });

@@ -1,0 +1,22 @@
+//! `neurotac tradeoff …`: speed ↔ accuracy trade-offs, one subcommand per trade.
+//!
+//! To add a trade-off: a module with an `Args` struct (clap derive) and a
+//! `run(args) -> anyhow::Result<()>`, one variant in [`TradeoffCommand`] and one arm in [`run`].
+
+use clap::Subcommand;
+
+mod vr;
+
+/// The trade-offs.
+#[derive(Debug, Subcommand)]
+pub enum TradeoffCommand {
+    /// Trace-sampled vs exact multi-unit Van Rossum: relative error and time against dt.
+    Vr(vr::VrArgs),
+}
+
+/// Runs one trade-off subcommand.
+pub fn run(command: TradeoffCommand) -> anyhow::Result<()> {
+    match command {
+        TradeoffCommand::Vr(args) => vr::run(args),
+    }
+}
