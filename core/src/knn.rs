@@ -128,7 +128,8 @@ impl Knn {
         if self.k > n_train {
             return Err(KnnError::KTooLarge { k: self.k, n_train });
         }
-        if let Some(((row, col), &value)) = d.indexed_iter().find(|(_, v)| !(**v >= 0.0)) {
+        if let Some(((row, col), &value)) = d.indexed_iter().find(|(_, v)| v.is_nan() || **v < 0.0)
+        {
             return Err(KnnError::InvalidDistance { row, col, value });
         }
         Ok(())
@@ -237,17 +238,17 @@ mod tests {
     #[test]
     fn leave_one_out_equals_n_explicit_refits() {
         // 12 points on a line in 3 classes with some overlap and exact distance ties.
-        let x = [0.0, 1.0, 2.0, 2.0, 3.0, 5.0, 6.0, 6.0, 7.0, 9.0, 10.0, 12.0];
+        let x: [f64; 12] = [0.0, 1.0, 2.0, 2.0, 3.0, 5.0, 6.0, 6.0, 7.0, 9.0, 10.0, 12.0];
         let labels = [0, 0, 1, 0, 1, 1, 2, 1, 2, 2, 2, 1];
         let n = x.len();
-        let d = Array2::from_shape_fn((n, n), |(i, j)| (x[i] - x[j]) as f64).mapv(f64::abs);
+        let d = Array2::from_shape_fn((n, n), |(i, j)| (x[i] - x[j]).abs());
         for k in 1..=4 {
             let knn = Knn::new(k).unwrap();
             let loo = knn.leave_one_out(d.view(), &labels).unwrap();
-            for i in 0..n {
+            for (i, &predicted) in loo.iter().enumerate() {
                 let train: Vec<usize> = (0..n).filter(|&j| j != i).collect();
                 let refit = knn.predict(d.view(), &labels, &train, &[i]).unwrap();
-                assert_eq!(loo[i], refit[0], "k = {k}, sample {i}");
+                assert_eq!(predicted, refit[0], "k = {k}, sample {i}");
             }
         }
     }

@@ -174,9 +174,9 @@ impl FeatureCoding for TemporalCoding {
         let scale = 1.0 / self.n_channels.max(1) as f64;
         let mut count: u64 = self.bins[..dt].iter().map(|&b| b as u64).sum();
         out[0] = count as f64 * scale;
-        for s in 1..self.n_windows() {
+        for (s, o) in out.iter_mut().enumerate().take(self.n_windows()).skip(1) {
             count = count + self.bins[s + dt - 1] as u64 - self.bins[s - 1] as u64;
-            out[s] = count as f64 * scale;
+            *o = count as f64 * scale;
         }
     }
 

@@ -104,16 +104,23 @@ impl VanRossumMatrices {
     }
 }
 
-/// Keyed spike arrays of one sample for one merge (labelled line or pooled), structure of
-/// arrays, ending with a sentinel key `u64::MAX`.
+/// One merge entry. A merge step reads all three fields of one entry per side, so they sit
+/// together (one cache line, one bounds check) rather than in three arrays.
+#[derive(Debug, Clone, Copy, Default)]
+struct Entry {
+    /// `(channel << 32) | rank(t)`; end-of-channel markers have rank [`MARKER_RANK`].
+    key: u64,
+    /// Centred: `e^{−(t − c₀)/τ}` (0 for markers). Decayed: `t` (unused for markers).
+    x: f64,
+    /// Centred: sum of `e^{(t_l − c₀)/τ}` over the earlier spikes of the same channel.
+    p: f64,
+}
+
+/// Keyed spike entries of one sample for one merge (labelled line or pooled), ending with a
+/// sentinel key `u64::MAX`.
 #[derive(Debug, Clone, Default)]
 struct MergeArrays {
-    /// `(channel << 32) | rank(t)`; end-of-channel markers have rank [`MARKER_RANK`].
-    keys: Vec<u64>,
-    /// Centred: `e^{−(t − c₀)/τ}` (0 for markers). Decayed: `t` (unused for markers).
-    x: Vec<f64>,
-    /// Centred: sum of `e^{(t_l − c₀)/τ}` over the earlier spikes of the same channel.
-    p: Vec<f64>,
+    entries: Vec<Entry>,
     /// `⟨u,u⟩` summed over the channels of this merge.
     self_product: f64,
 }
@@ -121,7 +128,7 @@ struct MergeArrays {
 impl MergeArrays {
     /// Number of entries without the sentinel.
     fn len(&self) -> usize {
-        self.keys.len() - 1
+        self.entries.len() - 1
     }
 }
 
@@ -129,6 +136,12 @@ impl MergeArrays {
 struct PreparedSample {
     labelled: MergeArrays,
     pooled: MergeArrays,
+    /// Index in `labelled` where channel `P/2` starts and in `pooled` of the first spike at or
+    /// after the middle rank: each merge runs as two independent halves (the prefixes `P` are
+    /// global, so a half can start anywhere), four chains per pair for instruction-level
+    /// parallelism.
+    labelled_split: usize,
+    pooled_split: usize,
 }
 
 /// Samples prepared for one τ: ranks, keys and (centred) exponentials computed once, so every
@@ -193,14 +206,20 @@ impl VanRossum {
         let half_span_over_tau = (hi / 2.0 - lo / 2.0) / self.tau_s;
         let centred = allow_centred && half_span_over_tau <= CENTRED_EXP_LIMIT;
         let rank = |t: f64| distinct.partition_point(|&d| d.total_cmp(&t).is_lt()) as u64;
+        let middle_rank = (distinct.len() / 2) as u64;
         let samples = observations
             .par_iter()
             .map(|o| {
                 let channels: Vec<&[f64]> = o.channels().collect();
                 let pooled = o.pooled();
+                let labelled = self.merge_arrays(&channels, centred, centre, &rank);
+                let pooled = self.merge_arrays(&[&pooled], centred, centre, &rank);
+                let middle_channel = ((channels.len() / 2) as u64) << 32;
                 PreparedSample {
-                    labelled: self.merge_arrays(&channels, centred, centre, &rank),
-                    pooled: self.merge_arrays(&[&pooled], centred, centre, &rank),
+                    labelled_split: labelled.entries.partition_point(|e| e.key < middle_channel),
+                    pooled_split: pooled.entries.partition_point(|e| e.key < middle_rank),
+                    labelled,
+                    pooled,
                 }
             })
             .collect();
@@ -221,9 +240,7 @@ impl VanRossum {
     ) -> MergeArrays {
         let total: usize = trains.iter().map(|t| t.len()).sum();
         let mut m = MergeArrays {
-            keys: Vec::with_capacity(total + trains.len() + 1),
-            x: Vec::with_capacity(total + trains.len() + 1),
-            p: Vec::with_capacity(total + trains.len() + 1),
+            entries: Vec::with_capacity(total + trains.len() + 1),
             self_product: 0.0,
         };
         let inv_tau = 1.0 / self.tau_s;
@@ -233,16 +250,18 @@ impl VanRossum {
             let mut markage_sum = 0.0;
             let mut markage = 0.0;
             for (k, &t) in times.iter().enumerate() {
-                m.keys.push(high | rank(t));
+                let key = high | rank(t);
                 if centred {
                     let e_minus = (-(t - centre) * inv_tau).exp();
-                    m.x.push(e_minus);
-                    m.p.push(prefix);
+                    m.entries.push(Entry {
+                        key,
+                        x: e_minus,
+                        p: prefix,
+                    });
                     markage_sum += e_minus * prefix;
                     prefix += ((t - centre) * inv_tau).exp();
                 } else {
-                    m.x.push(t);
-                    m.p.push(0.0);
+                    m.entries.push(Entry { key, x: t, p: 0.0 });
                     if k > 0 {
                         markage = (1.0 + markage) * (-(t - times[k - 1]) * inv_tau).exp();
                         markage_sum += markage;
@@ -250,13 +269,17 @@ impl VanRossum {
                 }
             }
             m.self_product += times.len() as f64 + 2.0 * markage_sum;
-            m.keys.push(high | MARKER_RANK);
-            m.x.push(0.0);
-            m.p.push(prefix);
+            m.entries.push(Entry {
+                key: high | MARKER_RANK,
+                x: 0.0,
+                p: prefix,
+            });
         }
-        m.keys.push(u64::MAX);
-        m.x.push(0.0);
-        m.p.push(0.0);
+        m.entries.push(Entry {
+            key: u64::MAX,
+            x: 0.0,
+            p: 0.0,
+        });
         m
     }
 
@@ -346,32 +369,63 @@ impl PreparedVanRossum {
 /// One branch-free step of a centred merge: take the smaller key (`u` on ties), add its `e⁻`
 /// times the other side's prefix `P` at the merge position.
 #[inline(always)]
-fn centred_step(u: &MergeArrays, v: &MergeArrays, i: &mut usize, j: &mut usize, acc: &mut f64) {
-    let take_u = u.keys[*i] <= v.keys[*j];
-    let e = if take_u { u.x[*i] } else { v.x[*j] };
-    let p = if take_u { v.p[*j] } else { u.p[*i] };
+fn centred_step(u: &[Entry], v: &[Entry], i: &mut usize, j: &mut usize, acc: &mut f64) {
+    let (a, b) = (&u[*i], &v[*j]);
+    let take_u = a.key <= b.key;
+    let e = if take_u { a.x } else { b.x };
+    let p = if take_u { b.p } else { a.p };
     *acc += e * p;
     *i += take_u as usize;
     *j += (!take_u) as usize;
 }
 
-/// `(Σ_n ⟨u_n, v_n⟩, ⟨∪u, ∪v⟩)` with the labelled-line and pooled merges interleaved.
+/// `(Σ_n ⟨u_n, v_n⟩, ⟨∪u, ∪v⟩)`: both merges, each in two halves, as four interleaved chains.
 fn centred_cross_pair(a: &PreparedSample, b: &PreparedSample) -> (f64, f64) {
-    let n_ll = a.labelled.len() + b.labelled.len();
-    let n_sp = a.pooled.len() + b.pooled.len();
-    let (mut i1, mut j1, mut ll) = (0, 0, 0.0);
-    let (mut i2, mut j2, mut sp) = (0, 0, 0.0);
-    for _ in 0..n_ll.min(n_sp) {
-        centred_step(&a.labelled, &b.labelled, &mut i1, &mut j1, &mut ll);
-        centred_step(&a.pooled, &b.pooled, &mut i2, &mut j2, &mut sp);
+    let (ll_u, ll_v) = (&a.labelled.entries[..], &b.labelled.entries[..]);
+    let (sp_u, sp_v) = (&a.pooled.entries[..], &b.pooled.entries[..]);
+    let len = |e: &[Entry]| e.len() - 1;
+    // (start i, start j, steps) of each chain.
+    let chains = [
+        (0, 0, a.labelled_split + b.labelled_split),
+        (
+            a.labelled_split,
+            b.labelled_split,
+            len(ll_u) - a.labelled_split + len(ll_v) - b.labelled_split,
+        ),
+        (0, 0, a.pooled_split + b.pooled_split),
+        (
+            a.pooled_split,
+            b.pooled_split,
+            len(sp_u) - a.pooled_split + len(sp_v) - b.pooled_split,
+        ),
+    ];
+    let [
+        (mut i0, mut j0, n0),
+        (mut i1, mut j1, n1),
+        (mut i2, mut j2, n2),
+        (mut i3, mut j3, n3),
+    ] = chains;
+    let mut acc = [0.0f64; 4];
+    let common = n0.min(n1).min(n2).min(n3);
+    for _ in 0..common {
+        centred_step(ll_u, ll_v, &mut i0, &mut j0, &mut acc[0]);
+        centred_step(ll_u, ll_v, &mut i1, &mut j1, &mut acc[1]);
+        centred_step(sp_u, sp_v, &mut i2, &mut j2, &mut acc[2]);
+        centred_step(sp_u, sp_v, &mut i3, &mut j3, &mut acc[3]);
     }
-    for _ in n_sp..n_ll {
-        centred_step(&a.labelled, &b.labelled, &mut i1, &mut j1, &mut ll);
+    for _ in common..n0 {
+        centred_step(ll_u, ll_v, &mut i0, &mut j0, &mut acc[0]);
     }
-    for _ in n_ll..n_sp {
-        centred_step(&a.pooled, &b.pooled, &mut i2, &mut j2, &mut sp);
+    for _ in common..n1 {
+        centred_step(ll_u, ll_v, &mut i1, &mut j1, &mut acc[1]);
     }
-    (ll, sp)
+    for _ in common..n2 {
+        centred_step(sp_u, sp_v, &mut i2, &mut j2, &mut acc[2]);
+    }
+    for _ in common..n3 {
+        centred_step(sp_u, sp_v, &mut i3, &mut j3, &mut acc[3]);
+    }
+    (acc[0] + acc[1], acc[2] + acc[3])
 }
 
 /// `Σ_n ⟨u_n, v_n⟩` by decayed running sums (exponentials of non-positive numbers only).
@@ -380,12 +434,9 @@ fn decayed_cross(u: &MergeArrays, v: &MergeArrays, tau_s: f64) -> f64 {
     let (mut a_u, mut a_v, mut last) = (0.0f64, 0.0f64, f64::NAN);
     let mut acc = 0.0;
     for _ in 0..u.len() + v.len() {
-        let take_u = u.keys[i] <= v.keys[j];
-        let (key, t) = if take_u {
-            (u.keys[i], u.x[i])
-        } else {
-            (v.keys[j], v.x[j])
-        };
+        let (a, b) = (&u.entries[i], &v.entries[j]);
+        let take_u = a.key <= b.key;
+        let (key, t) = if take_u { (a.key, a.x) } else { (b.key, b.x) };
         if take_u {
             i += 1;
         } else {

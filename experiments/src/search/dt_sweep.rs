@@ -87,15 +87,14 @@ fn prepare<L: Lane>(bin_counts: &[u32], delta_max: usize) -> Prepared<L> {
         bins.extend(std::iter::repeat_n(b as u32, c as usize));
     }
     // C[m] for m = 0..=T, Q[m] for m = 0..=T+1 (exact in i64, then wrapped).
-    let mut q = Vec::with_capacity(t + 2 + LANES);
+    let mut q = Vec::with_capacity(t + 2 + delta_max + LANES);
     let (mut c, mut acc) = (0i64, 0i64);
     q.push(L::from_i64(0));
-    for m in 0..=t {
+    // Q[m + 1] = Q[m] + C[m], with C[m + 1] = C[m] + x[m].
+    for x in bin_counts.iter().map(|&x| x as i64).chain([0]) {
         acc += c;
         q.push(L::from_i64(acc));
-        if m < t {
-            c += bin_counts[m] as i64;
-        }
+        c += x;
     }
     let mut q_reversed: Vec<L> = q.iter().rev().copied().collect();
     let (last, first) = (*q.last().expect("T + 2 ≥ 2 entries"), L::from_i64(0));

@@ -241,7 +241,7 @@ fn tiny_and_huge_tau_never_overflow() {
         );
     }
     // Times far beyond pymuvr's t/τ ≈ 11356 limit, positive and negative.
-    let far = vec![
+    let far = [
         trains(vec![vec![-1e9, 1e9]]),
         trains(vec![vec![-1e9 + 1e-3]]),
     ];
