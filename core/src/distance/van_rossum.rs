@@ -372,9 +372,8 @@ impl PreparedVanRossum {
 fn centred_step(u: &[Entry], v: &[Entry], i: &mut usize, j: &mut usize, acc: &mut f64) {
     let (a, b) = (&u[*i], &v[*j]);
     let take_u = a.key <= b.key;
-    let e = if take_u { a.x } else { b.x };
-    let p = if take_u { b.p } else { a.p };
-    *acc += e * p;
+    let (taken, other) = if take_u { (a, b) } else { (b, a) };
+    *acc += taken.x * other.p;
     *i += take_u as usize;
     *j += (!take_u) as usize;
 }
