@@ -27,7 +27,8 @@ pub enum CodingArg {
 
 pub fn load(path: &Path) -> anyhow::Result<SpikeDataset> {
     // The dataset error names file, sample and field; its source chain would repeat it.
-    SpikeDataset::load(path).map_err(|e| anyhow::anyhow!("reading the spike dataset: {e}"))
+    SpikeDataset::load(path)
+        .map_err(|e| anyhow::anyhow!("reading the spike dataset {}: {e}", path.display()))
 }
 
 /// The sample duration in whole ms: `--duration` if given, else `meta.duration_s`, else one bin
