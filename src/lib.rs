@@ -4,10 +4,10 @@
 //!
 //! | module | crate | what it holds |
 //! |---|---|---|
-//! | [`core`] | `neurotac-core` | time, spikes, events, datasets, the network graph, readouts |
+//! | [`core`] | `neurotac-core` | time, spikes, events, datasets, the network graph, readouts, codings, distances, KNN |
 //! | [`neurons`] | `neurotac-neurons` | LIF and Izhikevich populations, integrators |
 //! | [`sensor`] | `neurotac-sensor` | the DAVIS240 camera, event files, transduction, the simulator |
-//! | [`experiments`] | `neurotac-experiments` | texture experiments, protocols, reports |
+//! | [`experiments`] | `neurotac-experiments` | texture experiments, protocols, parameter searches, reports |
 //!
 //! Data flows one way: sensor → core graph → readouts → experiments. See `examples/` for
 //! networks defined in Rust code.

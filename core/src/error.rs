@@ -240,6 +240,171 @@ pub enum ModelError {
     },
 }
 
+/// A coding (intensive, spatial, temporal, spatiotemporal) that cannot be computed as asked.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum CodingError {
+    /// A parameter outside its domain (window or duration ≤ 0, not finite, …).
+    #[error("{what} = {value}: {expected}")]
+    InvalidParameter {
+        /// Parameter name, with its owner.
+        what: &'static str,
+        /// The value given.
+        value: f64,
+        /// What is allowed.
+        expected: &'static str,
+    },
+    /// The temporal window is longer than the sample duration, so there is no window at all.
+    #[error(
+        "temporal window of {window_ms} ms is longer than the sample duration of {duration_ms} ms"
+    )]
+    WindowLongerThanSample {
+        /// Window width Δt (ms).
+        window_ms: u32,
+        /// Sample duration T (ms).
+        duration_ms: u32,
+    },
+    /// A spike before time 0, which no sample window covers.
+    #[error("sample {sample}: spike at {time_s} s, before the sample start (0 s)")]
+    SpikeBeforeZero {
+        /// Index of the sample.
+        sample: usize,
+        /// The spike time (s).
+        time_s: f64,
+    },
+    /// An observation with a different channel count than the coding was set up for.
+    #[error("sample {sample} has {got} channels, expected {expected}")]
+    ChannelCount {
+        /// Index of the sample.
+        sample: usize,
+        /// Channels expected.
+        expected: usize,
+        /// Channels of this sample.
+        got: usize,
+    },
+}
+
+/// A distance that cannot be computed as asked.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum DistanceError {
+    /// A parameter outside its domain (τ ≤ 0 or not finite, cos θ outside [0, 1], dt ≤ 0 …).
+    #[error("{what} = {value}: {expected}")]
+    InvalidParameter {
+        /// Parameter name.
+        what: &'static str,
+        /// The value given.
+        value: f64,
+        /// What is allowed.
+        expected: &'static str,
+    },
+    /// Samples with different channel (unit) counts.
+    #[error("sample {sample} has {got} channels, sample 0 has {expected}")]
+    ChannelCount {
+        /// Index of the sample.
+        sample: usize,
+        /// Channels of sample 0.
+        expected: usize,
+        /// Channels of this sample.
+        got: usize,
+    },
+    /// Feature rows of different lengths.
+    #[error("feature row {row} has {got} values, row 0 has {expected}")]
+    FeatureLength {
+        /// Index of the row.
+        row: usize,
+        /// Length of row 0.
+        expected: usize,
+        /// Length of this row.
+        got: usize,
+    },
+    /// A feature value that is NaN or infinite.
+    #[error("feature row {row}, column {column}: value {value} is not finite")]
+    NonFiniteFeature {
+        /// Row (sample).
+        row: usize,
+        /// Column (feature).
+        column: usize,
+        /// The value.
+        value: f64,
+    },
+    /// A spike time that is NaN or infinite.
+    #[error("sample {sample}")]
+    Spikes {
+        /// Index of the sample.
+        sample: usize,
+        /// The spike error.
+        source: SpikeError,
+    },
+    /// Two matrices that must have the same shape (e.g. LL² and SP²) do not.
+    #[error("{what}: shape {got:?}, expected {expected:?}")]
+    Shape {
+        /// What was combined.
+        what: &'static str,
+        /// Expected shape.
+        expected: (usize, usize),
+        /// Given shape.
+        got: (usize, usize),
+    },
+}
+
+/// A KNN classification or protocol that cannot run as asked.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum KnnError {
+    /// k = 0.
+    #[error("k must be at least 1")]
+    ZeroK,
+    /// More neighbours asked for than there are training samples.
+    #[error("k = {k} but the training set has only {n_train} samples")]
+    KTooLarge {
+        /// Neighbours asked for.
+        k: usize,
+        /// Training samples available.
+        n_train: usize,
+    },
+    /// A distance matrix that is not square or does not match the labels.
+    #[error("distance matrix is {rows}×{cols} but there are {labels} labels")]
+    Shape {
+        /// Rows of the matrix.
+        rows: usize,
+        /// Columns of the matrix.
+        cols: usize,
+        /// Number of labels.
+        labels: usize,
+    },
+    /// A distance that is NaN (or negative), which no ranking can use.
+    #[error("distance between samples {row} and {col} is {value}, not a number ≥ 0")]
+    InvalidDistance {
+        /// Row (query sample).
+        row: usize,
+        /// Column (training sample).
+        col: usize,
+        /// The value.
+        value: f64,
+    },
+    /// A sample index outside the matrix (in a train or test index list).
+    #[error("{what}: sample index {index} out of range for {n} samples")]
+    IndexOutOfRange {
+        /// Which list.
+        what: &'static str,
+        /// The index.
+        index: usize,
+        /// Number of samples.
+        n: usize,
+    },
+    /// A protocol parameter outside its domain (folds < 2, test fraction outside (0, 1) …).
+    #[error("{what} = {value}: {expected}")]
+    InvalidParameter {
+        /// Parameter name.
+        what: &'static str,
+        /// The value given.
+        value: f64,
+        /// What is allowed.
+        expected: &'static str,
+    },
+    /// A protocol that needs labels got an unlabelled dataset.
+    #[error("the dataset has no labels; classification needs one label per sample")]
+    Unlabelled,
+}
+
 /// Any error of `neurotac-core`.
 #[derive(Debug, Error)]
 pub enum CoreError {
@@ -255,6 +420,15 @@ pub enum CoreError {
     /// See [`ModelError`].
     #[error(transparent)]
     Model(#[from] ModelError),
+    /// See [`CodingError`].
+    #[error(transparent)]
+    Coding(#[from] CodingError),
+    /// See [`DistanceError`].
+    #[error(transparent)]
+    Distance(#[from] DistanceError),
+    /// See [`KnnError`].
+    #[error(transparent)]
+    Knn(#[from] KnnError),
 }
 
 /// Formats an error and its chain of sources on one line, `outer: inner: innermost`.

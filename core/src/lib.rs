@@ -12,7 +12,10 @@
 //! | neuron-model interface | [`NeuronModel`], [`SpikeBuffer`] |
 //! | the network graph | [`NetworkBuilder`] → [`Network`], [`ExpSynapse`], [`Connectivity`], [`SpikeArrayInput`], [`PoissonInput`], [`CurrentInput`] |
 //! | readouts (monitors) | [`Readout`], [`SpikeRecorder`], [`StateRecorder`], [`SynapticTraceRecorder`] |
-//! | errors | [`SpikeError`], [`DatasetError`], [`GraphError`], [`ModelError`], [`CoreError`] |
+//! | the paper's four codings (readouts, or direct on trains) | [`coding`]: [`IntensiveCoding`], [`SpatialCoding`], [`TemporalCoding`], [`SpatiotemporalCoding`] |
+//! | distances and N×N matrices | [`distance`]: Euclidean, exact multi-unit [`VanRossum`], trace-sampled |
+//! | the KNN head | [`knn`]: [`Knn`] (leave-one-out in one pass, documented tie rules) |
+//! | errors | [`SpikeError`], [`DatasetError`], [`GraphError`], [`ModelError`], [`CodingError`], [`DistanceError`], [`KnnError`], [`CoreError`] |
 //!
 //! Data flows one way through neurotac: sensor → core graph → readouts → experiments. Neuron
 //! models (LIF, Izhikevich) live in `neurotac-neurons`; the DAVIS240 and the sensor simulator in
@@ -27,16 +30,24 @@
 //! ```
 #![deny(missing_docs)]
 
+pub mod coding;
 pub mod dataset;
+pub mod distance;
 pub mod error;
 pub mod event;
 pub mod graph;
+pub mod knn;
 pub mod model;
 pub mod spikes;
 pub mod time;
 
+pub use coding::{IntensiveCoding, SpatialCoding, SpatiotemporalCoding, TemporalCoding};
 pub use dataset::SpikeDataset;
-pub use error::{CoreError, DatasetError, GraphError, ModelError, SpikeError, error_chain};
+pub use distance::VanRossum;
+pub use error::{
+    CodingError, CoreError, DatasetError, DistanceError, GraphError, KnnError, ModelError,
+    SpikeError, error_chain,
+};
 pub use event::{Event, EventBuffer};
 pub use graph::{
     Connectivity, CurrentInput, ExpSynapse, Network, NetworkBuilder, NetworkConfig, NodeId,
@@ -44,6 +55,7 @@ pub use graph::{
     SpikeArrayInput, SpikeRecorder, SpikeSource, StateRecorder, StepView, Synapse,
     SynapticTraceRecorder,
 };
+pub use knn::Knn;
 pub use model::{NeuronModel, SpikeBuffer};
 pub use spikes::{MultiSpikeTrain, SpikeTrain};
 pub use time::{Timestamp, s_to_us, us_to_s};

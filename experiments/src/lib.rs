@@ -1,12 +1,26 @@
 //! # neurotac-experiments
 //!
 //! The experiments of neurotac and the `neurotac` command-line tool.
+//!
+//! | module | what it holds |
+//! |---|---|
+//! | [`afferents`] | taxel → afferent networks (the `demo` command) |
+//! | [`protocols`] | leave-one-out, stratified split and k-fold on a distance matrix; [`protocols::Accuracy`] (mean ± std, Wilson 95 %), [`protocols::ConfusionMatrix`] |
+//! | [`search`] | the Δt brute force ([`search::dt_sweep`]) and Bayesian optimisation of (τ, cos θ) ([`search::bayes`]) |
+//! | [`synthetic`] | seeded NeuroTac-like texture datasets for benchmarks and trials |
+//! | [`error`] | [`ExperimentError`] |
 #![deny(missing_docs)]
 
 pub mod afferents;
 pub mod bench;
+pub mod error;
 pub mod figures;
 pub mod neuron_setup;
 pub mod neuron_tradeoff;
 pub mod peers;
+pub mod protocols;
+pub mod search;
 pub mod svg;
+pub mod synthetic;
+
+pub use error::ExperimentError;

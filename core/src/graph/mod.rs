@@ -58,6 +58,7 @@ pub use input::{CurrentInput, PoissonInput, SpikeArrayInput, SpikeSource};
 pub use readout::{
     Readout, ReadoutContext, SpikeRecorder, StateRecorder, StepView, SynapticTraceRecorder,
 };
+pub(crate) use synapse::decay_and_flush;
 pub use synapse::{Connectivity, ExpSynapse, FLUSH_TO_ZERO, Synapse};
 
 use crate::error::GraphError;

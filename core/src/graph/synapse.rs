@@ -18,6 +18,20 @@ use rand_chacha::ChaCha8Rng;
 /// Magnitude below which a decaying synaptic current is set to exactly 0.
 pub const FLUSH_TO_ZERO: f64 = 1e-30;
 
+/// The synapse filter's decay of one step: `x ← x·factor`, then values below [`FLUSH_TO_ZERO`]
+/// in magnitude become exactly 0 (branch-free, so it vectorises). Shared by projections and the
+/// trace-sampling spatiotemporal coding, so both filter spikes identically.
+#[inline]
+pub(crate) fn decay_and_flush(values: &mut [f64], factor: f64) {
+    values.iter_mut().for_each(|v| *v = flush(*v * factor));
+}
+
+/// `x`, or exactly 0 when `|x| <` [`FLUSH_TO_ZERO`].
+#[inline(always)]
+fn flush(x: f64) -> f64 {
+    if x.abs() < FLUSH_TO_ZERO { 0.0 } else { x }
+}
+
 /// Exponential current synapse parameters shared by all synapses of a projection.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ExpSynapse {
@@ -233,11 +247,7 @@ impl RunningProjection {
     /// Decays every synaptic current by one step, flushing tiny values to 0 (branch-free).
     #[inline]
     pub fn decay(&mut self) {
-        let d = self.decay;
-        for i in self.current.iter_mut() {
-            let x = *i * d;
-            *i = if x.abs() < FLUSH_TO_ZERO { 0.0 } else { x };
-        }
+        decay_and_flush(&mut self.current, self.decay);
     }
 
     /// Adds this projection's currents to `input` (or writes them, when `first`), then decays
@@ -245,7 +255,6 @@ impl RunningProjection {
     #[inline]
     pub fn drain_into(&mut self, input: &mut [f64], first: bool) {
         let d = self.decay;
-        let flush = |x: f64| if x.abs() < FLUSH_TO_ZERO { 0.0 } else { x };
         if first {
             for (x, c) in input.iter_mut().zip(self.current.iter_mut()) {
                 *x = *c;

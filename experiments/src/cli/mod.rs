@@ -1,12 +1,18 @@
-//! The commands of the `neurotac` binary, one module each. To add a command: a module with an
-//! `Args` struct (clap derive) and a `run(args) -> anyhow::Result<()>`, one variant in
-//! [`Command`] and one arm in [`run`].
+//! The commands of the `neurotac` binary, one module each (a group of subcommands is a folder).
+//! To add a command: a module with an `Args` struct (clap derive) and a
+//! `run(args) -> anyhow::Result<()>`, one variant in [`Command`] and one arm in [`run`]. To add
+//! a subcommand to a group (`tradeoff`, `search`), do the same inside the group's `mod.rs`.
 
 use clap::{Parser, Subcommand};
 
 mod bench;
+mod classify;
+mod common;
 mod demo;
+mod distances;
 mod neuron;
+mod search;
+mod synth;
 mod tradeoff;
 
 /// neurotac: spiking neural networks for neuromorphic touch (the NeuroTac sensor).
@@ -25,8 +31,18 @@ enum Command {
     Bench(bench::BenchArgs),
     /// Simulate one neuron under a constant current and print its spike times.
     Neuron(neuron::NeuronArgs),
+    /// Write the N×N distance matrix of a spike dataset as {"matrix": [[…]]}.
+    Distances(distances::DistancesArgs),
+    /// Classify a spike dataset with KNN under one coding and protocol.
+    Classify(classify::ClassifyArgs),
     /// Speed ↔ accuracy reports (tables and SVG plots).
-    Tradeoff(tradeoff::TradeoffArgs),
+    #[command(subcommand)]
+    Tradeoff(tradeoff::TradeoffCommand),
+    /// Parameter searches (Δt brute force, Bayesian optimisation of τ and cos θ).
+    #[command(subcommand)]
+    Search(search::SearchCommand),
+    /// Write a seeded synthetic NeuroTac-like texture dataset.
+    Synth(synth::SynthArgs),
 }
 
 /// Runs the parsed command.
@@ -35,6 +51,10 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Demo(args) => demo::run(args),
         Command::Bench(args) => bench::run(args),
         Command::Neuron(args) => neuron::run(args),
-        Command::Tradeoff(args) => tradeoff::run(args),
+        Command::Distances(args) => distances::run(args),
+        Command::Classify(args) => classify::run(args),
+        Command::Tradeoff(command) => tradeoff::run(command),
+        Command::Search(command) => search::run(command),
+        Command::Synth(args) => synth::run(args),
     }
 }

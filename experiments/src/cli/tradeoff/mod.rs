@@ -1,23 +1,26 @@
 //! `neurotac tradeoff …`: speed ↔ accuracy reports, one subcommand per trade.
+//!
+//! To add a trade-off: a module with an `Args` struct (clap derive) and a
+//! `run(args) -> anyhow::Result<()>`, one variant in [`TradeoffCommand`] and one arm in [`run`].
 
-use clap::{Args, Subcommand};
+use clap::Subcommand;
 
 mod neurons;
+mod vr;
 
-#[derive(Debug, Args)]
-pub struct TradeoffArgs {
-    #[command(subcommand)]
-    what: TradeoffCommand,
-}
-
+/// The trade-offs.
 #[derive(Debug, Subcommand)]
-enum TradeoffCommand {
+pub enum TradeoffCommand {
     /// Neuron simulation: model × integrator × dt × precision × spike stamping.
     Neurons(neurons::NeuronsArgs),
+    /// Trace-sampled vs exact multi-unit Van Rossum: relative error and time against dt.
+    Vr(vr::VrArgs),
 }
 
-pub fn run(args: TradeoffArgs) -> anyhow::Result<()> {
-    match args.what {
-        TradeoffCommand::Neurons(a) => neurons::run(a),
+/// Runs one trade-off subcommand.
+pub fn run(command: TradeoffCommand) -> anyhow::Result<()> {
+    match command {
+        TradeoffCommand::Neurons(args) => neurons::run(args),
+        TradeoffCommand::Vr(args) => vr::run(args),
     }
 }

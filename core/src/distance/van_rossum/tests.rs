@@ -1,0 +1,320 @@
+use super::*;
+use rand::{RngExt, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+/// `Σ_k Σ_l e^{−|u_k − v_l|/τ}` by brute force.
+fn product(u: &[f64], v: &[f64], tau: f64) -> f64 {
+    u.iter()
+        .map(|a| v.iter().map(|b| (-(a - b).abs() / tau).exp()).sum::<f64>())
+        .sum()
+}
+
+/// pymuvr's definition with every cross-unit term: `Σ_ij C_ij (⟨u_i,u_j⟩ + ⟨v_i,v_j⟩ − ⟨u_i,v_j⟩ − ⟨v_i,u_j⟩)`.
+fn reference_d2(u: &MultiSpikeTrain, v: &MultiSpikeTrain, tau: f64, cos: f64) -> f64 {
+    let p = u.n_channels();
+    let mut d2 = 0.0;
+    for i in 0..p {
+        for j in 0..p {
+            let c = if i == j { 1.0 } else { cos };
+            let (ui, uj, vi, vj) = (u.channel(i), u.channel(j), v.channel(i), v.channel(j));
+            d2 += c
+                * (product(ui, uj, tau) + product(vi, vj, tau)
+                    - product(ui, vj, tau)
+                    - product(vi, uj, tau));
+        }
+    }
+    d2.max(0.0)
+}
+
+fn trains(channels: Vec<Vec<f64>>) -> MultiSpikeTrain {
+    MultiSpikeTrain::from_channels(channels).unwrap()
+}
+
+/// Random samples: `p` channels, up to `max_spikes` spikes each, 1-µs stamps in [0, span).
+fn random_samples(
+    n: usize,
+    p: usize,
+    max_spikes: usize,
+    span: f64,
+    seed: u64,
+) -> Vec<MultiSpikeTrain> {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    (0..n)
+        .map(|_| {
+            MultiSpikeTrain::from_unsorted_channels((0..p).map(|_| {
+                let k = rng.random_range(0..=max_spikes);
+                (0..k)
+                    .map(|_| (rng.random::<f64>() * span * 1e6).floor() / 1e6)
+                    .collect::<Vec<_>>()
+            }))
+            .unwrap()
+        })
+        .collect()
+}
+
+fn assert_rel(a: f64, b: f64, rel: f64, what: &str) {
+    assert!(
+        (a - b).abs() <= rel * a.abs().max(b.abs()).max(1e-300),
+        "{what}: {a} vs {b} (relative {})",
+        (a - b).abs() / a.abs().max(b.abs())
+    );
+}
+
+#[test]
+fn matches_the_full_cross_unit_definition_in_both_evaluations() {
+    let samples = random_samples(6, 4, 12, 1.0, 1);
+    for tau in [0.005, 0.05, 0.5, 5.0] {
+        let vr = VanRossum::new(tau).unwrap();
+        let centred = vr.prepare_with(&samples, true).unwrap();
+        let decayed = vr.prepare_with(&samples, false).unwrap();
+        assert!(centred.is_centred() && !decayed.is_centred());
+        for i in 0..samples.len() {
+            for j in 0..samples.len() {
+                let (ll_c, sp_c) = centred.squared_parts(i, j);
+                let (ll_d, sp_d) = decayed.squared_parts(i, j);
+                for cos in [0.0, 0.25, 0.4, 1.0] {
+                    let want = reference_d2(&samples[i], &samples[j], tau, cos);
+                    let what = format!("τ={tau} c={cos} ({i},{j})");
+                    assert_rel(combine_squared(ll_c, sp_c, cos), want, 1e-10, &what);
+                    assert_rel(combine_squared(ll_d, sp_d, cos), want, 1e-10, &what);
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn matrices_are_symmetric_with_zero_diagonal_and_agree_with_pairs() {
+    let samples = random_samples(7, 3, 8, 0.5, 2);
+    let vr = VanRossum::new(0.02).unwrap();
+    let m = vr.matrices(&samples).unwrap();
+    let d = m.distances(0.3).unwrap();
+    for i in 0..7 {
+        assert_eq!(d[[i, i]], 0.0);
+        for j in 0..7 {
+            assert_eq!(d[[i, j]], d[[j, i]]);
+            let pair = vr.distance(&samples[i], &samples[j], 0.3).unwrap();
+            // Identical samples cancel to ~1e-15 in D², ~3e-8 in D (the spec's tolerance: 1e-7 on D).
+            assert!((d[[i, j]] - pair).abs() < 1e-7, "{i} {j}");
+        }
+    }
+}
+
+#[test]
+fn one_spike_against_an_empty_train_is_one() {
+    let vr = VanRossum::new(0.076).unwrap();
+    let one = trains(vec![vec![2.0], vec![]]);
+    let empty = MultiSpikeTrain::empty(2);
+    for cos in [0.0, 0.4, 1.0] {
+        assert!((vr.distance(&one, &empty, cos).unwrap() - 1.0).abs() < 1e-12);
+    }
+    assert_eq!(vr.distance(&empty, &empty, 0.5).unwrap(), 0.0);
+    // All-empty samples against each other, with no spike anywhere.
+    let m = vr.matrices(&[empty.clone(), empty]).unwrap();
+    assert_eq!(m.ll2.sum() + m.sp2.sum(), 0.0);
+    // No samples at all.
+    assert_eq!(vr.matrices(&[]).unwrap().ll2.dim(), (0, 0));
+}
+
+#[test]
+fn coincident_spikes_are_counted_once_each_pair_even_when_repeated() {
+    let vr = VanRossum::new(0.01).unwrap();
+    // ⟨[0.1],[0.1,0.1]⟩ = 2, so d² = 1 + 4 − 4 = 1 (pymuvr gets 3 here); identical ⇒ 0.
+    let a = trains(vec![vec![0.1]]);
+    let b = trains(vec![vec![0.1, 0.1]]);
+    assert!((vr.squared_distance(&a, &b, 0.0).unwrap() - 1.0).abs() < 1e-12);
+    assert_eq!(vr.squared_distance(&b, &b.clone(), 0.0).unwrap(), 0.0);
+    // Pooled trains: two channels spiking together form a within-train repeat of SP².
+    let u = trains(vec![vec![0.1], vec![0.1]]);
+    let v = trains(vec![vec![0.1], vec![]]);
+    let m = vr.matrices(&[u.clone(), v.clone()]).unwrap();
+    assert!((m.sp2[[0, 1]] - 1.0).abs() < 1e-12, "SP² = 4 + 1 − 2·2");
+    assert!((m.ll2[[0, 1]] - 1.0).abs() < 1e-12);
+    assert_eq!(vr.matrices(&[u.clone(), u]).unwrap().sp2[[0, 1]], 0.0);
+}
+
+#[test]
+fn long_tau_gives_spike_count_distances() {
+    let samples = random_samples(5, 4, 10, 4.5, 3);
+    let vr = VanRossum::new(1e7).unwrap();
+    let m = vr.matrices(&samples).unwrap();
+    for i in 0..5 {
+        for j in 0..5 {
+            let dn: Vec<f64> = (0..4)
+                .map(|c| samples[i].count(c) as f64 - samples[j].count(c) as f64)
+                .collect();
+            let ll = dn.iter().map(|x| x * x).sum::<f64>();
+            let sp = dn.iter().sum::<f64>().powi(2);
+            assert!(
+                (m.ll2[[i, j]] - ll).abs() <= 1e-5 * ll.max(1.0),
+                "LL² {i} {j}"
+            );
+            assert!(
+                (m.sp2[[i, j]] - sp).abs() <= 1e-5 * sp.max(1.0),
+                "SP² {i} {j}"
+            );
+        }
+    }
+}
+
+#[test]
+fn short_tau_counts_non_coincident_spikes() {
+    // 1-µs stamps, τ = 1 ns: only exact coincidences survive (neighbours give e^{−1000}).
+    let u = trains(vec![vec![0.001, 0.002, 0.002, 0.5], vec![0.3]]);
+    let v = trains(vec![vec![0.002, 0.400], vec![0.3, 0.300001]]);
+    for tau in [1e-9, 1e-12] {
+        let vr = VanRossum::new(tau).unwrap();
+        let m = vr.matrices(&[u.clone(), v.clone()]).unwrap();
+        // Channel 0: ⟨u,u⟩ = 4 + 2 (the repeated 0.002), ⟨v,v⟩ = 2, ⟨u,v⟩ = 2 ⇒ 4.
+        // Channel 1: 1 + 2 − 2·1 = 1.
+        assert!(
+            (m.ll2[[0, 1]] - 5.0).abs() < 1e-12,
+            "τ={tau}: {}",
+            m.ll2[[0, 1]]
+        );
+        // Pooled: u = {.001,.002,.002,.3,.5}, v = {.002,.3,.300001,.4}: 5+2 + 4 − 2·3 = 5.
+        assert!(
+            (m.sp2[[0, 1]] - 5.0).abs() < 1e-12,
+            "τ={tau}: {}",
+            m.sp2[[0, 1]]
+        );
+    }
+    // 1 µs neighbours at τ = 1 µs still give e^{−1}.
+    let vr = VanRossum::new(1e-6).unwrap();
+    let d2 = vr
+        .squared_distance(&trains(vec![vec![1.0]]), &trains(vec![vec![1.000001]]), 0.0)
+        .unwrap();
+    assert!((d2 - (2.0 - 2.0 * (-1.0f64).exp())).abs() < 1e-9, "{d2}");
+}
+
+#[test]
+fn translation_and_scale_invariant_and_stable_far_from_zero() {
+    let samples = random_samples(5, 3, 10, 4.5, 4);
+    let shift = |by: f64, scale: f64| -> Vec<MultiSpikeTrain> {
+        samples
+            .iter()
+            .map(|o| {
+                MultiSpikeTrain::from_channels(
+                    o.channels()
+                        .map(|c| c.iter().map(|t| (t + by) * scale).collect::<Vec<_>>()),
+                )
+                .unwrap()
+            })
+            .collect()
+    };
+    for tau in [1e-6, 0.076, 1.0, 1e4] {
+        let base = VanRossum::new(tau).unwrap().matrices(&samples).unwrap();
+        for (by, scale) in [(1e5, 1.0), (-1e5, 1.0), (0.0, 1e3), (0.0, 1e-3)] {
+            let moved = VanRossum::new(tau * scale)
+                .unwrap()
+                .matrices(&shift(by, scale))
+                .unwrap();
+            for (a, b) in base
+                .ll2
+                .iter()
+                .zip(&moved.ll2)
+                .chain(base.sp2.iter().zip(&moved.sp2))
+            {
+                assert!(a.is_finite() && b.is_finite());
+                // Shifting by 10⁵ s perturbs each stamp by up to 1.5e-11 s (the f64 spacing).
+                let tol = 1e-8 * a.abs().max(1.0) + if by != 0.0 { 4.0e-11 / tau } else { 0.0 };
+                assert!(
+                    (a - b).abs() <= tol,
+                    "τ={tau} shift={by} scale={scale}: {a} vs {b}"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn tiny_and_huge_tau_never_overflow() {
+    let samples = random_samples(4, 2, 10, 4.5, 5);
+    for tau in [1e-300, 1e-12, 1e-3, 1e3, 1e300] {
+        let m = VanRossum::new(tau).unwrap().matrices(&samples).unwrap();
+        assert!(
+            m.ll2
+                .iter()
+                .chain(m.sp2.iter())
+                .all(|x| x.is_finite() && *x >= 0.0),
+            "τ={tau}"
+        );
+    }
+    // Times far beyond pymuvr's t/τ ≈ 11356 limit, positive and negative.
+    let far = [
+        trains(vec![vec![-1e9, 1e9]]),
+        trains(vec![vec![-1e9 + 1e-3]]),
+    ];
+    let d2 = VanRossum::new(1e-3)
+        .unwrap()
+        .squared_distance(&far[0], &far[1], 0.0)
+        .unwrap();
+    // ⟨u,u⟩ = 2, ⟨v,v⟩ = 1, ⟨u,v⟩ = e^{−Δ/τ} with Δ the (exactly subtracted) gap.
+    let gap = far[1].channel(0)[0] - far[0].channel(0)[0];
+    let want = 3.0 - 2.0 * (-gap / 1e-3).exp();
+    assert!((d2 - want).abs() < 1e-12, "{d2} vs {want}");
+}
+
+#[test]
+fn exact_distance_equals_the_integral_of_the_filtered_trains() {
+    // (2/τ)∫ Σ_ij C_ij δ_i δ_j dt by the midpoint rule on a τ/4000 grid.
+    let samples = random_samples(2, 3, 5, 0.2, 6);
+    let (u, v) = (&samples[0], &samples[1]);
+    for (tau, cos) in [(0.02, 0.0), (0.02, 0.4), (0.05, 1.0)] {
+        let h = tau / 4000.0;
+        let end = 0.2 + 40.0 * tau;
+        let f = |train: &[f64], t: f64| -> f64 {
+            train
+                .iter()
+                .filter(|&&s| s <= t)
+                .map(|s| (-(t - s) / tau).exp())
+                .sum()
+        };
+        let steps = (end / h) as usize;
+        let mut integral = 0.0;
+        for k in 0..steps {
+            let t = (k as f64 + 0.5) * h;
+            let delta: Vec<f64> = (0..3)
+                .map(|c| f(u.channel(c), t) - f(v.channel(c), t))
+                .collect();
+            let sum: f64 = delta.iter().sum();
+            integral += (1.0 - cos) * delta.iter().map(|d| d * d).sum::<f64>() + cos * sum * sum;
+        }
+        let numeric = 2.0 / tau * integral * h;
+        let exact = VanRossum::new(tau)
+            .unwrap()
+            .squared_distance(u, v, cos)
+            .unwrap();
+        assert!(
+            (numeric - exact).abs() < 2e-3 * exact.max(1.0),
+            "τ={tau} c={cos}: {numeric} vs {exact}"
+        );
+    }
+}
+
+#[test]
+fn bad_parameters_and_shapes_are_typed_errors() {
+    for tau in [0.0, -1.0, f64::NAN, f64::INFINITY] {
+        assert!(matches!(
+            VanRossum::new(tau),
+            Err(DistanceError::InvalidParameter { what: "tau_s", .. })
+        ));
+    }
+    let vr = VanRossum::new(0.01).unwrap();
+    let a = trains(vec![vec![0.1], vec![]]);
+    for cos in [-0.1, 1.5, f64::NAN] {
+        assert!(matches!(
+            vr.squared_distance(&a, &a.clone(), cos),
+            Err(DistanceError::InvalidParameter { what: "cos", .. })
+        ));
+    }
+    let three = trains(vec![vec![], vec![], vec![0.2]]);
+    assert_eq!(
+        vr.matrices(&[a.clone(), a, three]).unwrap_err(),
+        DistanceError::ChannelCount {
+            sample: 2,
+            expected: 2,
+            got: 3
+        }
+    );
+}

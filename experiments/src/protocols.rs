@@ -1,0 +1,354 @@
+//! Evaluation protocols of the paper on a precomputed distance matrix: leave-one-out (one pass),
+//! a seeded stratified 80/20 split, stratified k-fold; confusion matrices; accuracy as the paper
+//! reports it (mean ± standard deviation of the per-sample hits) and with a Wilson 95 % interval.
+
+use crate::error::ExperimentError;
+use ndarray::ArrayView2;
+use neurotac_core::{Knn, KnnError};
+use rand::{RngExt, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use serde::Serialize;
+
+/// z for a two-sided 95 % normal interval.
+pub const Z_95: f64 = 1.959_963_984_540_054;
+
+/// Which protocol to run.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Protocol {
+    /// Leave-one-out: every sample predicted from all others.
+    LeaveOneOut,
+    /// One stratified split: `test_fraction` of each class (rounded) held out, drawn with `seed`.
+    Split {
+        /// Fraction of each class in the test set, in (0, 1). The paper: 0.2.
+        test_fraction: f64,
+        /// Seed of the shuffle.
+        seed: u64,
+    },
+    /// Stratified k-fold: every sample tested once, each fold predicted from the other folds.
+    KFold {
+        /// Number of folds (≥ 2).
+        folds: usize,
+        /// Seed of the shuffle.
+        seed: u64,
+    },
+}
+
+/// Accuracy of a set of predictions.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Accuracy {
+    /// Number of predictions.
+    pub n: usize,
+    /// Correct predictions.
+    pub hits: usize,
+    /// Mean of the per-sample hits (0 or 1): the accuracy.
+    pub mean: f64,
+    /// Population standard deviation of the per-sample hits, `√(p(1 − p))` (the paper's ±).
+    pub std: f64,
+    /// Lower end of the Wilson 95 % interval.
+    pub wilson_low: f64,
+    /// Upper end of the Wilson 95 % interval.
+    pub wilson_high: f64,
+}
+
+/// Wilson score interval for `hits` successes in `n` trials at normal quantile `z`:
+/// `(p̂ + z²/2n ± z·√(p̂(1 − p̂)/n + z²/4n²)) / (1 + z²/n)`; `(0, 1)` when `n = 0`.
+pub fn wilson_interval(hits: usize, n: usize, z: f64) -> (f64, f64) {
+    if n == 0 {
+        return (0.0, 1.0);
+    }
+    let n_f = n as f64;
+    let p = hits as f64 / n_f;
+    let z2 = z * z;
+    let denom = 1.0 + z2 / n_f;
+    let centre = (p + z2 / (2.0 * n_f)) / denom;
+    let half = z * (p * (1.0 - p) / n_f + z2 / (4.0 * n_f * n_f)).sqrt() / denom;
+    ((centre - half).max(0.0), (centre + half).min(1.0))
+}
+
+impl Accuracy {
+    /// The accuracy of `predicted` against `truth` (same length).
+    pub fn of(predicted: &[usize], truth: &[usize]) -> Self {
+        let n = predicted.len().min(truth.len());
+        let hits = predicted.iter().zip(truth).filter(|(p, t)| p == t).count();
+        let mean = if n == 0 { 0.0 } else { hits as f64 / n as f64 };
+        let (wilson_low, wilson_high) = wilson_interval(hits, n, Z_95);
+        Self {
+            n,
+            hits,
+            mean,
+            std: (mean * (1.0 - mean)).sqrt(),
+            wilson_low,
+            wilson_high,
+        }
+    }
+}
+
+/// Counts of (true class, predicted class): `counts[t][p]`.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize)]
+pub struct ConfusionMatrix {
+    /// Row = true class, column = predicted class.
+    pub counts: Vec<Vec<usize>>,
+}
+
+impl ConfusionMatrix {
+    /// The confusion matrix of `predicted` against `truth` over `n_classes` classes (labels
+    /// beyond are counted in an enlarged matrix, never dropped).
+    pub fn of(predicted: &[usize], truth: &[usize], n_classes: usize) -> Self {
+        let size = predicted
+            .iter()
+            .chain(truth)
+            .map(|&l| l + 1)
+            .max()
+            .unwrap_or(0)
+            .max(n_classes);
+        let mut counts = vec![vec![0; size]; size];
+        for (&p, &t) in predicted.iter().zip(truth) {
+            counts[t][p] += 1;
+        }
+        Self { counts }
+    }
+}
+
+/// The outcome of a protocol.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Evaluation {
+    /// Indices of the samples that were predicted (all for LOO and k-fold; the test set for a split).
+    pub tested: Vec<usize>,
+    /// The prediction for each tested sample.
+    pub predicted: Vec<usize>,
+    /// Accuracy over all tested samples.
+    pub accuracy: Accuracy,
+    /// Accuracy of each fold (k-fold only; empty otherwise).
+    pub fold_accuracies: Vec<f64>,
+    /// Confusion matrix over the tested samples.
+    pub confusion: ConfusionMatrix,
+}
+
+fn by_class(labels: &[usize], seed: u64) -> Vec<Vec<usize>> {
+    let n_classes = labels.iter().map(|&l| l + 1).max().unwrap_or(0);
+    let mut classes = vec![Vec::new(); n_classes];
+    for (i, &l) in labels.iter().enumerate() {
+        classes[l].push(i);
+    }
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    for members in &mut classes {
+        // Fisher–Yates.
+        for i in (1..members.len()).rev() {
+            let j = rng.random_range(0..=i);
+            members.swap(i, j);
+        }
+    }
+    classes
+}
+
+/// A seeded stratified split: from each class, `round(test_fraction · n_class)` samples (shuffled
+/// with `seed`) go to the test set. Returns `(train, test)`, each sorted.
+pub fn stratified_split(
+    labels: &[usize],
+    test_fraction: f64,
+    seed: u64,
+) -> Result<(Vec<usize>, Vec<usize>), ExperimentError> {
+    if !(test_fraction > 0.0 && test_fraction < 1.0) {
+        return Err(ExperimentError::InvalidParameter {
+            what: "test_fraction",
+            value: test_fraction,
+            expected: "in (0, 1)",
+        });
+    }
+    let (mut train, mut test) = (Vec::new(), Vec::new());
+    for members in by_class(labels, seed) {
+        let n_test = (test_fraction * members.len() as f64).round() as usize;
+        test.extend_from_slice(&members[..n_test]);
+        train.extend_from_slice(&members[n_test..]);
+    }
+    train.sort_unstable();
+    test.sort_unstable();
+    Ok((train, test))
+}
+
+/// Seeded stratified k-fold: each class is shuffled with `seed` and dealt round-robin into
+/// `folds` test folds (the dealing continues across classes, so fold sizes differ by at most
+/// one). Returns the test folds, each sorted.
+pub fn stratified_kfold(
+    labels: &[usize],
+    folds: usize,
+    seed: u64,
+) -> Result<Vec<Vec<usize>>, ExperimentError> {
+    if folds < 2 || folds > labels.len() {
+        return Err(ExperimentError::InvalidParameter {
+            what: "folds",
+            value: folds as f64,
+            expected: "≥ 2 and ≤ the number of samples",
+        });
+    }
+    let mut out = vec![Vec::new(); folds];
+    let mut position = 0;
+    for members in by_class(labels, seed) {
+        for i in members {
+            out[position % folds].push(i);
+            position += 1;
+        }
+    }
+    out.iter_mut().for_each(|f| f.sort_unstable());
+    Ok(out)
+}
+
+/// Runs `protocol` with `knn` on the full `N × N` `distances` of samples labelled `labels`.
+pub fn evaluate(
+    distances: ArrayView2<'_, f64>,
+    labels: &[usize],
+    n_classes: usize,
+    knn: Knn,
+    protocol: Protocol,
+) -> Result<Evaluation, ExperimentError> {
+    if labels.is_empty() && distances.nrows() > 0 {
+        return Err(KnnError::Unlabelled.into());
+    }
+    let mut fold_accuracies = Vec::new();
+    let (tested, predicted) = match protocol {
+        Protocol::LeaveOneOut => (
+            (0..labels.len()).collect(),
+            knn.leave_one_out(distances, labels)?,
+        ),
+        Protocol::Split {
+            test_fraction,
+            seed,
+        } => {
+            let (train, test) = stratified_split(labels, test_fraction, seed)?;
+            let predicted = knn.predict(distances, labels, &train, &test)?;
+            (test, predicted)
+        }
+        Protocol::KFold { folds, seed } => {
+            let folds = stratified_kfold(labels, folds, seed)?;
+            let mut predicted = vec![0; labels.len()];
+            for test in &folds {
+                let mut in_test = vec![false; labels.len()];
+                test.iter().for_each(|&i| in_test[i] = true);
+                let train: Vec<usize> = (0..labels.len()).filter(|&i| !in_test[i]).collect();
+                let p = knn.predict(distances, labels, &train, test)?;
+                let truth: Vec<usize> = test.iter().map(|&i| labels[i]).collect();
+                fold_accuracies.push(Accuracy::of(&p, &truth).mean);
+                for (&i, p) in test.iter().zip(p) {
+                    predicted[i] = p;
+                }
+            }
+            ((0..labels.len()).collect(), predicted)
+        }
+    };
+    let truth: Vec<usize> = tested.iter().map(|&i: &usize| labels[i]).collect();
+    Ok(Evaluation {
+        accuracy: Accuracy::of(&predicted, &truth),
+        confusion: ConfusionMatrix::of(&predicted, &truth, n_classes),
+        tested,
+        predicted,
+        fold_accuracies,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use ndarray::Array2;
+
+    #[test]
+    fn wilson_interval_known_values() {
+        // Reference values (Wilson 1927; e.g. Newcombe 1998, Table I): 8/10 → 0.4902–0.9433,
+        // 0/10 → 0–0.2775, 10/10 → 0.7225–1.
+        let close =
+            |a: (f64, f64), b: (f64, f64)| (a.0 - b.0).abs() < 5e-5 && (a.1 - b.1).abs() < 5e-5;
+        assert!(
+            close(wilson_interval(8, 10, Z_95), (0.4902, 0.9433)),
+            "{:?}",
+            wilson_interval(8, 10, Z_95)
+        );
+        assert!(close(wilson_interval(0, 10, Z_95), (0.0, 0.2775)));
+        assert!(close(wilson_interval(10, 10, Z_95), (0.7225, 1.0)));
+        assert_eq!(wilson_interval(0, 0, Z_95), (0.0, 1.0));
+        // The paper's "78.5 ± 41.1": std of per-sample hits at p = 0.785.
+        let hits = 785;
+        let predicted: Vec<usize> = (0..1000).map(|i| usize::from(i >= hits)).collect();
+        let a = Accuracy::of(&predicted, &vec![0; 1000]);
+        assert!(
+            (a.mean - 0.785).abs() < 1e-12 && (a.std - 0.411).abs() < 5e-4,
+            "{a:?}"
+        );
+    }
+
+    #[test]
+    fn splits_are_stratified_seeded_and_partition_the_samples() {
+        let labels: Vec<usize> = (0..55).map(|i| i % 11).collect();
+        let (train, test) = stratified_split(&labels, 0.2, 3).unwrap();
+        assert_eq!(test.len(), 11);
+        assert_eq!(train.len() + test.len(), 55);
+        for c in 0..11 {
+            assert_eq!(test.iter().filter(|&&i| labels[i] == c).count(), 1);
+        }
+        assert_eq!(
+            stratified_split(&labels, 0.2, 3).unwrap(),
+            (train.clone(), test.clone())
+        );
+        assert_ne!(stratified_split(&labels, 0.2, 4).unwrap().1, test);
+        let folds = stratified_kfold(&labels, 5, 1).unwrap();
+        let mut all: Vec<usize> = folds.concat();
+        all.sort_unstable();
+        assert_eq!(all, (0..55).collect::<Vec<_>>());
+        assert!(folds.iter().all(|f| f.len() == 11));
+        assert!(stratified_split(&labels, 1.0, 0).is_err());
+        assert!(stratified_kfold(&labels, 1, 0).is_err());
+        assert!(stratified_kfold(&labels, 56, 0).is_err());
+    }
+
+    #[test]
+    fn protocols_classify_separable_data_and_fill_the_confusion_matrix() {
+        // Two tight clusters far apart: every protocol is perfect.
+        let x: Vec<f64> = (0..20)
+            .map(|i| {
+                if i % 2 == 0 {
+                    i as f64 * 0.01
+                } else {
+                    100.0 + i as f64 * 0.01
+                }
+            })
+            .collect();
+        let labels: Vec<usize> = (0..20).map(|i| i % 2).collect();
+        let d = Array2::from_shape_fn((20, 20), |(i, j)| (x[i] - x[j]).abs());
+        for protocol in [
+            Protocol::LeaveOneOut,
+            Protocol::Split {
+                test_fraction: 0.2,
+                seed: 1,
+            },
+            Protocol::KFold { folds: 4, seed: 1 },
+        ] {
+            let e = evaluate(d.view(), &labels, 2, Knn::default(), protocol).unwrap();
+            assert_eq!(e.accuracy.hits, e.accuracy.n, "{protocol:?}");
+            assert_eq!(e.confusion.counts[0][1] + e.confusion.counts[1][0], 0);
+            assert_eq!(
+                e.confusion.counts[0][0] + e.confusion.counts[1][1],
+                e.tested.len()
+            );
+        }
+        let e = evaluate(
+            d.view(),
+            &labels,
+            2,
+            Knn::default(),
+            Protocol::KFold { folds: 4, seed: 1 },
+        )
+        .unwrap();
+        assert_eq!(e.fold_accuracies, vec![1.0; 4]);
+        assert!(matches!(
+            evaluate(
+                d.view(),
+                &labels,
+                2,
+                Knn::new(20).unwrap(),
+                Protocol::LeaveOneOut
+            ),
+            Err(ExperimentError::Knn(KnnError::KTooLarge {
+                k: 20,
+                n_train: 19
+            }))
+        ));
+    }
+}
