@@ -8,3 +8,4 @@ pub mod davis;
 pub mod error;
 
 pub use error::{DeviceError, FormatError, SensorError};
+pub mod format;
