@@ -73,7 +73,7 @@ impl<R: Read> Aedat2Reader<R> {
         let mut header = Vec::new();
         let mut line = Vec::new();
         let sentinel = "# End of ASCII Header";
-        if !input.read_line(&mut line, MAX_HEADER_BYTES, sentinel)?
+        if !input.read_line(&mut line, 0, MAX_HEADER_BYTES, sentinel)?
             || !line.starts_with(b"#!AER-DAT2.0")
         {
             let found = super::escape(&line[..line.len().min(16)]);
@@ -91,8 +91,8 @@ impl<R: Read> Aedat2Reader<R> {
                 data_start.push(first[0]);
                 break;
             }
-            let budget = MAX_HEADER_BYTES.saturating_sub(header.len() as u64 + 1);
-            input.read_line(&mut line, budget, sentinel)?;
+            let used = header.len() as u64 + 1;
+            input.read_line(&mut line, used, MAX_HEADER_BYTES, sentinel)?;
             header.push(b'#');
             header.extend_from_slice(&line);
             if is_sentinel(&line) {

@@ -61,9 +61,8 @@ impl<R: Read> Aedat3Reader<R> {
         let mut header = Vec::new();
         let mut line = Vec::new();
         loop {
-            let budget = MAX_HEADER_BYTES.saturating_sub(header.len() as u64);
             let at = input.offset();
-            if !input.read_line(&mut line, budget, END_HEADER)? {
+            if !input.read_line(&mut line, header.len() as u64, MAX_HEADER_BYTES, END_HEADER)? {
                 return Err(input.truncated_at(at, "the header end line `#!END-HEADER`"));
             }
             if header.is_empty() && !line.starts_with(b"#!AER-DAT3.1") {
@@ -163,11 +162,13 @@ impl<R: Read> Aedat3Reader<R> {
         packet: &mut Packet,
         out: &mut EventBuffer,
     ) -> Result<(), FormatError> {
-        let n = (packet.events_left as usize).min(READ_BLOCK / EVENT_SIZE);
+        let wanted = (packet.events_left as usize).min(READ_BLOCK / EVENT_SIZE);
         let start = self.input.offset();
-        let bytes = &mut self.block[..n * EVENT_SIZE];
-        self.input
-            .read_exact(bytes, "the events of an AEDAT 3.1 polarity packet")?;
+        let got = self
+            .input
+            .read_full(&mut self.block[..wanted * EVENT_SIZE])?;
+        // Whole events that arrived are decoded even when the packet is cut short.
+        let n = got / EVENT_SIZE;
         let (size_x, size_y) = (u32::from(self.size.0), u32::from(self.size.1));
         let mut delivered = 0u64;
         for (i, e) in self.block[..n * EVENT_SIZE]
@@ -196,6 +197,12 @@ impl<R: Read> Aedat3Reader<R> {
             delivered += 1;
         }
         self.stats.events += delivered;
+        if n < wanted {
+            return Err(self.input.truncated_at(
+                start + got as u64,
+                "the events of an AEDAT 3.1 polarity packet",
+            ));
+        }
         packet.events_left -= n as u64;
         if packet.events_left == 0 && packet.tail_bytes > 0 {
             self.input.skip(

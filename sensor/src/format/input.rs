@@ -121,12 +121,14 @@ impl<R: Read> Input<R> {
         Ok(())
     }
 
-    /// Reads one line (through `\n`) of at most `limit` bytes into `line` (replacing its
-    /// content). Returns `false` at the end of the input. A longer line fails with
-    /// [`FormatError::HeaderTooLong`] naming `end_marker`.
+    /// Reads one header line (through `\n`) into `line` (replacing its content), given that
+    /// `used` bytes of a header limited to `limit` bytes were read before. Returns `false` at the
+    /// end of the input. Passing the limit fails with [`FormatError::HeaderTooLong`] naming
+    /// `end_marker`.
     pub(crate) fn read_line(
         &mut self,
         line: &mut Vec<u8>,
+        used: u64,
         limit: u64,
         end_marker: &'static str,
     ) -> Result<bool, FormatError> {
@@ -135,7 +137,7 @@ impl<R: Read> Input<R> {
         // Byte by byte on purpose: only headers are read this way, and reading ahead would eat
         // the binary data that follows.
         loop {
-            if line.len() as u64 >= limit {
+            if used + line.len() as u64 >= limit {
                 return Err(FormatError::HeaderTooLong {
                     path: self.path.clone(),
                     limit,

@@ -36,6 +36,8 @@
 pub mod aedat2;
 pub mod aedat3;
 pub mod aedat4;
+#[cfg(test)]
+mod bad_input;
 mod flatbuffer;
 mod input;
 pub mod text;
