@@ -4,6 +4,7 @@
 
 use clap::{Parser, Subcommand};
 
+mod convert;
 mod demo;
 
 /// neurotac: spiking neural networks for neuromorphic touch (the NeuroTac sensor).
@@ -18,11 +19,14 @@ pub struct Cli {
 enum Command {
     /// Run 49 taxel spike trains through 49 afferent neurons and print their spike counts.
     Demo(demo::DemoArgs),
+    /// Convert an event file between AEDAT 2.0/3.1/4.0, ECD text and CSV (format from the extension).
+    Convert(convert::ConvertArgs),
 }
 
 /// Runs the parsed command.
 pub fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         Command::Demo(args) => demo::run(args),
+        Command::Convert(args) => convert::run(args),
     }
 }
