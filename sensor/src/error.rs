@@ -130,6 +130,14 @@ pub enum DeviceError {
         "no DAVIS camera found (USB VID 0x152A, PID 0x841B FX2 or 0x841A FX3): is it plugged in, and readable by this user (udev rules)?"
     )]
     NotFound,
+    /// libusb cannot start on this machine, so no camera can be found.
+    #[error(
+        "no DAVIS camera found: USB is not usable on this machine (libusb could not start: {message}); is /dev/bus/usb available?"
+    )]
+    UsbUnavailable {
+        /// The library's message.
+        message: String,
+    },
     /// The USB library or a USB call failed.
     #[error("USB {operation} failed: {message}")]
     Usb {

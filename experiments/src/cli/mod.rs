@@ -6,6 +6,8 @@ use clap::{Parser, Subcommand};
 
 mod convert;
 mod demo;
+mod devices;
+mod record;
 
 /// neurotac: spiking neural networks for neuromorphic touch (the NeuroTac sensor).
 #[derive(Debug, Parser)]
@@ -21,6 +23,10 @@ enum Command {
     Demo(demo::DemoArgs),
     /// Convert an event file between AEDAT 2.0/3.1/4.0, ECD text and CSV (format from the extension).
     Convert(convert::ConvertArgs),
+    /// List the DAVIS cameras attached over USB.
+    Devices(devices::DevicesArgs),
+    /// Record events from the first DAVIS240 attached to a file (format from the extension).
+    Record(record::RecordArgs),
 }
 
 /// Runs the parsed command.
@@ -28,5 +34,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         Command::Demo(args) => demo::run(args),
         Command::Convert(args) => convert::run(args),
+        Command::Devices(args) => devices::run(args),
+        Command::Record(args) => record::run(args),
     }
 }

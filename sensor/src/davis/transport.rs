@@ -110,10 +110,28 @@ fn transport_error(e: rusb::Error) -> TransportError {
     }
 }
 
+/// A libusb context of our own: unlike rusb's global context, whose initialisation failure is a
+/// panic, a failure here is [`DeviceError::UsbUnavailable`].
+fn context() -> Result<rusb::Context, DeviceError> {
+    use rusb::UsbContext as _;
+    let context = rusb::Context::new().map_err(|e| DeviceError::UsbUnavailable {
+        message: e.to_string(),
+    })?;
+    // Touch the device list once so that an unusable USB stack fails here.
+    context.devices().map_err(|e| DeviceError::UsbUnavailable {
+        message: e.to_string(),
+    })?;
+    Ok(context)
+}
+
 /// The DAVIS cameras attached (VID 0x152A, PID 0x841B or 0x841A; davis240.md §1.1), FX2 boards
-/// first. An empty list when none is attached; an error only when USB itself is unusable.
+/// first. An empty list when none is attached; [`DeviceError::UsbUnavailable`] when this machine
+/// has no usable USB stack (e.g. a container without `/dev/bus/usb`).
 pub fn list_devices() -> Result<Vec<DeviceInfo>, DeviceError> {
-    let devices = rusb::devices().map_err(|e| usb_error("listing devices", e))?;
+    use rusb::UsbContext as _;
+    let devices = context()?
+        .devices()
+        .map_err(|e| usb_error("listing devices", e))?;
     let mut found = Vec::new();
     for device in devices.iter() {
         let Ok(desc) = device.device_descriptor() else {
@@ -143,7 +161,7 @@ pub fn list_devices() -> Result<Vec<DeviceInfo>, DeviceError> {
 
 /// A DAVIS camera opened through rusb (libusb built from source by the `vendored` feature).
 pub struct RusbTransport {
-    handle: rusb::DeviceHandle<rusb::GlobalContext>,
+    handle: rusb::DeviceHandle<rusb::Context>,
 }
 
 impl RusbTransport {
@@ -159,7 +177,10 @@ impl RusbTransport {
 
     /// Opens the camera at `info`'s bus and address.
     pub fn open(info: &DeviceInfo) -> Result<Self, DeviceError> {
-        let devices = rusb::devices().map_err(|e| usb_error("listing devices", e))?;
+        use rusb::UsbContext as _;
+        let devices = context()?
+            .devices()
+            .map_err(|e| usb_error("listing devices", e))?;
         let device = devices
             .iter()
             .find(|d| d.bus_number() == info.bus && d.address() == info.address)
@@ -398,5 +419,23 @@ impl Transport for ReplayTransport {
             self.halts_cleared.fetch_add(1, Ordering::Relaxed);
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn listing_without_a_camera_is_empty_or_usb_unavailable_never_a_panic() {
+        // No DAVIS is attached to a build machine; containers often have no USB stack at all.
+        match list_devices() {
+            Ok(devices) => assert!(devices.is_empty(), "{devices:?}"),
+            Err(e) => assert!(matches!(e, DeviceError::UsbUnavailable { .. }), "{e}"),
+        }
+        assert!(matches!(
+            RusbTransport::open_first(),
+            Err(DeviceError::NotFound | DeviceError::UsbUnavailable { .. })
+        ));
     }
 }
