@@ -140,8 +140,8 @@ pub struct DecodeStats {
     pub dropped_x_out_of_range: u64,
     /// Y words with `y ≥ size_y`: ignored, the previous row stays current.
     pub ignored_y_out_of_range: u64,
-    /// Timestamp words whose time is earlier than the current time (libcaer only logs these);
-    /// the events keep the stream's order.
+    /// Events earlier than the event before them (libcaer only logs such timestamps); the
+    /// events keep the stream's order. The drop at a timestamp reset is not counted.
     pub timestamps_backwards: u64,
     /// Timestamp-reset specials.
     pub timestamp_resets: u64,
@@ -155,12 +155,59 @@ pub struct DecodeStats {
     pub misc_words: u64,
 }
 
-/// Fixed scratch for one block of decoded events (allocated once per decoder).
+/// Words per run checked at once for rare words.
+const RUN: usize = 32;
+
+/// Fixed scratch for one block (allocated once per decoder).
 struct Scratch {
+    /// The block's words.
+    words: [u16; BLOCK],
+    /// Event times.
     t: [i64; BLOCK],
-    x: [u16; BLOCK],
-    y: [u16; BLOCK],
-    p: [bool; BLOCK],
+    /// The X word of each event (`x` = low 12 bits, polarity = bit 12) and, in the high 16 bits,
+    /// its row.
+    xy: [u32; BLOCK],
+}
+
+/// `true` for the words of the rare path: special (code 0), APS ADC (4), misc (5, 6) and wrap
+/// (7), i.e. `w < 0x1000` or `0x4000 ≤ w < 0x8000`. Y, X and timestamp words are not rare.
+#[inline(always)]
+fn is_rare(w: u16) -> bool {
+    (w.wrapping_sub(0x1000) >= 0x3000) & (w < 0x8000)
+}
+
+/// 1 for the X-word kinds (`w >> 12` = 2 or 3).
+const IS_X: [u8; 16] = [0, 0, 1, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0];
+
+/// The decoder state the hot loop keeps in registers.
+struct StepState {
+    now: i64,
+    wrap_base: i64,
+    last_y: u16,
+    n: usize,
+}
+
+/// One timestamp, Y or X word (davis240.md §1.6–1.7), without data-dependent branches: the event
+/// slot is always written and the count advances only for an X word.
+#[inline(always)]
+fn step<const CHECK_RANGE: bool>(
+    w: u16,
+    st: &mut StepState,
+    t: &mut [i64; BLOCK],
+    xy: &mut [u32; BLOCK],
+    size: (u16, u16),
+) {
+    let kind = usize::from(w >> 12);
+    let data = w & 0x0FFF;
+    let candidate = st.wrap_base + i64::from(w & 0x7FFF);
+    st.now = if (w as i16) < 0 { candidate } else { st.now };
+    let is_y = kind == 1 && (!CHECK_RANGE || data < size.1);
+    st.last_y = if is_y { data } else { st.last_y };
+    let slot = st.n & (BLOCK - 1);
+    t[slot] = st.now;
+    xy[slot] = u32::from(w) | u32::from(st.last_y) << 16;
+    let x_ok = !CHECK_RANGE || data < size.0;
+    st.n += usize::from(IS_X[kind]) & usize::from(x_ok);
 }
 
 /// Decoder of the DAVIS USB word stream into events (davis240.md §1.6–1.7).
@@ -193,6 +240,10 @@ pub struct UsbDecoder {
     pending: Option<u8>,
     stats: DecodeStats,
     scratch: Option<Box<Scratch>>,
+    /// Time of the last event produced (`i64::MIN` before the first and after a reset).
+    last_event_t: i64,
+    /// Event indices (within the current block) at which a timestamp reset happened.
+    resets: Vec<usize>,
 }
 
 impl UsbDecoder {
@@ -207,6 +258,8 @@ impl UsbDecoder {
             pending: None,
             stats: DecodeStats::default(),
             scratch: None,
+            last_event_t: i64::MIN,
+            resets: Vec::new(),
         }
     }
 
@@ -278,7 +331,9 @@ impl UsbDecoder {
         }
     }
 
-    /// Decodes at most `BLOCK` whole words.
+    /// Decodes at most `BLOCK` whole words in three passes: words and out-of-range counts
+    /// (vectorised), the sequential state machine, then backwards-time counts and the split of
+    /// the events into columns (vectorised).
     fn decode_words(
         &mut self,
         bytes: &[u8],
@@ -286,90 +341,127 @@ impl UsbDecoder {
         specials: Option<&mut Vec<SpecialEvent>>,
     ) {
         debug_assert!(bytes.len() % 2 == 0 && bytes.len() <= 2 * BLOCK);
-        let mut scratch = self.scratch.take().unwrap_or_else(|| {
+        let mut s = self.scratch.take().unwrap_or_else(|| {
             Box::new(Scratch {
+                words: [0; BLOCK],
                 t: [0; BLOCK],
-                x: [0; BLOCK],
-                y: [0; BLOCK],
-                p: [false; BLOCK],
+                xy: [0; BLOCK],
             })
         });
-        let n = if self.config.invert_xy {
-            self.decode_block::<true>(bytes, &mut scratch, specials)
+        let n_words = (bytes.len() / 2).min(BLOCK);
+        for (w, pair) in s.words[..n_words].iter_mut().zip(bytes.chunks_exact(2)) {
+            *w = u16::from_le_bytes([pair[0], pair[1]]);
+        }
+        let out_of_range = self.count_out_of_range(&s.words[..n_words]);
+        self.resets.clear();
+        let n = if out_of_range {
+            self.decode_block::<true>(n_words, &mut s, specials)
         } else {
-            self.decode_block::<false>(bytes, &mut scratch, specials)
+            self.decode_block::<false>(n_words, &mut s, specials)
         };
-        out.t.extend_from_slice(&scratch.t[..n]);
-        out.x.extend_from_slice(&scratch.x[..n]);
-        out.y.extend_from_slice(&scratch.y[..n]);
-        out.polarity.extend_from_slice(&scratch.p[..n]);
-        self.stats.words += (bytes.len() / 2) as u64;
+        self.count_backwards(&s.t[..n]);
+        let xy = &s.xy[..n];
+        let column = xy.iter().map(|a| (a & 0x0FFF) as u16);
+        let row = xy.iter().map(|a| (a >> 16) as u16);
+        out.t.extend_from_slice(&s.t[..n]);
+        if self.config.invert_xy {
+            out.x.extend(row);
+            out.y.extend(column);
+        } else {
+            out.x.extend(column);
+            out.y.extend(row);
+        }
+        out.polarity.extend(xy.iter().map(|a| a & 0x1000 != 0));
+        self.stats.words += n_words as u64;
         self.stats.events += n as u64;
-        self.scratch = Some(scratch);
+        self.scratch = Some(s);
     }
 
-    /// The hot loop: timestamp, Y and X words are handled without data-dependent branches (the
-    /// event slot is always written, the count advances only for a valid X word); every other
-    /// word takes the rare path in [`UsbDecoder::rare_word`].
-    #[inline(always)]
-    fn decode_block<const INVERT_XY: bool>(
+    /// Counts the X words dropped and Y words ignored for out-of-range addresses; `true` if any.
+    fn count_out_of_range(&mut self, words: &[u16]) -> bool {
+        let (size_x, size_y) = (self.config.size_x, self.config.size_y);
+        let (mut dropped_x, mut ignored_y) = (0u32, 0u32);
+        for &w in words {
+            let (kind, data) = (w >> 12, w & 0x0FFF);
+            dropped_x += u32::from((kind >> 1 == 1) & (data >= size_x));
+            ignored_y += u32::from((kind == 1) & (data >= size_y));
+        }
+        self.stats.dropped_x_out_of_range += u64::from(dropped_x);
+        self.stats.ignored_y_out_of_range += u64::from(ignored_y);
+        dropped_x + ignored_y > 0
+    }
+
+    /// Counts events earlier than the one before them, except across a timestamp reset.
+    fn count_backwards(&mut self, t: &[i64]) {
+        fn drops(previous: i64, t: &[i64]) -> u64 {
+            let first = t.first().map_or(0, |&f| u64::from(f < previous));
+            first + t.windows(2).filter(|w| w[1] < w[0]).count() as u64
+        }
+        let (mut previous, mut start) = (self.last_event_t, 0);
+        for &r in &self.resets {
+            self.stats.timestamps_backwards += drops(previous, &t[start..r]);
+            (previous, start) = (i64::MIN, r);
+        }
+        self.stats.timestamps_backwards += drops(previous, &t[start..]);
+        self.last_event_t = if start < t.len() {
+            t[t.len() - 1]
+        } else {
+            previous
+        };
+    }
+
+    /// The state machine over `s.words[..n_words]`, in runs of [`RUN`] words. A run without
+    /// special, APS, misc or wrap words (almost every run) goes through [`step`] with no
+    /// data-dependent branch; a run holding one checks every word and hands those to
+    /// [`UsbDecoder::rare_word`]. `CHECK_RANGE` is only needed when the block holds an
+    /// out-of-range address.
+    fn decode_block<const CHECK_RANGE: bool>(
         &mut self,
-        bytes: &[u8],
+        n_words: usize,
         s: &mut Scratch,
         mut specials: Option<&mut Vec<SpecialEvent>>,
     ) -> usize {
-        let (size_x, size_y) = (self.config.size_x, self.config.size_y);
-        let mut now = self.now;
-        let mut wrap_base = self.base + self.wrap_add;
-        let mut last_y = self.last_y;
-        let mut n = 0usize;
-        let (mut backwards, mut dropped_x, mut ignored_y) = (0u64, 0u64, 0u64);
-        for pair in bytes.chunks_exact(2) {
-            let w = u16::from_le_bytes([pair[0], pair[1]]);
-            let is_ts = w & 0x8000 != 0;
-            let code = (w >> 12) & 7;
-            if !is_ts && !(1..=3).contains(&code) {
-                self.now = now;
-                self.last_y = last_y;
-                self.rare_word(code, w & 0x0FFF, specials.as_deref_mut());
-                now = self.now;
-                wrap_base = self.base + self.wrap_add;
+        let size = (self.config.size_x, self.config.size_y);
+        let mut st = StepState {
+            now: self.now,
+            wrap_base: self.base + self.wrap_add,
+            last_y: self.last_y,
+            n: 0,
+        };
+        let Scratch { words, t, xy } = s;
+        for run in words[..n_words].chunks(RUN) {
+            let has_rare = run.iter().fold(false, |a, &w| a | is_rare(w));
+            if !has_rare {
+                for &w in run {
+                    step::<CHECK_RANGE>(w, &mut st, t, xy, size);
+                }
                 continue;
             }
-            let data = w & 0x0FFF;
-            let candidate = wrap_base + i64::from(w & 0x7FFF);
-            backwards += u64::from(is_ts & (candidate < now));
-            now = if is_ts { candidate } else { now };
-            let is_y = !is_ts & (code == 1);
-            let y_ok = data < size_y;
-            ignored_y += u64::from(is_y & !y_ok);
-            last_y = if is_y & y_ok { data } else { last_y };
-            let is_x = !is_ts & (code >= 2);
-            let x_ok = data < size_x;
-            dropped_x += u64::from(is_x & !x_ok);
-            let slot = n & (BLOCK - 1);
-            s.t[slot] = now;
-            if INVERT_XY {
-                s.x[slot] = last_y;
-                s.y[slot] = data;
-            } else {
-                s.x[slot] = data;
-                s.y[slot] = last_y;
+            for &w in run {
+                if is_rare(w) {
+                    self.now = st.now;
+                    self.rare_word(w >> 12, w & 0x0FFF, st.n, specials.as_deref_mut());
+                    st.now = self.now;
+                    st.wrap_base = self.base + self.wrap_add;
+                } else {
+                    step::<CHECK_RANGE>(w, &mut st, t, xy, size);
+                }
             }
-            s.p[slot] = code & 1 != 0;
-            n += usize::from(is_x & x_ok);
         }
-        self.now = now;
-        self.last_y = last_y;
-        self.stats.timestamps_backwards += backwards;
-        self.stats.dropped_x_out_of_range += dropped_x;
-        self.stats.ignored_y_out_of_range += ignored_y;
-        n
+        self.now = st.now;
+        self.last_y = st.last_y;
+        st.n
     }
 
     /// Codes 0 and 4–7 (davis240.md §1.6, §1.7).
     #[cold]
-    fn rare_word(&mut self, code: u16, data: u16, specials: Option<&mut Vec<SpecialEvent>>) {
+    fn rare_word(
+        &mut self,
+        code: u16,
+        data: u16,
+        event_index: usize,
+        specials: Option<&mut Vec<SpecialEvent>>,
+    ) {
         let special = match code {
             0 => {
                 let kind = SpecialKind::from_type(data);
@@ -378,6 +470,7 @@ impl UsbDecoder {
                     self.wrap_add = 0;
                     self.now = 0;
                     self.stats.timestamp_resets += 1;
+                    self.resets.push(event_index);
                 } else {
                     self.stats.specials += 1;
                 }
