@@ -672,4 +672,116 @@ mod tests {
         assert_eq!((out.t.clone(), out.x.clone()), (vec![1], vec![2]));
         assert!(out.t.capacity() >= 16);
     }
+
+    /// libcaer's translator written word by word, the plainest way (the oracle for the runs).
+    type Reference = (Vec<(i64, u16, u16, bool)>, [u64; 3]);
+
+    fn reference(words: &[u16], config: DecoderConfig) -> Reference {
+        let (mut overflow, mut wrap_add, mut current) = (0i64, 0i64, 0i64);
+        let (mut last_y, mut previous) = (0u16, i64::MIN);
+        let (mut events, mut resets, mut wraps, mut backwards) = (Vec::new(), 0, 0, 0);
+        for &w in words {
+            if w & 0x8000 != 0 {
+                current = wrap_add + i64::from(w & 0x7FFF);
+                continue;
+            }
+            let (code, data) = (w >> 12, w & 0x0FFF);
+            match code {
+                0 if data == 1 => {
+                    (overflow, wrap_add, current, previous) = (0, 0, 0, i64::MIN);
+                    resets += 1;
+                }
+                1 if data < config.size_y => last_y = data,
+                2 | 3 if data < config.size_x => {
+                    let t = (overflow << 31) | current;
+                    let (x, y) = if config.invert_xy {
+                        (last_y, data)
+                    } else {
+                        (data, last_y)
+                    };
+                    backwards += u64::from(t < previous);
+                    previous = t;
+                    events.push((t, x, y, code == 3));
+                }
+                7 => {
+                    let s = wrap_add + i64::from(data) * 0x8000;
+                    if s > i64::from(i32::MAX) {
+                        overflow += 1;
+                        wrap_add = s - (1 << 31);
+                        wraps += 1;
+                    } else {
+                        wrap_add = s;
+                    }
+                    current = wrap_add;
+                }
+                _ => {}
+            }
+        }
+        (events, [resets, wraps, backwards])
+    }
+
+    #[test]
+    fn random_streams_in_random_chunks_match_the_word_by_word_reference() {
+        let mut state = 0x9E37_79B9_7F4A_7C15u64; // xorshift64*, fixed seed
+        let mut next = move || {
+            state ^= state >> 12;
+            state ^= state << 25;
+            state ^= state >> 27;
+            state.wrapping_mul(0x2545_F491_4F6C_DD1D)
+        };
+        for case in 0..40 {
+            let config = DecoderConfig {
+                size_x: 240,
+                size_y: 180,
+                invert_xy: case % 5 == 4,
+            };
+            let len = (next() % 20_000) as usize;
+            let rare_every = [3u64, 50, 5000, u64::MAX][case % 4];
+            let words: Vec<u16> = (0..len)
+                .map(|_| {
+                    let r = next();
+                    if r % rare_every == 0 {
+                        // special (often a reset), APS, misc or a wrap with any multiplier
+                        [
+                            0x0001,
+                            0x0003,
+                            0x4123,
+                            0x5012,
+                            0x6001,
+                            0x7000 | (r >> 20) as u16 & 0x0FFF,
+                        ][(r >> 8) as usize % 6]
+                    } else {
+                        match r % 3 {
+                            0 => 0x8000 | (r >> 16) as u16,
+                            1 => 0x1000 | ((r >> 16) % 200) as u16,
+                            _ => 0x2000 | ((r >> 16) % 256) as u16 | ((r >> 40) as u16 & 1) << 12,
+                        }
+                    }
+                })
+                .collect();
+            let (want, [resets, wraps, backwards]) = reference(&words, config);
+            let bytes: Vec<u8> = words.iter().flat_map(|w| w.to_le_bytes()).collect();
+            let mut decoder = UsbDecoder::new(config);
+            let mut out = EventBuffer::new();
+            let mut at = 0;
+            while at < bytes.len() {
+                let take = ((next() % 9000) as usize + 1).min(bytes.len() - at);
+                decoder.decode(&bytes[at..at + take], &mut out);
+                at += take;
+            }
+            let got: Vec<_> = out.iter().map(|e| (e.t.0, e.x, e.y, e.polarity)).collect();
+            assert_eq!(got, want, "case {case}");
+            let st = decoder.stats();
+            assert_eq!(
+                (
+                    st.timestamp_resets,
+                    st.big_wraps,
+                    st.timestamps_backwards,
+                    st.words
+                ),
+                (resets, wraps, backwards, len as u64),
+                "case {case}"
+            );
+        }
+    }
 }
