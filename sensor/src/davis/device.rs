@@ -160,7 +160,7 @@ fn write_register<T: Transport>(
 
 /// Writes several registers in one request 0xC2 (wValue = count; 6 bytes each: u8 module,
 /// u8 param, u32 big-endian value; §1.3).
-fn write_registers<T: Transport>(t: &T, registers: &[(u16, u16, u32)]) -> Result<(), DeviceError> {
+fn write_registers<T: Transport>(t: &T, registers: &[Register]) -> Result<(), DeviceError> {
     for batch in registers.chunks(64) {
         let mut data = Vec::with_capacity(6 * batch.len());
         for &(module, param, value) in batch {
@@ -283,9 +283,9 @@ impl<T: Transport> Davis<T> {
     /// The registers of libcaer's `caerDeviceSendDefaultConfig` for this device (§1.5): DAVIS240
     /// biases and chip configuration, then the FPGA defaults (FPGA background-activity filter on
     /// at 2 ms when present, as libcaer), then the USB early-packet delay of 1 ms.
-    pub fn default_config(&self) -> Vec<(u16, u16, u32)> {
+    pub fn default_config(&self) -> Vec<Register> {
         let i = &self.info;
-        let mut r: Vec<(u16, u16, u32)> = Vec::new();
+        let mut r: Vec<Register> = Vec::new();
         r.extend(
             DAVIS240_BIASES
                 .iter()
@@ -400,7 +400,7 @@ impl<T: Transport> Davis<T> {
     }
 
     /// The registers that stop every part of the camera (step 1 of start, and stop; §1.5).
-    fn all_off(&self) -> [(u16, u16, u32); 10] {
+    fn all_off(&self) -> [Register; 10] {
         [
             (DVS, dvs::RUN, 0),
             (APS, aps::RUN, 0),
@@ -457,7 +457,7 @@ impl<T: Transport> Davis<T> {
             stopped: false,
         };
         let t = &*stream.davis.transport;
-        let steps: [(&[(u16, u16, u32)], u64); 3] = [
+        let steps: [(&[Register], u64); 3] = [
             (&[(MUX, mux::RUN_CHIP, 1)], 200),
             (
                 &[
@@ -722,7 +722,7 @@ mod tests {
         w.iter().flat_map(|w| w.to_le_bytes()).collect()
     }
 
-    fn single_writes(records: &[ControlRecord]) -> Vec<(u16, u16, u32)> {
+    fn single_writes(records: &[ControlRecord]) -> Vec<Register> {
         records
             .iter()
             .filter(|r| r.request == VENDOR_REQUEST_FPGA_CONFIG)

@@ -21,6 +21,9 @@ pub const VENDOR_REQUEST_FPGA_CONFIG: u8 = 0xBF;
 /// Vendor request: write several registers, 6 bytes each (u8 module, u8 param, u32 BE value).
 pub const VENDOR_REQUEST_FPGA_CONFIG_MULTIPLE: u8 = 0xC2;
 
+/// One register write: `(module, parameter, value)` (§1.3–1.4).
+pub type Register = (u16, u16, u32);
+
 /// Module MUX (§1.4).
 pub const MUX: u16 = 0;
 /// Module DVS.
