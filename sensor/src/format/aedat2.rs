@@ -13,7 +13,7 @@
 //! going backwards, reported in [`ReadStats`] and kept in file order.
 
 use super::input::Input;
-use super::{EventReader, EventWriter, READ_BLOCK, ReadStats};
+use super::{EventReader, EventWriter, READ_BLOCK, ReadStats, ReaderEnd, io_error};
 use crate::error::FormatError;
 use neurotac_core::EventBuffer;
 use std::io::{Read, Write};
@@ -57,8 +57,7 @@ pub struct Aedat2Reader<R> {
     wrap_offset: i64,
     previous: i64,
     stats: ReadStats,
-    pending_error: Option<FormatError>,
-    done: bool,
+    end: ReaderEnd,
 }
 
 impl<R: Read> Aedat2Reader<R> {
@@ -112,8 +111,7 @@ impl<R: Read> Aedat2Reader<R> {
             wrap_offset: 0,
             previous: i64::MIN,
             stats: ReadStats::default(),
-            pending_error: None,
-            done: false,
+            end: ReaderEnd::default(),
         })
     }
 
@@ -169,41 +167,33 @@ impl<R: Read> Aedat2Reader<R> {
     }
 }
 
-impl<R: Read> EventReader for Aedat2Reader<R> {
-    fn read_chunk(&mut self, out: &mut EventBuffer) -> Result<usize, FormatError> {
-        if let Some(e) = self.pending_error.take() {
-            return Err(e);
-        }
-        if self.done {
-            return Ok(0);
-        }
+impl<R: Read> Aedat2Reader<R> {
+    /// Reads blocks until one yields events or the input ends.
+    fn fill(&mut self, out: &mut EventBuffer) -> Result<(), FormatError> {
         let before = out.len();
-        loop {
+        while out.len() == before {
             let n = self.input.read_full(&mut self.block[self.filled..])?;
             self.filled += n;
             if n == 0 && self.filled < RECORD {
-                self.done = true;
                 if self.filled > 0 {
-                    let e = self
-                        .input
-                        .truncated_at(self.block_offset, "an 8-byte AEDAT 2.0 record");
-                    if out.len() == before {
-                        return Err(e);
-                    }
-                    self.pending_error = Some(e);
+                    let expected = "an 8-byte AEDAT 2.0 record";
+                    return Err(self.input.truncated_at(self.block_offset, expected));
                 }
-                return Ok(out.len() - before);
+                return Ok(());
             }
-            let len_before = out.len();
             let used = self.decode_block(out);
-            self.stats.events += (out.len() - len_before) as u64;
             self.block.copy_within(used..self.filled, 0);
             self.filled -= used;
             self.block_offset += used as u64;
-            if out.len() > before {
-                return Ok(out.len() - before);
-            }
         }
+        self.stats.events += (out.len() - before) as u64;
+        Ok(())
+    }
+}
+
+impl<R: Read> EventReader for Aedat2Reader<R> {
+    fn read_chunk(&mut self, out: &mut EventBuffer) -> Result<usize, FormatError> {
+        ReaderEnd::chunk(self, |r| &mut r.end, out, Self::fill)
     }
 
     fn stats(&self) -> ReadStats {
@@ -232,10 +222,7 @@ impl<W: Write> Aedat2Writer<W> {
 
     /// Writes the header to `out`, named `path` in errors.
     pub fn with_name(mut out: W, path: PathBuf) -> Result<Self, FormatError> {
-        out.write_all(HEADER).map_err(|source| FormatError::Io {
-            path: path.clone(),
-            source,
-        })?;
+        out.write_all(HEADER).map_err(io_error(&path))?;
         Ok(Self {
             out,
             path,
@@ -285,19 +272,13 @@ impl<W: Write> EventWriter for Aedat2Writer<W> {
             }
             self.out
                 .write_all(&self.block)
-                .map_err(|source| FormatError::Io {
-                    path: self.path.clone(),
-                    source,
-                })?;
+                .map_err(io_error(&self.path))?;
         }
         self.written += events.len() as u64;
         Ok(())
     }
 
     fn finish(&mut self) -> Result<(), FormatError> {
-        self.out.flush().map_err(|source| FormatError::Io {
-            path: self.path.clone(),
-            source,
-        })
+        self.out.flush().map_err(io_error(&self.path))
     }
 }

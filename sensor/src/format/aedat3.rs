@@ -9,7 +9,7 @@
 //! invalid events (valid bit 0) and the unused capacity past `eventNumber`.
 
 use super::input::Input;
-use super::{DAVIS240_SIZE, EventReader, EventWriter, READ_BLOCK, ReadStats};
+use super::{DAVIS240_SIZE, EventReader, EventWriter, READ_BLOCK, ReadStats, ReaderEnd, io_error};
 use crate::error::FormatError;
 use neurotac_core::EventBuffer;
 use std::io::{Read, Write};
@@ -45,7 +45,7 @@ pub struct Aedat3Reader<R> {
     block: Vec<u8>,
     previous: i64,
     stats: ReadStats,
-    pending_error: Option<FormatError>,
+    end: ReaderEnd,
 }
 
 impl<R: Read> Aedat3Reader<R> {
@@ -86,7 +86,7 @@ impl<R: Read> Aedat3Reader<R> {
             block: vec![0; READ_BLOCK],
             previous: i64::MIN,
             stats: ReadStats::default(),
-            pending_error: None,
+            end: ReaderEnd::default(),
         })
     }
 
@@ -237,18 +237,7 @@ impl<R: Read> Aedat3Reader<R> {
 
 impl<R: Read> EventReader for Aedat3Reader<R> {
     fn read_chunk(&mut self, out: &mut EventBuffer) -> Result<usize, FormatError> {
-        if let Some(e) = self.pending_error.take() {
-            return Err(e);
-        }
-        let before = out.len();
-        match self.fill(out) {
-            Ok(()) => Ok(out.len() - before),
-            Err(e) if out.len() > before => {
-                self.pending_error = Some(e);
-                Ok(out.len() - before)
-            }
-            Err(e) => Err(e),
-        }
+        ReaderEnd::chunk(self, |r| &mut r.end, out, Self::fill)
     }
 
     fn stats(&self) -> ReadStats {
@@ -276,11 +265,7 @@ impl<W: Write> Aedat3Writer<W> {
     /// Writes the header to `out`, named `path` in errors.
     pub fn with_name(mut out: W, path: PathBuf) -> Result<Self, FormatError> {
         let header = "#!AER-DAT3.1\r\n#Format: RAW\r\n#Source 1: DAVIS240C\r\n#!END-HEADER\r\n";
-        out.write_all(header.as_bytes())
-            .map_err(|source| FormatError::Io {
-                path: path.clone(),
-                source,
-            })?;
+        out.write_all(header.as_bytes()).map_err(io_error(&path))?;
         Ok(Self {
             out,
             path,
@@ -303,12 +288,10 @@ impl<W: Write> Aedat3Writer<W> {
         for (k, v) in fields.iter().enumerate() {
             h[4 + 4 * k..8 + 4 * k].copy_from_slice(&v.to_le_bytes());
         }
-        let io = |source| FormatError::Io {
-            path: self.path.clone(),
-            source,
-        };
-        self.out.write_all(&h).map_err(io)?;
-        self.out.write_all(&self.packet).map_err(io)?;
+        self.out.write_all(&h).map_err(io_error(&self.path))?;
+        self.out
+            .write_all(&self.packet)
+            .map_err(io_error(&self.path))?;
         self.packet.clear();
         self.count = 0;
         Ok(())
@@ -352,9 +335,6 @@ impl<W: Write> EventWriter for Aedat3Writer<W> {
 
     fn finish(&mut self) -> Result<(), FormatError> {
         self.flush_packet()?;
-        self.out.flush().map_err(|source| FormatError::Io {
-            path: self.path.clone(),
-            source,
-        })
+        self.out.flush().map_err(io_error(&self.path))
     }
 }

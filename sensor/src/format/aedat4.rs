@@ -18,7 +18,7 @@
 
 use super::flatbuffer::{Buffer, u32_at};
 use super::input::Input;
-use super::{DAVIS240_SIZE, EventReader, EventWriter, ReadStats};
+use super::{DAVIS240_SIZE, EventReader, EventWriter, ReadStats, ReaderEnd, io_error};
 use crate::error::FormatError;
 use neurotac_core::EventBuffer;
 use std::io::{Read, Seek, SeekFrom, Write};
@@ -273,8 +273,7 @@ pub struct Aedat4Reader<R> {
     zstd: Option<zstd::stream::raw::Decoder<'static>>,
     previous: i64,
     stats: ReadStats,
-    pending_error: Option<FormatError>,
-    done: bool,
+    end: ReaderEnd,
 }
 
 impl<R: Read> Aedat4Reader<R> {
@@ -340,8 +339,7 @@ impl<R: Read> Aedat4Reader<R> {
             zstd: None,
             previous: i64::MIN,
             stats: ReadStats::default(),
-            pending_error: None,
-            done: false,
+            end: ReaderEnd::default(),
         })
     }
 
@@ -522,24 +520,12 @@ impl<R: Read> Aedat4Reader<R> {
 
 impl<R: Read> EventReader for Aedat4Reader<R> {
     fn read_chunk(&mut self, out: &mut EventBuffer) -> Result<usize, FormatError> {
-        if let Some(e) = self.pending_error.take() {
-            return Err(e);
-        }
-        if self.done {
-            return Ok(0);
-        }
-        let before = out.len();
-        match self.next_events(out) {
-            Ok(true) => Ok(out.len() - before),
-            Ok(false) => {
-                self.done = true;
-                Ok(0)
-            }
-            Err(e) => {
-                self.done = true;
-                Err(e)
-            }
-        }
+        ReaderEnd::chunk(
+            self,
+            |r| &mut r.end,
+            out,
+            |r, out| r.next_events(out).map(|_| ()),
+        )
     }
 
     fn stats(&self) -> ReadStats {
@@ -638,15 +624,8 @@ impl<W: Write + Seek> Aedat4Writer<W> {
         Ok(w)
     }
 
-    fn io(&self, source: std::io::Error) -> FormatError {
-        FormatError::Io {
-            path: self.path.clone(),
-            source,
-        }
-    }
-
     fn put(&mut self, bytes: &[u8]) -> Result<(), FormatError> {
-        self.out.write_all(bytes).map_err(|e| self.io(e))?;
+        self.out.write_all(bytes).map_err(io_error(&self.path))?;
         self.offset += bytes.len() as u64;
         Ok(())
     }
@@ -667,7 +646,9 @@ impl<W: Write + Seek> Aedat4Writer<W> {
                     let bound = lz4_flex::block::get_maximum_output_size(block.len());
                     self.compressed.resize(at + 4 + bound, 0);
                     let n = lz4_flex::block::compress_into(block, &mut self.compressed[at + 4..])
-                        .map_err(|e| self.io(std::io::Error::other(e.to_string())))?;
+                        .map_err(|e| {
+                        io_error(&self.path)(std::io::Error::other(e.to_string()))
+                    })?;
                     let word = if n < block.len() {
                         n as u32
                     } else {
@@ -685,22 +666,15 @@ impl<W: Write + Seek> Aedat4Writer<W> {
                 let compressor = match &mut self.zstd {
                     Some(c) => c,
                     None => self.zstd.insert(
-                        zstd::bulk::Compressor::new(zstd::DEFAULT_COMPRESSION_LEVEL).map_err(
-                            |e| FormatError::Io {
-                                path: self.path.clone(),
-                                source: e,
-                            },
-                        )?,
+                        zstd::bulk::Compressor::new(zstd::DEFAULT_COMPRESSION_LEVEL)
+                            .map_err(io_error(&self.path))?,
                     ),
                 };
                 self.compressed
                     .reserve(zstd::compress_bound(self.plain.len()));
                 compressor
                     .compress_to_buffer(&self.plain, &mut self.compressed)
-                    .map_err(|source| FormatError::Io {
-                        path: self.path.clone(),
-                        source,
-                    })?;
+                    .map_err(io_error(&self.path))?;
             }
         }
         Ok(())
@@ -839,7 +813,7 @@ impl<W: Write + Seek> EventWriter for Aedat4Writer<W> {
             .and_then(|_| self.out.write_all(&(position as i64).to_le_bytes()))
             .and_then(|_| self.out.seek(SeekFrom::End(0)))
             .and_then(|_| self.out.flush())
-            .map_err(|e| self.io(e))?;
+            .map_err(io_error(&self.path))?;
         self.finished = true;
         Ok(())
     }

@@ -205,6 +205,58 @@ impl ReadStats {
     }
 }
 
+/// How every reader ends: events decoded before an error are delivered first, the error comes
+/// from the next call, and after the end or an error every call returns 0.
+#[derive(Debug, Default)]
+pub(crate) struct ReaderEnd {
+    pending: Option<FormatError>,
+    done: bool,
+}
+
+impl ReaderEnd {
+    /// Runs `fill`, which appends at least one event to `out` or reaches the end of the input.
+    pub(crate) fn chunk<S>(
+        state: &mut S,
+        end: impl Fn(&mut S) -> &mut ReaderEnd,
+        out: &mut EventBuffer,
+        fill: impl FnOnce(&mut S, &mut EventBuffer) -> Result<(), FormatError>,
+    ) -> Result<usize, FormatError> {
+        let e = end(state);
+        if let Some(error) = e.pending.take() {
+            return Err(error);
+        }
+        if e.done {
+            return Ok(0);
+        }
+        let before = out.len();
+        let result = fill(state, out);
+        let appended = out.len() - before;
+        let e = end(state);
+        match result {
+            Ok(()) => {
+                e.done = appended == 0;
+                Ok(appended)
+            }
+            Err(error) => {
+                e.done = true;
+                if appended == 0 {
+                    return Err(error);
+                }
+                e.pending = Some(error);
+                Ok(appended)
+            }
+        }
+    }
+}
+
+/// Maps an I/O error of the file at `path` into a [`FormatError::Io`].
+pub(crate) fn io_error(path: &Path) -> impl Fn(std::io::Error) -> FormatError + '_ {
+    move |source| FormatError::Io {
+        path: path.to_path_buf(),
+        source,
+    }
+}
+
 /// A streaming event-file reader.
 pub trait EventReader {
     /// Appends the next chunk of events (at most a few hundred thousand) to `out` and returns how
@@ -228,6 +280,16 @@ pub trait EventReader {
     }
 }
 
+impl<R: EventReader + ?Sized> EventReader for Box<R> {
+    fn read_chunk(&mut self, out: &mut EventBuffer) -> Result<usize, FormatError> {
+        (**self).read_chunk(out)
+    }
+
+    fn stats(&self) -> ReadStats {
+        (**self).stats()
+    }
+}
+
 /// A streaming event-file writer.
 pub trait EventWriter {
     /// Writes the events of `events` (after those written before).
@@ -240,16 +302,10 @@ pub trait EventWriter {
 
 /// Opens an event file, detecting its format from its first bytes.
 pub fn open_reader(path: &Path) -> Result<Box<dyn EventReader>, FormatError> {
-    let file = File::open(path).map_err(|source| FormatError::Io {
-        path: path.to_path_buf(),
-        source,
-    })?;
+    let file = File::open(path).map_err(io_error(path))?;
     let len = file.metadata().ok().map(|m| m.len());
     let mut buffered = BufReader::with_capacity(READ_BLOCK, file);
-    let head = buffered.fill_buf().map_err(|source| FormatError::Io {
-        path: path.to_path_buf(),
-        source,
-    })?;
+    let head = buffered.fill_buf().map_err(io_error(path))?;
     let format = detect_or_error(head, path)?;
     open_detected(format, buffered, path.to_path_buf(), len)
 }
@@ -297,10 +353,7 @@ pub fn reader_from_bytes(bytes: &[u8]) -> Result<Box<dyn EventReader + '_>, Form
 
 /// Creates an event file in `format`.
 pub fn create_writer_as(path: &Path, format: Format) -> Result<Box<dyn EventWriter>, FormatError> {
-    let file = File::create(path).map_err(|source| FormatError::Io {
-        path: path.to_path_buf(),
-        source,
-    })?;
+    let file = File::create(path).map_err(io_error(path))?;
     let name = path.to_path_buf();
     Ok(match format {
         Format::Aedat2 => Box::new(Aedat2Writer::with_name(BufWriter::new(file), name)?),

@@ -10,7 +10,7 @@
 //! LF or CRLF; empty lines are skipped. Events outside 240 × 180 are skipped and counted.
 
 use super::input::Input;
-use super::{DAVIS240_SIZE, EventReader, EventWriter, READ_BLOCK, ReadStats};
+use super::{DAVIS240_SIZE, EventReader, EventWriter, READ_BLOCK, ReadStats, ReaderEnd, io_error};
 use crate::error::FormatError;
 use neurotac_core::EventBuffer;
 use std::io::{Read, Write};
@@ -138,7 +138,7 @@ struct TextReader<R> {
     previous: i64,
     stats: ReadStats,
     eof: bool,
-    pending_error: Option<FormatError>,
+    end: ReaderEnd,
 }
 
 impl<R: Read> TextReader<R> {
@@ -154,7 +154,7 @@ impl<R: Read> TextReader<R> {
             previous: i64::MIN,
             stats: ReadStats::default(),
             eof: false,
-            pending_error: None,
+            end: ReaderEnd::default(),
         }
     }
 
@@ -242,23 +242,7 @@ impl<R: Read> TextReader<R> {
     }
 
     fn read_chunk(&mut self, out: &mut EventBuffer) -> Result<usize, FormatError> {
-        if let Some(e) = self.pending_error.take() {
-            return Err(e);
-        }
-        let before = out.len();
-        match self.fill(out) {
-            Ok(()) => Ok(out.len() - before),
-            Err(e) => {
-                self.eof = true;
-                self.start = self.filled;
-                if out.len() > before {
-                    self.pending_error = Some(e);
-                    Ok(out.len() - before)
-                } else {
-                    Err(e)
-                }
-            }
-        }
+        ReaderEnd::chunk(self, |r| &mut r.end, out, Self::fill)
     }
 }
 
@@ -313,11 +297,7 @@ struct TextWriter<W: Write> {
 impl<W: Write> TextWriter<W> {
     fn new(mut out: W, path: PathBuf, dialect: Dialect) -> Result<Self, FormatError> {
         if dialect == Dialect::Csv {
-            out.write_all(b"t,x,y,on\n")
-                .map_err(|source| FormatError::Io {
-                    path: path.clone(),
-                    source,
-                })?;
+            out.write_all(b"t,x,y,on\n").map_err(io_error(&path))?;
         }
         Ok(Self {
             out,
@@ -358,19 +338,13 @@ impl<W: Write> TextWriter<W> {
     fn flush_line(&mut self) -> Result<(), FormatError> {
         self.out
             .write_all(&self.line)
-            .map_err(|source| FormatError::Io {
-                path: self.path.clone(),
-                source,
-            })?;
+            .map_err(io_error(&self.path))?;
         self.line.clear();
         Ok(())
     }
 
     fn finish(&mut self) -> Result<(), FormatError> {
-        self.out.flush().map_err(|source| FormatError::Io {
-            path: self.path.clone(),
-            source,
-        })
+        self.out.flush().map_err(io_error(&self.path))
     }
 }
 
