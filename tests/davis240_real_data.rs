@@ -203,3 +203,17 @@ fn times_past_the_big_wrap_survive_every_format() {
         );
     }
 }
+
+#[test]
+fn the_background_activity_keep_masks_match_the_recording() {
+    // The masks are the oracle of the noise filter (issue 6); here: they load and fit the events.
+    let Some(dir) = data_dir() else { return };
+    for (file, kept) in [
+        ("pick_ba_keep_2000us.npy", 70_563),
+        ("pick_ba_keep_5000us.npy", 81_980),
+    ] {
+        let mask: Array1<bool> = read_npy(dir.join(file)).unwrap();
+        assert_eq!(mask.len(), EVENTS, "{file}");
+        assert_eq!(mask.iter().filter(|&&k| k).count(), kept, "{file}");
+    }
+}

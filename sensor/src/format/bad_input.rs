@@ -1,7 +1,7 @@
 //! Bad input, one test per case of issue 5: truncated files and packets, wrong magic, a header
 //! that never ends, packet sizes larger than the file, corrupt compressed payloads, zero-length
 //! packets, timestamps going backwards, coordinates out of range. Each gives a typed error or a
-//! documented, counted skip.
+//! documented, counted skip. Also: every reader streams an endless input in bounded chunks.
 
 use super::*;
 use neurotac_core::{Event, Timestamp};
@@ -75,6 +75,72 @@ impl Read for Endless {
         Ok(buf.len())
     }
 }
+
+#[test]
+fn every_reader_streams_an_endless_input_in_bounded_chunks() {
+    // An input that never ends (a 10 GB file, a pipe): the header and the first packet or
+    // lines of a real encoding, then that packet (or those lines) repeated forever.
+    let ev = events(PACKET_EVENTS_MAX);
+    for format in ALL {
+        let bytes = encode(format, &ev);
+        let data_start = match format {
+            Format::Aedat2 => bytes.len() - 8 * ev.len(),
+            Format::Aedat3 => {
+                bytes
+                    .windows(14)
+                    .position(|w| w == b"#!END-HEADER\r\n")
+                    .unwrap()
+                    + 14
+            }
+            Format::Aedat4(_) => {
+                18 + u32::from_le_bytes(bytes[14..18].try_into().unwrap()) as usize
+            }
+            Format::EcdText => 0,
+            Format::Csv => 9,
+        };
+        let repeat = match format {
+            Format::Aedat4(_) => {
+                let size =
+                    i32::from_le_bytes(bytes[data_start + 4..data_start + 8].try_into().unwrap());
+                &bytes[data_start..data_start + 8 + size as usize]
+            }
+            Format::Aedat3 => &bytes[data_start..data_start + 28 + 4096 * 8],
+            _ => &bytes[data_start..],
+        };
+        let mut prefix = bytes[..data_start].to_vec();
+        if let Format::Aedat4(_) = format {
+            prefix[54..62].copy_from_slice(&(-1i64).to_le_bytes()); // no data table to stop at
+        }
+        let endless = Endless {
+            prefix,
+            line: Vec::leak(repeat.to_vec()),
+            pos: 0,
+        };
+        let mut reader: Box<dyn EventReader> = match format {
+            Format::Aedat2 => Box::new(Aedat2Reader::new(endless).unwrap()),
+            Format::Aedat3 => Box::new(Aedat3Reader::new(endless).unwrap()),
+            Format::Aedat4(_) => Box::new(Aedat4Reader::new(endless).unwrap()),
+            Format::EcdText => Box::new(EcdTextReader::new(endless)),
+            Format::Csv => Box::new(CsvReader::new(endless)),
+        };
+        let mut chunk = EventBuffer::new();
+        let mut total = 0;
+        for _ in 0..12 {
+            chunk.clear();
+            let n = reader.read_chunk(&mut chunk).unwrap();
+            assert!(n > 0 && n <= READ_BLOCK, "{format:?}: chunk of {n} events");
+            total += n;
+        }
+        assert!(total >= 12, "{format:?}");
+        assert!(
+            chunk.t.capacity() <= 4 * READ_BLOCK,
+            "{format:?}: the buffer stays bounded"
+        );
+    }
+}
+
+/// Events per packet of the largest packets written (AEDAT 4.0).
+const PACKET_EVENTS_MAX: usize = aedat4::PACKET_EVENTS;
 
 #[test]
 fn every_format_round_trips_in_memory() {
