@@ -5,7 +5,10 @@
 use ndarray::{Array1, Array2};
 use ndarray_npy::read_npy;
 use neurotac::core::EventBuffer;
-use neurotac::sensor::davis::UsbDecoder;
+use neurotac::sensor::DeviceError;
+use neurotac::sensor::davis::{
+    Davis, DeviceInfo, ReplayEnd, ReplayTransport, StartOptions, UsbDecoder, protocol,
+};
 use neurotac::sensor::format::{self, Format};
 use std::path::{Path, PathBuf};
 
@@ -216,4 +219,50 @@ fn the_background_activity_keep_masks_match_the_recording() {
         assert_eq!(mask.len(), EVENTS, "{file}");
         assert_eq!(mask.iter().filter(|&&k| k).count(), kept, "{file}");
     }
+}
+
+#[test]
+fn the_driver_streams_the_recorded_usb_bytes_and_keeps_them_all_when_unplugged() {
+    // Everything above the raw USB calls (open checks, configuration, start order, reader thread,
+    // ring, consumer-side decoding) runs on the recorded stream, in libcaer's 8 KiB transfers; the
+    // "camera" is unplugged when the recording ends.
+    let Some(dir) = data_dir() else { return };
+    let bytes = std::fs::read(dir.join("pick_usb_words.bin")).unwrap();
+    let expected: Array1<i64> = read_npy(dir.join("pick_usb_expected_t_us.npy")).unwrap();
+    let usb = DeviceInfo {
+        product_id: protocol::PRODUCT_ID_FX2,
+        firmware: protocol::FIRMWARE_FX2,
+        bus: 1,
+        address: 2,
+        serial: None,
+    };
+    let davis = Davis::open(
+        ReplayTransport::new(bytes.clone(), 8192, ReplayEnd::Unplug),
+        usb,
+    )
+    .unwrap();
+    davis.send_default_config().unwrap();
+    let options = StartOptions {
+        buffer_bytes: 8192,
+        ..StartOptions::default()
+    };
+    let mut stream = davis.start(options).unwrap();
+    let mut events = EventBuffer::new();
+    let err = loop {
+        if let Err(e) = stream.next_events(&mut events, std::time::Duration::from_secs(5)) {
+            break e;
+        }
+    };
+    assert!(
+        matches!(err, DeviceError::Disconnected { bytes_received, events_decoded }
+            if bytes_received == bytes.len() as u64 && events_decoded == EVENTS as u64),
+        "{err}"
+    );
+    assert_eq!(stream.dropped_packets(), 0);
+    assert_eq!(events.t.as_slice(), expected.as_slice().unwrap());
+    let want = reference(&dir);
+    assert_eq!(
+        (events.x, events.y, events.polarity),
+        (want.x, want.y, want.polarity)
+    );
 }
