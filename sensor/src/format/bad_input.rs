@@ -20,17 +20,10 @@ fn events(n: usize) -> EventBuffer {
 
 fn encode(format: Format, ev: &EventBuffer) -> Vec<u8> {
     let mut cursor = Cursor::new(Vec::new());
-    {
-        let mut w: Box<dyn EventWriter + '_> = match format {
-            Format::Aedat2 => Box::new(Aedat2Writer::new(&mut cursor).unwrap()),
-            Format::Aedat3 => Box::new(Aedat3Writer::new(&mut cursor).unwrap()),
-            Format::Aedat4(c) => Box::new(Aedat4Writer::new(&mut cursor, c).unwrap()),
-            Format::EcdText => Box::new(EcdTextWriter::new(&mut cursor).unwrap()),
-            Format::Csv => Box::new(CsvWriter::new(&mut cursor).unwrap()),
-        };
-        w.write(ev).unwrap();
-        w.finish().unwrap();
-    }
+    let mut w = writer_to(&mut cursor, format, "<test>".into()).unwrap();
+    w.write(ev).unwrap();
+    w.finish().unwrap();
+    drop(w);
     cursor.into_inner()
 }
 

@@ -50,7 +50,7 @@ pub use text::{CsvReader, CsvWriter, EcdTextReader, EcdTextWriter};
 use crate::error::FormatError;
 use neurotac_core::EventBuffer;
 use std::fs::File;
-use std::io::{BufRead, BufReader, BufWriter, Read};
+use std::io::{BufRead, BufReader, BufWriter, Read, Seek, Write};
 use std::path::{Path, PathBuf};
 
 /// Pixel-array size assumed when a file does not state one: the DAVIS240's 240 × 180.
@@ -351,17 +351,30 @@ pub fn reader_from_bytes(bytes: &[u8]) -> Result<Box<dyn EventReader + '_>, Form
     open_detected(format, bytes, path, Some(bytes.len() as u64))
 }
 
+/// A writer of `format` to any seekable output (a file, a `Cursor<Vec<u8>>`), named `name` in
+/// errors. Only AEDAT 4.0 seeks (to patch the data-table position when finishing).
+pub fn writer_to<'a, W: Write + Seek + 'a>(
+    out: W,
+    format: Format,
+    name: PathBuf,
+) -> Result<Box<dyn EventWriter + 'a>, FormatError> {
+    Ok(match format {
+        Format::Aedat2 => Box::new(Aedat2Writer::with_name(out, name)?),
+        Format::Aedat3 => Box::new(Aedat3Writer::with_name(out, name)?),
+        Format::Aedat4(c) => Box::new(Aedat4Writer::with_name(out, name, c)?),
+        Format::EcdText => Box::new(EcdTextWriter::with_name(out, name)?),
+        Format::Csv => Box::new(CsvWriter::with_name(out, name)?),
+    })
+}
+
 /// Creates an event file in `format`.
 pub fn create_writer_as(path: &Path, format: Format) -> Result<Box<dyn EventWriter>, FormatError> {
     let file = File::create(path).map_err(io_error(path))?;
-    let name = path.to_path_buf();
-    Ok(match format {
-        Format::Aedat2 => Box::new(Aedat2Writer::with_name(BufWriter::new(file), name)?),
-        Format::Aedat3 => Box::new(Aedat3Writer::with_name(BufWriter::new(file), name)?),
-        Format::Aedat4(c) => Box::new(Aedat4Writer::with_name(file, name, c)?),
-        Format::EcdText => Box::new(EcdTextWriter::with_name(BufWriter::new(file), name)?),
-        Format::Csv => Box::new(CsvWriter::with_name(BufWriter::new(file), name)?),
-    })
+    writer_to(
+        BufWriter::with_capacity(READ_BLOCK, file),
+        format,
+        path.to_path_buf(),
+    )
 }
 
 /// Creates an event file whose format is given by its extension ([`Format::from_extension`]).
