@@ -104,7 +104,7 @@ impl Default for StartOptions {
     }
 }
 
-/// An opened DAVIS240, not yet streaming.
+/// An opened DAVIS240, not yet streaming (davis240.md §1.5).
 pub struct Davis<T: Transport> {
     transport: Arc<T>,
     info: DavisInfo,
@@ -575,7 +575,7 @@ fn reader_loop<T: Transport>(t: &T, ring: &Ring, stop: &AtomicBool, mut spare: V
     ring.ready.notify_all();
 }
 
-/// A streaming DAVIS240: decodes the ring's buffers on the consumer side.
+/// A streaming DAVIS240: decodes the ring's buffers on the consumer side (davis240.md §1.2, §1.6).
 pub struct DavisStream<T: Transport> {
     davis: Davis<T>,
     ring: Arc<Ring>,

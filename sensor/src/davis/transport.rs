@@ -69,7 +69,7 @@ pub trait Transport: Send + Sync + 'static {
     fn clear_halt(&self, endpoint: u8) -> Result<(), TransportError>;
 }
 
-/// One DAVIS camera seen on the bus (from its device descriptor).
+/// One DAVIS camera seen on the bus (from its device descriptor; davis240.md §1.1).
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct DeviceInfo {
     /// USB product id: [`PRODUCT_ID_FX2`] or [`PRODUCT_ID_FX3`].
@@ -159,7 +159,8 @@ pub fn list_devices() -> Result<Vec<DeviceInfo>, DeviceError> {
     Ok(found)
 }
 
-/// A DAVIS camera opened through rusb (libusb built from source by the `vendored` feature).
+/// A DAVIS camera opened through rusb (libusb built from source by the `vendored` feature;
+/// davis240.md §1.1–1.3, §7 pitfall 9).
 pub struct RusbTransport {
     handle: rusb::DeviceHandle<rusb::Context>,
 }

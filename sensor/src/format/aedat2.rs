@@ -19,7 +19,7 @@ use neurotac_core::EventBuffer;
 use std::io::{Read, Write};
 use std::path::PathBuf;
 
-/// Largest header accepted (jAER may embed its XML preferences, some 100 KB).
+/// Largest header accepted (jAER may embed its XML preferences, some 100 KB; davis240.md §2.1).
 pub const MAX_HEADER_BYTES: u64 = 16 << 20;
 
 const SIZE_X: u32 = 240;
@@ -43,7 +43,7 @@ fn is_sentinel(line: &[u8]) -> bool {
     letters.eq(b"endofasciiheader".iter().copied())
 }
 
-/// Streaming reader of AEDAT 2.0 DAVIS240 files.
+/// Streaming reader of AEDAT 2.0 DAVIS240 files (davis240.md §2.1; §7 pitfalls 5 and 6).
 pub struct Aedat2Reader<R> {
     input: Input<R>,
     /// The header lines, including the version line and the sentinel (if any).

@@ -36,7 +36,7 @@ struct Packet {
     tail_bytes: u64,
 }
 
-/// Streaming reader of AEDAT 3.1 files (polarity events).
+/// Streaming reader of AEDAT 3.1 files (polarity events; davis240.md §2.2).
 pub struct Aedat3Reader<R> {
     input: Input<R>,
     header: Vec<u8>,
@@ -245,7 +245,7 @@ impl<R: Read> EventReader for Aedat3Reader<R> {
     }
 }
 
-/// Writer of AEDAT 3.1 files: polarity packets of up to [`PACKET_EVENTS`] events (capacity =
+/// Writer of AEDAT 3.1 files (davis240.md §2.2): polarity packets of up to [`PACKET_EVENTS`] events (capacity =
 /// number = valid), a new packet whenever `t >> 31` changes. Times must be non-negative.
 pub struct Aedat3Writer<W: Write> {
     out: W,

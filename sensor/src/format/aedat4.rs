@@ -39,7 +39,7 @@ const EVENT_BYTES: usize = 16;
 const LZ4_MAGIC: u32 = 0x184D_2204;
 const LZ4_BLOCK: usize = 64 << 10;
 
-/// Packet compression of an AEDAT 4.0 file.
+/// Packet compression of an AEDAT 4.0 file (IOHeader field 0; davis240.md §2.3).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Compression {
     /// Raw flatbuffers (IOHeader value 0).
@@ -77,7 +77,7 @@ impl Compression {
     }
 }
 
-/// An event stream found in the IOHeader description.
+/// An event stream found in the IOHeader description (davis240.md §2.3).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct EventStream {
     /// The packets' `streamId`.
@@ -260,7 +260,7 @@ fn zstd_decode(
     }
 }
 
-/// Streaming reader of AEDAT 4.0 files (the first event stream).
+/// Streaming reader of AEDAT 4.0 files (the first event stream; davis240.md §2.3).
 pub struct Aedat4Reader<R> {
     input: Input<R>,
     compression: Compression,
@@ -542,7 +542,7 @@ struct TableEntry {
     t_end: i64,
 }
 
-/// Writer of AEDAT 4.0 files with one event stream (id 0, 240 × 180).
+/// Writer of AEDAT 4.0 files with one event stream (id 0, 240 × 180; davis240.md §2.3).
 pub struct Aedat4Writer<W: Write + Seek> {
     out: W,
     path: PathBuf,

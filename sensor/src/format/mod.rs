@@ -59,7 +59,7 @@ pub const DAVIS240_SIZE: (u16, u16) = (240, 180);
 /// Byte size of the blocks readers pull from their input.
 pub(crate) const READ_BLOCK: usize = 1 << 18;
 
-/// The event-file formats.
+/// The event-file formats (davis240.md §2).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Format {
     /// AEDAT 2.0, jAER DAVIS240 layout (davis240.md §2.1).
@@ -257,7 +257,7 @@ pub(crate) fn io_error(path: &Path) -> impl Fn(std::io::Error) -> FormatError + 
     }
 }
 
-/// A streaming event-file reader.
+/// A streaming event-file reader (one per format of davis240.md §2).
 pub trait EventReader {
     /// Appends the next chunk of events (at most a few hundred thousand) to `out` and returns how
     /// many were appended; `0` means the end of the input. Events decoded before an error are
@@ -290,7 +290,7 @@ impl<R: EventReader + ?Sized> EventReader for Box<R> {
     }
 }
 
-/// A streaming event-file writer.
+/// A streaming event-file writer (one per format of davis240.md §2).
 pub trait EventWriter {
     /// Writes the events of `events` (after those written before).
     fn write(&mut self, events: &EventBuffer) -> Result<(), FormatError>;

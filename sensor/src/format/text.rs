@@ -278,12 +278,12 @@ macro_rules! text_reader {
 text_reader!(
     EcdTextReader,
     Dialect::Ecd,
-    "Streaming reader of Event Camera Dataset text (`t x y p`, t in seconds)."
+    "Streaming reader of Event Camera Dataset text (`t x y p`, t in seconds; davis240.md §2.4)."
 );
 text_reader!(
     CsvReader,
     Dialect::Csv,
-    "Streaming reader of CSV events (`t,x,y,on`, t in µs; the header line is optional)."
+    "Streaming reader of CSV events (`t,x,y,on`, t in µs; the header line is optional; davis240.md §2.4)."
 );
 
 /// The line engine shared by both text writers.
@@ -380,12 +380,12 @@ macro_rules! text_writer {
 text_writer!(
     EcdTextWriter,
     Dialect::Ecd,
-    "Writer of Event Camera Dataset text: `t x y p` with t in seconds and 9 decimals."
+    "Writer of Event Camera Dataset text: `t x y p` with t in seconds and 9 decimals (davis240.md §2.4)."
 );
 text_writer!(
     CsvWriter,
     Dialect::Csv,
-    "Writer of CSV events: header `t,x,y,on`, t in integer µs."
+    "Writer of CSV events: header `t,x,y,on`, t in integer µs (davis240.md §2.4)."
 );
 
 #[cfg(test)]
