@@ -10,7 +10,9 @@
 //! 11 (1 = ON). For a DAVIS240, top-left coordinates are **x = 239 − raw x, y = 179 − raw y**.
 //! Other records (external input, APS samples, IMU) are skipped and counted. Timestamps are
 //! 32-bit: a drop of more than 2³¹ µs is a wrap and is unwrapped; a smaller drop is a timestamp
-//! going backwards, reported in [`ReadStats`] and kept in file order.
+//! going backwards, reported in [`ReadStats`] and kept in file order. A header whose `AEChip`
+//! line names another chip than a DAVIS240 is refused (its layout differs); a header without one
+//! is read as DAVIS240.
 
 use super::input::Input;
 use super::{EventReader, EventWriter, READ_BLOCK, ReadStats, ReaderEnd, io_error};
@@ -33,6 +35,12 @@ const HEADER: &[u8] = b"#!AER-DAT2.0\r\n\
 # Timestamps tick is 1 us\r\n\
 # AEChip: eu.seebetter.ini.chips.davis.DAVIS240C\r\n\
 # End of ASCII Header\r\n";
+
+/// The chip class of an ` AEChip: …` header line (after its `#`).
+fn aechip(line: &[u8]) -> Option<String> {
+    let text = std::str::from_utf8(line).ok()?.trim();
+    Some(text.strip_prefix("AEChip:")?.trim().to_owned())
+}
 
 /// `true` for the header sentinel `#End Of ASCII Header` in any case and spacing.
 fn is_sentinel(line: &[u8]) -> bool {
@@ -91,11 +99,18 @@ impl<R: Read> Aedat2Reader<R> {
                 break;
             }
             let used = header.len() as u64 + 1;
+            let at = input.offset() - 1;
             input.read_line(&mut line, used, MAX_HEADER_BYTES, sentinel)?;
             header.push(b'#');
             header.extend_from_slice(&line);
             if is_sentinel(&line) {
                 break;
+            }
+            if let Some(chip) = aechip(&line) {
+                if !chip.to_ascii_lowercase().contains("davis240") {
+                    let expected = "a DAVIS240 chip class (the x/y mirroring of this reader is DAVIS240-specific)";
+                    return Err(input.invalid(at, "AEChip", format!("`{chip}`"), expected));
+                }
             }
         }
         let block_offset = input.offset() - data_start.len() as u64;

@@ -292,6 +292,26 @@ fn wrong_magic_is_a_typed_error_for_each_reader() {
 }
 
 #[test]
+fn aedat2_of_another_chip_is_refused_by_name() {
+    let file = b"#!AER-DAT2.0\r\n# AEChip: eu.seebetter.ini.chips.davis.Davis346B\r\n#End Of ASCII Header\r\n";
+    let err = Aedat2Reader::new(&file[..]).err().unwrap();
+    assert!(
+        matches!(
+            err,
+            FormatError::Invalid {
+                field: "AEChip",
+                offset: 14,
+                ..
+            }
+        ),
+        "{err}"
+    );
+    assert!(err.to_string().contains("Davis346B"), "{err}");
+    let ok = b"#!AER-DAT2.0\r\n# AEChip: eu.seebetter.ini.chips.davis.DAVIS240B\r\n";
+    assert!(Aedat2Reader::new(&ok[..]).is_ok());
+}
+
+#[test]
 fn a_header_that_never_ends_stops_at_the_limit() {
     let endless = |prefix: &[u8]| Endless {
         prefix: prefix.to_vec(),
