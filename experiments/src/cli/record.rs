@@ -7,12 +7,10 @@
 
 use anyhow::Context;
 use clap::Args;
-use neurotac_core::EventBuffer;
-use neurotac_sensor::DeviceError;
-use neurotac_sensor::davis::{Davis, RusbTransport, StartOptions};
+use neurotac_sensor::davis::{Davis, RusbTransport, StartOptions, record};
 use neurotac_sensor::format;
 use std::path::PathBuf;
-use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
+use std::time::{Duration, SystemTime, UNIX_EPOCH};
 
 #[derive(Debug, Args)]
 pub struct RecordArgs {
@@ -58,42 +56,22 @@ pub fn run(args: RecordArgs) -> anyhow::Result<()> {
     } else {
         0
     };
-    let start = Instant::now();
     let duration = Duration::from_secs_f64(args.seconds);
-    let mut chunk = EventBuffer::new();
-    let mut written = 0u64;
-    let mut ended: Option<DeviceError> = None;
-    while start.elapsed() < duration {
-        chunk.clear();
-        match stream.next_events(&mut chunk, Duration::from_millis(50)) {
-            Ok(0) => continue,
-            Ok(_) => {}
-            Err(e) => {
-                ended = Some(e);
-                break;
-            }
-        }
-        chunk.t.iter_mut().for_each(|t| *t += offset_us);
-        writer.write(&chunk)?;
-        written += chunk.len() as u64;
-    }
-    let stop = stream.stop();
-    writer
-        .finish()
-        .with_context(|| format!("completing {}", args.out.display()))?;
-    let stats = stream.decode_stats();
+    let rec = record(&mut stream, &mut *writer, duration, offset_us)
+        .with_context(|| format!("writing {}", args.out.display()))?;
     println!(
-        "{written} events in {:.2} s; {} USB packets dropped (ring full); {} out-of-range addresses dropped",
-        start.elapsed().as_secs_f64(),
-        stream.dropped_packets(),
-        stats.dropped_x_out_of_range + stats.ignored_y_out_of_range
+        "{} events in {:.2} s; {} USB packets dropped (ring full); {} out-of-range addresses dropped",
+        rec.events,
+        rec.elapsed.as_secs_f64(),
+        rec.dropped_packets,
+        rec.decode.dropped_x_out_of_range + rec.decode.ignored_y_out_of_range
     );
-    if let Some(e) = ended {
+    if let Some(e) = rec.ended_early {
         return Err(anyhow::Error::new(e).context(format!(
-            "recording ended early; the {written} events received were written to {}",
+            "recording ended early; the {} events received were written to {}",
+            rec.events,
             args.out.display()
         )));
     }
-    stop.context("stopping the camera")?;
     Ok(())
 }

@@ -1,6 +1,6 @@
 //! The DAVIS240 camera (davis240.md §1, libcaer 3.3 semantics): the USB event-stream decoder
 //! ([`UsbDecoder`]), the protocol constants and default configuration ([`protocol`]), the driver
-//! ([`Davis`] → [`DavisStream`]) and the raw USB calls it makes ([`Transport`], implemented by
+//! ([`Davis`] → [`DavisStream`], [`record`] to a file) and the raw USB calls it makes ([`Transport`], implemented by
 //! [`RusbTransport`] for a real camera and [`ReplayTransport`] for recorded byte streams).
 //!
 //! ```no_run
@@ -20,10 +20,12 @@
 mod decode;
 mod device;
 pub mod protocol;
+mod record;
 mod transport;
 
 pub use decode::{DecodeStats, DecoderConfig, SpecialEvent, SpecialKind, UsbDecoder};
 pub use device::{Davis, DavisInfo, DavisStream, StartOptions};
+pub use record::{Recording, record};
 pub use transport::{
     CONTROL_TIMEOUT, ControlRecord, DeviceInfo, ReplayEnd, ReplayTransport, RusbTransport,
     Transport, TransportError, list_devices,
