@@ -324,13 +324,19 @@ impl<R: Read> Aedat4Reader<R> {
         let table = root
             .i64_or(1, -1)
             .ok_or_else(|| bad(&input, "dataTablePosition"))?;
+        let data_start = input.offset();
+        let data_table = u64::try_from(table).ok();
+        if data_table.is_some_and(|t| t < data_start) {
+            let expected = format!("−1 (none) or a position after the header (≥ {data_start})");
+            return Err(input.invalid(18, "dataTablePosition", table, expected));
+        }
         let description = root.string(2).ok_or_else(|| bad(&input, "description"))?;
         let description = String::from_utf8_lossy(description).into_owned();
         let stream = event_stream(&description);
         Ok(Self {
             input,
             compression,
-            data_table: u64::try_from(table).ok(),
+            data_table,
             file_len,
             description,
             stream,
@@ -368,6 +374,10 @@ impl<R: Read> Aedat4Reader<R> {
             }
             let mut h = [0u8; 8];
             match self.input.read_full(&mut h)? {
+                0 if self.data_table.is_some_and(|t| at < t) => {
+                    let expected = "more packets: the file ends before its data table";
+                    return Err(self.input.truncated_at(at, expected));
+                }
                 0 => return Ok(false),
                 8 => {}
                 _ => {
@@ -378,11 +388,16 @@ impl<R: Read> Aedat4Reader<R> {
             }
             let id = i32::from_le_bytes([h[0], h[1], h[2], h[3]]);
             let size = i32::from_le_bytes([h[4], h[5], h[6], h[7]]);
-            let left = self.file_len.map(|l| l.saturating_sub(at + 8));
+            // Packets end at the data table (when there is one), else at the end of the file.
+            let limit = match (self.data_table, self.file_len) {
+                (Some(t), Some(l)) => Some(t.min(l)),
+                (t, l) => t.or(l),
+            };
+            let left = limit.map(|l| l.saturating_sub(at + 8));
             if size < 0 || size as u64 > MAX_PACKET_BYTES || left.is_some_and(|l| size as u64 > l) {
                 let expected = match left {
                     Some(l) => format!(
-                        "0 to {} (the bytes left in the file)",
+                        "0 to {} (the bytes left before the data table or the end of the file)",
                         l.min(MAX_PACKET_BYTES)
                     ),
                     None => format!("0 to {MAX_PACKET_BYTES}"),

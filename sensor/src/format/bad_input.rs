@@ -376,7 +376,48 @@ fn packet_sizes_larger_than_the_file_are_rejected_without_allocating_them() {
         matches!(err, Some(FormatError::Invalid { field: "packet size", offset, .. }) if offset == first as u64 + 4),
         "{msg}"
     );
-    assert!(msg.contains("bytes left in the file"), "{msg}");
+    assert!(msg.contains("bytes left before the data table"), "{msg}");
+    // A data-table position inside the header: refused; past the end of the file: the events
+    // are delivered, then the table's bytes read as a packet or the end of the file fail.
+    let mut bad = encode(Format::Aedat4(Compression::None), &events(10));
+    bad[54..62].copy_from_slice(&3i64.to_le_bytes());
+    let err = read(&bad).2;
+    assert!(
+        matches!(
+            err,
+            Some(FormatError::Invalid {
+                field: "dataTablePosition",
+                ..
+            })
+        ),
+        "{err:?}"
+    );
+    let past_end = bad.len() as i64 + 1;
+    bad[54..62].copy_from_slice(&past_end.to_le_bytes());
+    let (got, _, err) = read(&bad);
+    assert_eq!(got.len(), 10, "the events come first");
+    // The table's bytes are then read as a packet header: a typed error.
+    assert!(
+        matches!(
+            err,
+            Some(FormatError::Invalid {
+                field: "packet size",
+                ..
+            })
+        ),
+        "{err:?}"
+    );
+    // A file cut before its data table: truncated.
+    let mut cut = encode(Format::Aedat4(Compression::None), &events(10));
+    let table_at = i64::from_le_bytes(cut[54..62].try_into().unwrap()) as usize;
+    cut.truncate(table_at);
+    cut[54..62].copy_from_slice(&(table_at as i64 + 100).to_le_bytes());
+    let (got, _, err) = read(&cut);
+    assert_eq!(got.len(), 10);
+    assert!(
+        matches!(err, Some(FormatError::Truncated { .. })),
+        "{err:?}"
+    );
     bytes[first + 4..first + 8].copy_from_slice(&(-5i32).to_le_bytes());
     assert!(matches!(
         read(&bytes).2,
