@@ -424,4 +424,21 @@ mod tests {
             "line"
         );
     }
+
+    #[test]
+    fn crlf_blank_lines_and_a_last_line_without_end_are_read() {
+        let mut out = EventBuffer::new();
+        let mut r =
+            EcdTextReader::new(&b"0.000001 1 2 1\r\n\r\n0.000002  3 4 0\r\n0.000003 5 6 1"[..]);
+        r.read_to_end(&mut out).unwrap();
+        assert_eq!(
+            (out.t.clone(), out.x.clone()),
+            (vec![1, 2, 3], vec![1, 3, 5])
+        );
+        let mut out = EventBuffer::new();
+        CsvReader::new(&b"7,1,2,1\n8,3,4,0"[..])
+            .read_to_end(&mut out)
+            .unwrap();
+        assert_eq!(out.t, vec![7, 8], "a CSV without header");
+    }
 }
