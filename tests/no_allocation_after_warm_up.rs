@@ -7,7 +7,6 @@ use neurotac::sensor::davis::UsbDecoder;
 use neurotac::sensor::format::{self, Compression, Format};
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
-use std::io::Cursor;
 
 struct Counting;
 
@@ -80,7 +79,7 @@ fn decoding_and_reading_allocate_nothing_after_warm_up() {
         Format::EcdText,
         Format::Csv,
     ] {
-        let file = encode(format, &events);
+        let file = format::to_bytes(&events, format).unwrap();
         let mut reader = format::reader_from_bytes(&file).unwrap();
         let mut chunk = EventBuffer::with_capacity(1 << 18);
         reader.read_chunk(&mut chunk).unwrap(); // warm-up: payload and decompression buffers
@@ -98,13 +97,4 @@ fn decoding_and_reading_allocate_nothing_after_warm_up() {
         assert!(n > 100_000, "{format:?}: {n}");
         assert_eq!(allocations() - before, 0, "{format:?}");
     }
-}
-
-fn encode(format: Format, events: &EventBuffer) -> Vec<u8> {
-    let mut cursor = Cursor::new(Vec::new());
-    let mut writer = format::writer_to(&mut cursor, format, "<test>".into()).unwrap();
-    writer.write(events).unwrap();
-    writer.finish().unwrap();
-    drop(writer);
-    cursor.into_inner()
 }

@@ -5,7 +5,6 @@
 
 use super::*;
 use neurotac_core::{Event, Timestamp};
-use std::io::Cursor;
 
 fn events(n: usize) -> EventBuffer {
     (0..n)
@@ -19,12 +18,7 @@ fn events(n: usize) -> EventBuffer {
 }
 
 fn encode(format: Format, ev: &EventBuffer) -> Vec<u8> {
-    let mut cursor = Cursor::new(Vec::new());
-    let mut w = writer_to(&mut cursor, format, "<test>".into()).unwrap();
-    w.write(ev).unwrap();
-    w.finish().unwrap();
-    drop(w);
-    cursor.into_inner()
+    to_bytes(ev, format).unwrap()
 }
 
 /// Reads everything; returns the events delivered, the stats and the error that ended it.

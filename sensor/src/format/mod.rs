@@ -367,6 +367,16 @@ pub fn writer_to<'a, W: Write + Seek + 'a>(
     })
 }
 
+/// Encodes `events` in `format` in memory (the bytes a file of that format would hold).
+pub fn to_bytes(events: &EventBuffer, format: Format) -> Result<Vec<u8>, FormatError> {
+    let mut cursor = std::io::Cursor::new(Vec::new());
+    let mut writer = writer_to(&mut cursor, format, PathBuf::from("<memory>"))?;
+    writer.write(events)?;
+    writer.finish()?;
+    drop(writer);
+    Ok(cursor.into_inner())
+}
+
 /// Creates an event file in `format`.
 pub fn create_writer_as(path: &Path, format: Format) -> Result<Box<dyn EventWriter>, FormatError> {
     let file = File::create(path).map_err(io_error(path))?;
