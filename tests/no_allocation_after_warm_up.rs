@@ -4,7 +4,7 @@
 
 use neurotac::core::EventBuffer;
 use neurotac::sensor::davis::UsbDecoder;
-use neurotac::sensor::format::{self, Compression, Format};
+use neurotac::sensor::format::{self, Format};
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
 
@@ -70,15 +70,7 @@ fn decoding_and_reading_allocate_nothing_after_warm_up() {
     // Every reader: the events written to memory, then read chunk by chunk.
     let mut events = EventBuffer::new();
     decoder.decode(&bytes, &mut events);
-    for format in [
-        Format::Aedat2,
-        Format::Aedat3,
-        Format::Aedat4(Compression::None),
-        Format::Aedat4(Compression::Lz4),
-        Format::Aedat4(Compression::Zstd),
-        Format::EcdText,
-        Format::Csv,
-    ] {
+    for format in Format::ALL {
         let file = format::to_bytes(&events, format).unwrap();
         let mut reader = format::reader_from_bytes(&file).unwrap();
         let mut chunk = EventBuffer::with_capacity(1 << 18);

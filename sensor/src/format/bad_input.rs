@@ -32,16 +32,6 @@ fn read(bytes: &[u8]) -> (EventBuffer, ReadStats, Option<FormatError>) {
     (out, reader.stats(), err)
 }
 
-const ALL: [Format; 7] = [
-    Format::Aedat2,
-    Format::Aedat3,
-    Format::Aedat4(Compression::None),
-    Format::Aedat4(Compression::Lz4),
-    Format::Aedat4(Compression::Zstd),
-    Format::EcdText,
-    Format::Csv,
-];
-
 /// An endless reader: `prefix`, then `line` repeated forever.
 struct Endless {
     prefix: Vec<u8>,
@@ -68,7 +58,7 @@ fn every_reader_streams_an_endless_input_in_bounded_chunks() {
     // An input that never ends (a 10 GB file, a pipe): the header and the first packet or
     // lines of a real encoding, then that packet (or those lines) repeated forever.
     let ev = events(PACKET_EVENTS_MAX);
-    for format in ALL {
+    for format in Format::ALL {
         let bytes = encode(format, &ev);
         let data_start = match format {
             Format::Aedat2 => bytes.len() - 8 * ev.len(),
@@ -132,7 +122,7 @@ const PACKET_EVENTS_MAX: usize = aedat4::PACKET_EVENTS;
 #[test]
 fn every_format_round_trips_in_memory() {
     let ev = events(25_000);
-    for format in ALL {
+    for format in Format::ALL {
         let (got, stats, err) = read(&encode(format, &ev));
         assert!(err.is_none(), "{format:?}: {err:?}");
         assert_eq!(got, ev, "{format:?}");
@@ -143,7 +133,7 @@ fn every_format_round_trips_in_memory() {
 #[test]
 fn truncated_files_deliver_what_precedes_and_then_a_typed_error() {
     let ev = events(25_000);
-    for format in ALL {
+    for format in Format::ALL {
         let bytes = encode(format, &ev);
         // Cut in the middle of the data (for AEDAT 4.0, inside the second packet).
         let cut = match format {
@@ -534,7 +524,7 @@ fn zero_length_packets_are_skipped_and_counted() {
 fn backwards_timestamps_are_reported_and_kept_in_order() {
     let mut ev = events(300);
     ev.t[200] = 5; // earlier than event 199 (t = 1990)
-    for format in ALL {
+    for format in Format::ALL {
         let (got, stats, err) = read(&encode(format, &ev));
         assert!(err.is_none(), "{format:?}: {err:?}");
         assert_eq!(got, ev, "{format:?}: not reordered");

@@ -76,6 +76,17 @@ pub enum Format {
 }
 
 impl Format {
+    /// Every format, AEDAT 4.0 once per compression.
+    pub const ALL: [Format; 7] = [
+        Format::Aedat2,
+        Format::Aedat3,
+        Format::Aedat4(Compression::None),
+        Format::Aedat4(Compression::Lz4),
+        Format::Aedat4(Compression::Zstd),
+        Format::EcdText,
+        Format::Csv,
+    ];
+
     /// The format named by a file's extension: `.aedat`/`.aedat2` → AEDAT 2.0, `.aedat3` → AEDAT
     /// 3.1, `.aedat4` → AEDAT 4.0 with LZ4, `.txt` → ECD text, `.csv` → CSV (case-insensitive).
     pub fn from_extension(path: &Path) -> Result<Self, FormatError> {
