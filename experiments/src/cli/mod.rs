@@ -8,9 +8,12 @@ use clap::{Parser, Subcommand};
 mod bench;
 mod classify;
 mod common;
+mod convert;
 mod demo;
+mod devices;
 mod distances;
 mod neuron;
+mod record;
 mod search;
 mod synth;
 mod tradeoff;
@@ -43,6 +46,12 @@ enum Command {
     Search(search::SearchCommand),
     /// Write a seeded synthetic NeuroTac-like texture dataset.
     Synth(synth::SynthArgs),
+    /// Convert an event file between AEDAT 2.0/3.1/4.0, ECD text and CSV (format from the extension).
+    Convert(convert::ConvertArgs),
+    /// List the DAVIS cameras attached over USB.
+    Devices(devices::DevicesArgs),
+    /// Record events from the first DAVIS240 attached to a file (format from the extension).
+    Record(record::RecordArgs),
 }
 
 /// Runs the parsed command.
@@ -56,5 +65,8 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Tradeoff(command) => tradeoff::run(command),
         Command::Search(command) => search::run(command),
         Command::Synth(args) => synth::run(args),
+        Command::Convert(args) => convert::run(args),
+        Command::Devices(args) => devices::run(args),
+        Command::Record(args) => record::run(args),
     }
 }

@@ -1,0 +1,111 @@
+//! The sensor commands of the `neurotac` binary (issue 5): `devices` and `record` without a
+//! camera, `convert` between formats.
+
+use std::path::Path;
+use std::process::Command;
+
+fn neurotac(args: &[&str]) -> (bool, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_neurotac"))
+        .args(args)
+        .output()
+        .unwrap();
+    (
+        out.status.success(),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+#[test]
+fn devices_lists_none_without_a_camera() {
+    let (ok, stdout, _) = neurotac(&["devices"]);
+    assert!(ok);
+    assert!(stdout.contains("no DAVIS camera found"), "{stdout}");
+}
+
+#[test]
+fn record_without_a_camera_fails_with_a_clear_message() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("r.aedat4");
+    let (ok, _, stderr) = neurotac(&["record", "--out", out.to_str().unwrap(), "--seconds", "1"]);
+    assert!(!ok);
+    assert!(stderr.contains("no DAVIS camera found"), "{stderr}");
+    assert!(!out.exists(), "no file is created without a camera");
+    let (ok, _, stderr) = neurotac(&["record", "--out", "x.aedat4", "--seconds", "-1"]);
+    assert!(!ok && stderr.contains("--seconds"), "{stderr}");
+}
+
+#[test]
+fn convert_round_trips_and_prints_events_per_second() {
+    let dir = tempfile::tempdir().unwrap();
+    let csv = dir.path().join("in.csv");
+    std::fs::write(
+        &csv,
+        "t,x,y,on\n0,118,38,1\n3,102,28,0\n2147483650,239,179,1\n",
+    )
+    .unwrap();
+    let mut previous = csv.clone();
+    for name in ["a.aedat4", "b.aedat3", "c.txt", "d.aedat4", "e.csv"] {
+        let next = dir.path().join(name);
+        let (ok, stdout, stderr) = neurotac(&[
+            "convert",
+            previous.to_str().unwrap(),
+            next.to_str().unwrap(),
+            "--compression",
+            "zstd",
+        ]);
+        assert!(ok, "{name}: {stderr}");
+        assert!(
+            stdout.contains("3 events") && stdout.contains("events/s"),
+            "{stdout}"
+        );
+        previous = next;
+    }
+    assert_eq!(
+        std::fs::read(&csv).unwrap(),
+        std::fs::read(&previous).unwrap()
+    );
+    let (ok, _, stderr) = neurotac(&["convert", csv.to_str().unwrap(), "out.bin"]);
+    assert!(!ok && stderr.contains("extension"), "{stderr}");
+    let (ok, _, stderr) = neurotac(&["convert", "Cargo.toml", "out.csv"]);
+    assert!(
+        !ok && stderr.contains("not an event file") && stderr.contains("byte"),
+        "{stderr}"
+    );
+}
+
+#[test]
+fn convert_reports_backwards_time_and_skipped_events() {
+    let dir = tempfile::tempdir().unwrap();
+    let csv = dir.path().join("in.csv");
+    std::fs::write(&csv, "t,x,y,on\n10,1,2,1\n5,1,2,0\n11,300,2,1\n").unwrap();
+    let out = dir.path().join("out.aedat");
+    let (ok, stdout, stderr) = neurotac(&["convert", csv.to_str().unwrap(), out.to_str().unwrap()]);
+    assert!(ok, "{stderr}");
+    assert!(
+        stdout.contains("skipped 1 events outside the sensor"),
+        "{stdout}"
+    );
+    assert!(stdout.contains("1 events go back in time"), "{stdout}");
+}
+
+#[test]
+fn convert_the_real_recording_aedat2_to_aedat4() {
+    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/data/davis240/pick.aedat");
+    if !data.exists() {
+        eprintln!(
+            "skipping: {} is absent (the recording is not part of the repository)",
+            data.display()
+        );
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("pick.aedat4");
+    let (ok, stdout, stderr) =
+        neurotac(&["convert", data.to_str().unwrap(), out.to_str().unwrap()]);
+    assert!(ok, "{stderr}");
+    assert!(
+        stdout.contains("118558 events") && stdout.contains("AEDAT 4.0 (LZ4)"),
+        "{stdout}"
+    );
+}

@@ -1,0 +1,14 @@
+//! The AEDAT 3.1 reader on arbitrary bytes: a typed error or events inside 240 × 180.
+#![no_main]
+
+#[path = "common.rs"]
+mod common;
+
+use libfuzzer_sys::fuzz_target;
+use neurotac_sensor::format::Aedat3Reader;
+
+fuzz_target!(|data: &[u8]| {
+    if let Ok(reader) = Aedat3Reader::new(data) {
+        common::drain(reader, (240, 180));
+    }
+});

@@ -1,0 +1,610 @@
+//! Bad input, one test per case of issue 5: truncated files and packets, wrong magic, a header
+//! that never ends, packet sizes larger than the file, corrupt compressed payloads, zero-length
+//! packets, timestamps going backwards, coordinates out of range. Each gives a typed error or a
+//! documented, counted skip. Also: every reader streams an endless input in bounded chunks.
+
+use super::*;
+use neurotac_core::{Event, Timestamp};
+
+fn events(n: usize) -> EventBuffer {
+    (0..n)
+        .map(|i| Event {
+            t: Timestamp(10 * i as i64),
+            x: (i % 240) as u16,
+            y: (i % 180) as u16,
+            polarity: i % 3 == 0,
+        })
+        .collect()
+}
+
+fn encode(format: Format, ev: &EventBuffer) -> Vec<u8> {
+    to_bytes(ev, format).unwrap()
+}
+
+/// Reads everything; returns the events delivered, the stats and the error that ended it.
+fn read(bytes: &[u8]) -> (EventBuffer, ReadStats, Option<FormatError>) {
+    let mut out = EventBuffer::new();
+    let mut reader = match reader_from_bytes(bytes) {
+        Ok(r) => r,
+        Err(e) => return (out, ReadStats::default(), Some(e)),
+    };
+    let err = reader.read_to_end(&mut out).err();
+    (out, reader.stats(), err)
+}
+
+/// An endless reader: `prefix`, then `line` repeated forever.
+struct Endless {
+    prefix: Vec<u8>,
+    line: &'static [u8],
+    pos: usize,
+}
+
+impl Read for Endless {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        for b in buf.iter_mut() {
+            *b = if self.pos < self.prefix.len() {
+                self.prefix[self.pos]
+            } else {
+                self.line[(self.pos - self.prefix.len()) % self.line.len()]
+            };
+            self.pos += 1;
+        }
+        Ok(buf.len())
+    }
+}
+
+#[test]
+fn every_reader_streams_an_endless_input_in_bounded_chunks() {
+    // An input that never ends (a 10 GB file, a pipe): the header and the first packet or
+    // lines of a real encoding, then that packet (or those lines) repeated forever.
+    let ev = events(PACKET_EVENTS_MAX);
+    for format in Format::ALL {
+        let bytes = encode(format, &ev);
+        let data_start = match format {
+            Format::Aedat2 => bytes.len() - 8 * ev.len(),
+            Format::Aedat3 => {
+                bytes
+                    .windows(14)
+                    .position(|w| w == b"#!END-HEADER\r\n")
+                    .unwrap()
+                    + 14
+            }
+            Format::Aedat4(_) => {
+                18 + u32::from_le_bytes(bytes[14..18].try_into().unwrap()) as usize
+            }
+            Format::EcdText => 0,
+            Format::Csv => 9,
+        };
+        let repeat = match format {
+            Format::Aedat4(_) => {
+                let size =
+                    i32::from_le_bytes(bytes[data_start + 4..data_start + 8].try_into().unwrap());
+                &bytes[data_start..data_start + 8 + size as usize]
+            }
+            Format::Aedat3 => &bytes[data_start..data_start + 28 + 4096 * 8],
+            _ => &bytes[data_start..],
+        };
+        let mut prefix = bytes[..data_start].to_vec();
+        if let Format::Aedat4(_) = format {
+            prefix[54..62].copy_from_slice(&(-1i64).to_le_bytes()); // no data table to stop at
+        }
+        let endless = Endless {
+            prefix,
+            line: Vec::leak(repeat.to_vec()),
+            pos: 0,
+        };
+        let mut reader: Box<dyn EventReader> = match format {
+            Format::Aedat2 => Box::new(Aedat2Reader::new(endless).unwrap()),
+            Format::Aedat3 => Box::new(Aedat3Reader::new(endless).unwrap()),
+            Format::Aedat4(_) => Box::new(Aedat4Reader::new(endless).unwrap()),
+            Format::EcdText => Box::new(EcdTextReader::new(endless)),
+            Format::Csv => Box::new(CsvReader::new(endless)),
+        };
+        let mut chunk = EventBuffer::new();
+        let mut total = 0;
+        for _ in 0..12 {
+            chunk.clear();
+            let n = reader.read_chunk(&mut chunk).unwrap();
+            assert!(n > 0 && n <= READ_BLOCK, "{format:?}: chunk of {n} events");
+            total += n;
+        }
+        assert!(total >= 12, "{format:?}");
+        assert!(
+            chunk.t.capacity() <= 4 * READ_BLOCK,
+            "{format:?}: the buffer stays bounded"
+        );
+    }
+}
+
+/// Events per packet of the largest packets written (AEDAT 4.0).
+const PACKET_EVENTS_MAX: usize = aedat4::PACKET_EVENTS;
+
+#[test]
+fn every_format_round_trips_in_memory() {
+    let ev = events(25_000);
+    for format in Format::ALL {
+        let (got, stats, err) = read(&encode(format, &ev));
+        assert!(err.is_none(), "{format:?}: {err:?}");
+        assert_eq!(got, ev, "{format:?}");
+        assert_eq!(stats.events, 25_000);
+    }
+}
+
+#[test]
+fn truncated_files_deliver_what_precedes_and_then_a_typed_error() {
+    let ev = events(25_000);
+    for format in Format::ALL {
+        let bytes = encode(format, &ev);
+        // Cut in the middle of the data (for AEDAT 4.0, inside the second packet).
+        let cut = match format {
+            Format::Aedat4(_) => {
+                let first = 18 + u32::from_le_bytes(bytes[14..18].try_into().unwrap()) as usize;
+                let size = i32::from_le_bytes(bytes[first + 4..first + 8].try_into().unwrap());
+                first + 8 + size as usize + 8 + 5
+            }
+            _ => bytes.len() / 2 + 3,
+        };
+        let (got, _, err) = read(&bytes[..cut]);
+        assert!(got.len() < ev.len(), "{format:?}");
+        assert_eq!(
+            got.t[..],
+            ev.t[..got.len()],
+            "{format:?}: a prefix of the events"
+        );
+        match format {
+            // Text: the cut leaves a partial last line, which either fails to parse or parses
+            // as a shorter (different) event; both are fine as long as nothing panics.
+            Format::EcdText | Format::Csv => {}
+            Format::Aedat4(_) => {
+                assert!(
+                    matches!(
+                        err,
+                        Some(FormatError::Invalid {
+                            field: "packet size",
+                            ..
+                        })
+                    ),
+                    "{format:?}: {err:?}"
+                )
+            }
+            _ => assert!(
+                matches!(err, Some(FormatError::Truncated { .. })),
+                "{format:?}: {err:?}"
+            ),
+        }
+    }
+    // Truncated inside a header or a packet header.
+    let aedat4 = encode(Format::Aedat4(Compression::Lz4), &ev);
+    for cut in [10, 16, 100, 18 + 812 + 4] {
+        let (_, _, err) = read(&aedat4[..cut.min(aedat4.len())]);
+        assert!(
+            matches!(
+                err,
+                Some(
+                    FormatError::Truncated { .. }
+                        | FormatError::Invalid { .. }
+                        | FormatError::UnsupportedVersion { .. }
+                )
+            ),
+            "cut {cut}: {err:?}"
+        );
+    }
+    let aedat3 = encode(Format::Aedat3, &ev);
+    let header_end = aedat3
+        .windows(14)
+        .position(|w| w == b"#!END-HEADER\r\n")
+        .unwrap()
+        + 14;
+    let (_, _, err) = read(&aedat3[..header_end + 20]);
+    assert!(
+        matches!(err, Some(FormatError::Truncated { expected, .. }) if expected.contains("packet header"))
+    );
+    let (_, _, err) = read(&aedat3[..header_end - 5]);
+    assert!(
+        matches!(err, Some(FormatError::Truncated { expected, .. }) if expected.contains("END-HEADER"))
+    );
+}
+
+#[test]
+fn truncated_aedat4_without_known_length_is_reported_as_truncated() {
+    let bytes = encode(Format::Aedat4(Compression::Zstd), &events(15_000));
+    let mut reader = Aedat4Reader::new(&bytes[..bytes.len() - 900]).unwrap();
+    let mut out = EventBuffer::new();
+    assert_eq!(reader.read_chunk(&mut out).unwrap(), 10_000);
+    let err = reader.read_chunk(&mut out).unwrap_err();
+    assert!(matches!(err, FormatError::Truncated { .. }), "{err}");
+    assert_eq!(reader.read_chunk(&mut out).unwrap(), 0, "stays ended");
+}
+
+#[test]
+fn wrong_magic_is_a_typed_error_for_each_reader() {
+    let junk: &[u8] = b"#!AER-DAT9.9\r\nxxxxxxxxxxxxxxxxxxxxxxxx";
+    assert!(matches!(
+        Aedat2Reader::new(junk),
+        Err(FormatError::Invalid {
+            field: "version line",
+            ..
+        })
+    ));
+    assert!(matches!(
+        Aedat3Reader::new(junk),
+        Err(FormatError::Invalid {
+            field: "version line",
+            ..
+        })
+    ));
+    assert!(matches!(
+        Aedat4Reader::new(junk),
+        Err(FormatError::Invalid { field: "magic", .. })
+    ));
+    let (_, _, err) = read(b"\x00\x01\x02binary");
+    assert!(matches!(
+        err,
+        Some(FormatError::UnknownFormat { offset: 0, .. })
+    ));
+    // A CSV with a wrong header names the line.
+    let (_, _, err) = read(b"t,x,y,on\n1,2,3,1\n");
+    assert!(err.is_none());
+    let mut r = CsvReader::new(&b"time,x,y,on\n1,2,3,1\n"[..]);
+    let err = r.read_chunk(&mut EventBuffer::new()).unwrap_err();
+    assert!(
+        matches!(
+            err,
+            FormatError::Text {
+                line: 1,
+                field: "header",
+                ..
+            }
+        ),
+        "{err}"
+    );
+    // AEDAT 4.0 with a wrong IOHeader identifier.
+    let mut bytes = encode(Format::Aedat4(Compression::None), &events(3));
+    bytes[22..26].copy_from_slice(b"XXXX");
+    let (_, _, err) = read(&bytes);
+    assert!(
+        matches!(
+            err,
+            Some(FormatError::Invalid {
+                field: "IOHeader identifier",
+                offset: 18,
+                ..
+            })
+        ),
+        "{err:?}"
+    );
+}
+
+#[test]
+fn aedat2_of_another_chip_is_refused_by_name() {
+    let file = b"#!AER-DAT2.0\r\n# AEChip: eu.seebetter.ini.chips.davis.Davis346B\r\n#End Of ASCII Header\r\n";
+    let err = Aedat2Reader::new(&file[..]).err().unwrap();
+    assert!(
+        matches!(
+            err,
+            FormatError::Invalid {
+                field: "AEChip",
+                offset: 14,
+                ..
+            }
+        ),
+        "{err}"
+    );
+    assert!(err.to_string().contains("Davis346B"), "{err}");
+    let ok = b"#!AER-DAT2.0\r\n# AEChip: eu.seebetter.ini.chips.davis.DAVIS240B\r\n";
+    assert!(Aedat2Reader::new(&ok[..]).is_ok());
+}
+
+#[test]
+fn a_header_that_never_ends_stops_at_the_limit() {
+    let endless = |prefix: &[u8]| Endless {
+        prefix: prefix.to_vec(),
+        line: b"# more header\r\n",
+        pos: 0,
+    };
+    let err = Aedat2Reader::new(endless(b"#!AER-DAT2.0\r\n"))
+        .err()
+        .unwrap();
+    assert!(
+        matches!(err, FormatError::HeaderTooLong { limit, .. } if limit == aedat2::MAX_HEADER_BYTES),
+        "{err}"
+    );
+    let err = Aedat3Reader::new(endless(b"#!AER-DAT3.1\r\n"))
+        .err()
+        .unwrap();
+    assert!(matches!(err, FormatError::HeaderTooLong { .. }), "{err}");
+    // One endless line without a line end.
+    let line = Endless {
+        prefix: b"#!AER-DAT3.1\r\n#".to_vec(),
+        line: b"x",
+        pos: 0,
+    };
+    assert!(matches!(
+        Aedat3Reader::new(line),
+        Err(FormatError::HeaderTooLong { .. })
+    ));
+    // An IOHeader size beyond the limit.
+    let mut bytes = encode(Format::Aedat4(Compression::None), &events(3));
+    bytes[14..18].copy_from_slice(&u32::MAX.to_le_bytes());
+    assert!(matches!(
+        read(&bytes).2,
+        Some(FormatError::Invalid {
+            field: "IOHeader size",
+            offset: 14,
+            ..
+        })
+    ));
+    // A text line that never ends.
+    let line = Endless {
+        prefix: Vec::new(),
+        line: b"1",
+        pos: 0,
+    };
+    let err = EcdTextReader::new(line)
+        .read_chunk(&mut EventBuffer::new())
+        .unwrap_err();
+    assert!(
+        matches!(err, FormatError::Text { field: "line", .. }),
+        "{err}"
+    );
+}
+
+#[test]
+fn packet_sizes_larger_than_the_file_are_rejected_without_allocating_them() {
+    let mut bytes = encode(Format::Aedat4(Compression::Lz4), &events(100));
+    let first = 18 + 812 - 812 + u32::from_le_bytes(bytes[14..18].try_into().unwrap()) as usize;
+    bytes[first + 4..first + 8].copy_from_slice(&i32::MAX.to_le_bytes());
+    let (_, _, err) = read(&bytes);
+    let msg = err.as_ref().unwrap().to_string();
+    assert!(
+        matches!(err, Some(FormatError::Invalid { field: "packet size", offset, .. }) if offset == first as u64 + 4),
+        "{msg}"
+    );
+    assert!(msg.contains("bytes left before the data table"), "{msg}");
+    // A data-table position inside the header: refused; past the end of the file: the events
+    // are delivered, then the table's bytes read as a packet or the end of the file fail.
+    let mut bad = encode(Format::Aedat4(Compression::None), &events(10));
+    bad[54..62].copy_from_slice(&3i64.to_le_bytes());
+    let err = read(&bad).2;
+    assert!(
+        matches!(
+            err,
+            Some(FormatError::Invalid {
+                field: "dataTablePosition",
+                ..
+            })
+        ),
+        "{err:?}"
+    );
+    let past_end = bad.len() as i64 + 1;
+    bad[54..62].copy_from_slice(&past_end.to_le_bytes());
+    let (got, _, err) = read(&bad);
+    assert_eq!(got.len(), 10, "the events come first");
+    // The table's bytes are then read as a packet header: a typed error.
+    assert!(
+        matches!(
+            err,
+            Some(FormatError::Invalid {
+                field: "packet size",
+                ..
+            })
+        ),
+        "{err:?}"
+    );
+    // A file cut before its data table: truncated.
+    let mut cut = encode(Format::Aedat4(Compression::None), &events(10));
+    let table_at = i64::from_le_bytes(cut[54..62].try_into().unwrap()) as usize;
+    cut.truncate(table_at);
+    cut[54..62].copy_from_slice(&(table_at as i64 + 100).to_le_bytes());
+    let (got, _, err) = read(&cut);
+    assert_eq!(got.len(), 10);
+    assert!(
+        matches!(err, Some(FormatError::Truncated { .. })),
+        "{err:?}"
+    );
+    bytes[first + 4..first + 8].copy_from_slice(&(-5i32).to_le_bytes());
+    assert!(matches!(
+        read(&bytes).2,
+        Some(FormatError::Invalid {
+            field: "packet size",
+            ..
+        })
+    ));
+    // AEDAT 3.1: a capacity of 2^31 − 1 events in a small file is read block by block and ends
+    // as truncated.
+    let mut bytes = encode(Format::Aedat3, &events(100));
+    let header_end = bytes
+        .windows(14)
+        .position(|w| w == b"#!END-HEADER\r\n")
+        .unwrap()
+        + 14;
+    for field in [16, 20] {
+        bytes[header_end + field..header_end + field + 4].copy_from_slice(&i32::MAX.to_le_bytes());
+    }
+    let (got, _, err) = read(&bytes);
+    assert_eq!(got.len(), 100);
+    assert!(
+        matches!(err, Some(FormatError::Truncated { .. })),
+        "{err:?}"
+    );
+    // eventNumber above eventCapacity, negative sizes.
+    bytes[header_end + 16..header_end + 20].copy_from_slice(&5i32.to_le_bytes());
+    assert!(matches!(
+        read(&bytes).2,
+        Some(FormatError::Invalid {
+            field: "eventNumber",
+            ..
+        })
+    ));
+    bytes[header_end + 4..header_end + 8].copy_from_slice(&(-8i32).to_le_bytes());
+    assert!(matches!(
+        read(&bytes).2,
+        Some(FormatError::Invalid {
+            field: "eventSize",
+            ..
+        })
+    ));
+}
+
+#[test]
+fn corrupt_compressed_payloads_are_decompression_errors() {
+    for compression in [Compression::Lz4, Compression::Zstd] {
+        let bytes = encode(Format::Aedat4(compression), &events(100));
+        let first = 18 + u32::from_le_bytes(bytes[14..18].try_into().unwrap()) as usize;
+        let size = i32::from_le_bytes(bytes[first + 4..first + 8].try_into().unwrap()) as usize;
+        for (at, value) in [(0, 0x00), (5, 0xFF), (size / 2, 0xAA), (size - 2, 0x7F)] {
+            let mut bad = bytes.clone();
+            bad[first + 8 + at] ^= value | 1;
+            let (_, _, err) = read(&bad);
+            // A flipped byte inside the data may still decompress (LZ4 has no checksum here);
+            // what it must never do is panic. The frame-level corruptions must be caught.
+            if at < 6 {
+                assert!(
+                    matches!(err, Some(FormatError::Decompress { offset, .. }) if offset == first as u64),
+                    "{compression:?} byte {at}: {err:?}"
+                );
+            }
+        }
+        // A payload cut short inside the packet (size field shrunk accordingly).
+        let mut bad = bytes.clone();
+        bad[first + 4..first + 8].copy_from_slice(&((size / 2) as i32).to_le_bytes());
+        bad.drain(first + 8 + size / 2..first + 8 + size);
+        assert!(
+            matches!(
+                read(&bad).2,
+                Some(FormatError::Decompress { .. } | FormatError::Invalid { .. })
+            ),
+            "{compression:?}"
+        );
+    }
+}
+
+#[test]
+fn zero_length_packets_are_skipped_and_counted() {
+    let ev = events(50);
+    let bytes = encode(Format::Aedat4(Compression::Lz4), &ev);
+    let first = 18 + u32::from_le_bytes(bytes[14..18].try_into().unwrap()) as usize;
+    let mut with_empty = bytes[..first].to_vec();
+    with_empty.extend_from_slice(&[0, 0, 0, 0, 0, 0, 0, 0]); // stream 0, size 0
+    with_empty.extend_from_slice(&[7, 0, 0, 0, 3, 0, 0, 0, 1, 2, 3]); // another stream, skipped
+    with_empty.extend_from_slice(&bytes[first..]);
+    // The data-table position moved by the 19 inserted bytes.
+    let table = i64::from_le_bytes(with_empty[54..62].try_into().unwrap()) + 19;
+    with_empty[54..62].copy_from_slice(&table.to_le_bytes());
+    let (got, stats, err) = read(&with_empty);
+    assert!(err.is_none(), "{err:?}");
+    assert_eq!(got, ev);
+    assert_eq!(stats.skipped, 2);
+    // AEDAT 3.1: an empty polarity packet and a non-polarity packet between the header and data.
+    let bytes = encode(Format::Aedat3, &ev);
+    let header_end = bytes
+        .windows(14)
+        .position(|w| w == b"#!END-HEADER\r\n")
+        .unwrap()
+        + 14;
+    let mut with_empty = bytes[..header_end].to_vec();
+    let mut empty = [0u8; 28];
+    empty[0] = 1;
+    empty[4] = 8;
+    empty[8] = 4;
+    with_empty.extend_from_slice(&empty);
+    let mut special = [0u8; 28];
+    special[4] = 8; // type 0 (special), size 8, capacity 1
+    special[16] = 1;
+    with_empty.extend_from_slice(&special);
+    with_empty.extend_from_slice(&[0; 8]);
+    with_empty.extend_from_slice(&bytes[header_end..]);
+    let (got, stats, err) = read(&with_empty);
+    assert!(err.is_none(), "{err:?}");
+    assert_eq!(got, ev);
+    assert_eq!(stats.skipped, 2);
+}
+
+#[test]
+fn backwards_timestamps_are_reported_and_kept_in_order() {
+    let mut ev = events(300);
+    ev.t[200] = 5; // earlier than event 199 (t = 1990)
+    for format in Format::ALL {
+        let (got, stats, err) = read(&encode(format, &ev));
+        assert!(err.is_none(), "{format:?}: {err:?}");
+        assert_eq!(got, ev, "{format:?}: not reordered");
+        assert_eq!(stats.timestamps_backwards, 1, "{format:?}");
+        let b = stats.first_backwards.unwrap();
+        assert_eq!((b.previous_us, b.t_us), (1990, 5), "{format:?}");
+    }
+    // AEDAT 2.0: the record's byte offset is exact.
+    let bytes = encode(Format::Aedat2, &ev);
+    let header = bytes
+        .windows(22)
+        .position(|w| w == b"# End of ASCII Header\r".as_slice())
+        .unwrap()
+        + 23;
+    let (_, stats, _) = read(&bytes);
+    assert_eq!(
+        stats.first_backwards.unwrap().offset,
+        (header + 200 * 8) as u64
+    );
+}
+
+#[test]
+fn out_of_range_coordinates_are_skipped_and_counted() {
+    let ev = events(10);
+    // AEDAT 2.0: raw x 300 (a 10-bit field) in record 3.
+    let mut bytes = encode(Format::Aedat2, &ev);
+    let data = bytes.len() - 10 * 8;
+    let addr = (179u32 - 3) << 22 | 300 << 12;
+    bytes[data + 24..data + 28].copy_from_slice(&addr.to_be_bytes());
+    let (got, stats, _) = read(&bytes);
+    assert_eq!((got.len(), stats.out_of_range), (9, 1));
+    // AEDAT 3.1: x 240.
+    let mut bytes = encode(Format::Aedat3, &ev);
+    let data = bytes.len() - 10 * 8;
+    bytes[data..data + 4].copy_from_slice(&(240u32 << 17 | 1).to_le_bytes());
+    let (got, stats, _) = read(&bytes);
+    assert_eq!((got.len(), stats.out_of_range), (9, 1));
+    // AEDAT 4.0: y −1 and x 240.
+    let mut ev4 = events(10);
+    ev4.x[2] = 240;
+    let (got, stats, _) = read(&encode(Format::Aedat4(Compression::None), &ev4));
+    assert_eq!((got.len(), stats.out_of_range), (9, 1));
+    let mut bytes = encode(Format::Aedat4(Compression::None), &ev);
+    let first = 18 + u32::from_le_bytes(bytes[14..18].try_into().unwrap()) as usize;
+    let e5 = first + 8 + 32 + 5 * 16;
+    bytes[e5 + 10..e5 + 12].copy_from_slice(&(-1i16).to_le_bytes());
+    let (got, stats, _) = read(&bytes);
+    assert_eq!((got.len(), stats.out_of_range), (9, 1));
+    // Text: y 180.
+    let (got, stats, _) = read(b"t,x,y,on\n1,2,180,1\n2,3,4,0\n");
+    assert_eq!((got.len(), stats.out_of_range), (1, 1));
+    // Writers refuse what their format cannot hold.
+    let mut w = Aedat2Writer::new(Vec::new()).unwrap();
+    assert!(matches!(
+        w.write(&ev4),
+        Err(FormatError::Unrepresentable { index: 2, .. })
+    ));
+    let mut neg = events(2);
+    neg.t[1] = -1;
+    let mut w = Aedat3Writer::new(Vec::new()).unwrap();
+    assert!(matches!(
+        w.write(&neg),
+        Err(FormatError::Unrepresentable { index: 1, .. })
+    ));
+}
+
+#[test]
+fn text_errors_name_line_field_and_offset() {
+    let (got, _, err) = read(b"0.1 1 2 1\n0.2 1 2 1\n0.3 1 x 1\n");
+    assert_eq!(got.len(), 2, "lines before the error are delivered");
+    match err {
+        Some(FormatError::Text {
+            line,
+            offset,
+            field,
+            ref found,
+            ..
+        }) => {
+            assert_eq!((line, offset, field, found.as_str()), (3, 20, "y", "x"));
+        }
+        other => panic!("{other:?}"),
+    }
+}

@@ -1,0 +1,506 @@
+//! Event files: streaming readers and writers for every format a DAVIS240 user meets
+//! (davis240.md §2).
+//!
+//! | format | module | reader / writer | magic / extension |
+//! |---|---|---|---|
+//! | AEDAT 2.0 (jAER, DAVIS240 layout) | [`aedat2`] | [`Aedat2Reader`] / [`Aedat2Writer`] | `#!AER-DAT2.0` / `.aedat`, `.aedat2` |
+//! | AEDAT 3.1 (polarity packets) | [`aedat3`] | [`Aedat3Reader`] / [`Aedat3Writer`] | `#!AER-DAT3.1` / `.aedat3` |
+//! | AEDAT 4.0 (LZ4 / Zstd / none) | [`aedat4`] | [`Aedat4Reader`] / [`Aedat4Writer`] | `#!AER-DAT4.0` / `.aedat4` |
+//! | Event Camera Dataset text (`t x y p`, t in s) | [`text`] | [`EcdTextReader`] / [`EcdTextWriter`] | a `t x y p` line / `.txt` |
+//! | CSV (`t,x,y,on`, t in µs) | [`text`] | [`CsvReader`] / [`CsvWriter`] | a `t,x,y,on` header / `.csv` |
+//!
+//! Readers pull fixed-size blocks from any [`Read`] and hand out events chunk by chunk into a
+//! caller's [`EventBuffer`] ([`EventReader::read_chunk`]): a 10 GB file is never loaded whole, and
+//! no allocation is sized by a field read from the file (payloads are read incrementally, capped,
+//! and checked against the bytes actually present). [`open_reader`] detects the format from the
+//! first bytes; [`create_writer`] picks it from the extension.
+//!
+//! What readers skip, they count in [`ReadStats`]: events with coordinates outside the sensor,
+//! non-polarity records (APS, IMU, special events, frames and other AEDAT 4 streams, empty
+//! packets). Timestamps going backwards are kept in file order and reported
+//! ([`ReadStats::timestamps_backwards`], [`ReadStats::first_backwards`]), never reordered.
+//!
+//! ```no_run
+//! use neurotac_core::EventBuffer;
+//! use neurotac_sensor::format::open_reader;
+//! let mut reader = open_reader("recording.aedat4".as_ref())?;
+//! let mut chunk = EventBuffer::new();
+//! while reader.read_chunk(&mut chunk)? > 0 {
+//!     // … use the events, then reuse the buffer
+//!     chunk.clear();
+//! }
+//! println!("{:?}", reader.stats());
+//! # Ok::<(), neurotac_sensor::FormatError>(())
+//! ```
+
+pub mod aedat2;
+pub mod aedat3;
+pub mod aedat4;
+#[cfg(test)]
+mod bad_input;
+mod flatbuffer;
+mod input;
+pub mod text;
+
+pub use aedat2::{Aedat2Reader, Aedat2Writer};
+pub use aedat3::{Aedat3Reader, Aedat3Writer};
+pub use aedat4::{Aedat4Reader, Aedat4Writer, Compression};
+pub use text::{CsvReader, CsvWriter, EcdTextReader, EcdTextWriter};
+
+use crate::error::FormatError;
+use neurotac_core::EventBuffer;
+use std::fs::File;
+use std::io::{BufRead, BufReader, BufWriter, Read, Seek, Write};
+use std::path::{Path, PathBuf};
+
+/// Pixel-array size assumed when a file does not state one: the DAVIS240's 240 × 180.
+pub const DAVIS240_SIZE: (u16, u16) = (240, 180);
+
+/// Byte size of the blocks readers pull from their input.
+pub(crate) const READ_BLOCK: usize = 1 << 18;
+
+/// The event-file formats (davis240.md §2).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Format {
+    /// AEDAT 2.0, jAER DAVIS240 layout (davis240.md §2.1).
+    Aedat2,
+    /// AEDAT 3.1 polarity packets (davis240.md §2.2).
+    Aedat3,
+    /// AEDAT 4.0 with the given compression for writing (davis240.md §2.3); readers take it from
+    /// the file.
+    Aedat4(Compression),
+    /// Event Camera Dataset text: `t x y p`, t in seconds (davis240.md §2.4).
+    EcdText,
+    /// CSV with header `t,x,y,on`, t in µs (davis240.md §2.4).
+    Csv,
+}
+
+impl Format {
+    /// Every format, AEDAT 4.0 once per compression.
+    pub const ALL: [Format; 7] = [
+        Format::Aedat2,
+        Format::Aedat3,
+        Format::Aedat4(Compression::None),
+        Format::Aedat4(Compression::Lz4),
+        Format::Aedat4(Compression::Zstd),
+        Format::EcdText,
+        Format::Csv,
+    ];
+
+    /// The format named by a file's extension: `.aedat`/`.aedat2` → AEDAT 2.0, `.aedat3` → AEDAT
+    /// 3.1, `.aedat4` → AEDAT 4.0 with LZ4, `.txt` → ECD text, `.csv` → CSV (case-insensitive).
+    pub fn from_extension(path: &Path) -> Result<Self, FormatError> {
+        let ext = path
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(str::to_ascii_lowercase);
+        match ext.as_deref() {
+            Some("aedat") | Some("aedat2") => Ok(Self::Aedat2),
+            Some("aedat3") => Ok(Self::Aedat3),
+            Some("aedat4") => Ok(Self::Aedat4(Compression::Lz4)),
+            Some("txt") => Ok(Self::EcdText),
+            Some("csv") => Ok(Self::Csv),
+            _ => Err(FormatError::UnknownExtension {
+                path: path.to_path_buf(),
+            }),
+        }
+    }
+
+    /// Detects the format from the first bytes of an input (davis240.md §2: the AEDAT version
+    /// line; for text, a `t,x,y,on` header or a first line of numbers). On failure returns the
+    /// byte offset that ruled every format out and what was found there.
+    pub fn detect(head: &[u8]) -> Result<Self, (u64, String)> {
+        if head.starts_with(b"#!AER-DAT") {
+            let line_end = head.iter().position(|&b| b == b'\r' || b == b'\n');
+            let version = &head[9..line_end.unwrap_or(head.len()).min(9 + 8)];
+            return match version {
+                b"2.0" => Ok(Self::Aedat2),
+                b"3.1" => Ok(Self::Aedat3),
+                b"4.0" => Ok(Self::Aedat4(Compression::None)),
+                other => Err((9, escape(other))),
+            };
+        }
+        let line_end = head.iter().position(|&b| b == b'\n').unwrap_or(head.len());
+        let line = head[..line_end]
+            .strip_suffix(b"\r")
+            .unwrap_or(&head[..line_end]);
+        if line.eq_ignore_ascii_case(b"t,x,y,on") || line.eq_ignore_ascii_case(b"t,x,y,p") {
+            return Ok(Self::Csv);
+        }
+        // A first line of numbers: commas make it CSV (no header), blanks ECD text.
+        let allowed = |b: u8| b.is_ascii_digit() || b"+-.eE \t,".contains(&b);
+        match line.iter().position(|&b| !allowed(b)) {
+            None if !line.is_empty() && line.iter().any(u8::is_ascii_digit) => {
+                if line.contains(&b',') {
+                    Ok(Self::Csv)
+                } else {
+                    Ok(Self::EcdText)
+                }
+            }
+            None => Err((0, escape(&head[..head.len().min(16)]))),
+            Some(i) => Err((i as u64, escape(&line[i..line.len().min(i + 16)]))),
+        }
+    }
+
+    /// A short name (`AEDAT 2.0`, `AEDAT 4.0 (LZ4)`, …).
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Aedat2 => "AEDAT 2.0",
+            Self::Aedat3 => "AEDAT 3.1",
+            Self::Aedat4(Compression::None) => "AEDAT 4.0",
+            Self::Aedat4(Compression::Lz4) => "AEDAT 4.0 (LZ4)",
+            Self::Aedat4(Compression::Zstd) => "AEDAT 4.0 (Zstd)",
+            Self::EcdText => "ECD text",
+            Self::Csv => "CSV",
+        }
+    }
+}
+
+/// Shows bytes as text with non-printable bytes escaped, for error messages.
+pub(crate) fn escape(bytes: &[u8]) -> String {
+    let s: String = bytes
+        .iter()
+        .flat_map(|&b| std::ascii::escape_default(b))
+        .map(char::from)
+        .collect();
+    if bytes.is_empty() {
+        "end of file".to_owned()
+    } else {
+        format!("`{s}`")
+    }
+}
+
+/// A timestamp that went backwards, as first seen by a reader.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Backwards {
+    /// Byte offset of the record (for text: of the line).
+    pub offset: u64,
+    /// Time of the event before (µs).
+    pub previous_us: i64,
+    /// Time of this event (µs).
+    pub t_us: i64,
+}
+
+/// What a reader produced and what it skipped.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct ReadStats {
+    /// Polarity events delivered.
+    pub events: u64,
+    /// Events dropped because x or y lies outside the sensor (documented skip).
+    pub out_of_range: u64,
+    /// Records of other kinds skipped: APS/IMU/special records (AEDAT 2.0/3.1), invalid events
+    /// (AEDAT 3.1 valid bit 0), packets of non-event streams and empty packets (AEDAT 4.0).
+    pub skipped: u64,
+    /// Events earlier than the event before them (kept in file order).
+    pub timestamps_backwards: u64,
+    /// The first such event.
+    pub first_backwards: Option<Backwards>,
+    /// 32-bit timestamp wraps unwrapped (AEDAT 2.0).
+    pub timestamp_wraps: u64,
+}
+
+impl ReadStats {
+    /// Records one event at `offset` with time `t` after an event at `previous`.
+    #[inline]
+    pub(crate) fn check_order(&mut self, offset: u64, previous: i64, t: i64) {
+        if t < previous {
+            self.timestamps_backwards += 1;
+            if self.first_backwards.is_none() {
+                self.first_backwards = Some(Backwards {
+                    offset,
+                    previous_us: previous,
+                    t_us: t,
+                });
+            }
+        }
+    }
+}
+
+/// How every reader ends: events decoded before an error are delivered first, the error comes
+/// from the next call, and after the end or an error every call returns 0.
+#[derive(Debug, Default)]
+pub(crate) struct ReaderEnd {
+    pending: Option<FormatError>,
+    done: bool,
+}
+
+impl ReaderEnd {
+    /// Runs `fill`, which appends at least one event to `out` or reaches the end of the input.
+    pub(crate) fn chunk<S>(
+        state: &mut S,
+        end: impl Fn(&mut S) -> &mut ReaderEnd,
+        out: &mut EventBuffer,
+        fill: impl FnOnce(&mut S, &mut EventBuffer) -> Result<(), FormatError>,
+    ) -> Result<usize, FormatError> {
+        let e = end(state);
+        if let Some(error) = e.pending.take() {
+            return Err(error);
+        }
+        if e.done {
+            return Ok(0);
+        }
+        let before = out.len();
+        let result = fill(state, out);
+        let appended = out.len() - before;
+        let e = end(state);
+        match result {
+            Ok(()) => {
+                e.done = appended == 0;
+                Ok(appended)
+            }
+            Err(error) => {
+                e.done = true;
+                if appended == 0 {
+                    return Err(error);
+                }
+                e.pending = Some(error);
+                Ok(appended)
+            }
+        }
+    }
+}
+
+/// Maps an I/O error of the file at `path` into a [`FormatError::Io`].
+pub(crate) fn io_error(path: &Path) -> impl Fn(std::io::Error) -> FormatError + '_ {
+    move |source| FormatError::Io {
+        path: path.to_path_buf(),
+        source,
+    }
+}
+
+/// A streaming event-file reader (one per format of davis240.md §2).
+pub trait EventReader {
+    /// Appends the next chunk of events (at most a few hundred thousand) to `out` and returns how
+    /// many were appended; `0` means the end of the input. Events decoded before an error are
+    /// delivered first; the error comes from the following call.
+    fn read_chunk(&mut self, out: &mut EventBuffer) -> Result<usize, FormatError>;
+
+    /// What was read and skipped so far.
+    fn stats(&self) -> ReadStats;
+
+    /// Reads every remaining event into `out`.
+    fn read_to_end(&mut self, out: &mut EventBuffer) -> Result<u64, FormatError> {
+        let mut n = 0u64;
+        loop {
+            let k = self.read_chunk(out)?;
+            if k == 0 {
+                return Ok(n);
+            }
+            n += k as u64;
+        }
+    }
+}
+
+impl<R: EventReader + ?Sized> EventReader for Box<R> {
+    fn read_chunk(&mut self, out: &mut EventBuffer) -> Result<usize, FormatError> {
+        (**self).read_chunk(out)
+    }
+
+    fn stats(&self) -> ReadStats {
+        (**self).stats()
+    }
+}
+
+/// A streaming event-file writer (one per format of davis240.md §2).
+pub trait EventWriter {
+    /// Writes the events of `events` (after those written before).
+    fn write(&mut self, events: &EventBuffer) -> Result<(), FormatError>;
+
+    /// Writes what is buffered and completes the file (trailing tables, header fields). Call it
+    /// once, after the last [`EventWriter::write`].
+    fn finish(&mut self) -> Result<(), FormatError>;
+}
+
+/// Opens an event file, detecting its format from its first bytes.
+pub fn open_reader(path: &Path) -> Result<Box<dyn EventReader>, FormatError> {
+    let file = File::open(path).map_err(io_error(path))?;
+    let len = file.metadata().ok().map(|m| m.len());
+    let mut buffered = BufReader::with_capacity(READ_BLOCK, file);
+    let head = buffered.fill_buf().map_err(io_error(path))?;
+    let format = detect_or_error(head, path)?;
+    open_detected(format, buffered, path.to_path_buf(), len)
+}
+
+/// [`Format::detect`] with the error naming the file.
+fn detect_or_error(head: &[u8], path: &Path) -> Result<Format, FormatError> {
+    Format::detect(&head[..head.len().min(4096)]).map_err(|(offset, found)| {
+        if head.starts_with(b"#!AER-DAT") {
+            FormatError::UnsupportedVersion {
+                path: path.to_path_buf(),
+                found,
+            }
+        } else {
+            FormatError::UnknownFormat {
+                path: path.to_path_buf(),
+                offset,
+                found,
+            }
+        }
+    })
+}
+
+fn open_detected<'a, R: Read + 'a>(
+    format: Format,
+    reader: R,
+    path: PathBuf,
+    len: Option<u64>,
+) -> Result<Box<dyn EventReader + 'a>, FormatError> {
+    Ok(match format {
+        Format::Aedat2 => Box::new(Aedat2Reader::with_name(reader, path)?),
+        Format::Aedat3 => Box::new(Aedat3Reader::with_name(reader, path)?),
+        Format::Aedat4(_) => Box::new(Aedat4Reader::with_name(reader, path, len)?),
+        Format::EcdText => Box::new(EcdTextReader::with_name(reader, path)),
+        Format::Csv => Box::new(CsvReader::with_name(reader, path)),
+    })
+}
+
+/// Opens an in-memory event file (any format, detected from the bytes), labelled `<memory>` in
+/// errors.
+pub fn reader_from_bytes(bytes: &[u8]) -> Result<Box<dyn EventReader + '_>, FormatError> {
+    let path = PathBuf::from("<memory>");
+    let format = detect_or_error(bytes, &path)?;
+    open_detected(format, bytes, path, Some(bytes.len() as u64))
+}
+
+/// A writer of `format` to any seekable output (a file, a `Cursor<Vec<u8>>`), named `name` in
+/// errors. Only AEDAT 4.0 seeks (to patch the data-table position when finishing).
+pub fn writer_to<'a, W: Write + Seek + 'a>(
+    out: W,
+    format: Format,
+    name: PathBuf,
+) -> Result<Box<dyn EventWriter + 'a>, FormatError> {
+    Ok(match format {
+        Format::Aedat2 => Box::new(Aedat2Writer::with_name(out, name)?),
+        Format::Aedat3 => Box::new(Aedat3Writer::with_name(out, name)?),
+        Format::Aedat4(c) => Box::new(Aedat4Writer::with_name(out, name, c)?),
+        Format::EcdText => Box::new(EcdTextWriter::with_name(out, name)?),
+        Format::Csv => Box::new(CsvWriter::with_name(out, name)?),
+    })
+}
+
+/// Encodes `events` in `format` in memory (the bytes a file of that format would hold).
+pub fn to_bytes(events: &EventBuffer, format: Format) -> Result<Vec<u8>, FormatError> {
+    let mut cursor = std::io::Cursor::new(Vec::new());
+    let mut writer = writer_to(&mut cursor, format, PathBuf::from("<memory>"))?;
+    writer.write(events)?;
+    writer.finish()?;
+    drop(writer);
+    Ok(cursor.into_inner())
+}
+
+/// Creates an event file in `format`.
+pub fn create_writer_as(path: &Path, format: Format) -> Result<Box<dyn EventWriter>, FormatError> {
+    let file = File::create(path).map_err(io_error(path))?;
+    writer_to(
+        BufWriter::with_capacity(READ_BLOCK, file),
+        format,
+        path.to_path_buf(),
+    )
+}
+
+/// Creates an event file whose format is given by its extension ([`Format::from_extension`]).
+pub fn create_writer(path: &Path) -> Result<Box<dyn EventWriter>, FormatError> {
+    create_writer_as(path, Format::from_extension(path)?)
+}
+
+/// Reads a whole event file into memory (for small files and tests; stream large ones with
+/// [`open_reader`]).
+pub fn read_file(path: &Path) -> Result<(EventBuffer, ReadStats), FormatError> {
+    let mut reader = open_reader(path)?;
+    let mut out = EventBuffer::new();
+    reader.read_to_end(&mut out)?;
+    Ok((out, reader.stats()))
+}
+
+/// Writes `events` to a new file whose format is given by its extension.
+pub fn write_file(path: &Path, events: &EventBuffer) -> Result<(), FormatError> {
+    let mut writer = create_writer(path)?;
+    writer.write(events)?;
+    writer.finish()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn detection_by_magic_and_first_line() {
+        assert_eq!(Format::detect(b"#!AER-DAT2.0\r\n#"), Ok(Format::Aedat2));
+        assert_eq!(Format::detect(b"#!AER-DAT3.1\r\n"), Ok(Format::Aedat3));
+        assert!(matches!(
+            Format::detect(b"#!AER-DAT4.0\r\n"),
+            Ok(Format::Aedat4(_))
+        ));
+        assert_eq!(Format::detect(b"t,x,y,on\n0,1,2,1\n"), Ok(Format::Csv));
+        assert_eq!(
+            Format::detect(b"0.000003000 102 28 1\n"),
+            Ok(Format::EcdText)
+        );
+        assert_eq!(Format::detect(b"3,102,28,1\n"), Ok(Format::Csv));
+        assert_eq!(
+            Format::detect(b"#!AER-DAT3.0\r\n"),
+            Err((9, "`3.0`".into()))
+        );
+        assert_eq!(
+            Format::detect(b"\x89PNG\r\n"),
+            Err((0, "`\\x89PNG`".into()))
+        );
+        assert_eq!(Format::detect(b"0.5 1 2 x\n"), Err((8, "`x`".into())));
+        assert_eq!(Format::detect(b""), Err((0, "end of file".into())));
+    }
+
+    #[test]
+    fn wrong_magic_names_file_and_offset() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("picture.aedat");
+        std::fs::write(&path, b"GIF89a....").unwrap();
+        let err = open_reader(&path).err().unwrap();
+        let msg = err.to_string();
+        assert!(
+            matches!(err, FormatError::UnknownFormat { offset: 0, .. }),
+            "{msg}"
+        );
+        assert!(
+            msg.contains("picture.aedat") && msg.contains("byte 0"),
+            "{msg}"
+        );
+        let path = dir.path().join("old.aedat");
+        std::fs::write(&path, b"#!AER-DAT3.0\r\n").unwrap();
+        assert!(matches!(
+            open_reader(&path),
+            Err(FormatError::UnsupportedVersion { .. })
+        ));
+        assert!(matches!(
+            open_reader(&dir.path().join("missing.aedat")),
+            Err(FormatError::Io { .. })
+        ));
+    }
+
+    #[test]
+    fn extension_names_the_output_format() {
+        assert_eq!(
+            Format::from_extension("a.AEDAT".as_ref()).unwrap(),
+            Format::Aedat2
+        );
+        assert_eq!(
+            Format::from_extension("a.aedat3".as_ref()).unwrap(),
+            Format::Aedat3
+        );
+        assert_eq!(
+            Format::from_extension("a.aedat4".as_ref()).unwrap(),
+            Format::Aedat4(Compression::Lz4)
+        );
+        assert_eq!(
+            Format::from_extension("a.txt".as_ref()).unwrap(),
+            Format::EcdText
+        );
+        assert_eq!(
+            Format::from_extension("a.csv".as_ref()).unwrap(),
+            Format::Csv
+        );
+        assert!(matches!(
+            Format::from_extension("a.bin".as_ref()),
+            Err(FormatError::UnknownExtension { .. })
+        ));
+    }
+}

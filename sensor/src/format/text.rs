@@ -1,0 +1,444 @@
+//! Text event files (davis240.md §2.4): the Event Camera Dataset's `events.txt` and the CSV that
+//! faery writes.
+//!
+//! | format | line | time |
+//! |---|---|---|
+//! | ECD text | `t x y p`, single spaces, no header, e.g. `0.000011001 158 145 1` | seconds with up to 9 decimals, rounded to the nearest µs |
+//! | CSV | header `t,x,y,on`, then `t,x,y,on` | integer µs |
+//!
+//! Coordinates are top-left; polarity 1 = ON, 0 = OFF (−1 is also read as OFF). Lines end with
+//! LF or CRLF; empty lines are skipped. Events outside 240 × 180 are skipped and counted.
+
+use super::input::Input;
+use super::{DAVIS240_SIZE, EventReader, EventWriter, READ_BLOCK, ReadStats, ReaderEnd, io_error};
+use crate::error::FormatError;
+use neurotac_core::EventBuffer;
+use std::io::{Read, Write};
+use std::path::PathBuf;
+
+/// Longest line accepted (bytes).
+pub const MAX_LINE_BYTES: usize = 4096;
+
+/// Which text dialect a reader parses.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Dialect {
+    Ecd,
+    Csv,
+}
+
+/// A parse failure inside a line: column, what was expected, and the byte range found.
+type FieldError = (&'static str, &'static str, usize, usize);
+
+/// Parses a decimal integer (optional sign) in `s`.
+fn parse_int(s: &[u8]) -> Option<i64> {
+    let (neg, digits) = match s.first()? {
+        b'-' => (true, &s[1..]),
+        b'+' => (false, &s[1..]),
+        _ => (false, s),
+    };
+    if digits.is_empty() || digits.len() > 18 || !digits.iter().all(u8::is_ascii_digit) {
+        return None;
+    }
+    let v = digits
+        .iter()
+        .fold(0i64, |a, &d| a * 10 + i64::from(d - b'0'));
+    Some(if neg { -v } else { v })
+}
+
+/// Parses decimal seconds (`[-]int[.frac]`) exactly into µs, rounding half away from zero at
+/// the 7th decimal.
+fn parse_seconds_us(s: &[u8]) -> Option<i64> {
+    let (neg, body) = match s.first()? {
+        b'-' => (true, &s[1..]),
+        _ => (false, s),
+    };
+    let (int, frac) = match body.iter().position(|&b| b == b'.') {
+        Some(i) => (&body[..i], &body[i + 1..]),
+        None => (body, &[][..]),
+    };
+    if int.is_empty() || int.len() > 12 || !int.iter().chain(frac).all(u8::is_ascii_digit) {
+        return None;
+    }
+    let mut us = int.iter().fold(0i64, |a, &d| a * 10 + i64::from(d - b'0')) * 1_000_000;
+    let mut scale = 100_000;
+    for &d in frac.iter().take(6) {
+        us += i64::from(d - b'0') * scale;
+        scale /= 10;
+    }
+    if frac.get(6).is_some_and(|&d| d >= b'5') {
+        us += 1;
+    }
+    Some(if neg { -us } else { us })
+}
+
+/// Parses one non-empty line into `(t, x, y, on)`.
+fn parse_line(dialect: Dialect, line: &[u8]) -> Result<(i64, i64, i64, bool), FieldError> {
+    let sep = match dialect {
+        Dialect::Ecd => b' ',
+        Dialect::Csv => b',',
+    };
+    let mut fields = [(0usize, 0usize); 4];
+    let mut count = 0;
+    let mut start = 0;
+    for (i, &b) in line
+        .iter()
+        .enumerate()
+        .chain(std::iter::once((line.len(), &sep)))
+    {
+        let is_sep = b == sep || (dialect == Dialect::Ecd && b == b'\t');
+        if is_sep {
+            if dialect == Dialect::Ecd && i == start {
+                start = i + 1; // runs of blanks
+                continue;
+            }
+            if count == 4 {
+                return Err(("line", "exactly 4 fields", start, line.len()));
+            }
+            fields[count] = (start, i);
+            count += 1;
+            start = i + 1;
+        }
+    }
+    if count < 4 {
+        return Err(("line", "4 fields: t x y p", 0, line.len()));
+    }
+    let field = |k: usize| &line[fields[k].0..fields[k].1];
+    let t = match dialect {
+        Dialect::Ecd => parse_seconds_us(field(0)),
+        Dialect::Csv => parse_int(field(0)),
+    }
+    .ok_or(match dialect {
+        Dialect::Ecd => ("t", "decimal seconds", fields[0].0, fields[0].1),
+        Dialect::Csv => ("t", "integer microseconds", fields[0].0, fields[0].1),
+    })?;
+    let coord = |k: usize, name| {
+        parse_int(field(k))
+            .filter(|v| (0..=i64::from(u16::MAX)).contains(v))
+            .ok_or((name, "an integer 0–65535", fields[k].0, fields[k].1))
+    };
+    let (x, y) = (coord(1, "x")?, coord(2, "y")?);
+    let on = match field(3) {
+        b"1" => true,
+        b"0" | b"-1" => false,
+        _ => return Err(("polarity", "1 or 0", fields[3].0, fields[3].1)),
+    };
+    Ok((t, x, y, on))
+}
+
+/// The line engine shared by both text readers.
+struct TextReader<R> {
+    input: Input<R>,
+    dialect: Dialect,
+    block: Vec<u8>,
+    start: usize,
+    filled: usize,
+    /// Offset of `block[0]`.
+    block_offset: u64,
+    line: u64,
+    previous: i64,
+    stats: ReadStats,
+    eof: bool,
+    end: ReaderEnd,
+}
+
+impl<R: Read> TextReader<R> {
+    fn new(reader: R, path: PathBuf, dialect: Dialect) -> Self {
+        Self {
+            input: Input::new(reader, path),
+            dialect,
+            block: vec![0; READ_BLOCK],
+            start: 0,
+            filled: 0,
+            block_offset: 0,
+            line: 0,
+            previous: i64::MIN,
+            stats: ReadStats::default(),
+            eof: false,
+            end: ReaderEnd::default(),
+        }
+    }
+
+    fn text_error(&self, offset: u64, line: &[u8], e: FieldError) -> FormatError {
+        let (field, expected, a, b) = e;
+        FormatError::Text {
+            path: self.input.path().to_path_buf(),
+            line: self.line,
+            offset,
+            field,
+            found: String::from_utf8_lossy(&line[a..b.min(a + 64)]).into_owned(),
+            expected,
+        }
+    }
+
+    /// Handles one line (without its line end).
+    fn line(&mut self, offset: u64, line: &[u8], out: &mut EventBuffer) -> Result<(), FormatError> {
+        self.line += 1;
+        let line = line.strip_suffix(b"\r").unwrap_or(line);
+        if line.is_empty() {
+            return Ok(());
+        }
+        if self.line == 1 && self.dialect == Dialect::Csv && line[0].is_ascii_alphabetic() {
+            if line.eq_ignore_ascii_case(b"t,x,y,on") || line.eq_ignore_ascii_case(b"t,x,y,p") {
+                return Ok(());
+            }
+            return Err(self.text_error(offset, line, ("header", "`t,x,y,on`", 0, line.len())));
+        }
+        let (t, x, y, on) =
+            parse_line(self.dialect, line).map_err(|e| self.text_error(offset, line, e))?;
+        if x >= i64::from(DAVIS240_SIZE.0) || y >= i64::from(DAVIS240_SIZE.1) {
+            self.stats.out_of_range += 1;
+            return Ok(());
+        }
+        self.stats.check_order(offset, self.previous, t);
+        self.previous = t;
+        out.t.push(t);
+        out.x.push(x as u16);
+        out.y.push(y as u16);
+        out.polarity.push(on);
+        self.stats.events += 1;
+        Ok(())
+    }
+
+    fn fill(&mut self, out: &mut EventBuffer) -> Result<(), FormatError> {
+        let before = out.len();
+        while out.len() == before && !self.eof {
+            // Move the partial line to the front, then read more.
+            self.block.copy_within(self.start..self.filled, 0);
+            self.block_offset += self.start as u64;
+            self.filled -= self.start;
+            self.start = 0;
+            let n = self.input.read_full(&mut self.block[self.filled..])?;
+            self.filled += n;
+            self.eof = n == 0;
+            let block = std::mem::take(&mut self.block);
+            let result = self.lines(&block, out);
+            self.block = block;
+            result?;
+        }
+        Ok(())
+    }
+
+    /// Parses the complete lines of `block[start..filled]` (and the last one at the end).
+    fn lines(&mut self, block: &[u8], out: &mut EventBuffer) -> Result<(), FormatError> {
+        while self.start < self.filled {
+            let rest = &block[self.start..self.filled];
+            let (line, next) = match rest.iter().position(|&b| b == b'\n') {
+                Some(i) => (&rest[..i], self.start + i + 1),
+                None if self.eof => (rest, self.filled),
+                None => {
+                    if rest.len() > MAX_LINE_BYTES {
+                        let offset = self.block_offset + self.start as u64;
+                        let e = ("line", "a line shorter than 4096 bytes", 0, 16);
+                        return Err(self.text_error(offset, rest, e));
+                    }
+                    return Ok(());
+                }
+            };
+            let offset = self.block_offset + self.start as u64;
+            self.start = next;
+            self.line(offset, line, out)?;
+        }
+        Ok(())
+    }
+
+    fn read_chunk(&mut self, out: &mut EventBuffer) -> Result<usize, FormatError> {
+        ReaderEnd::chunk(self, |r| &mut r.end, out, Self::fill)
+    }
+}
+
+macro_rules! text_reader {
+    ($name:ident, $dialect:expr, $doc:literal) => {
+        #[doc = $doc]
+        pub struct $name<R>(TextReader<R>);
+
+        impl<R: Read> $name<R> {
+            /// A reader of `reader`, labelled `<input>` in errors.
+            pub fn new(reader: R) -> Self {
+                Self::with_name(reader, PathBuf::from("<input>"))
+            }
+
+            /// A reader of `reader`, named `path` in errors.
+            pub fn with_name(reader: R, path: PathBuf) -> Self {
+                Self(TextReader::new(reader, path, $dialect))
+            }
+        }
+
+        impl<R: Read> EventReader for $name<R> {
+            fn read_chunk(&mut self, out: &mut EventBuffer) -> Result<usize, FormatError> {
+                self.0.read_chunk(out)
+            }
+
+            fn stats(&self) -> ReadStats {
+                self.0.stats
+            }
+        }
+    };
+}
+
+text_reader!(
+    EcdTextReader,
+    Dialect::Ecd,
+    "Streaming reader of Event Camera Dataset text (`t x y p`, t in seconds; davis240.md §2.4)."
+);
+text_reader!(
+    CsvReader,
+    Dialect::Csv,
+    "Streaming reader of CSV events (`t,x,y,on`, t in µs; the header line is optional; davis240.md §2.4)."
+);
+
+/// The line engine shared by both text writers.
+struct TextWriter<W: Write> {
+    out: W,
+    path: PathBuf,
+    dialect: Dialect,
+    line: Vec<u8>,
+}
+
+impl<W: Write> TextWriter<W> {
+    fn new(mut out: W, path: PathBuf, dialect: Dialect) -> Result<Self, FormatError> {
+        if dialect == Dialect::Csv {
+            out.write_all(b"t,x,y,on\n").map_err(io_error(&path))?;
+        }
+        Ok(Self {
+            out,
+            path,
+            dialect,
+            line: Vec::with_capacity(READ_BLOCK),
+        })
+    }
+
+    fn write(&mut self, events: &EventBuffer) -> Result<(), FormatError> {
+        self.line.clear();
+        for e in events.iter() {
+            let t = e.t.0;
+            let on = u8::from(e.polarity);
+            // Writing into a Vec cannot fail.
+            let _ = match self.dialect {
+                Dialect::Csv => writeln!(self.line, "{t},{},{},{on}", e.x, e.y),
+                Dialect::Ecd => {
+                    let sign = if t < 0 { "-" } else { "" };
+                    let abs = t.unsigned_abs();
+                    writeln!(
+                        self.line,
+                        "{sign}{}.{:06}000 {} {} {on}",
+                        abs / 1_000_000,
+                        abs % 1_000_000,
+                        e.x,
+                        e.y
+                    )
+                }
+            };
+            if self.line.len() >= READ_BLOCK - 64 {
+                self.flush_line()?;
+            }
+        }
+        self.flush_line()
+    }
+
+    fn flush_line(&mut self) -> Result<(), FormatError> {
+        self.out
+            .write_all(&self.line)
+            .map_err(io_error(&self.path))?;
+        self.line.clear();
+        Ok(())
+    }
+
+    fn finish(&mut self) -> Result<(), FormatError> {
+        self.out.flush().map_err(io_error(&self.path))
+    }
+}
+
+macro_rules! text_writer {
+    ($name:ident, $dialect:expr, $doc:literal) => {
+        #[doc = $doc]
+        pub struct $name<W: Write>(TextWriter<W>);
+
+        impl<W: Write> $name<W> {
+            /// A writer to `out`, labelled `<output>` in errors.
+            pub fn new(out: W) -> Result<Self, FormatError> {
+                Self::with_name(out, PathBuf::from("<output>"))
+            }
+
+            /// A writer to `out`, named `path` in errors.
+            pub fn with_name(out: W, path: PathBuf) -> Result<Self, FormatError> {
+                Ok(Self(TextWriter::new(out, path, $dialect)?))
+            }
+        }
+
+        impl<W: Write> EventWriter for $name<W> {
+            fn write(&mut self, events: &EventBuffer) -> Result<(), FormatError> {
+                self.0.write(events)
+            }
+
+            fn finish(&mut self) -> Result<(), FormatError> {
+                self.0.finish()
+            }
+        }
+    };
+}
+
+text_writer!(
+    EcdTextWriter,
+    Dialect::Ecd,
+    "Writer of Event Camera Dataset text: `t x y p` with t in seconds and 9 decimals (davis240.md §2.4)."
+);
+text_writer!(
+    CsvWriter,
+    Dialect::Csv,
+    "Writer of CSV events: header `t,x,y,on`, t in integer µs (davis240.md §2.4)."
+);
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn seconds_parse_exactly_to_microseconds() {
+        assert_eq!(parse_seconds_us(b"0.000003000"), Some(3));
+        assert_eq!(parse_seconds_us(b"1.390419000"), Some(1_390_419));
+        assert_eq!(parse_seconds_us(b"2"), Some(2_000_000));
+        assert_eq!(parse_seconds_us(b"0.0000015"), Some(2));
+        assert_eq!(parse_seconds_us(b"-0.5"), Some(-500_000));
+        assert_eq!(parse_seconds_us(b"1e-6"), None);
+        assert_eq!(parse_seconds_us(b"."), None);
+    }
+
+    #[test]
+    fn lines_parse_or_name_the_bad_field() {
+        assert_eq!(
+            parse_line(Dialect::Ecd, b"0.000011001 158 145 1"),
+            Ok((11, 158, 145, true))
+        );
+        assert_eq!(
+            parse_line(Dialect::Csv, b"11,158,145,0"),
+            Ok((11, 158, 145, false))
+        );
+        assert_eq!(
+            parse_line(Dialect::Ecd, b"0.1 2 3 7").unwrap_err().0,
+            "polarity"
+        );
+        assert_eq!(parse_line(Dialect::Csv, b"0,-2,3,1").unwrap_err().0, "x");
+        assert_eq!(parse_line(Dialect::Csv, b"0,2,3").unwrap_err().0, "line");
+        assert_eq!(
+            parse_line(Dialect::Csv, b"0,2,3,1,5").unwrap_err().0,
+            "line"
+        );
+    }
+
+    #[test]
+    fn crlf_blank_lines_and_a_last_line_without_end_are_read() {
+        let mut out = EventBuffer::new();
+        let mut r =
+            EcdTextReader::new(&b"0.000001 1 2 1\r\n\r\n0.000002  3 4 0\r\n0.000003 5 6 1"[..]);
+        r.read_to_end(&mut out).unwrap();
+        assert_eq!(
+            (out.t.clone(), out.x.clone()),
+            (vec![1, 2, 3], vec![1, 3, 5])
+        );
+        let mut out = EventBuffer::new();
+        CsvReader::new(&b"7,1,2,1\n8,3,4,0"[..])
+            .read_to_end(&mut out)
+            .unwrap();
+        assert_eq!(out.t, vec![7, 8], "a CSV without header");
+    }
+}
