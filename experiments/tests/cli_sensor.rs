@@ -1,20 +1,10 @@
 //! The sensor commands of the `neurotac` binary (issue 5): `devices` and `record` without a
 //! camera, `convert` between formats.
 
-use std::path::Path;
-use std::process::Command;
+mod common;
 
-fn neurotac(args: &[&str]) -> (bool, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_neurotac"))
-        .args(args)
-        .output()
-        .unwrap();
-    (
-        out.status.success(),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
+use common::neurotac;
+use std::path::Path;
 
 #[test]
 fn devices_lists_none_without_a_camera() {

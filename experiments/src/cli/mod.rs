@@ -17,6 +17,7 @@ mod record;
 mod search;
 mod synth;
 mod tradeoff;
+mod transduce;
 
 /// neurotac: spiking neural networks for neuromorphic touch (the NeuroTac sensor).
 #[derive(Debug, Parser)]
@@ -46,6 +47,12 @@ enum Command {
     Search(search::SearchCommand),
     /// Write a seeded synthetic NeuroTac-like texture dataset.
     Synth(synth::SynthArgs),
+    /// Event file → 49 taxel spike trains (BA filter, receptive fields, pooling, re-centring).
+    Transduce(transduce::TransduceArgs),
+    /// Event file → event file with the background-activity (and refractory) filter applied.
+    Filter(transduce::FilterArgs),
+    /// Find the 49 taxel centres in a short calibration recording.
+    Layout(transduce::LayoutArgs),
     /// Convert an event file between AEDAT 2.0/3.1/4.0, ECD text and CSV (format from the extension).
     Convert(convert::ConvertArgs),
     /// List the DAVIS cameras attached over USB.
@@ -65,6 +72,9 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Tradeoff(command) => tradeoff::run(command),
         Command::Search(command) => search::run(command),
         Command::Synth(args) => synth::run(args),
+        Command::Transduce(args) => transduce::run_transduce(args),
+        Command::Filter(args) => transduce::run_filter(args),
+        Command::Layout(args) => transduce::run_layout(args),
         Command::Convert(args) => convert::run(args),
         Command::Devices(args) => devices::run(args),
         Command::Record(args) => record::run(args),

@@ -1,0 +1,72 @@
+//! Transduction speed on the real DAVIS240C recording (`../shared/data/davis240`): the
+//! background-activity filter alone, and filter + receptive fields + pooling + re-centring.
+//!
+//! `cargo bench --bench transduction`; criterion's "elem/s" = pixel events per second, one core;
+//! the `transduction_cpu` group measures the thread's CPU time (robust to a busy machine).
+//! Same-run comparison with dv-processing's filter: `benches/peers/dv_processing_ba.py`.
+
+mod common;
+
+use common::ThreadCpuTime;
+use criterion::measurement::Measurement;
+use criterion::{Criterion, Throughput, criterion_group, criterion_main};
+use neurotac::core::EventBuffer;
+use neurotac::sensor::filter::{BackgroundActivityFilter, MapStart};
+use neurotac::sensor::stage::EventFilter;
+use neurotac::sensor::taxel::{TaxelLayout, Transducer, TransductionConfig};
+use std::path::Path;
+use std::time::Duration;
+
+fn recording() -> Option<EventBuffer> {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/data/davis240/pick.aedat");
+    match neurotac::sensor::format::read_file(&path) {
+        Ok((events, _)) => Some(events),
+        Err(e) => {
+            eprintln!("skipped: cannot read {} ({e})", path.display());
+            None
+        }
+    }
+}
+
+fn transduction<M: Measurement>(c: &mut Criterion<M>, group: &str) {
+    let Some(events) = recording() else { return };
+    let mut g = c.benchmark_group(group);
+    g.throughput(Throughput::Elements(events.len() as u64))
+        .measurement_time(Duration::from_secs(3));
+    g.bench_function("ba_filter_real_recording", |b| {
+        b.iter(|| {
+            let mut f =
+                BackgroundActivityFilter::new(240, 180, 5000, MapStart::Zero).expect("valid");
+            events
+                .iter()
+                .filter(|&e| f.retain(e).expect("in range"))
+                .count()
+        })
+    });
+    let layout = TaxelLayout::neurotac_default();
+    g.bench_function("filter_mask_pooling_real_recording", |b| {
+        b.iter(|| {
+            let mut t = Transducer::new(&layout, TransductionConfig::default()).expect("valid");
+            t.push(&events).expect("ordered, in range");
+            t.finish();
+            t.counts().taxel_events
+        })
+    });
+    g.finish();
+}
+
+fn wall_time(c: &mut Criterion) {
+    transduction(c, "transduction");
+}
+
+fn cpu_time(c: &mut Criterion<ThreadCpuTime>) {
+    transduction(c, "transduction_cpu");
+}
+
+criterion_group!(wall, wall_time);
+criterion_group! {
+    name = cpu;
+    config = Criterion::default().with_measurement(ThreadCpuTime);
+    targets = cpu_time
+}
+criterion_main!(wall, cpu);
