@@ -19,7 +19,6 @@ use neurotac::sensor::davis::UsbDecoder;
 use neurotac::sensor::format::{Aedat2Reader, Aedat4Reader, EventReader};
 use std::hint::black_box;
 use std::path::Path;
-use std::time::Duration;
 
 fn load(name: &str) -> Option<Vec<u8>> {
     let path = Path::new(env!("CARGO_MANIFEST_DIR"))
