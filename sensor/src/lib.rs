@@ -8,7 +8,8 @@
 //! | the push interface of pipeline stages | [`stage::Stage`], [`stage::EventFilter`], [`stage::Filtered`], [`stage::Chain`] |
 //! | noise filters | [`filter::BackgroundActivityFilter`] (dv-processing semantics), [`filter::RefractoryFilter`] |
 //! | taxels | [`taxel::TaxelLayout`], [`taxel::ReceptiveFields`], [`taxel::TaxelPooling`], [`taxel::PositionUpdate`], [`taxel::Transducer`] |
-//! | errors | [`error::TransductionError`] |
+//! | the NeuroTac simulator (spec `simulator.md`) | [`sim::Simulator`], [`sim::SimParams`], [`sim::Texture`], [`sim::Camera`] |
+//! | errors | [`error::TransductionError`], [`sim::SimulationError`] |
 //!
 //! ```
 //! use neurotac_core::{Event, EventBuffer, Timestamp};
@@ -34,5 +35,6 @@
 pub mod error;
 pub mod filter;
 pub mod geometry;
+pub mod sim;
 pub mod stage;
 pub mod taxel;
