@@ -5,6 +5,7 @@
 
 pub mod afferents;
 pub mod bench;
+pub mod datasets;
 pub mod neuron_setup;
 pub mod neuron_tradeoff;
 pub mod peers;
