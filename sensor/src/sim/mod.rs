@@ -9,6 +9,7 @@
 //! | textures (§2.1, §2.4) | [`texture`] | [`Texture`], [`TextureField`], [`NATURAL_TEXTURES`] |
 //! | kinematics, stick-slip, pins (§2.1–2.2) | [`mechanics`] | [`PinTrajectories`], [`TrialDraw`] |
 //! | rendering, DVS pixels, noise (§3.1–3.2) | [`pixel`] | [`Camera`], [`PixelModel`], [`EventLabel`] |
+//! | pixel-level diagnostics (§5.7) | [`diagnostics`] | [`edge_pass`], [`pixel_sanity`] |
 //! | one trial, transduction | here | [`Simulator`], [`SimulatedTrial`], [`taxel_spikes`] |
 //!
 //! Seeds: a [`Camera`] (fixed-pattern noise) is drawn once from a camera seed and records every
@@ -28,6 +29,7 @@
 //! # Ok::<(), neurotac_sensor::sim::SimulationError>(())
 //! ```
 
+pub mod diagnostics;
 pub mod error;
 mod fft;
 pub mod mechanics;
@@ -35,6 +37,7 @@ pub mod params;
 pub mod pixel;
 pub mod texture;
 
+pub use diagnostics::{EdgePass, PixelSanity, edge_pass, pixel_sanity};
 pub use error::SimulationError;
 pub use mechanics::{PinTrajectories, TrialDraw};
 pub use params::{PeriodRule, SimParams};

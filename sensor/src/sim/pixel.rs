@@ -18,8 +18,9 @@
 //!    integrated exactly for an input ramping linearly from L(t₀) to L(t₁) (so no ε ≤ 0.3 limit);
 //! 3. events where L̃ — linear between the step's ends, as in ESIM — crosses `L_ref + C⁺_p` (ON)
 //!    or `L_ref − C⁻_p` (OFF), at the interpolated crossing time;
-//! 4. refractory, hardware variant: after an event at t_e the pixel is held in reset until
-//!    `t_e + t_ref` (no events; L_ref follows L̃) and then `L_ref = L̃(t_e + t_ref)`;
+//! 4. refractory, hardware variant: after an event crossing at t_e the pixel is held in reset
+//!    (no events; L_ref follows L̃) until `t_ref` after the event's readout (step 6), then
+//!    `L_ref = L̃` there — so output events of a pixel are always ≥ t_ref apart;
 //! 5. noise events of the pixel (leak ON, shot ON/OFF) at their drawn times reset it the same
 //!    way (v2e: L_ref ← L̃); one falling inside a reset is not emitted;
 //! 6. output time `t_e + latency + Exp(jitter)` in whole µs, never earlier than the pixel's
@@ -464,7 +465,9 @@ impl PixelModel {
                 // ON for leak, or for half of the shot noise.
                 let u = rng.random::<f64>() * rate;
                 let on = u < leak as f64 + 0.5 * shot;
-                if times.last().is_none_or(|&(last, _)| t - last >= t_ref) {
+                // Whole µs; a pixel in reset after its previous event cannot fire.
+                let t = (t * 1e6).round() / 1e6;
+                if times.last().is_none_or(|&(last, _)| t - last >= t_ref - 1e-9) {
                     times.push((t, on));
                 }
             }
@@ -691,22 +694,29 @@ impl PixelModel {
             };
             if let Some((on, level)) = crossing {
                 let te = (t0 + (level - f0) as f64 / slope).clamp(ta, tb);
-                self.emit(j, te, on, seed, out);
+                let t_out = self.emit(j, te, on, seed, out);
                 self.l_ref[j] = level;
-                self.reset_until[j] = te + t_ref;
-                if t_ref == 0.0 {
-                    self.reset_until[j] = f64::NEG_INFINITY;
-                }
+                // The reset is released t_ref after the readout acknowledged the event.
+                self.reset_until[j] = if t_ref > 0.0 {
+                    t_out + t_ref
+                } else {
+                    f64::NEG_INFINITY
+                };
                 ta = te;
                 continue;
             }
             if tn < t1 {
                 let idx = self.noise_cursor[j] as usize;
                 let on = self.noise_on[idx];
-                self.emit_noise(j, tn, on, out);
+                let t_out = self.push(j, tn, on, NOISE_LABEL, out);
+                self.n_events[j] += 1;
                 self.advance_noise(j);
                 self.l_ref[j] = at(tn);
-                self.reset_until[j] = if t_ref > 0.0 { tn + t_ref } else { f64::NEG_INFINITY };
+                self.reset_until[j] = if t_ref > 0.0 {
+                    t_out + t_ref
+                } else {
+                    f64::NEG_INFINITY
+                };
                 ta = tn;
                 continue;
             }
@@ -724,7 +734,8 @@ impl PixelModel {
         };
     }
 
-    fn emit(&mut self, j: usize, te: f64, on: bool, seed: u64, out: &mut Vec<RawEvent>) {
+    /// Emits a signal event crossing at `te`; returns its output time (s).
+    fn emit(&mut self, j: usize, te: f64, on: bool, seed: u64, out: &mut Vec<RawEvent>) -> f64 {
         let p = &self.params.pixel;
         let k = self.n_events[j];
         self.n_events[j] = k + 1;
@@ -733,7 +744,7 @@ impl PixelModel {
         let t = te + p.latency_s - p.latency_jitter_s * u.ln();
         let owner = self.patch_owner(j) as u8;
         let label = self.signal_source(j, owner);
-        self.push(j, t, on, label, out);
+        self.push(j, t, on, label, out)
     }
 
     /// The pin an event of pixel `j` is attributed to: the one contributing more light now.
@@ -750,12 +761,9 @@ impl PixelModel {
         if d_other < d_own { other } else { owner }
     }
 
-    fn emit_noise(&mut self, j: usize, t: f64, on: bool, out: &mut Vec<RawEvent>) {
-        self.n_events[j] += 1;
-        self.push(j, t, on, NOISE_LABEL, out);
-    }
-
-    fn push(&mut self, j: usize, t: f64, on: bool, label: u8, out: &mut Vec<RawEvent>) {
+    /// Outputs an event of pixel `j` at `t` (whole µs, after the pixel's previous event);
+    /// returns the output time (s).
+    fn push(&mut self, j: usize, t: f64, on: bool, label: u8, out: &mut Vec<RawEvent>) -> f64 {
         let t_us = ((t * 1e6).round() as i64).max(self.last_out_us[j].saturating_add(1));
         self.last_out_us[j] = t_us;
         out.push(RawEvent {
@@ -765,5 +773,6 @@ impl PixelModel {
             on,
             label,
         });
+        t_us as f64 / 1e6
     }
 }
