@@ -28,6 +28,9 @@ pub enum DatasetsError {
     /// The simulator rejected its set-up.
     #[error(transparent)]
     Simulation(#[from] SimulationError),
+    /// Pixel events could not be transduced or filtered.
+    #[error(transparent)]
+    Transduction(#[from] neurotac_sensor::error::TransductionError),
     /// A dataset could not be built, read or written.
     #[error(transparent)]
     Dataset(#[from] DatasetError),
@@ -137,8 +140,32 @@ pub struct TrialOutcome {
     pub noise_events: usize,
 }
 
-/// Simulates `jobs` over `textures` in parallel, returning outcomes in job order; `each` sees
-/// every trial (e.g. to write its pixel events) and `progress` is called once per trial.
+/// Simulates `jobs` over `textures` in parallel (one [`Simulator`] per worker) and maps each
+/// trial through `f`, returning the results in job order; `progress` is called once per trial.
+pub fn map_trials<T: Send>(
+    params: &SimParams,
+    camera: &Camera,
+    textures: &[PreparedTexture],
+    jobs: &[TrialJob],
+    f: &(dyn Fn(&TrialJob, &SimulatedTrial) -> Result<T, DatasetsError> + Sync),
+    progress: &(dyn Fn() + Sync),
+) -> Result<Vec<T>, DatasetsError> {
+    let base = Simulator::new(*params, camera)?;
+    jobs.par_iter()
+        .map_init(
+            || base.clone(),
+            |sim, job| {
+                let trial = sim.simulate(&textures[job.class], job.seed);
+                let out = f(job, &trial)?;
+                progress();
+                Ok(out)
+            },
+        )
+        .collect()
+}
+
+/// Simulates `jobs` and transduces every trial ([`map_trials`]); `each` sees every trial
+/// first (e.g. to write its pixel events).
 pub fn run_trials(
     params: &SimParams,
     camera: &Camera,
@@ -147,23 +174,41 @@ pub fn run_trials(
     each: &(dyn Fn(&TrialJob, &SimulatedTrial) -> Result<(), DatasetsError> + Sync),
     progress: &(dyn Fn() + Sync),
 ) -> Result<Vec<TrialOutcome>, DatasetsError> {
-    let base = Simulator::new(*params, camera)?;
-    jobs.par_iter()
-        .map_init(
-            || base.clone(),
-            |sim, job| {
-                let trial = sim.simulate(&textures[job.class], job.seed);
-                each(job, &trial)?;
-                let spikes = taxel_spikes(&trial)?.spikes;
-                progress();
-                Ok(TrialOutcome {
-                    job: *job,
-                    spikes,
-                    pixel_events: trial.events.len(),
-                    noise_events: trial.noise_count(),
-                })
-            },
-        )
+    map_trials(
+        params,
+        camera,
+        textures,
+        jobs,
+        &|job, trial| {
+            each(job, trial)?;
+            Ok(TrialOutcome {
+                job: *job,
+                spikes: taxel_spikes(trial)?.spikes,
+                pixel_events: trial.events.len(),
+                noise_events: trial.noise_count(),
+            })
+        },
+        progress,
+    )
+}
+
+/// The jobs of `trials` slides (indices `first..first + trials`) of each class in `classes`.
+pub fn jobs_for(
+    set: TextureSet,
+    seed: u64,
+    classes: &[usize],
+    first: usize,
+    trials: usize,
+) -> Vec<TrialJob> {
+    classes
+        .iter()
+        .flat_map(|&class| {
+            (first..first + trials).map(move |trial| TrialJob {
+                class,
+                trial,
+                seed: trial_seed(seed, set, class, trial),
+            })
+        })
         .collect()
 }
 
@@ -207,15 +252,8 @@ pub fn simulate_set(
     params.validate()?;
     let textures = prepare_textures(params, set);
     let camera = Camera::new(params, camera_seed(seed));
-    let jobs: Vec<TrialJob> = (0..textures.len())
-        .flat_map(|class| {
-            (0..trials).map(move |trial| TrialJob {
-                class,
-                trial,
-                seed: trial_seed(seed, set, class, trial),
-            })
-        })
-        .collect();
+    let classes: Vec<usize> = (0..textures.len()).collect();
+    let jobs = jobs_for(set, seed, &classes, 0, trials);
     let outcomes = run_trials(params, &camera, &textures, &jobs, each, progress)?;
     let n = outcomes.len() as f64;
     let mean_pixel_events = outcomes.iter().map(|o| o.pixel_events as f64).sum::<f64>() / n;

@@ -9,4 +9,5 @@ pub mod datasets;
 pub mod neuron_setup;
 pub mod neuron_tradeoff;
 pub mod peers;
+pub mod simulator_check;
 pub mod svg;

@@ -7,6 +7,7 @@ use clap::{Parser, Subcommand};
 mod bench;
 mod demo;
 mod neuron;
+mod simulate;
 mod tradeoff;
 
 /// neurotac: spiking neural networks for neuromorphic touch (the NeuroTac sensor).
@@ -27,6 +28,8 @@ enum Command {
     Neuron(neuron::NeuronArgs),
     /// Speed ↔ accuracy reports (tables and SVG plots).
     Tradeoff(tradeoff::TradeoffArgs),
+    /// Simulate the texture datasets (or `check` / `calibrate` the NeuroTac simulator).
+    Simulate(simulate::SimulateArgs),
 }
 
 /// Runs the parsed command.
@@ -36,5 +39,6 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Bench(args) => bench::run(args),
         Command::Neuron(args) => neuron::run(args),
         Command::Tradeoff(args) => tradeoff::run(args),
+        Command::Simulate(args) => simulate::run(args),
     }
 }

@@ -44,6 +44,7 @@ pub use params::{PeriodRule, SimParams};
 pub use pixel::{Camera, EventLabel, PixelModel, PixelRunStats};
 pub use texture::{GRID_SIZES_MM, NATURAL_TEXTURES, Surface, Texture, TextureField};
 
+use crate::filter::MapStart;
 use crate::geometry::PinGeometry;
 use crate::taxel::{TaxelLayout, Transducer, TransductionConfig, TransductionCounts};
 use mechanics::Mechanics;
@@ -264,9 +265,15 @@ pub struct TaxelSpikes {
 
 /// The transduction with the paper's settings (BA filter 5 ms, receptive fields of radius 6 px
 /// on the default layout, 20 ms pooling, re-centring), windows aligned to the recording start.
+///
+/// Simulated recordings start at t = 0 µs, so the BA time surface starts empty
+/// ([`MapStart::Empty`]): that is how dv-processing's zero-initialised map behaves on a real
+/// camera's absolute timestamps, whereas a zero map with t starting at 0 would pass every event
+/// of the first 5 ms.
 pub fn paper_transduction() -> TransductionConfig {
     TransductionConfig {
         origin_us: Some(0),
+        ba_start: MapStart::Empty,
         ..TransductionConfig::default()
     }
 }
