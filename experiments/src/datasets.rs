@@ -260,12 +260,10 @@ pub fn simulate_set(
     let mean_noise_events = outcomes.iter().map(|o| o.noise_events as f64).sum::<f64>() / n;
     let labels = outcomes.iter().map(|o| o.job.class).collect();
     let observations = outcomes.into_iter().map(|o| o.spikes).collect();
-    let dataset = SpikeDataset::new(
-        observations,
-        labels,
-        set.class_names(),
-        dataset_meta(set, trials, seed, params),
-    )?;
+    let mut meta = dataset_meta(set, trials, seed, params);
+    meta.insert("pixel_events_per_trial".into(), mean_pixel_events.into());
+    meta.insert("noise_events_per_trial".into(), mean_noise_events.into());
+    let dataset = SpikeDataset::new(observations, labels, set.class_names(), meta)?;
     Ok(SimulatedSet {
         dataset,
         mean_pixel_events,
@@ -273,7 +271,8 @@ pub fn simulate_set(
     })
 }
 
-/// Everything that determines a simulated dataset, as stored in its metadata.
+/// Everything that determines a simulated dataset, as stored in its metadata (a simulated
+/// dataset's metadata adds `pixel_events_per_trial` and `noise_events_per_trial`).
 fn dataset_meta(
     set: TextureSet,
     trials: usize,
@@ -362,13 +361,16 @@ pub fn load_or_simulate_with(
     Ok(simulated.dataset)
 }
 
-/// The cached dataset at `path` if it exists, decodes and carries exactly `meta`.
+/// The cached dataset at `path` if it exists, decodes and carries every entry of `meta`
+/// (besides them it holds the event statistics of the run).
 fn read_cached(
     path: &Path,
     meta: &serde_json::Map<String, serde_json::Value>,
 ) -> Option<SpikeDataset> {
     let data = SpikeDataset::load(path).ok()?;
-    (data.meta() == meta).then_some(data)
+    meta.iter()
+        .all(|(k, v)| data.meta().get(k) == Some(v))
+        .then_some(data)
 }
 
 /// Writes `dataset` to `path` (binary) through a temporary file and a rename.

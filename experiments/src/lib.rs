@@ -10,4 +10,5 @@ pub mod neuron_setup;
 pub mod neuron_tradeoff;
 pub mod peers;
 pub mod simulator_check;
+pub mod simulator_tradeoff;
 pub mod svg;

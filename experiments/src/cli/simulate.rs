@@ -163,7 +163,7 @@ fn generate(a: GenerateArgs) -> anyhow::Result<()> {
     let bar = progress_bar(total, set.name());
     let start = Instant::now();
     let cached = !a.pixel_events && cache_path(set, trials, a.seed, &params, &cache).exists();
-    let (dataset, events) = with_threads(a.threads, || -> anyhow::Result<_> {
+    let dataset = with_threads(a.threads, || -> anyhow::Result<_> {
         if a.pixel_events {
             let names = set.class_names();
             let dir = out.join("events");
@@ -188,10 +188,9 @@ fn generate(a: GenerateArgs) -> anyhow::Result<()> {
                 )
             };
             let s = simulate_set(set, trials, a.seed, &params, &each, &|| bar.inc(1))?;
-            Ok((s.dataset, Some((s.mean_pixel_events, s.mean_noise_events))))
+            Ok(s.dataset)
         } else {
-            let d = load_or_simulate_with(set, trials, a.seed, &params, &cache, &|| bar.inc(1))?;
-            Ok((d, None))
+            Ok(load_or_simulate_with(set, trials, a.seed, &params, &cache, &|| bar.inc(1))?)
         }
     })??;
     bar.finish_and_clear();
@@ -214,7 +213,8 @@ fn generate(a: GenerateArgs) -> anyhow::Result<()> {
         if cached { 0.0 } else { dataset.len() as f64 / wall },
         if cached { " — from the cache" } else { "" }
     );
-    if let Some((pixel, noise)) = events {
+    let stat = |key: &str| dataset.meta().get(key).and_then(|v| v.as_f64());
+    if let (Some(pixel), Some(noise)) = (stat("pixel_events_per_trial"), stat("noise_events_per_trial")) {
         println!("pixel events per trial: {pixel:.0} (of which noise {noise:.0})");
     }
     println!("  class                   spikes/taxel (mean over slides)");

@@ -3,6 +3,7 @@
 use clap::{Args, Subcommand};
 
 mod neurons;
+mod simulator;
 
 #[derive(Debug, Args)]
 pub struct TradeoffArgs {
@@ -14,10 +15,13 @@ pub struct TradeoffArgs {
 enum TradeoffCommand {
     /// Neuron simulation: model × integrator × dt × precision × spike stamping.
     Neurons(neurons::NeuronsArgs),
+    /// NeuroTac simulator: pixel-model step tolerance vs event timing and trials/s.
+    Simulator(simulator::SimulatorArgs),
 }
 
 pub fn run(args: TradeoffArgs) -> anyhow::Result<()> {
     match args.what {
         TradeoffCommand::Neurons(a) => neurons::run(a),
+        TradeoffCommand::Simulator(a) => simulator::run(a),
     }
 }
