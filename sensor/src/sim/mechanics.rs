@@ -187,10 +187,24 @@ impl PinTrajectories {
     }
 }
 
+/// Per-trial constants of one pin: position, radial unit vector, contact weight χ, its
+/// derivative χ' and the shear spread φ.
+#[derive(Debug, Clone, Copy)]
+struct PinConstants {
+    x: f64,
+    y: f64,
+    rx: f64,
+    ry: f64,
+    chi: f64,
+    dchi: f64,
+    phi: f64,
+}
+
 /// Reusable buffers and pin geometry for computing trajectories (allocated once).
 #[derive(Debug, Clone)]
 pub struct Mechanics {
     pins_mm: Vec<(f64, f64)>,
+    pin_constants: Vec<PinConstants>,
     dome_radius_mm: f64,
     scale_px_per_mm: f64,
     /// Contact sample points (mm) for the texture term, on a 0.5 mm grid.
@@ -206,6 +220,7 @@ impl Mechanics {
     /// imaged at `scale_px_per_mm`.
     pub fn new(pins_mm: Vec<(f64, f64)>, dome_radius_mm: f64, scale_px_per_mm: f64) -> Self {
         Self {
+            pin_constants: Vec::with_capacity(pins_mm.len()),
             pins_mm,
             dome_radius_mm,
             scale_px_per_mm,
@@ -237,6 +252,21 @@ impl Mechanics {
         let chi = |r: f64| 1.0 / (1.0 + ((r - a) / c.contact_edge_mm).exp());
 
         self.tabulate_contact_slope(params, field, draw, a, chi);
+        self.pin_constants.clear();
+        for &(x, y) in &self.pins_mm {
+            let r = (x * x + y * y).sqrt();
+            let (rx, ry) = if r > 1e-9 { (x / r, y / r) } else { (0.0, 0.0) };
+            let ch = chi(r);
+            self.pin_constants.push(PinConstants {
+                x,
+                y,
+                rx,
+                ry,
+                chi: ch,
+                dchi: -ch * (1.0 - ch) / c.contact_edge_mm,
+                phi: (-(r / (c.shear_spread * a)).powi(2)).exp(),
+            });
+        }
 
         out.dt_s = dt;
         out.n_samples = n_samples;
@@ -309,20 +339,17 @@ impl Mechanics {
             let texture_term = n_over_kt * self.contact_slope_at(patch_x - draw.start_phase_mm);
             let s_pins = s + micro + texture_term;
             out.shear_mm[n] = s_pins as f32;
-            for (i, &(x, y)) in self.pins_mm.iter().enumerate() {
-                let r = (x * x + y * y).sqrt();
-                let (rx, ry) = if r > 1e-9 { (x / r, y / r) } else { (0.0, 0.0) };
-                let phi = (-(r / (c.shear_spread * a)).powi(2)).exp();
-                let mut ux = c.pin_shear_gain * phi * s_pins;
+            for (i, pin) in self.pin_constants.iter().enumerate() {
+                let mut ux = c.pin_shear_gain * pin.phi * s_pins;
                 let mut uy = 0.0;
-                let ch = chi(r);
-                if !field.is_flat() && ch > 1e-3 {
-                    let f = field.sample(x + patch_x, y + draw.lateral_offset_mm);
-                    let w = ch * f.w;
+                if !field.is_flat() && pin.chi > 1e-3 {
+                    let f = field.sample(pin.x + patch_x, pin.y + draw.lateral_offset_mm);
+                    let w = pin.chi * f.w;
                     // ∇(χ·w₀) = χ∇w₀ + w₀·χ'(r)·r̂, χ' = −χ(1 − χ)/w_c.
-                    let dchi = -ch * (1.0 - ch) / c.contact_edge_mm;
-                    ux += c.lever_mm * (ch * f.dw_dx + f.w * dchi * rx) + c.bulge * w * rx;
-                    uy += c.lever_mm * (ch * f.dw_dy + f.w * dchi * ry) + c.bulge * w * ry;
+                    ux += c.lever_mm * (pin.chi * f.dw_dx + f.w * pin.dchi * pin.rx)
+                        + c.bulge * w * pin.rx;
+                    uy += c.lever_mm * (pin.chi * f.dw_dy + f.w * pin.dchi * pin.ry)
+                        + c.bulge * w * pin.ry;
                 }
                 let idx = i * n_samples + n;
                 out.dx_px[idx] = (scale * ux) as f32;

@@ -308,10 +308,11 @@ impl TextureField {
         if self.flat {
             return FieldSample::default();
         }
-        let fx = (x_mm / self.dx_mm).rem_euclid(self.nx as f64);
-        let fy = (y_mm / self.dy_mm).rem_euclid(self.ny as f64);
-        let (ix, iy) = (fx as usize % self.nx, fy as usize % self.ny);
-        let (tx, ty) = ((fx - fx.floor()) as f32, (fy - fy.floor()) as f32);
+        let (fx, fy) = (x_mm / self.dx_mm, y_mm / self.dy_mm);
+        let (flx, fly) = (fx.floor(), fy.floor());
+        let (tx, ty) = ((fx - flx) as f32, (fy - fly) as f32);
+        let ix = (flx as i64).rem_euclid(self.nx as i64) as usize;
+        let iy = (fly as i64).rem_euclid(self.ny as i64) as usize;
         let (jx, jy) = ((ix + 1) % self.nx, (iy + 1) % self.ny);
         let v = |x: usize, y: usize| &self.values[y * self.nx + x];
         let (a, b, c, d) = (v(ix, iy), v(jx, iy), v(ix, jy), v(jx, jy));
