@@ -378,7 +378,7 @@ impl PinMotion for super::mechanics::PinTrajectories {
     }
 }
 
-/// e^(−x) for x ≥ 0 in f32, inlined (relative error < 2·10⁻⁶; flushes to ≈ 2⁻¹²⁵ beyond
+/// e^(−x) for x ≥ 0 in f32, inlined (absolute error < 3·10⁻⁷; flushes to ≈ 2⁻¹²⁵ beyond
 /// x ≈ 86): 2^(−x·log₂e) split into an exponent and a degree-6 polynomial of the fraction.
 #[inline(always)]
 fn exp_neg(x: f32) -> f32 {
@@ -806,7 +806,10 @@ mod tests {
         for i in 0..20_000 {
             let x = i as f32 * 0.005;
             let (a, b) = (exp_neg(x), (-x).exp());
-            assert!((a - b).abs() <= 2e-6 * b + 1e-38, "{x}: {a} vs {b}");
+            // Absolute error (what the low-pass sees) and relative error (f32 rounding of
+            // x·log₂e grows with x).
+            assert!((a - b).abs() <= 3e-7, "{x}: {a} vs {b}");
+            assert!(x > 80.0 || (a - b).abs() <= 1e-5 * b, "{x}: {a} vs {b}");
         }
         assert!(exp_neg(1e6) < 1e-37);
     }
