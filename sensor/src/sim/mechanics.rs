@@ -209,6 +209,7 @@ pub struct Mechanics {
     scale_px_per_mm: f64,
     /// Contact sample points (mm) for the texture term, on a 0.5 mm grid.
     contact_points: Vec<(f64, f64)>,
+    contact_weights: Vec<f64>,
     contact_slope: Vec<f64>,
 }
 
@@ -225,6 +226,7 @@ impl Mechanics {
             dome_radius_mm,
             scale_px_per_mm,
             contact_points: Vec::new(),
+            contact_weights: Vec::new(),
             contact_slope: Vec::new(),
         }
     }
@@ -382,7 +384,8 @@ impl Mechanics {
         let step = 0.5;
         let n = (reach / step).ceil() as i64;
         self.contact_points.clear();
-        let mut weights = Vec::new();
+        let mut weights = std::mem::take(&mut self.contact_weights);
+        weights.clear();
         for j in -n..=n {
             for i in -n..=n {
                 let (x, y) = (i as f64 * step, j as f64 * step);
@@ -411,6 +414,7 @@ impl Mechanics {
                 .sum();
             self.contact_slope.push(sum / total);
         }
+        self.contact_weights = weights;
     }
 
     fn contact_slope_at(&self, travel_mm: f64) -> f64 {

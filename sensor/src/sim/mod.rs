@@ -220,8 +220,9 @@ impl Simulator {
             with_noise,
             &mut self.raw,
         );
-        // Time order; ties by row, column (stable, so the generation order decides the rest).
-        self.raw.sort_by_key(|e| (e.t_us, e.y, e.x));
+        // Time order, ties by row and column: a total order, since a pixel never emits twice in
+        // one microsecond, so the unstable (in-place) sort is deterministic.
+        self.raw.sort_unstable_by_key(|e| (e.t_us, e.y, e.x));
         let end_us = (duration_s * 1e6).round() as i64;
         let mut events = EventBuffer::with_capacity(self.raw.len());
         let mut labels = Vec::with_capacity(self.raw.len());

@@ -350,6 +350,9 @@ pub struct PixelModel {
     noise_on: Vec<bool>,
     noise_cursor: Vec<u32>,
     next_noise: Vec<f64>,
+    // Scratch of the noise draw: (patch pixel, time, ON) and one pixel's events.
+    pending_noise: Vec<(usize, f64, bool)>,
+    pixel_noise: Vec<(f64, bool)>,
     // Pin displacements at the end of the current step.
     pin_dx: Vec<f32>,
     pin_dy: Vec<f32>,
@@ -440,6 +443,8 @@ impl PixelModel {
             noise_on: Vec::new(),
             noise_cursor: vec![0; n],
             next_noise: vec![f64::INFINITY; n],
+            pending_noise: Vec::new(),
+            pixel_noise: Vec::new(),
             pin_dx: vec![0.0; pins_px.len()],
             pin_dy: vec![0.0; pins_px.len()],
         }
@@ -464,8 +469,9 @@ impl PixelModel {
         let width = camera.width as usize;
         self.noise_t.clear();
         self.noise_on.clear();
-        let mut pending: Vec<(usize, f64, bool)> = Vec::new();
-        let mut times: Vec<(f64, bool)> = Vec::new();
+        let mut pending = std::mem::take(&mut self.pending_noise);
+        let mut times = std::mem::take(&mut self.pixel_noise);
+        pending.clear();
         for (pixel, &leak) in camera.leak_rate_hz.iter().enumerate() {
             let rate = leak as f64 + shot;
             if rate <= 0.0 {
@@ -517,6 +523,8 @@ impl PixelModel {
             self.noise_t.push(t);
             self.noise_on.push(on);
         }
+        self.pending_noise = pending;
+        self.pixel_noise = times;
         for j in 0..self.next_noise.len() {
             let start = self.noise_offsets[j];
             self.noise_cursor[j] = start;
