@@ -403,13 +403,24 @@ pub fn write_events_csv(
     };
     let file = std::fs::File::create(path).map_err(io)?;
     let mut w = std::io::BufWriter::new(file);
-    let header = if labels.is_some() { "t,x,y,on,pin\n" } else { "t,x,y,on\n" };
+    let header = if labels.is_some() {
+        "t,x,y,on,pin\n"
+    } else {
+        "t,x,y,on\n"
+    };
     w.write_all(header.as_bytes()).map_err(io)?;
     for (i, e) in events.iter().enumerate() {
         match labels {
             Some(l) => {
                 let pin = l[i].pin().map_or(-1, |p| p as i64);
-                writeln!(w, "{},{},{},{},{pin}", e.t.0, e.x, e.y, u8::from(e.polarity))
+                writeln!(
+                    w,
+                    "{},{},{},{},{pin}",
+                    e.t.0,
+                    e.x,
+                    e.y,
+                    u8::from(e.polarity)
+                )
             }
             None => writeln!(w, "{},{},{},{}", e.t.0, e.x, e.y, u8::from(e.polarity)),
         }
@@ -483,7 +494,10 @@ mod tests {
         tagged.meta_mut().insert("tag".into(), 1.into());
         let mut other = p;
         other.pixel.threshold_on = 0.21;
-        assert_ne!(cache_path(TextureSet::Artificial, 1, 3, &other, dir.path()), path);
+        assert_ne!(
+            cache_path(TextureSet::Artificial, 1, 3, &other, dir.path()),
+            path
+        );
         // A file whose metadata does not match (hash collision, edits) is not trusted.
         store(&tagged, dir.path(), &path).unwrap();
         let regenerated = load_or_simulate(TextureSet::Artificial, 1, 3, &p, dir.path()).unwrap();

@@ -140,24 +140,23 @@ fn periodicity(x: &[f64], dt: f64, f0: f64) -> (Option<f64>, f64, f64) {
     let lo = ((0.6 / f0) / dt) as usize;
     let hi = (((1.5 / f0) / dt) as usize).min(x.len().saturating_sub(2));
     let acf = |lag: usize| x.iter().zip(&x[lag..]).map(|(a, b)| a * b).sum::<f64>() / energy;
-    let lag = (energy > 0.0 && lo + 1 < hi)
-        .then(|| {
-            let values: Vec<f64> = (lo..=hi).map(acf).collect();
-            let (i, _) = values
-                .iter()
-                .enumerate()
-                .max_by(|a, b| a.1.total_cmp(b.1))
-                .expect("non-empty");
-            // Parabolic refinement around the peak.
-            let refine = if i > 0 && i + 1 < values.len() {
-                let (a, b, c) = (values[i - 1], values[i], values[i + 1]);
-                let d = a - 2.0 * b + c;
-                if d < 0.0 { 0.5 * (a - c) / d } else { 0.0 }
-            } else {
-                0.0
-            };
-            (lo as f64 + i as f64 + refine) * dt
-        });
+    let lag = (energy > 0.0 && lo + 1 < hi).then(|| {
+        let values: Vec<f64> = (lo..=hi).map(acf).collect();
+        let (i, _) = values
+            .iter()
+            .enumerate()
+            .max_by(|a, b| a.1.total_cmp(b.1))
+            .expect("non-empty");
+        // Parabolic refinement around the peak.
+        let refine = if i > 0 && i + 1 < values.len() {
+            let (a, b, c) = (values[i - 1], values[i], values[i + 1]);
+            let d = a - 2.0 * b + c;
+            if d < 0.0 { 0.5 * (a - c) / d } else { 0.0 }
+        } else {
+            0.0
+        };
+        (lo as f64 + i as f64 + refine) * dt
+    });
     let (mut inside, mut total) = (0.0, 0.0);
     let df = 0.01;
     let mut f = 0.5;
@@ -200,14 +199,18 @@ fn analyse(
     let spikes = &taxels.spikes;
     let pooled = spikes.pooled();
     let signal = transduce(&trial.signal_events())?.spikes.pooled();
-    let signal_burst = (count_in(&signal, onset, onset + 0.3) + count_in(&signal, stop, stop + 0.3))
-        as f64
-        / 49.0;
+    let signal_burst =
+        (count_in(&signal, onset, onset + 0.3) + count_in(&signal, stop, stop + 0.3)) as f64 / 49.0;
     let signal_total = signal.len() as f64 / 49.0;
     let steady_span = (onset + 0.5, (stop - 0.2).max(onset + 0.5));
     let steady_len = (steady_span.1 - steady_span.0).max(1e-9);
     let burst_taxels = (0..49)
-        .filter(|&c| spikes.channel(c).iter().any(|&t| t >= onset && t < onset + 0.2))
+        .filter(|&c| {
+            spikes
+                .channel(c)
+                .iter()
+                .any(|&t| t >= onset && t < onset + 0.2)
+        })
         .count() as f64
         / 49.0;
     // Signal pixel events per 5 ms bin after the onset: latency and duration of the burst.
@@ -215,7 +218,7 @@ fn analyse(
     let mut hist = vec![0usize; bins];
     for (e, l) in trial.events.iter().zip(&trial.labels) {
         let t = e.t.0 as f64 / 1e6 - onset;
-        if !l.is_noise() && t >= 0.0 && t < 0.6 {
+        if !l.is_noise() && (0.0..0.6).contains(&t) {
             hist[((t / BURST_BIN_S) as usize).min(bins - 1)] += 1;
         }
     }
@@ -225,7 +228,10 @@ fn analyse(
         .map(|i| (i + 1) as f64 * BURST_BIN_S);
     let peak = hist.iter().copied().max().unwrap_or(0);
     let burst_duration_s = (peak > 0).then(|| {
-        let last = hist.iter().rposition(|&n| n * 5 >= peak).expect("peak exists");
+        let last = hist
+            .iter()
+            .rposition(|&n| n * 5 >= peak)
+            .expect("peak exists");
         (last + 1) as f64 * BURST_BIN_S
     });
     // Noise kept by the paper's BA filter (5 ms, 8 neighbours).
@@ -255,7 +261,7 @@ fn analyse(
             for (e, l) in trial.events.iter().zip(&trial.labels) {
                 let t = e.t.0 as f64 / 1e6 - steady_span.0;
                 if let Some(pin) = l.pin() {
-                    if info.in_contact[pin] && t >= 0.0 && t < steady_len {
+                    if info.in_contact[pin] && (0.0..steady_len).contains(&t) {
                         x[((t / RATE_BIN_S) as usize).min(n - 1)] += 1.0;
                     }
                 }
@@ -301,7 +307,9 @@ fn analyse(
 }
 
 fn mean(v: impl IntoIterator<Item = f64>) -> f64 {
-    let (s, n) = v.into_iter().fold((0.0, 0usize), |(s, n), x| (s + x, n + 1));
+    let (s, n) = v
+        .into_iter()
+        .fold((0.0, 0usize), |(s, n), x| (s + x, n + 1));
     if n == 0 { f64::NAN } else { s / n as f64 }
 }
 
@@ -408,7 +416,13 @@ pub fn simulator_check(
     let static_runs = run_jobs(
         &still,
         &camera,
-        &jobs_for(set, config.seed ^ 0x57a7, &[flat], 0, config.static_trials.max(1)),
+        &jobs_for(
+            set,
+            config.seed ^ 0x57a7,
+            &[flat],
+            0,
+            config.static_trials.max(1),
+        ),
         progress,
     )?;
     let of = |runs: &[Summary], class: usize, limit: usize| -> Vec<Summary> {
@@ -451,9 +465,9 @@ pub fn simulator_check(
 
     // 2. Monotone in size.
     let (mut xs, mut ys) = (Vec::new(), Vec::new());
-    for c in 0..11 {
+    for (c, &d) in GRID_SIZES_MM.iter().enumerate() {
         for s in of(&grids, c, n) {
-            xs.push(GRID_SIZES_MM[c]);
+            xs.push(d);
             ys.push(s.spikes_per_taxel);
         }
     }
@@ -539,8 +553,8 @@ pub fn simulator_check(
     let per_mm = |s: &[Summary]| mean(s.iter().map(|x| x.pixel_events as f64));
     let events_change = per_mm(&coarse_2v) / per_mm(&coarse_v) - 1.0;
     let spikes_ratio = mean(counts(&coarse_2v)) / mean(counts(&coarse_v));
-    let duration_ratio = mean(coarse_2v.iter().map(|s| s.duration_s))
-        / mean(coarse_v.iter().map(|s| s.duration_s));
+    let duration_ratio =
+        mean(coarse_2v.iter().map(|s| s.duration_s)) / mean(coarse_v.iter().map(|s| s.duration_s));
     let burst_ratio = mean(flats.iter().filter_map(|s| s.burst_duration_s))
         / mean(flat_2v.iter().filter_map(|s| s.burst_duration_s));
     stats.push(Statistic {
@@ -569,10 +583,7 @@ pub fn simulator_check(
         .iter()
         .filter_map(|s| s.burst_latency_s)
         .fold(0.0, f64::max);
-    let involved = first_n
-        .iter()
-        .map(|s| s.burst_taxels)
-        .fold(1.0, f64::min);
+    let involved = first_n.iter().map(|s| s.burst_taxels).fold(1.0, f64::min);
     let stop = mean(flats.iter().map(|s| s.stop_rate));
     let onset_rate = mean(flats.iter().map(|s| s.burst_rate));
     let flat_steady = mean(flats.iter().map(|s| s.steady_rate));
@@ -596,7 +607,10 @@ pub fn simulator_check(
     });
 
     // 6. Noise.
-    let raw_min = grids.iter().map(|s| s.raw_noise_hz).fold(f64::INFINITY, f64::min);
+    let raw_min = grids
+        .iter()
+        .map(|s| s.raw_noise_hz)
+        .fold(f64::INFINITY, f64::min);
     let raw_max = grids.iter().map(|s| s.raw_noise_hz).fold(0.0, f64::max);
     let kept_flat = mean(flats.iter().map(|s| s.kept_noise_fraction));
     let kept_coarse = mean(coarse_v.iter().map(|s| s.kept_noise_fraction));

@@ -77,7 +77,8 @@ fn noise_is_labelled_and_at_the_background_activity_rate() {
     assert!(!clean.events.is_empty());
     assert_eq!(clean.noise_count(), 0);
     let noisy = sim.simulate(&grid, 5);
-    let far = |x: u16, y: u16| ((x as f64 - 120.0).powi(2) + (y as f64 - 90.0).powi(2)).sqrt() > 80.0;
+    let far =
+        |x: u16, y: u16| ((x as f64 - 120.0).powi(2) + (y as f64 - 90.0).powi(2)).sqrt() > 80.0;
     let outside: Vec<_> = noisy
         .events
         .iter()
@@ -106,7 +107,11 @@ fn counts_rise_with_bump_size_and_the_flat_plate_has_an_onset_burst() {
     let spikes = taxel_spikes(&flat).unwrap().spikes;
     let onset = flat.info.motion_start_s;
     let all = spikes.pooled();
-    let burst = all.iter().filter(|&&t| t >= onset && t < onset + 0.2).count() as f64 / 0.2;
+    let burst = all
+        .iter()
+        .filter(|&&t| t >= onset && t < onset + 0.2)
+        .count() as f64
+        / 0.2;
     let steady_span = (onset + 0.5, flat.info.motion_end_s - 0.1);
     let steady = all
         .iter()
@@ -115,7 +120,12 @@ fn counts_rise_with_bump_size_and_the_flat_plate_has_an_onset_burst() {
         / (steady_span.1 - steady_span.0);
     assert!(burst >= 5.0 * steady, "burst {burst}/s, steady {steady}/s");
     let involved = (0..49)
-        .filter(|&c| spikes.channel(c).iter().any(|&t| t >= onset && t < onset + 0.2))
+        .filter(|&c| {
+            spikes
+                .channel(c)
+                .iter()
+                .any(|&t| t >= onset && t < onset + 0.2)
+        })
         .count();
     assert!(involved >= 40, "{involved} taxels in the burst");
 }
@@ -130,7 +140,13 @@ fn a_trial_is_sane_pixel_by_pixel() {
     assert!(s.min_interval_us.unwrap() >= 500, "{s:?}");
     let signal = pixel_sanity(&trial.signal_events());
     assert!((0.6..=1.6).contains(&signal.on_off_ratio), "{signal:?}");
-    assert!(trial.events.t.iter().all(|&t| t >= 0 && (t as f64) < trial.info.duration_s * 1e6));
+    assert!(
+        trial
+            .events
+            .t
+            .iter()
+            .all(|&t| t >= 0 && (t as f64) < trial.info.duration_s * 1e6)
+    );
 }
 
 #[test]

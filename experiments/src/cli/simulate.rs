@@ -45,7 +45,7 @@ struct GenerateArgs {
     /// Texture set: 11 bump grids or the 20 natural textures.
     #[arg(long, value_enum, required = true)]
     set: Option<SetArg>,
-    /// Slides per texture [default: the paper's, 100 artificial / 50 natural].
+    /// Slides per texture (default: the paper's, 100 artificial / 50 natural).
     #[arg(long)]
     trials: Option<usize>,
     /// Seed of the dataset (camera and every trial).
@@ -66,7 +66,7 @@ struct GenerateArgs {
     /// With --pixel-events: add a `pin` column (source pin, −1 for noise).
     #[arg(long)]
     labels: bool,
-    /// Cache folder [default: `<out>/cache`].
+    /// Cache folder (default: `<out>/cache`).
     #[arg(long)]
     cache: Option<PathBuf>,
     /// Worker threads (0 = one per core).
@@ -190,7 +190,14 @@ fn generate(a: GenerateArgs) -> anyhow::Result<()> {
             let s = simulate_set(set, trials, a.seed, &params, &each, &|| bar.inc(1))?;
             Ok(s.dataset)
         } else {
-            Ok(load_or_simulate_with(set, trials, a.seed, &params, &cache, &|| bar.inc(1))?)
+            Ok(load_or_simulate_with(
+                set,
+                trials,
+                a.seed,
+                &params,
+                &cache,
+                &|| bar.inc(1),
+            )?)
         }
     })??;
     bar.finish_and_clear();
@@ -210,11 +217,18 @@ fn generate(a: GenerateArgs) -> anyhow::Result<()> {
         set.name(),
         set.textures().len(),
         dataset.len(),
-        if cached { 0.0 } else { dataset.len() as f64 / wall },
+        if cached {
+            0.0
+        } else {
+            dataset.len() as f64 / wall
+        },
         if cached { " — from the cache" } else { "" }
     );
     let stat = |key: &str| dataset.meta().get(key).and_then(|v| v.as_f64());
-    if let (Some(pixel), Some(noise)) = (stat("pixel_events_per_trial"), stat("noise_events_per_trial")) {
+    if let (Some(pixel), Some(noise)) = (
+        stat("pixel_events_per_trial"),
+        stat("noise_events_per_trial"),
+    ) {
         println!("pixel events per trial: {pixel:.0} (of which noise {noise:.0})");
     }
     println!("  class                   spikes/taxel (mean over slides)");
@@ -274,8 +288,11 @@ fn check(a: CheckArgs) -> anyhow::Result<()> {
         std::fs::create_dir_all(&out).with_context(|| format!("creating {}", out.display()))?;
         std::fs::write(out.join("check.md"), markdown)
             .with_context(|| format!("writing {}", out.join("check.md").display()))?;
-        std::fs::write(out.join("check.json"), serde_json::to_string_pretty(&report)?)
-            .with_context(|| format!("writing {}", out.join("check.json").display()))?;
+        std::fs::write(
+            out.join("check.json"),
+            serde_json::to_string_pretty(&report)?,
+        )
+        .with_context(|| format!("writing {}", out.join("check.json").display()))?;
     }
     Ok(())
 }

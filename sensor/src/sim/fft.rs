@@ -80,7 +80,12 @@ mod tests {
     fn fft_matches_the_direct_transform_and_inverts() {
         let n = 16;
         let x: Vec<Complex> = (0..n)
-            .map(|i| ((i as f64 * 0.7).sin() + 0.1 * i as f64, (i as f64 * 0.3).cos()))
+            .map(|i| {
+                (
+                    (i as f64 * 0.7).sin() + 0.1 * i as f64,
+                    (i as f64 * 0.3).cos(),
+                )
+            })
             .collect();
         let mut y = x.clone();
         fft(&mut y, false);

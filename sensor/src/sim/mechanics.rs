@@ -49,8 +49,8 @@ impl TrialDraw {
         let k = &params.kinematics;
         let lateral_offset_mm = (rng.random::<f64>() - 0.5) * k.lateral_offset_range_mm;
         let start_phase_mm = rng.random::<f64>() * k.start_phase_range_mm;
-        let press_depth_mm = (k.press_depth_mm + k.press_depth_sd_mm * gaussian(rng))
-            .max(0.25 * k.press_depth_mm);
+        let press_depth_mm =
+            (k.press_depth_mm + k.press_depth_sd_mm * gaussian(rng)).max(0.25 * k.press_depth_mm);
         let f_s = (1.0 + k.friction_sd * gaussian(rng)).max(0.2);
         let f_k = (1.0 + k.friction_sd * gaussian(rng)).max(0.2);
         let mu_static = surface.mu_static * f_s;
@@ -292,7 +292,8 @@ impl Mechanics {
         let weakening = surface.weakening_speed_mm_s;
         let slip_level = |v: f64| {
             if weakening > 0.0 {
-                (draw.mu_kinetic + (draw.mu_static - draw.mu_kinetic) * (-v.abs() / weakening).exp())
+                (draw.mu_kinetic
+                    + (draw.mu_static - draw.mu_kinetic) * (-v.abs() / weakening).exp())
                     * n_over_kt
             } else {
                 s_kinetic
@@ -328,8 +329,8 @@ impl Mechanics {
                             && rng.random::<f64>() < micro_rate_per_mm * vp * h
                         {
                             let u = rng.random::<f64>();
-                            micro -= c.microslip_min_mm
-                                + u * (c.microslip_max_mm - c.microslip_min_mm);
+                            micro -=
+                                c.microslip_min_mm + u * (c.microslip_max_mm - c.microslip_min_mm);
                         }
                     }
                     micro *= micro_decay;
@@ -443,7 +444,10 @@ mod tests {
         let (x, v) = base_motion(&p, 2.0);
         assert!((v - 15.0).abs() < 1e-12 && x > 20.0 && x < 30.0);
         assert_eq!(base_motion(&p, p.duration_s()), (60.0, 0.0));
-        let (x_end, _) = base_motion(&p, p.kinematics.rest_before_s + p.motion_duration_s() - 1e-9);
+        let (x_end, _) = base_motion(
+            &p,
+            p.kinematics.rest_before_s + p.motion_duration_s() - 1e-9,
+        );
         assert!((x_end - 60.0).abs() < 1e-6);
     }
 

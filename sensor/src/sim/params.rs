@@ -37,10 +37,10 @@ pub struct KinematicsParams {
     /// Default 10 (one period of the coarsest grid).
     pub start_phase_range_mm: f64,
     /// Trial-to-trial standard deviation of the press depth (mm): texture thickness, robot
-    /// repeatability. Default 0.1 [A].
+    /// repeatability. Default 0.1 \[A\].
     pub press_depth_sd_mm: f64,
     /// Trial-to-trial relative standard deviation of both friction coefficients (surface
-    /// state, humidity). Default 0.05 [A].
+    /// state, humidity). Default 0.05 \[A\].
     pub friction_sd: f64,
 }
 
@@ -106,7 +106,7 @@ pub struct ContactParams {
     /// Slip time constant τ = c_d/k_t (s). Default 0.01 (spec: 5–20 ms).
     pub slip_time_s: f64,
     /// Lag of the slip velocity behind its quasi-static value (s): the patch's inertia; it
-    /// lets velocity weakening produce periodic stick-slip. Default 0.001 [A].
+    /// lets velocity weakening produce periodic stick-slip. Default 0.001 \[A\].
     pub slip_inertia_s: f64,
     /// Static friction of the 3D-printed grids against the skin. Default 1.0 (prototype, §6).
     pub grid_mu_static: f64,
@@ -323,7 +323,11 @@ impl SimParams {
         let k = &self.kinematics;
         check("kinematics.speed_mm_s", k.speed_mm_s, Positive)?;
         check("kinematics.distance_mm", k.distance_mm, NonNegative)?;
-        check("kinematics.acceleration_mm_s2", k.acceleration_mm_s2, Positive)?;
+        check(
+            "kinematics.acceleration_mm_s2",
+            k.acceleration_mm_s2,
+            Positive,
+        )?;
         check("kinematics.rest_before_s", k.rest_before_s, NonNegative)?;
         check("kinematics.rest_after_s", k.rest_after_s, NonNegative)?;
         check("kinematics.press_depth_mm", k.press_depth_mm, Positive)?;
@@ -338,7 +342,11 @@ impl SimParams {
             k.start_phase_range_mm,
             NonNegative,
         )?;
-        check("kinematics.press_depth_sd_mm", k.press_depth_sd_mm, NonNegative)?;
+        check(
+            "kinematics.press_depth_sd_mm",
+            k.press_depth_sd_mm,
+            NonNegative,
+        )?;
         check("kinematics.friction_sd", k.friction_sd, Between(0.0, 0.5))?;
         let duration = self.duration_s();
         if !(duration.is_finite() && duration <= 600.0) {
@@ -406,7 +414,11 @@ impl SimParams {
         check("pixel.latency_jitter_s", p.latency_jitter_s, NonNegative)?;
         let n = &self.noise;
         check("noise.leak_rate_hz", n.leak_rate_hz, NonNegative)?;
-        check("noise.leak_spread_decades", n.leak_spread_decades, NonNegative)?;
+        check(
+            "noise.leak_spread_decades",
+            n.leak_spread_decades,
+            NonNegative,
+        )?;
         check("noise.shot_rate_hz", n.shot_rate_hz, NonNegative)?;
         if n.leak_rate_hz + n.shot_rate_hz > 1000.0 {
             return Err(SimulationError::InvalidParameter {
@@ -492,13 +504,17 @@ mod tests {
 
     #[test]
     fn bad_values_name_their_field() {
-        let cases: [(fn(&mut SimParams), &str); 6] = [
+        type Spoil = fn(&mut SimParams);
+        let cases: [(Spoil, &str); 6] = [
             (|p| p.pixel.threshold_on = -0.2, "pixel.threshold_on"),
             (|p| p.pixel.refractory_s = -1e-4, "pixel.refractory_s"),
             (|p| p.contact.lever_mm = f64::NAN, "contact.lever_mm"),
             (|p| p.kinematics.speed_mm_s = -15.0, "kinematics.speed_mm_s"),
             (|p| p.optics.pin_radius_px = -3.0, "optics.pin_radius_px"),
-            (|p| p.noise.shot_rate_hz = f64::INFINITY, "noise.shot_rate_hz"),
+            (
+                |p| p.noise.shot_rate_hz = f64::INFINITY,
+                "noise.shot_rate_hz",
+            ),
         ];
         for (spoil, name) in cases {
             let mut p = SimParams::default();
@@ -514,7 +530,10 @@ mod tests {
     fn parameter_files_round_trip_and_missing_fields_are_named() {
         let p = SimParams::default();
         let text = p.to_json_string();
-        assert_eq!(SimParams::from_json_str(&text, Path::new("p.json")).unwrap(), p);
+        assert_eq!(
+            SimParams::from_json_str(&text, Path::new("p.json")).unwrap(),
+            p
+        );
         let missing = text.replace("\"refractory_s\": 0.0005,", "");
         let err = SimParams::from_json_str(&missing, Path::new("p.json")).unwrap_err();
         let SimulationError::ParamsJson { source, .. } = &err else {

@@ -82,13 +82,14 @@ impl Camera {
     pub fn new(params: &SimParams, seed: u64) -> Self {
         let (width, height) = (DAVIS240_WIDTH, DAVIS240_HEIGHT);
         let n = width as usize * height as usize;
-        let mut rng = ChaCha8Rng::seed_from_u64(seed ^ 0x5eed_ca3e_7a_u64);
+        let mut rng = ChaCha8Rng::seed_from_u64(seed ^ 0x005e_edca_3e7a_u64);
         let p = &params.pixel;
         let mut threshold_on = Vec::with_capacity(n);
         let mut threshold_off = Vec::with_capacity(n);
         let mut leak_rate_hz = Vec::with_capacity(n);
         for _ in 0..n {
-            threshold_on.push((p.threshold_on + p.threshold_sd * gaussian(&mut rng)).max(0.01) as f32);
+            threshold_on
+                .push((p.threshold_on + p.threshold_sd * gaussian(&mut rng)).max(0.01) as f32);
             threshold_off
                 .push((p.threshold_off + p.threshold_sd * gaussian(&mut rng)).max(0.01) as f32);
             let spread = 10f64.powf(params.noise.leak_spread_decades * gaussian(&mut rng));
@@ -145,15 +146,17 @@ const LOG_ENTRIES: usize = 2048;
 fn erfc(x: f64) -> f64 {
     let z = x.abs();
     let t = 1.0 / (1.0 + 0.5 * z);
-    let r = t * (-z * z - 1.265_512_23
-        + t * (1.000_023_68
-            + t * (0.374_091_96
-                + t * (0.096_784_18
-                    + t * (-0.186_288_06
-                        + t * (0.278_868_07
-                            + t * (-1.135_203_98
-                                + t * (1.488_515_87 + t * (-0.822_152_23 + t * 0.170_872_77)))))))))
-        .exp();
+    let r = t
+        * (-z * z - 1.265_512_23
+            + t * (1.000_023_68
+                + t * (0.374_091_96
+                    + t * (0.096_784_18
+                        + t * (-0.186_288_06
+                            + t * (0.278_868_07
+                                + t * (-1.135_203_98
+                                    + t * (1.488_515_87
+                                        + t * (-0.822_152_23 + t * 0.170_872_77)))))))))
+            .exp();
     if x >= 0.0 { r } else { 2.0 - r }
 }
 
@@ -196,7 +199,10 @@ impl Tables {
         let mut max_slope = 0.0f64;
         let n = 2000;
         for i in 0..n {
-            let (r0, r1) = (rho_max * i as f64 / n as f64, rho_max * (i + 1) as f64 / n as f64);
+            let (r0, r1) = (
+                rho_max * i as f64 / n as f64,
+                rho_max * (i + 1) as f64 / n as f64,
+            );
             let d = (lin(intensity(s(r1))) - lin(intensity(s(r0)))).abs() / (r1 - r0);
             max_slope = max_slope.max(d);
         }
@@ -268,7 +274,11 @@ impl Patches {
                     }
                 }
                 if best.0 <= radius {
-                    let other = if second.0 <= radius { second.1 as u8 } else { NOISE_LABEL };
+                    let other = if second.0 <= radius {
+                        second.1 as u8
+                    } else {
+                        NOISE_LABEL
+                    };
                     per_pin[best.1].push((x, y, other));
                 }
             }
@@ -408,7 +418,7 @@ pub(crate) fn mix64(mut z: u64) -> u64 {
 
 impl PixelModel {
     /// Prepares patches around `pins_px` (rest positions, px), lookup tables and state for
-    /// `camera`. Allocates; [`run`](Self::run) reuses everything.
+    /// `camera`. Allocates; each run reuses everything.
     pub fn new(params: &SimParams, pins_px: &[(f64, f64)], camera: &Camera) -> Self {
         let patches = Patches::new(
             pins_px,
@@ -489,7 +499,10 @@ impl PixelModel {
                 let on = u < leak as f64 + 0.5 * shot;
                 // Whole µs; a pixel in reset after its previous event cannot fire.
                 let t = (t * 1e6).round() / 1e6;
-                if times.last().is_none_or(|&(last, _)| t - last >= t_ref - 1e-9) {
+                if times
+                    .last()
+                    .is_none_or(|&(last, _)| t - last >= t_ref - 1e-9)
+                {
                     times.push((t, on));
                 }
             }
@@ -602,12 +615,18 @@ impl PixelModel {
     #[inline(always)]
     fn render(&self, j: usize, own: usize) -> (f32, f32) {
         let p = &self.patches;
-        let (ex, ey) = (p.own_dx[j] - self.pin_dx[own], p.own_dy[j] - self.pin_dy[own]);
+        let (ex, ey) = (
+            p.own_dx[j] - self.pin_dx[own],
+            p.own_dy[j] - self.pin_dy[own],
+        );
         let mut cover = self.tables.coverage(ex * ex + ey * ey);
         let other = p.other[j];
         if other != NOISE_LABEL {
             let o = other as usize;
-            let (fx, fy) = (p.other_dx[j] - self.pin_dx[o], p.other_dy[j] - self.pin_dy[o]);
+            let (fx, fy) = (
+                p.other_dx[j] - self.pin_dx[o],
+                p.other_dy[j] - self.pin_dy[o],
+            );
             cover += self.tables.coverage(fx * fx + fy * fy);
         }
         self.tables.log_and_rate(cover)
@@ -628,21 +647,12 @@ impl PixelModel {
     }
 
     fn patch_owner(&self, j: usize) -> usize {
-        self.patches
-            .ranges
-            .partition_point(|&(_, end)| end <= j)
+        self.patches.ranges.partition_point(|&(_, end)| end <= j)
     }
 
     /// One step of the pixels of `patch` (= its owner pin) from `t0` to `t1`; returns the largest filter rate
     /// |L − L̃|/τ_p at `t1`.
-    fn step(
-        &mut self,
-        patch: usize,
-        t0: f64,
-        t1: f64,
-        seed: u64,
-        out: &mut Vec<RawEvent>,
-    ) -> f32 {
+    fn step(&mut self, patch: usize, t0: f64, t1: f64, seed: u64, out: &mut Vec<RawEvent>) -> f32 {
         let (start, end) = self.patches.ranges[patch];
         let dt = (t1 - t0) as f32;
         let mut max_rate = 0.0f32;

@@ -10,7 +10,7 @@
 //!
 //! Natural textures follow the spec's §2.4 table: a periodic weave, self-affine roughness
 //! (spectrum ∝ (1 + (kξ)²)^−(1+H)), sparse discrete features, the compliance κ_m scaling every
-//! height, friction and the micro-slip rate. **The numbers are physical priors ([A] in the spec),
+//! height, friction and the micro-slip rate. **The numbers are physical priors (\[A\] in the spec),
 //! never fitted to classification results.** The random parts are drawn from a seed derived from
 //! the texture's name only, so a texture is the same sample in every dataset.
 
@@ -93,8 +93,7 @@ const fn natural(
     (roughness_rms_mm, correlation_mm, hurst): (f64, f64, f64),
     features: Option<Features>,
     compliance: f64,
-    (mu_static, mu_kinetic): (f64, f64),
-    microslip_rate_hz: f64,
+    (mu_static, mu_kinetic, microslip_rate_hz): (f64, f64, f64),
 ) -> NaturalTexture {
     NaturalTexture {
         name,
@@ -124,32 +123,35 @@ const fn features(density_per_cm2: f64, diameter_mm: f64, height_mm: f64) -> Opt
 /// The 20 natural textures of the paper (Table II order) with the spec's §2.4 priors. Where
 /// the table gives a range the middle is used; an unstated Hurst exponent is 0.8; "hairy",
 /// "pile" and "fibre flicks" are represented by the roughness and the micro-slip rate alone.
+/// Columns: name, weave, (p_w, a_w) in mm, (h_rms in mm, ξ in mm, H), features (per cm²,
+/// diameter mm, height mm), κ_m, (μ_s, μ_k, λ_ms in s⁻¹).
+#[rustfmt::skip]
 pub const NATURAL_TEXTURES: [NaturalTexture; 20] = {
     use Weave::*;
-    let mut acrylic = natural("acrylic", None, (0.0, 0.0), (0.0005, 0.1, 0.8), Option::None, 1.0, (1.6, 1.1), 5.0);
+    let mut acrylic = natural("acrylic", None, (0.0, 0.0), (0.0005, 0.1, 0.8), Option::None, 1.0, (1.6, 1.1, 5.0));
     // "strong v-weakening": stick-slip at the slide speed needs (μ_s − μ_k)·N/(k_t·v_c) > τ.
     acrylic.weakening_speed_mm_s = 15.0;
     [
-        natural("foam", None, (0.0, 0.0), (0.15, 0.5, 0.6), features(60.0, 0.6, -0.3), 0.1, (1.3, 0.9), 40.0),
-        natural("plywood", Grain, (1.5, 0.02), (0.01, 0.3, 0.7), Option::None, 1.0, (0.7, 0.5), 20.0),
-        natural("mdf", None, (0.0, 0.0), (0.008, 0.2, 0.8), Option::None, 1.0, (0.8, 0.6), 15.0),
+        natural("foam", None, (0.0, 0.0), (0.15, 0.5, 0.6), features(60.0, 0.6, -0.3), 0.1, (1.3, 0.9, 40.0)),
+        natural("plywood", Grain, (1.5, 0.02), (0.01, 0.3, 0.7), Option::None, 1.0, (0.7, 0.5, 20.0)),
+        natural("mdf", None, (0.0, 0.0), (0.008, 0.2, 0.8), Option::None, 1.0, (0.8, 0.6, 15.0)),
         acrylic,
-        natural("wool", Plain, (3.5, 0.4), (0.15, 1.0, 0.5), Option::None, 0.3, (0.8, 0.6), 30.0),
-        natural("fake fur", None, (0.0, 0.0), (0.5, 2.0, 0.8), Option::None, 0.05, (0.6, 0.5), 50.0),
-        natural("liquid satin", Plain, (0.35, 0.01), (0.01, 0.3, 0.8), Option::None, 0.6, (0.35, 0.25), 5.0),
-        natural("shimmer organza", Plain, (0.25, 0.02), (0.015, 0.2, 0.8), Option::None, 0.8, (0.45, 0.35), 10.0),
-        natural("tweed", Twill, (2.0, 0.25), (0.12, 0.8, 0.5), features(0.5, 3.0, 0.3), 0.5, (0.8, 0.6), 30.0),
-        natural("lace", Motif, (6.0, 0.3), (0.05, 1.0, 0.8), features(2.0, 2.0, -0.3), 0.6, (0.6, 0.45), 20.0),
-        natural("flarefree net", Hexagonal, (1.2, 0.08), (0.0, 1.0, 0.8), Option::None, 0.8, (0.5, 0.4), 15.0),
-        natural("embroidered cotton", Plain, (0.5, 0.04), (0.03, 0.3, 0.8), features(1.56, 3.0, 0.5), 0.6, (0.7, 0.55), 20.0),
-        natural("shirt canvas", Plain, (0.6, 0.06), (0.03, 0.3, 0.8), Option::None, 0.7, (0.65, 0.5), 15.0),
-        natural("fairydust organza", Plain, (0.25, 0.02), (0.015, 0.2, 0.8), features(5.0, 1.0, 0.05), 0.8, (0.45, 0.35), 15.0),
-        natural("sequins allover", Scales, (3.5, 0.25), (0.0, 1.0, 0.8), Option::None, 0.9, (0.35, 0.25), 10.0),
-        natural("metallic mesh", Plain, (2.5, 0.5), (0.02, 0.5, 0.8), Option::None, 1.0, (0.45, 0.35), 10.0),
-        natural("felt", None, (0.0, 0.0), (0.06, 0.4, 0.6), Option::None, 0.4, (0.9, 0.7), 30.0),
-        natural("needlecord", Wales, (1.6, 0.35), (0.05, 0.3, 0.8), Option::None, 0.5, (0.7, 0.55), 20.0),
-        natural("fleece", None, (0.0, 0.0), (0.2, 1.5, 0.5), Option::None, 0.1, (0.7, 0.55), 35.0),
-        natural("microdot foil", Plain, (0.45, 0.02), (0.002, 0.1, 0.8), Option::None, 1.0, (0.5, 0.4), 10.0),
+        natural("wool", Plain, (3.5, 0.4), (0.15, 1.0, 0.5), Option::None, 0.3, (0.8, 0.6, 30.0)),
+        natural("fake fur", None, (0.0, 0.0), (0.5, 2.0, 0.8), Option::None, 0.05, (0.6, 0.5, 50.0)),
+        natural("liquid satin", Plain, (0.35, 0.01), (0.01, 0.3, 0.8), Option::None, 0.6, (0.35, 0.25, 5.0)),
+        natural("shimmer organza", Plain, (0.25, 0.02), (0.015, 0.2, 0.8), Option::None, 0.8, (0.45, 0.35, 10.0)),
+        natural("tweed", Twill, (2.0, 0.25), (0.12, 0.8, 0.5), features(0.5, 3.0, 0.3), 0.5, (0.8, 0.6, 30.0)),
+        natural("lace", Motif, (6.0, 0.3), (0.05, 1.0, 0.8), features(2.0, 2.0, -0.3), 0.6, (0.6, 0.45, 20.0)),
+        natural("flarefree net", Hexagonal, (1.2, 0.08), (0.0, 1.0, 0.8), Option::None, 0.8, (0.5, 0.4, 15.0)),
+        natural("embroidered cotton", Plain, (0.5, 0.04), (0.03, 0.3, 0.8), features(1.56, 3.0, 0.5), 0.6, (0.7, 0.55, 20.0)),
+        natural("shirt canvas", Plain, (0.6, 0.06), (0.03, 0.3, 0.8), Option::None, 0.7, (0.65, 0.5, 15.0)),
+        natural("fairydust organza", Plain, (0.25, 0.02), (0.015, 0.2, 0.8), features(5.0, 1.0, 0.05), 0.8, (0.45, 0.35, 15.0)),
+        natural("sequins allover", Scales, (3.5, 0.25), (0.0, 1.0, 0.8), Option::None, 0.9, (0.35, 0.25, 10.0)),
+        natural("metallic mesh", Plain, (2.5, 0.5), (0.02, 0.5, 0.8), Option::None, 1.0, (0.45, 0.35, 10.0)),
+        natural("felt", None, (0.0, 0.0), (0.06, 0.4, 0.6), Option::None, 0.4, (0.9, 0.7, 30.0)),
+        natural("needlecord", Wales, (1.6, 0.35), (0.05, 0.3, 0.8), Option::None, 0.5, (0.7, 0.55, 20.0)),
+        natural("fleece", None, (0.0, 0.0), (0.2, 1.5, 0.5), Option::None, 0.1, (0.7, 0.55, 35.0)),
+        natural("microdot foil", Plain, (0.45, 0.02), (0.002, 0.1, 0.8), Option::None, 1.0, (0.5, 0.4, 10.0)),
     ]
 };
 
@@ -600,16 +602,24 @@ mod tests {
             Texture::from_name("grid 2.5 mm").unwrap(),
             Texture::Grid { size_mm: 2.5 }
         );
-        assert_eq!(Texture::from_name("5 mm").unwrap(), Texture::Grid { size_mm: 5.0 });
+        assert_eq!(
+            Texture::from_name("5 mm").unwrap(),
+            Texture::Grid { size_mm: 5.0 }
+        );
         assert_eq!(Texture::from_name("Felt").unwrap().name(), "felt");
         for t in &NATURAL_TEXTURES {
             assert_eq!(Texture::from_name(t.name).unwrap().name(), t.name);
         }
         let err = Texture::from_name("velvet").unwrap_err();
-        assert!(matches!(err, SimulationError::UnknownTexture { ref name, .. } if name == "velvet"));
+        assert!(
+            matches!(err, SimulationError::UnknownTexture { ref name, .. } if name == "velvet")
+        );
         assert!(matches!(
             Texture::from_name("grid 7 mm"),
-            Err(SimulationError::InvalidParameter { field: "texture.size_mm", .. })
+            Err(SimulationError::InvalidParameter {
+                field: "texture.size_mm",
+                ..
+            })
         ));
         assert!(matches!(
             Texture::grid(-1.0),

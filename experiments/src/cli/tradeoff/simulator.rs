@@ -46,7 +46,10 @@ pub fn run(args: SimulatorArgs) -> anyhow::Result<()> {
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("creating {}", args.out.display()))?;
     let markdown = to_markdown(&rows, &config);
-    for (name, text) in [("simulator.csv", to_csv(&rows)), ("simulator.md", markdown.clone())] {
+    for (name, text) in [
+        ("simulator.csv", to_csv(&rows)),
+        ("simulator.md", markdown.clone()),
+    ] {
         let path = args.out.join(name);
         std::fs::write(&path, text).with_context(|| format!("writing {}", path.display()))?;
     }
