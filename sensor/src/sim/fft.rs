@@ -4,11 +4,22 @@
 /// A complex number as `(re, im)`.
 pub(crate) type Complex = (f64, f64);
 
-/// In-place FFT of `data` (length a power of two); `inverse` computes the unnormalised
-/// inverse (divide by the length afterwards).
-pub(crate) fn fft(data: &mut [Complex], inverse: bool) {
+/// The twiddle factors `e^(∓2πik/n)`, k < n/2, of an `n`-point transform.
+pub(crate) fn twiddles(n: usize, inverse: bool) -> Vec<Complex> {
+    let sign = if inverse { 1.0 } else { -1.0 };
+    (0..n / 2)
+        .map(|k| {
+            let (s, c) = (sign * std::f64::consts::TAU * k as f64 / n as f64).sin_cos();
+            (c, s)
+        })
+        .collect()
+}
+
+/// In-place FFT of `data` (length a power of two) with the [`twiddles`] of its length and
+/// direction; the inverse is unnormalised (divide by the length afterwards).
+pub(crate) fn fft_with(data: &mut [Complex], twiddles: &[Complex]) {
     let n = data.len();
-    debug_assert!(n.is_power_of_two());
+    debug_assert!(n.is_power_of_two() && twiddles.len() == n / 2);
     let mut j = 0;
     for i in 1..n {
         let mut bit = n >> 1;
@@ -21,13 +32,12 @@ pub(crate) fn fft(data: &mut [Complex], inverse: bool) {
             data.swap(i, j);
         }
     }
-    let sign = if inverse { 1.0 } else { -1.0 };
     let mut len = 2;
     while len <= n {
-        let angle = sign * std::f64::consts::TAU / len as f64;
+        let stride = n / len;
         for start in (0..n).step_by(len) {
             for k in 0..len / 2 {
-                let (s, c) = (angle * k as f64).sin_cos();
+                let (c, s) = twiddles[k * stride];
                 let a = data[start + k];
                 let b = data[start + k + len / 2];
                 let bw = (b.0 * c - b.1 * s, b.0 * s + b.1 * c);
@@ -39,18 +49,27 @@ pub(crate) fn fft(data: &mut [Complex], inverse: bool) {
     }
 }
 
+/// In-place FFT of `data` (length a power of two); `inverse` computes the unnormalised
+/// inverse.
+#[cfg(test)]
+pub(crate) fn fft(data: &mut [Complex], inverse: bool) {
+    fft_with(data, &twiddles(data.len(), inverse));
+}
+
 /// In-place 2-D FFT of a row-major `nx × ny` grid (both powers of two); the inverse is
 /// normalised (divided by `nx·ny`).
 pub(crate) fn fft2(data: &mut [Complex], nx: usize, ny: usize, inverse: bool) {
+    let row_twiddles = twiddles(nx, inverse);
     for row in data.chunks_exact_mut(nx) {
-        fft(row, inverse);
+        fft_with(row, &row_twiddles);
     }
+    let column_twiddles = twiddles(ny, inverse);
     let mut column = vec![(0.0, 0.0); ny];
     for x in 0..nx {
         for (y, c) in column.iter_mut().enumerate() {
             *c = data[y * nx + x];
         }
-        fft(&mut column, inverse);
+        fft_with(&mut column, &column_twiddles);
         for (y, c) in column.iter().enumerate() {
             data[y * nx + x] = *c;
         }
