@@ -490,8 +490,8 @@ mod tests {
         store(&fake, dir.path(), &path).unwrap();
         let again = load_or_simulate(TextureSet::Artificial, 1, 3, &p, dir.path()).unwrap();
         assert_eq!(again, fake);
-        let mut tagged = first.clone();
-        tagged.meta_mut().insert("tag".into(), 1.into());
+        let mut spoiled = first.clone();
+        spoiled.meta_mut().insert("seed".into(), 999.into());
         let mut other = p;
         other.pixel.threshold_on = 0.21;
         assert_ne!(
@@ -499,7 +499,7 @@ mod tests {
             path
         );
         // A file whose metadata does not match (hash collision, edits) is not trusted.
-        store(&tagged, dir.path(), &path).unwrap();
+        store(&spoiled, dir.path(), &path).unwrap();
         let regenerated = load_or_simulate(TextureSet::Artificial, 1, 3, &p, dir.path()).unwrap();
         assert_eq!(regenerated, first);
     }
