@@ -320,130 +320,128 @@ impl SimParams {
     /// names the first offending field as `group.field`.
     pub fn validate(&self) -> Result<(), SimulationError> {
         use Domain::*;
-        let k = &self.kinematics;
-        check("kinematics.speed_mm_s", k.speed_mm_s, Positive)?;
-        check("kinematics.distance_mm", k.distance_mm, NonNegative)?;
-        check(
-            "kinematics.acceleration_mm_s2",
-            k.acceleration_mm_s2,
-            Positive,
-        )?;
-        check("kinematics.rest_before_s", k.rest_before_s, NonNegative)?;
-        check("kinematics.rest_after_s", k.rest_after_s, NonNegative)?;
-        check("kinematics.press_depth_mm", k.press_depth_mm, Positive)?;
-        check("kinematics.normal_force_n", k.normal_force_n, Positive)?;
-        check(
-            "kinematics.lateral_offset_range_mm",
-            k.lateral_offset_range_mm,
-            NonNegative,
-        )?;
-        check(
-            "kinematics.start_phase_range_mm",
-            k.start_phase_range_mm,
-            NonNegative,
-        )?;
-        check(
-            "kinematics.press_depth_sd_mm",
-            k.press_depth_sd_mm,
-            NonNegative,
-        )?;
-        check("kinematics.friction_sd", k.friction_sd, Between(0.0, 0.5))?;
-        let duration = self.duration_s();
-        if !(duration.is_finite() && duration <= 600.0) {
-            return Err(SimulationError::InvalidParameter {
-                field: "kinematics.distance_mm",
-                value: k.distance_mm,
-                expected: "a slide (with its rests) of at most 600 s",
-            });
+        let (k, c, o) = (&self.kinematics, &self.contact, &self.optics);
+        let (p, n, s) = (&self.pixel, &self.noise, &self.solver);
+        for (field, value, domain) in [
+            ("kinematics.speed_mm_s", k.speed_mm_s, Positive),
+            ("kinematics.distance_mm", k.distance_mm, NonNegative),
+            (
+                "kinematics.acceleration_mm_s2",
+                k.acceleration_mm_s2,
+                Positive,
+            ),
+            ("kinematics.rest_before_s", k.rest_before_s, NonNegative),
+            ("kinematics.rest_after_s", k.rest_after_s, NonNegative),
+            ("kinematics.press_depth_mm", k.press_depth_mm, Positive),
+            ("kinematics.normal_force_n", k.normal_force_n, Positive),
+            (
+                "kinematics.lateral_offset_range_mm",
+                k.lateral_offset_range_mm,
+                NonNegative,
+            ),
+            (
+                "kinematics.start_phase_range_mm",
+                k.start_phase_range_mm,
+                NonNegative,
+            ),
+            (
+                "kinematics.press_depth_sd_mm",
+                k.press_depth_sd_mm,
+                NonNegative,
+            ),
+            ("kinematics.friction_sd", k.friction_sd, Between(0.0, 0.5)),
+            ("contact.skin_depth_mm", c.skin_depth_mm, Positive),
+            ("contact.gap_conformity_mm", c.gap_conformity_mm, Positive),
+            ("contact.contact_edge_mm", c.contact_edge_mm, Positive),
+            ("contact.lever_mm", c.lever_mm, NonNegative),
+            ("contact.pin_shear_gain", c.pin_shear_gain, NonNegative),
+            ("contact.bulge", c.bulge, NonNegative),
+            ("contact.shear_spread", c.shear_spread, Positive),
+            (
+                "contact.texture_smoothing_mm",
+                c.texture_smoothing_mm,
+                NonNegative,
+            ),
+            ("contact.bump_height_mm", c.bump_height_mm, NonNegative),
+            (
+                "contact.tangential_stiffness_n_mm",
+                c.tangential_stiffness_n_mm,
+                Positive,
+            ),
+            ("contact.slip_time_s", c.slip_time_s, Positive),
+            ("contact.slip_inertia_s", c.slip_inertia_s, Positive),
+            ("contact.grid_mu_static", c.grid_mu_static, Positive),
+            ("contact.grid_mu_kinetic", c.grid_mu_kinetic, Positive),
+            ("contact.microslip_min_mm", c.microslip_min_mm, NonNegative),
+            ("contact.microslip_max_mm", c.microslip_max_mm, NonNegative),
+            ("contact.microslip_time_s", c.microslip_time_s, Positive),
+            ("optics.pin_radius_px", o.pin_radius_px, Positive),
+            ("optics.edge_blur_px", o.edge_blur_px, Positive),
+            ("optics.background_dn", o.background_dn, Positive),
+            ("optics.pin_dn", o.pin_dn, Positive),
+            ("optics.linear_below_dn", o.linear_below_dn, Positive),
+            ("optics.full_scale_dn", o.full_scale_dn, Positive),
+            ("optics.patch_radius_px", o.patch_radius_px, AtMost(40.0)),
+            ("pixel.threshold_on", p.threshold_on, Positive),
+            ("pixel.threshold_off", p.threshold_off, Positive),
+            ("pixel.threshold_sd", p.threshold_sd, NonNegative),
+            ("pixel.refractory_s", p.refractory_s, NonNegative),
+            ("pixel.bandwidth_hz", p.bandwidth_hz, Positive),
+            ("pixel.latency_s", p.latency_s, NonNegative),
+            ("pixel.latency_jitter_s", p.latency_jitter_s, NonNegative),
+            ("noise.leak_rate_hz", n.leak_rate_hz, NonNegative),
+            (
+                "noise.leak_spread_decades",
+                n.leak_spread_decades,
+                NonNegative,
+            ),
+            ("noise.shot_rate_hz", n.shot_rate_hz, NonNegative),
+            ("solver.step_tolerance", s.step_tolerance, AtMost(1.0)),
+            ("solver.max_step_s", s.max_step_s, AtMost(1.0)),
+            (
+                "solver.mechanics_dt_s",
+                s.mechanics_dt_s,
+                Between(1e-6, 0.01),
+            ),
+            ("solver.shear_dt_s", s.shear_dt_s, Between(1e-7, 0.001)),
+        ] {
+            check(field, value, domain)?;
         }
-        let c = &self.contact;
-        check("contact.skin_depth_mm", c.skin_depth_mm, Positive)?;
-        check("contact.gap_conformity_mm", c.gap_conformity_mm, Positive)?;
-        check("contact.contact_edge_mm", c.contact_edge_mm, Positive)?;
-        check("contact.lever_mm", c.lever_mm, NonNegative)?;
-        check("contact.pin_shear_gain", c.pin_shear_gain, NonNegative)?;
-        check("contact.bulge", c.bulge, NonNegative)?;
-        check("contact.shear_spread", c.shear_spread, Positive)?;
-        check(
-            "contact.texture_smoothing_mm",
-            c.texture_smoothing_mm,
-            NonNegative,
-        )?;
-        check("contact.bump_height_mm", c.bump_height_mm, NonNegative)?;
-        check(
-            "contact.tangential_stiffness_n_mm",
-            c.tangential_stiffness_n_mm,
-            Positive,
-        )?;
-        check("contact.slip_time_s", c.slip_time_s, Positive)?;
-        check("contact.slip_inertia_s", c.slip_inertia_s, Positive)?;
-        check("contact.grid_mu_static", c.grid_mu_static, Positive)?;
-        check("contact.grid_mu_kinetic", c.grid_mu_kinetic, Positive)?;
-        if c.grid_mu_kinetic > c.grid_mu_static {
-            return Err(SimulationError::InvalidParameter {
-                field: "contact.grid_mu_kinetic",
-                value: c.grid_mu_kinetic,
-                expected: "≤ contact.grid_mu_static",
-            });
+        // Relations between fields.
+        let relations = [
+            (
+                "kinematics.distance_mm",
+                k.distance_mm,
+                self.duration_s() <= 600.0,
+                "a slide (with its rests) of at most 600 s",
+            ),
+            (
+                "contact.grid_mu_kinetic",
+                c.grid_mu_kinetic,
+                c.grid_mu_kinetic <= c.grid_mu_static,
+                "≤ contact.grid_mu_static",
+            ),
+            (
+                "contact.microslip_max_mm",
+                c.microslip_max_mm,
+                c.microslip_max_mm >= c.microslip_min_mm,
+                "≥ contact.microslip_min_mm",
+            ),
+            (
+                "noise.leak_rate_hz",
+                n.leak_rate_hz,
+                n.leak_rate_hz + n.shot_rate_hz <= 1000.0,
+                "leak + shot noise of at most 1000 Hz per pixel",
+            ),
+        ];
+        match relations.into_iter().find(|r| !r.2) {
+            Some((field, value, _, expected)) => Err(SimulationError::InvalidParameter {
+                field,
+                value,
+                expected,
+            }),
+            None => Ok(()),
         }
-        check("contact.microslip_min_mm", c.microslip_min_mm, NonNegative)?;
-        check("contact.microslip_max_mm", c.microslip_max_mm, NonNegative)?;
-        if c.microslip_max_mm < c.microslip_min_mm {
-            return Err(SimulationError::InvalidParameter {
-                field: "contact.microslip_max_mm",
-                value: c.microslip_max_mm,
-                expected: "≥ contact.microslip_min_mm",
-            });
-        }
-        check("contact.microslip_time_s", c.microslip_time_s, Positive)?;
-        let o = &self.optics;
-        check("optics.pin_radius_px", o.pin_radius_px, Positive)?;
-        check("optics.edge_blur_px", o.edge_blur_px, Positive)?;
-        check("optics.background_dn", o.background_dn, Positive)?;
-        check("optics.pin_dn", o.pin_dn, Positive)?;
-        check("optics.linear_below_dn", o.linear_below_dn, Positive)?;
-        check("optics.full_scale_dn", o.full_scale_dn, Positive)?;
-        check("optics.patch_radius_px", o.patch_radius_px, AtMost(40.0))?;
-        let p = &self.pixel;
-        check("pixel.threshold_on", p.threshold_on, Positive)?;
-        check("pixel.threshold_off", p.threshold_off, Positive)?;
-        check("pixel.threshold_sd", p.threshold_sd, NonNegative)?;
-        check("pixel.refractory_s", p.refractory_s, NonNegative)?;
-        check("pixel.bandwidth_hz", p.bandwidth_hz, Positive)?;
-        check("pixel.latency_s", p.latency_s, NonNegative)?;
-        check("pixel.latency_jitter_s", p.latency_jitter_s, NonNegative)?;
-        let n = &self.noise;
-        check("noise.leak_rate_hz", n.leak_rate_hz, NonNegative)?;
-        check(
-            "noise.leak_spread_decades",
-            n.leak_spread_decades,
-            NonNegative,
-        )?;
-        check("noise.shot_rate_hz", n.shot_rate_hz, NonNegative)?;
-        if n.leak_rate_hz + n.shot_rate_hz > 1000.0 {
-            return Err(SimulationError::InvalidParameter {
-                field: "noise.leak_rate_hz",
-                value: n.leak_rate_hz,
-                expected: "leak + shot noise of at most 1000 Hz per pixel",
-            });
-        }
-        let s = &self.solver;
-        check("solver.step_tolerance", s.step_tolerance, AtMost(1.0))?;
-        check("solver.max_step_s", s.max_step_s, AtMost(1.0))?;
-        check("solver.mechanics_dt_s", s.mechanics_dt_s, AtMost(0.01))?;
-        check("solver.shear_dt_s", s.shear_dt_s, AtMost(0.001))?;
-        if s.mechanics_dt_s < 1e-6 || s.shear_dt_s < 1e-7 {
-            return Err(SimulationError::InvalidParameter {
-                field: if s.mechanics_dt_s < 1e-6 {
-                    "solver.mechanics_dt_s"
-                } else {
-                    "solver.shear_dt_s"
-                },
-                value: s.mechanics_dt_s.min(s.shear_dt_s),
-                expected: "≥ 1 µs (mechanics) and ≥ 0.1 µs (shear)",
-            });
-        }
-        Ok(())
     }
 
     /// Reads and validates a JSON parameter file (every field required).

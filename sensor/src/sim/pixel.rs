@@ -734,12 +734,7 @@ impl PixelModel {
                 let te = (t0 + (level - f0) as f64 / slope).clamp(ta, tb);
                 let t_out = self.emit(j, te, on, seed, out);
                 self.l_ref[j] = level;
-                // The reset is released t_ref after the readout acknowledged the event.
-                self.reset_until[j] = if t_ref > 0.0 {
-                    t_out + t_ref
-                } else {
-                    f64::NEG_INFINITY
-                };
+                self.hold_reset(j, t_out, t_ref);
                 ta = te;
                 continue;
             }
@@ -750,16 +745,21 @@ impl PixelModel {
                 self.n_events[j] += 1;
                 self.advance_noise(j);
                 self.l_ref[j] = at(tn);
-                self.reset_until[j] = if t_ref > 0.0 {
-                    t_out + t_ref
-                } else {
-                    f64::NEG_INFINITY
-                };
+                self.hold_reset(j, t_out, t_ref);
                 ta = tn;
                 continue;
             }
             return;
         }
+    }
+
+    /// Holds pixel `j` in reset until `t_ref` after its event's readout at `t_out`.
+    fn hold_reset(&mut self, j: usize, t_out: f64, t_ref: f64) {
+        self.reset_until[j] = if t_ref > 0.0 {
+            t_out + t_ref
+        } else {
+            f64::NEG_INFINITY
+        };
     }
 
     fn advance_noise(&mut self, j: usize) {
