@@ -244,7 +244,8 @@ pub struct SolverParams {
     /// Largest change of (filtered) log intensity allowed in one pixel step: steps shrink
     /// while pins move fast and grow while they rest. Default 0.067 (≈ C⁺/3, ESIM).
     pub step_tolerance: f64,
-    /// Longest pixel step (s). Default 0.05.
+    /// Longest pixel step (s): how often a patch whose pins rest and whose filter has settled
+    /// is visited (its noise events are handled exactly inside the step). Default 0.25.
     pub max_step_s: f64,
     /// Sampling interval of the mechanics (pin positions are interpolated linearly between
     /// samples) (s). Default 0.0005.
@@ -257,7 +258,7 @@ impl Default for SolverParams {
     fn default() -> Self {
         Self {
             step_tolerance: 0.067,
-            max_step_s: 0.05,
+            max_step_s: 0.25,
             mechanics_dt_s: 0.0005,
             shear_dt_s: 0.00005,
         }
