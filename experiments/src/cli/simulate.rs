@@ -6,7 +6,7 @@ use clap::{Args, Subcommand, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
 use neurotac_experiments::bench::with_threads;
 use neurotac_experiments::datasets::{
-    TextureSet, cache_path, load_or_simulate_with, simulate_set, write_events_csv,
+    TextureSet, cache_path, load_or_simulate_with, simulate_set, store, write_events_csv,
 };
 use neurotac_experiments::simulator_check::{
     CheckConfig, PAPER_COUNTS, calibrate_lever, check_trial_count, simulator_check, to_markdown,
@@ -188,6 +188,12 @@ fn generate(a: GenerateArgs) -> anyhow::Result<()> {
                 )
             };
             let s = simulate_set(set, trials, a.seed, &params, &each, &|| bar.inc(1))?;
+            // Cache it too, so experiments find it.
+            store(
+                &s.dataset,
+                &cache,
+                &cache_path(set, trials, a.seed, &params, &cache),
+            )?;
             Ok(s.dataset)
         } else {
             Ok(load_or_simulate_with(
@@ -212,17 +218,16 @@ fn generate(a: GenerateArgs) -> anyhow::Result<()> {
             .save_json(&json)
             .with_context(|| format!("writing {}", json.display()))?;
     }
+    let how = if cached {
+        "loaded from the cache".to_owned()
+    } else {
+        format!("{:.1} trials/s", dataset.len() as f64 / wall)
+    };
     println!(
-        "{} set: {} textures × {trials} slides = {} trials in {wall:.1} s ({:.1} trials/s){}",
+        "{} set: {} textures × {trials} slides = {} trials in {wall:.1} s ({how})",
         set.name(),
         set.textures().len(),
         dataset.len(),
-        if cached {
-            0.0
-        } else {
-            dataset.len() as f64 / wall
-        },
-        if cached { " — from the cache" } else { "" }
     );
     let stat = |key: &str| dataset.meta().get(key).and_then(|v| v.as_f64());
     if let (Some(pixel), Some(noise)) = (
