@@ -1,9 +1,10 @@
 //! Pixel-level diagnostics of the simulator (spec §5, statistic 7): a controlled edge pass and
 //! per-pixel sanity of an event stream.
 
+use super::camera::Camera;
 use super::error::SimulationError;
 use super::params::SimParams;
-use super::pixel::{Camera, PinMotion, PixelModel};
+use super::pixel::{PinMotion, PixelModel};
 use crate::geometry::{DAVIS240_WIDTH, PinGeometry};
 use neurotac_core::EventBuffer;
 

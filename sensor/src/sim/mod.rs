@@ -8,7 +8,8 @@
 //! | parameters (§1–3, §7) | [`params`] | [`SimParams`] |
 //! | textures (§2.1, §2.4) | [`texture`] | [`Texture`], [`TextureField`], [`NATURAL_TEXTURES`] |
 //! | kinematics, stick-slip, pins (§2.1–2.2) | [`mechanics`] | [`PinTrajectories`], [`TrialDraw`] |
-//! | rendering, DVS pixels, noise (§3.1–3.2) | [`pixel`] | [`Camera`], [`PixelModel`], [`EventLabel`] |
+//! | camera fixed-pattern noise (§3.2) | [`camera`] | [`Camera`] |
+//! | rendering, DVS pixels, noise (§3.1–3.2) | [`pixel`] | [`PixelModel`], [`EventLabel`] |
 //! | pixel-level diagnostics (§5.7) | [`diagnostics`] | [`edge_pass`], [`pixel_sanity`] |
 //! | one trial, transduction | here | [`Simulator`], [`SimulatedTrial`], [`taxel_spikes`] |
 //!
@@ -29,6 +30,7 @@
 //! # Ok::<(), neurotac_sensor::sim::SimulationError>(())
 //! ```
 
+pub mod camera;
 pub mod diagnostics;
 pub mod error;
 mod fft;
@@ -37,11 +39,12 @@ pub mod params;
 pub mod pixel;
 pub mod texture;
 
+pub use camera::Camera;
 pub use diagnostics::{EdgePass, PixelSanity, edge_pass, pixel_sanity};
 pub use error::SimulationError;
 pub use mechanics::{PinTrajectories, TrialDraw};
 pub use params::{PeriodRule, SimParams};
-pub use pixel::{Camera, EventLabel, PixelModel, PixelRunStats};
+pub use pixel::{EventLabel, PixelModel, PixelRunStats};
 pub use texture::{GRID_SIZES_MM, NATURAL_TEXTURES, Surface, Texture, TextureField};
 
 use crate::filter::MapStart;
