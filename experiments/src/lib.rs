@@ -13,6 +13,7 @@
 
 pub mod afferents;
 pub mod bench;
+pub mod datasets;
 pub mod error;
 pub mod figures;
 pub mod neuron_setup;
@@ -20,6 +21,8 @@ pub mod neuron_tradeoff;
 pub mod peers;
 pub mod protocols;
 pub mod search;
+pub mod simulator_check;
+pub mod simulator_tradeoff;
 pub mod svg;
 pub mod synthetic;
 

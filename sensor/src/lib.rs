@@ -15,7 +15,8 @@
 //! | the push interface of pipeline stages | [`stage::Stage`], [`stage::EventFilter`], [`stage::Filtered`], [`stage::Chain`] |
 //! | noise filters (§3) | [`filter::BackgroundActivityFilter`] (dv-processing semantics), [`filter::RefractoryFilter`] |
 //! | taxels | [`taxel::TaxelLayout`], [`taxel::ReceptiveFields`], [`taxel::TaxelPooling`], [`taxel::PositionUpdate`], [`taxel::Transducer`] |
-//! | errors | [`FormatError`], [`DeviceError`], [`TransductionError`], [`SensorError`] |
+//! | the NeuroTac simulator (spec `simulator.md`) | [`sim::Simulator`], [`sim::SimParams`], [`sim::Texture`], [`sim::Camera`] |
+//! | errors | [`FormatError`], [`DeviceError`], [`TransductionError`], [`SensorError`], [`sim::SimulationError`] |
 //!
 //! Events land in a reusable [`neurotac_core::EventBuffer`] (t in µs, x, y top-left, polarity).
 //! Decoders and readers append chunk by chunk, so a stream or a 10 GB file is processed in
@@ -63,6 +64,7 @@ pub mod error;
 pub mod filter;
 pub mod format;
 pub mod geometry;
+pub mod sim;
 pub mod stage;
 pub mod taxel;
 

@@ -15,6 +15,7 @@ mod distances;
 mod neuron;
 mod record;
 mod search;
+mod simulate;
 mod synth;
 mod tradeoff;
 mod transduce;
@@ -59,6 +60,8 @@ enum Command {
     Devices(devices::DevicesArgs),
     /// Record events from the first DAVIS240 attached to a file (format from the extension).
     Record(record::RecordArgs),
+    /// Simulate the texture datasets (or `check` / `calibrate` the NeuroTac simulator).
+    Simulate(simulate::SimulateArgs),
 }
 
 /// Runs the parsed command.
@@ -78,5 +81,6 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Convert(args) => convert::run(args),
         Command::Devices(args) => devices::run(args),
         Command::Record(args) => record::run(args),
+        Command::Simulate(args) => simulate::run(args),
     }
 }

@@ -6,6 +6,7 @@
 use clap::Subcommand;
 
 mod neurons;
+mod simulator;
 mod vr;
 
 /// The trade-offs.
@@ -15,6 +16,8 @@ pub enum TradeoffCommand {
     Neurons(neurons::NeuronsArgs),
     /// Trace-sampled vs exact multi-unit Van Rossum: relative error and time against dt.
     Vr(vr::VrArgs),
+    /// NeuroTac simulator: pixel-model step tolerance vs event timing and trials/s.
+    Simulator(simulator::SimulatorArgs),
 }
 
 /// Runs one trade-off subcommand.
@@ -22,5 +25,6 @@ pub fn run(command: TradeoffCommand) -> anyhow::Result<()> {
     match command {
         TradeoffCommand::Neurons(args) => neurons::run(args),
         TradeoffCommand::Vr(args) => vr::run(args),
+        TradeoffCommand::Simulator(args) => simulator::run(args),
     }
 }

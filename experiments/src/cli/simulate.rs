@@ -1,0 +1,324 @@
+//! `neurotac simulate`: the simulated texture datasets, the acceptance check and the
+//! calibration of the simulator (`shared/specs/simulator.md`).
+
+use anyhow::Context;
+use clap::{Args, Subcommand, ValueEnum};
+use indicatif::{ProgressBar, ProgressStyle};
+use neurotac_experiments::bench::with_threads;
+use neurotac_experiments::datasets::{
+    TextureSet, cache_path, load_or_simulate_with, simulate_set, store, write_events_csv,
+};
+use neurotac_experiments::simulator_check::{
+    CheckConfig, PAPER_COUNTS, calibrate_lever, check_trial_count, simulator_check, to_markdown,
+};
+use neurotac_sensor::sim::SimParams;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+#[derive(Debug, Args)]
+#[command(args_conflicts_with_subcommands = true, subcommand_negates_reqs = true)]
+pub struct SimulateArgs {
+    #[command(subcommand)]
+    command: Option<SimulateCommand>,
+    #[command(flatten)]
+    generate: GenerateArgs,
+}
+
+#[derive(Debug, Subcommand)]
+enum SimulateCommand {
+    /// Compute the spec's 10 acceptance statistics and print each with its bound and PASS/FAIL.
+    Check(CheckArgs),
+    /// Calibrate G_lever (contact.lever_mm) against the 5 mm grid's 34.73 spikes per taxel.
+    Calibrate(CalibrateArgs),
+    /// Print the default parameter file (JSON; every field required when read back).
+    Params,
+}
+
+#[derive(Debug, Clone, Copy, ValueEnum)]
+enum SetArg {
+    Artificial,
+    Natural,
+}
+
+#[derive(Debug, Args)]
+struct GenerateArgs {
+    /// Texture set: 11 bump grids or the 20 natural textures.
+    #[arg(long, value_enum, required = true)]
+    set: Option<SetArg>,
+    /// Slides per texture (default: the paper's, 100 artificial / 50 natural).
+    #[arg(long)]
+    trials: Option<usize>,
+    /// Seed of the dataset (camera and every trial).
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Output folder: `<set>.bin` (taxel spike dataset), optionally `<set>.json` and pixel events.
+    #[arg(long, required = true)]
+    out: Option<PathBuf>,
+    /// Simulator parameter file (JSON, every field; see `neurotac simulate params`).
+    #[arg(long)]
+    params: Option<PathBuf>,
+    /// Also write the dataset as JSON.
+    #[arg(long)]
+    json: bool,
+    /// Also write every trial's pixel events under `<out>/events/<class>/<trial>.<format>`.
+    #[arg(long)]
+    pixel_events: bool,
+    /// Event-file format of --pixel-events, by extension: aedat4, aedat (2.0), aedat3, txt, csv.
+    #[arg(long, default_value = "aedat4")]
+    event_format: String,
+    /// With --pixel-events: write CSV with a `pin` column (source pin, −1 for noise) instead.
+    #[arg(long)]
+    labels: bool,
+    /// Cache folder (default: `<out>/cache`).
+    #[arg(long)]
+    cache: Option<PathBuf>,
+    /// Worker threads (0 = one per core).
+    #[arg(long, default_value_t = 0)]
+    threads: usize,
+}
+
+#[derive(Debug, Args)]
+struct CheckArgs {
+    /// Slides per grid (≥ 10 for the monotonicity statistic).
+    #[arg(long, default_value_t = 10)]
+    trials: usize,
+    /// Slides of the 0, 2.5 and 5 mm grids for the variability statistic.
+    #[arg(long, default_value_t = 20)]
+    variability_trials: usize,
+    /// Seed.
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Simulator parameter file (JSON).
+    #[arg(long)]
+    params: Option<PathBuf>,
+    /// Write `check.md` and `check.json` to this folder.
+    #[arg(long)]
+    out: Option<PathBuf>,
+    /// Worker threads (0 = one per core).
+    #[arg(long, default_value_t = 0)]
+    threads: usize,
+}
+
+#[derive(Debug, Args)]
+struct CalibrateArgs {
+    /// Slides of the 5 mm grid per bisection step.
+    #[arg(long, default_value_t = 10)]
+    trials: usize,
+    /// Seed.
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Target spikes per taxel (the paper's 5 mm intensive mean).
+    #[arg(long, default_value_t = PAPER_COUNTS[2].1)]
+    target: f64,
+    /// Simulator parameter file (JSON).
+    #[arg(long)]
+    params: Option<PathBuf>,
+    /// Worker threads (0 = one per core).
+    #[arg(long, default_value_t = 0)]
+    threads: usize,
+}
+
+fn load_params(path: Option<&Path>) -> anyhow::Result<SimParams> {
+    Ok(match path {
+        Some(p) => SimParams::from_json_file(p)?,
+        None => SimParams::default(),
+    })
+}
+
+fn progress_bar(total: usize, what: &str) -> ProgressBar {
+    let bar = ProgressBar::new(total as u64);
+    bar.set_style(
+        ProgressStyle::with_template(
+            "{msg} [{elapsed_precise}] {wide_bar} {pos}/{len} trials ({per_sec}, eta {eta})",
+        )
+        .expect("valid template"),
+    );
+    bar.set_message(what.to_owned());
+    bar
+}
+
+pub fn run(args: SimulateArgs) -> anyhow::Result<()> {
+    match args.command {
+        Some(SimulateCommand::Check(a)) => check(a),
+        Some(SimulateCommand::Calibrate(a)) => calibrate(a),
+        Some(SimulateCommand::Params) => {
+            println!("{}", SimParams::default().to_json_string());
+            Ok(())
+        }
+        None => generate(args.generate),
+    }
+}
+
+fn generate(a: GenerateArgs) -> anyhow::Result<()> {
+    let set = match a.set.context("--set is required")? {
+        SetArg::Artificial => TextureSet::Artificial,
+        SetArg::Natural => TextureSet::Natural,
+    };
+    let out = a.out.context("--out is required")?;
+    let params = load_params(a.params.as_deref())?;
+    let trials = a.trials.unwrap_or(set.paper_trials());
+    if trials == 0 {
+        anyhow::bail!("--trials 0: at least one trial per texture is needed");
+    }
+    std::fs::create_dir_all(&out).with_context(|| format!("creating {}", out.display()))?;
+    let cache = a.cache.unwrap_or_else(|| out.join("cache"));
+    let total = trials * set.textures().len();
+    let bar = progress_bar(total, set.name());
+    let start = Instant::now();
+    let cached = !a.pixel_events && cache_path(set, trials, a.seed, &params, &cache).exists();
+    let dataset = with_threads(a.threads, || -> anyhow::Result<_> {
+        if a.pixel_events {
+            let names = set.class_names();
+            let dir = out.join("events");
+            let each = |job: &neurotac_experiments::datasets::TrialJob,
+                        trial: &neurotac_sensor::sim::SimulatedTrial| {
+                let folder = dir.join(format!(
+                    "{:02}-{}",
+                    job.class,
+                    names[job.class].replace(' ', "_")
+                ));
+                std::fs::create_dir_all(&folder).map_err(|source| {
+                    neurotac_experiments::datasets::DatasetsError::Io {
+                        path: folder.clone(),
+                        source,
+                    }
+                })?;
+                if a.labels {
+                    let path = folder.join(format!("{:03}.csv", job.trial));
+                    write_events_csv(&path, &trial.events, Some(&trial.labels))
+                } else {
+                    let path = folder.join(format!("{:03}.{}", job.trial, a.event_format));
+                    Ok(neurotac_sensor::format::write_file(&path, &trial.events)?)
+                }
+            };
+            let s = simulate_set(set, trials, a.seed, &params, &each, &|| bar.inc(1))?;
+            // Cache it too, so experiments find it.
+            store(
+                &s.dataset,
+                &cache,
+                &cache_path(set, trials, a.seed, &params, &cache),
+            )?;
+            Ok(s.dataset)
+        } else {
+            Ok(load_or_simulate_with(
+                set,
+                trials,
+                a.seed,
+                &params,
+                &cache,
+                &|| bar.inc(1),
+            )?)
+        }
+    })??;
+    bar.finish_and_clear();
+    let wall = start.elapsed().as_secs_f64();
+    let bin = out.join(format!("{}.bin", set.name()));
+    dataset
+        .save_binary(&bin)
+        .with_context(|| format!("writing {}", bin.display()))?;
+    if a.json {
+        let json = out.join(format!("{}.json", set.name()));
+        dataset
+            .save_json(&json)
+            .with_context(|| format!("writing {}", json.display()))?;
+    }
+    let how = if cached {
+        "loaded from the cache".to_owned()
+    } else {
+        format!("{:.1} trials/s", dataset.len() as f64 / wall)
+    };
+    println!(
+        "{} set: {} textures × {trials} slides = {} trials in {wall:.1} s ({how})",
+        set.name(),
+        set.textures().len(),
+        dataset.len(),
+    );
+    let stat = |key: &str| dataset.meta().get(key).and_then(|v| v.as_f64());
+    if let (Some(pixel), Some(noise)) = (
+        stat("pixel_events_per_trial"),
+        stat("noise_events_per_trial"),
+    ) {
+        println!("pixel events per trial: {pixel:.0} (of which noise {noise:.0})");
+    }
+    println!("  class                   spikes/taxel (mean over slides)");
+    for (c, name) in dataset.class_names().iter().enumerate() {
+        let obs: Vec<_> = dataset
+            .observations()
+            .iter()
+            .zip(dataset.labels())
+            .filter(|(_, l)| **l == c)
+            .collect();
+        let m = obs
+            .iter()
+            .map(|(o, _)| o.total_spikes() as f64 / o.n_channels() as f64)
+            .sum::<f64>()
+            / obs.len() as f64;
+        println!("  {name:22}  {m:8.2}");
+    }
+    println!("→ {}", bin.display());
+    Ok(())
+}
+
+fn check(a: CheckArgs) -> anyhow::Result<()> {
+    let config = CheckConfig {
+        trials: a.trials.max(2),
+        variability_trials: a.variability_trials,
+        seed: a.seed,
+        params: load_params(a.params.as_deref())?,
+        ..CheckConfig::default()
+    };
+    let bar = progress_bar(check_trial_count(&config), "check");
+    let start = Instant::now();
+    let report = with_threads(a.threads, || simulator_check(&config, &|| bar.inc(1)))??;
+    bar.finish_and_clear();
+    let markdown = to_markdown(&report);
+    for s in &report.statistics {
+        println!(
+            "{:>2}. {:<27} {}\n    {:<27} bound: {}\n",
+            s.number,
+            s.name,
+            s.measured,
+            if s.pass { "PASS" } else { "FAIL" },
+            s.bound
+        );
+    }
+    println!("spikes per taxel by grid:");
+    for (d, m, sd) in &report.grid_counts {
+        println!("  {d:3.1} mm  {m:6.2} ± {sd:5.2}");
+    }
+    let passed = report.statistics.iter().filter(|s| s.pass).count();
+    println!(
+        "{passed}/{} statistics pass ({} trials in {:.1} s)",
+        report.statistics.len(),
+        report.trials_simulated,
+        start.elapsed().as_secs_f64()
+    );
+    if let Some(out) = a.out {
+        std::fs::create_dir_all(&out).with_context(|| format!("creating {}", out.display()))?;
+        std::fs::write(out.join("check.md"), markdown)
+            .with_context(|| format!("writing {}", out.join("check.md").display()))?;
+        std::fs::write(
+            out.join("check.json"),
+            serde_json::to_string_pretty(&report)?,
+        )
+        .with_context(|| format!("writing {}", out.join("check.json").display()))?;
+    }
+    Ok(())
+}
+
+fn calibrate(a: CalibrateArgs) -> anyhow::Result<()> {
+    if !(a.target.is_finite() && a.target > 0.0) {
+        anyhow::bail!("--target {} must be finite and > 0", a.target);
+    }
+    let params = load_params(a.params.as_deref())?;
+    let bar = progress_bar(12 * a.trials.max(1), "calibrate");
+    let c = with_threads(a.threads, || {
+        calibrate_lever(&params, a.trials, a.seed, a.target, &|| bar.inc(1))
+    })??;
+    bar.finish_and_clear();
+    println!(
+        "contact.lever_mm = {:.4} mm → {:.2} spikes/taxel on the 5 mm grid (target {:.2}; {} bisection steps × {} slides)",
+        c.lever_mm, c.spikes_per_taxel, c.target, c.iterations, a.trials
+    );
+    Ok(())
+}

@@ -1,0 +1,485 @@
+//! Contact mechanics of one slide: kinematics, stick-slip shear and the 49 pin-tip
+//! displacements in the image (spec §2.1, §2.2 steps 4–6).
+//!
+//! **Kinematics.** The base rests for `rest_before_s`, slides `distance_mm` with a trapezoidal
+//! speed profile (acceleration `a`, cruise `v`), then rests for `rest_after_s`.
+//!
+//! **Shear** (lumped spring-slider, state: shear s, slip velocity v_p, stuck flag), integrated at
+//! `shear_dt_s`:
+//! - stick: `ds/dt = v_b` until `s ≥ s_s = μ_s·N/k_t`;
+//! - slip: `ds/dt = v_b − v_p`, where v_p follows `(s − S(v_p))/τ` with lag `slip_inertia_s`,
+//!   `S(v) = μ(v)·N/k_t`, `μ(v) = μ_k + (μ_s − μ_k)·e^(−|v|/v_c)` with velocity weakening, else
+//!   μ_k; re-stick when v_p reaches 0. Without weakening the steady slip is `s → s_k + τ·v`; at
+//!   the stop s recoils to s_k within about τ (the offset burst).
+//! - micro-slips (natural textures): Poisson at rate `λ_ms·v_p/(15 mm/s)` while slipping, each
+//!   releasing δ ~ U(δ_min, δ_max) that reloads with time constant τ_ms.
+//! - texture term: `(N/k_t)·⟨∂h_s/∂X⟩_χ`, the contact-weighted mean slope of the skin-smoothed
+//!   height under the patch, added to the shear the pins see.
+//!
+//! **Pins** (sensor plane, mm; χ(r) = 1/(1 + e^((r − a)/w_c)), a = √(2Rδ), φ(r) = e^(−(r/(1.5a))²)):
+//! `u_i = G_lever·∇w(x_i) + g_pin·φ(r_i)·s_pins·x̂ + β·w(x_i)·r̂_i`, with `w = χ·w₀(X, Y)` sampled
+//! at the world point under the pin. The world point follows the contact patch, not the base:
+//! `X = x + x_b − s + x_phase`, `Y = y + y₀` — while the skin sticks, the texture does not move
+//! under it (a refinement of the spec's `X = x + x_b`). Image displacement = k·u_i (px).
+//! Press and release are not simulated (spec §7: include_indentation off).
+
+use super::params::SimParams;
+use super::texture::{Surface, TextureField, gaussian};
+use rand::RngExt;
+use rand_chacha::ChaCha8Rng;
+
+/// The per-trial physical draws (spec §2.1: offset, phase, and the variabilities).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TrialDraw {
+    /// Lateral offset y₀ of the texture (mm).
+    pub lateral_offset_mm: f64,
+    /// Start phase: texture offset along the slide (mm).
+    pub start_phase_mm: f64,
+    /// Press depth δ (mm).
+    pub press_depth_mm: f64,
+    /// Static friction of this trial.
+    pub mu_static: f64,
+    /// Kinetic friction of this trial.
+    pub mu_kinetic: f64,
+}
+
+impl TrialDraw {
+    /// Draws a trial's offset, phase, press depth and friction.
+    pub fn draw(params: &SimParams, surface: &Surface, rng: &mut ChaCha8Rng) -> Self {
+        let k = &params.kinematics;
+        let lateral_offset_mm = (rng.random::<f64>() - 0.5) * k.lateral_offset_range_mm;
+        let start_phase_mm = rng.random::<f64>() * k.start_phase_range_mm;
+        let press_depth_mm =
+            (k.press_depth_mm + k.press_depth_sd_mm * gaussian(rng)).max(0.25 * k.press_depth_mm);
+        let f_s = (1.0 + k.friction_sd * gaussian(rng)).max(0.2);
+        let f_k = (1.0 + k.friction_sd * gaussian(rng)).max(0.2);
+        let mu_static = surface.mu_static * f_s;
+        let mu_kinetic = (surface.mu_kinetic * f_k).min(mu_static);
+        Self {
+            lateral_offset_mm,
+            start_phase_mm,
+            press_depth_mm,
+            mu_static,
+            mu_kinetic,
+        }
+    }
+}
+
+/// Base position (mm) and speed (mm/s) at time `t_s` of the trial.
+pub fn base_motion(params: &SimParams, t_s: f64) -> (f64, f64) {
+    let k = &params.kinematics;
+    let (v, a, d) = (k.speed_mm_s, k.acceleration_mm_s2, k.distance_mm);
+    let total = params.motion_duration_s();
+    let t = t_s - k.rest_before_s;
+    if t <= 0.0 || d <= 0.0 {
+        return (0.0, 0.0);
+    }
+    if t >= total {
+        return (d, 0.0);
+    }
+    // Peak speed: v, or √(a·d) for a triangular profile.
+    let vp = v.min((a * d).sqrt());
+    let ta = vp / a;
+    let cruise = total - 2.0 * ta;
+    if t < ta {
+        (0.5 * a * t * t, a * t)
+    } else if t < ta + cruise {
+        (0.5 * a * ta * ta + vp * (t - ta), vp)
+    } else {
+        let r = total - t;
+        (d - 0.5 * a * r * r, a * r)
+    }
+}
+
+/// Pin-tip positions over a trial, sampled every `dt_s`, as image displacements from rest
+/// (px), one contiguous series per pin; plus the cumulative path length of each pin (px).
+#[derive(Debug, Clone, Default)]
+pub struct PinTrajectories {
+    /// Sampling interval (s).
+    pub dt_s: f64,
+    /// Samples per pin.
+    pub n_samples: usize,
+    /// Pins.
+    pub n_pins: usize,
+    /// x displacement (px), `[pin · n_samples + k]`.
+    pub dx_px: Vec<f32>,
+    /// y displacement (px).
+    pub dy_px: Vec<f32>,
+    /// Cumulative path length (px).
+    pub arc_px: Vec<f32>,
+    /// Shear seen by the pins at each sample (mm), for diagnostics.
+    pub shear_mm: Vec<f32>,
+    /// Whether each pin is in contact (χ(r) > 0.5).
+    pub in_contact: Vec<bool>,
+}
+
+impl PinTrajectories {
+    /// Displacement of `pin` at time `t_s` (linear between samples).
+    #[inline]
+    pub fn displacement(&self, pin: usize, t_s: f64) -> (f32, f32) {
+        let (k, f) = self.locate(t_s);
+        let base = pin * self.n_samples + k;
+        let (x0, y0) = (self.dx_px[base], self.dy_px[base]);
+        if f == 0.0 {
+            return (x0, y0);
+        }
+        (
+            x0 + f * (self.dx_px[base + 1] - x0),
+            y0 + f * (self.dy_px[base + 1] - y0),
+        )
+    }
+
+    /// Path length of `pin` up to `t_s` (px).
+    #[inline]
+    pub fn arc(&self, pin: usize, t_s: f64) -> f32 {
+        let (k, f) = self.locate(t_s);
+        let base = pin * self.n_samples + k;
+        let a = self.arc_px[base];
+        if f == 0.0 {
+            a
+        } else {
+            a + f * (self.arc_px[base + 1] - a)
+        }
+    }
+
+    /// The earliest time after `t_s` at which `pin` has travelled `distance_px` more, if before
+    /// `limit_s`.
+    pub fn time_to_travel(&self, pin: usize, t_s: f64, distance_px: f32, limit_s: f64) -> f64 {
+        let target = self.arc(pin, t_s) + distance_px;
+        let series = &self.arc_px[pin * self.n_samples..(pin + 1) * self.n_samples];
+        let (mut k, _) = self.locate(t_s);
+        let last = self.n_samples - 1;
+        loop {
+            k += 1;
+            if k > last {
+                return limit_s;
+            }
+            let tk = k as f64 * self.dt_s;
+            if tk >= limit_s {
+                return limit_s;
+            }
+            if series[k] >= target {
+                let (a0, a1) = (series[k - 1], series[k]);
+                let f = ((target - a0) / (a1 - a0)).clamp(0.0, 1.0) as f64;
+                return ((k - 1) as f64 + f) * self.dt_s;
+            }
+        }
+    }
+
+    #[inline]
+    fn locate(&self, t_s: f64) -> (usize, f32) {
+        let x = (t_s / self.dt_s).max(0.0);
+        let k = x as usize;
+        if k + 1 >= self.n_samples {
+            (self.n_samples - 1, 0.0)
+        } else {
+            (k, (x - k as f64) as f32)
+        }
+    }
+
+    /// Largest displacement of any pin from rest (px).
+    pub fn max_displacement_px(&self) -> f64 {
+        self.dx_px
+            .iter()
+            .zip(&self.dy_px)
+            .map(|(x, y)| (x * x + y * y).sqrt() as f64)
+            .fold(0.0, f64::max)
+    }
+}
+
+/// Per-trial constants of one pin: position, radial unit vector, contact weight χ, its
+/// derivative χ' and the shear spread φ.
+#[derive(Debug, Clone, Copy)]
+struct PinConstants {
+    x: f64,
+    y: f64,
+    rx: f64,
+    ry: f64,
+    chi: f64,
+    dchi: f64,
+    phi: f64,
+}
+
+/// Reusable buffers and pin geometry for computing trajectories (allocated once).
+#[derive(Debug, Clone)]
+pub struct Mechanics {
+    pins_mm: Vec<(f64, f64)>,
+    pin_constants: Vec<PinConstants>,
+    dome_radius_mm: f64,
+    scale_px_per_mm: f64,
+    /// Contact sample points (mm) for the texture term, on a 0.5 mm grid.
+    contact_points: Vec<(f64, f64)>,
+    contact_weights: Vec<f64>,
+    contact_slope: Vec<f64>,
+}
+
+/// Base-position spacing of the tabulated texture term (mm).
+const SLOPE_TABLE_MM: f64 = 0.25;
+
+impl Mechanics {
+    /// Mechanics for pins at `pins_mm` (sensor plane) on a dome of radius `dome_radius_mm`,
+    /// imaged at `scale_px_per_mm`.
+    pub fn new(pins_mm: Vec<(f64, f64)>, dome_radius_mm: f64, scale_px_per_mm: f64) -> Self {
+        Self {
+            pin_constants: Vec::with_capacity(pins_mm.len()),
+            pins_mm,
+            dome_radius_mm,
+            scale_px_per_mm,
+            contact_points: Vec::new(),
+            contact_weights: Vec::new(),
+            contact_slope: Vec::new(),
+        }
+    }
+
+    /// Computes the trajectories of one trial into `out` (buffers reused).
+    pub fn run(
+        &mut self,
+        params: &SimParams,
+        field: &TextureField,
+        surface: &Surface,
+        draw: &TrialDraw,
+        rng: &mut ChaCha8Rng,
+        out: &mut PinTrajectories,
+    ) {
+        let c = &params.contact;
+        let k = &params.kinematics;
+        let duration = params.duration_s();
+        let dt = params.solver.mechanics_dt_s;
+        let n_samples = (duration / dt).ceil() as usize + 2;
+        let n_pins = self.pins_mm.len();
+        let delta = draw.press_depth_mm;
+        let a = (2.0 * self.dome_radius_mm * delta).sqrt();
+        let normal = k.normal_force_n * (delta / k.press_depth_mm).powf(1.5);
+        let n_over_kt = normal / c.tangential_stiffness_n_mm;
+        let chi = |r: f64| 1.0 / (1.0 + ((r - a) / c.contact_edge_mm).exp());
+
+        self.tabulate_contact_slope(params, field, draw, a, chi);
+        self.pin_constants.clear();
+        for &(x, y) in &self.pins_mm {
+            let r = (x * x + y * y).sqrt();
+            let (rx, ry) = if r > 1e-9 { (x / r, y / r) } else { (0.0, 0.0) };
+            let ch = chi(r);
+            self.pin_constants.push(PinConstants {
+                x,
+                y,
+                rx,
+                ry,
+                chi: ch,
+                dchi: -ch * (1.0 - ch) / c.contact_edge_mm,
+                phi: (-(r / (c.shear_spread * a)).powi(2)).exp(),
+            });
+        }
+
+        out.dt_s = dt;
+        out.n_samples = n_samples;
+        out.n_pins = n_pins;
+        for v in [&mut out.dx_px, &mut out.dy_px, &mut out.arc_px] {
+            v.clear();
+            v.resize(n_pins * n_samples, 0.0);
+        }
+        out.shear_mm.clear();
+        out.shear_mm.resize(n_samples, 0.0);
+        out.in_contact.clear();
+        out.in_contact.extend(
+            self.pins_mm
+                .iter()
+                .map(|&(x, y)| chi((x * x + y * y).sqrt()) > 0.5),
+        );
+
+        // Shear state.
+        let s_static = draw.mu_static * n_over_kt;
+        let s_kinetic = draw.mu_kinetic * n_over_kt;
+        let weakening = surface.weakening_speed_mm_s;
+        let slip_level = |v: f64| {
+            if weakening > 0.0 {
+                (draw.mu_kinetic
+                    + (draw.mu_static - draw.mu_kinetic) * (-v.abs() / weakening).exp())
+                    * n_over_kt
+            } else {
+                s_kinetic
+            }
+        };
+        let (mut s, mut vp, mut stuck, mut micro) = (0.0f64, 0.0f64, true, 0.0f64);
+        let sub = (dt / params.solver.shear_dt_s).ceil().max(1.0) as usize;
+        let h = dt / sub as f64;
+        let inertia = (-h / c.slip_inertia_s).exp();
+        let micro_decay = (-h / c.microslip_time_s).exp();
+        let micro_rate_per_mm = surface.microslip_rate_hz / 15.0;
+        let mut t = 0.0;
+        let scale = self.scale_px_per_mm;
+        for n in 0..n_samples {
+            if n > 0 {
+                for _ in 0..sub {
+                    let (_, vb) = base_motion(params, t + 0.5 * h);
+                    if stuck {
+                        s += vb * h;
+                        if s >= s_static && vb > 0.0 {
+                            stuck = false;
+                        }
+                    } else {
+                        let target = (s - slip_level(vp)) / c.slip_time_s;
+                        vp = target + (vp - target) * inertia;
+                        if vp <= 0.0 {
+                            vp = 0.0;
+                            stuck = true;
+                        }
+                        s += (vb - vp) * h;
+                        // Micro-slips: Poisson in slip distance.
+                        if micro_rate_per_mm > 0.0
+                            && rng.random::<f64>() < micro_rate_per_mm * vp * h
+                        {
+                            let u = rng.random::<f64>();
+                            micro -=
+                                c.microslip_min_mm + u * (c.microslip_max_mm - c.microslip_min_mm);
+                        }
+                    }
+                    micro *= micro_decay;
+                    t += h;
+                }
+            }
+            let (xb, _) = base_motion(params, t);
+            let patch_x = xb - s + draw.start_phase_mm;
+            let texture_term = n_over_kt * self.contact_slope_at(patch_x - draw.start_phase_mm);
+            let s_pins = s + micro + texture_term;
+            out.shear_mm[n] = s_pins as f32;
+            for (i, pin) in self.pin_constants.iter().enumerate() {
+                let mut ux = c.pin_shear_gain * pin.phi * s_pins;
+                let mut uy = 0.0;
+                if !field.is_flat() && pin.chi > 1e-3 {
+                    let f = field.sample(pin.x + patch_x, pin.y + draw.lateral_offset_mm);
+                    let w = pin.chi * f.w;
+                    // ∇(χ·w₀) = χ∇w₀ + w₀·χ'(r)·r̂, χ' = −χ(1 − χ)/w_c.
+                    ux += c.lever_mm * (pin.chi * f.dw_dx + f.w * pin.dchi * pin.rx)
+                        + c.bulge * w * pin.rx;
+                    uy += c.lever_mm * (pin.chi * f.dw_dy + f.w * pin.dchi * pin.ry)
+                        + c.bulge * w * pin.ry;
+                }
+                let idx = i * n_samples + n;
+                out.dx_px[idx] = (scale * ux) as f32;
+                out.dy_px[idx] = (scale * uy) as f32;
+                if n > 0 {
+                    let (ddx, ddy) = (
+                        out.dx_px[idx] - out.dx_px[idx - 1],
+                        out.dy_px[idx] - out.dy_px[idx - 1],
+                    );
+                    out.arc_px[idx] = out.arc_px[idx - 1] + (ddx * ddx + ddy * ddy).sqrt();
+                }
+            }
+        }
+    }
+
+    /// Tabulates ⟨∂h_s/∂X⟩_χ against the patch's travel (0.25 mm steps).
+    fn tabulate_contact_slope(
+        &mut self,
+        params: &SimParams,
+        field: &TextureField,
+        draw: &TrialDraw,
+        a: f64,
+        chi: impl Fn(f64) -> f64,
+    ) {
+        self.contact_slope.clear();
+        if field.is_flat() {
+            return;
+        }
+        let reach = a + 4.0 * params.contact.contact_edge_mm;
+        let step = 0.5;
+        let n = (reach / step).ceil() as i64;
+        self.contact_points.clear();
+        let mut weights = std::mem::take(&mut self.contact_weights);
+        weights.clear();
+        for j in -n..=n {
+            for i in -n..=n {
+                let (x, y) = (i as f64 * step, j as f64 * step);
+                let r = (x * x + y * y).sqrt();
+                if r <= reach {
+                    self.contact_points.push((x, y));
+                    weights.push(chi(r));
+                }
+            }
+        }
+        let total: f64 = weights.iter().sum();
+        // The patch travels at most the slide distance back and forth by the shear (< 5 mm).
+        let span = params.kinematics.distance_mm + 10.0;
+        let m = (span / SLOPE_TABLE_MM).ceil() as usize + 1;
+        for q in 0..m {
+            let travel = q as f64 * SLOPE_TABLE_MM - 5.0;
+            let sum: f64 = self
+                .contact_points
+                .iter()
+                .zip(&weights)
+                .map(|(&(x, y), &w)| {
+                    w * field
+                        .sample(x + travel + draw.start_phase_mm, y + draw.lateral_offset_mm)
+                        .dhs_dx
+                })
+                .sum();
+            self.contact_slope.push(sum / total);
+        }
+        self.contact_weights = weights;
+    }
+
+    fn contact_slope_at(&self, travel_mm: f64) -> f64 {
+        if self.contact_slope.is_empty() {
+            return 0.0;
+        }
+        let x = ((travel_mm + 5.0) / SLOPE_TABLE_MM).max(0.0);
+        let k = (x as usize).min(self.contact_slope.len() - 1);
+        let next = (k + 1).min(self.contact_slope.len() - 1);
+        let f = x - k as f64;
+        self.contact_slope[k] + f.min(1.0) * (self.contact_slope[next] - self.contact_slope[k])
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::PinGeometry;
+    use crate::sim::texture::Texture;
+    use rand::SeedableRng;
+
+    #[test]
+    fn trapezoid_covers_the_distance_at_the_cruise_speed() {
+        let p = SimParams::default();
+        assert_eq!(base_motion(&p, 0.1), (0.0, 0.0));
+        let (x, v) = base_motion(&p, 2.0);
+        assert!((v - 15.0).abs() < 1e-12 && x > 20.0 && x < 30.0);
+        assert_eq!(base_motion(&p, p.duration_s()), (60.0, 0.0));
+        let (x_end, _) = base_motion(
+            &p,
+            p.kinematics.rest_before_s + p.motion_duration_s() - 1e-9,
+        );
+        assert!((x_end - 60.0).abs() < 1e-6);
+    }
+
+    #[test]
+    fn flat_plate_onset_sticks_then_slips_back_and_recoils_at_the_stop() {
+        let p = SimParams::default();
+        let g = PinGeometry::default();
+        let texture = Texture::grid(0.0).unwrap();
+        let surface = texture.surface(&p.contact);
+        let field = texture.field(&p.contact);
+        let draw = TrialDraw {
+            lateral_offset_mm: 0.0,
+            start_phase_mm: 0.0,
+            press_depth_mm: 2.0,
+            mu_static: 1.0,
+            mu_kinetic: 0.7,
+        };
+        let mut m = Mechanics::new(g.pin_positions_mm(), g.dome_radius_mm, g.scale_px_per_mm);
+        let mut out = PinTrajectories::default();
+        let mut rng = ChaCha8Rng::seed_from_u64(1);
+        m.run(&p, &field, &surface, &draw, &mut rng, &mut out);
+        let at = |t: f64| out.shear_mm[(t / out.dt_s) as usize] as f64;
+        // N/k_t = 1 mm: stick up to s_s = 1 mm, steady s_k + τv = 0.85 mm, rest at s_k = 0.7 mm.
+        let peak = out.shear_mm.iter().copied().fold(0.0f32, f32::max) as f64;
+        assert!((peak - 1.0).abs() < 0.02, "{peak}");
+        assert!((at(2.0) - 0.85).abs() < 0.01, "{}", at(2.0));
+        assert!((at(p.duration_s() - 0.01) - 0.7).abs() < 0.02);
+        // The centre pin moves g_pin·s·k = 0.5 · 1 mm · 4.5 px/mm ≈ 2.25 px at the peak.
+        let max = out.max_displacement_px();
+        assert!((max - 2.25).abs() < 0.1, "{max}");
+        // Nothing moves before the slide.
+        assert_eq!(out.arc(0, 0.2), 0.0);
+        assert!(out.in_contact[0] && !out.in_contact[48]);
+    }
+}

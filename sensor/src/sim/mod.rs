@@ -1,0 +1,319 @@
+//! The NeuroTac simulator (`shared/specs/simulator.md`): a TacTip-style dome with 49 pins
+//! sliding over a texture, filmed by a simulated DAVIS240, producing pixel events in the same
+//! form as the real camera — so the very same transduction ([`crate::taxel::Transducer`]) runs
+//! on them.
+//!
+//! | stage (spec §) | module | main types |
+//! |---|---|---|
+//! | parameters (§1–3, §7) | [`params`] | [`SimParams`] |
+//! | textures (§2.1, §2.4) | [`texture`] | [`Texture`], [`TextureField`], [`NATURAL_TEXTURES`] |
+//! | kinematics, stick-slip, pins (§2.1–2.2) | [`mechanics`] | [`PinTrajectories`], [`TrialDraw`] |
+//! | camera fixed-pattern noise (§3.2) | [`camera`] | [`Camera`] |
+//! | rendering, DVS pixels, noise (§3.1–3.2) | [`pixel`] | [`PixelModel`], [`EventLabel`] |
+//! | pixel-level diagnostics (§5.7) | [`diagnostics`] | [`edge_pass`], [`pixel_sanity`] |
+//! | one trial, transduction | here | [`Simulator`], [`SimulatedTrial`], [`taxel_spikes`] |
+//!
+//! Seeds: a [`Camera`] (fixed-pattern noise) is drawn once from a camera seed and records every
+//! trial; each trial is a pure function of (parameters, camera, texture, trial seed).
+//!
+//! ```
+//! use neurotac_sensor::sim::{Camera, SimParams, Simulator, Texture, taxel_spikes};
+//! let mut params = SimParams::default();
+//! params.kinematics.distance_mm = 5.0; // a short slide keeps the example fast
+//! let camera = Camera::new(&params, 7);
+//! let mut sim = Simulator::new(params, &camera)?;
+//! let grid = sim.prepare(Texture::from_name("grid 5 mm")?);
+//! let trial = sim.simulate(&grid, 42);
+//! assert_eq!(trial.events.len(), trial.labels.len());
+//! let spikes = taxel_spikes(&trial)?;
+//! assert_eq!(spikes.spikes.n_channels(), 49);
+//! # Ok::<(), neurotac_sensor::sim::SimulationError>(())
+//! ```
+
+pub mod camera;
+pub mod diagnostics;
+pub mod error;
+mod fft;
+pub mod mechanics;
+pub mod params;
+pub mod pixel;
+pub mod texture;
+
+pub use camera::Camera;
+pub use diagnostics::{EdgePass, PixelSanity, edge_pass, pixel_sanity};
+pub use error::SimulationError;
+pub use mechanics::{PinTrajectories, TrialDraw};
+pub use params::{PeriodRule, SimParams};
+pub use pixel::{EventLabel, PixelModel, PixelRunStats};
+pub use texture::{GRID_SIZES_MM, NATURAL_TEXTURES, Surface, Texture, TextureField};
+
+use crate::filter::MapStart;
+use crate::geometry::PinGeometry;
+use crate::taxel::{TaxelLayout, Transducer, TransductionConfig, TransductionCounts};
+use mechanics::Mechanics;
+use neurotac_core::{EventBuffer, MultiSpikeTrain};
+use pixel::{RawEvent, mix64};
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+
+/// A texture with its skin-filtered field and surface, built once and shared by its trials.
+#[derive(Debug, Clone)]
+pub struct PreparedTexture {
+    /// The texture.
+    pub texture: Texture,
+    /// Its skin-filtered field.
+    pub field: TextureField,
+    /// Its friction and micro-slips.
+    pub surface: Surface,
+}
+
+/// What happened in one trial besides the events.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TrialInfo {
+    /// Texture name.
+    pub texture: String,
+    /// The trial seed.
+    pub seed: u64,
+    /// The per-trial draws.
+    pub draw: TrialDraw,
+    /// Recording length (s); events lie in `[0, duration)`.
+    pub duration_s: f64,
+    /// When the base starts moving (s).
+    pub motion_start_s: f64,
+    /// When it stops (s).
+    pub motion_end_s: f64,
+    /// Pixel-model effort.
+    pub pixel_stats: PixelRunStats,
+    /// Largest pin displacement from rest (px).
+    pub max_displacement_px: f64,
+    /// Pins in contact (χ > 0.5).
+    pub in_contact: Vec<bool>,
+}
+
+/// One simulated slide: pixel events, time-ordered, with their ground truth.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SimulatedTrial {
+    /// Pixel events (µs from the recording start, 240 × 180 addresses, polarity).
+    pub events: EventBuffer,
+    /// One label per event: source pin or noise.
+    pub labels: Vec<EventLabel>,
+    /// Trial facts.
+    pub info: TrialInfo,
+}
+
+impl SimulatedTrial {
+    /// The signal events alone (noise removed), for counterfactual diagnostics.
+    pub fn signal_events(&self) -> EventBuffer {
+        self.events
+            .iter()
+            .zip(&self.labels)
+            .filter(|(_, l)| !l.is_noise())
+            .map(|(e, _)| e)
+            .collect()
+    }
+
+    /// Number of noise-labelled events.
+    pub fn noise_count(&self) -> usize {
+        self.labels.iter().filter(|l| l.is_noise()).count()
+    }
+}
+
+/// The simulator: validated parameters, the camera, prepared patches and reusable buffers.
+/// One per thread; [`simulate`](Self::simulate) allocates only to grow its buffers and for
+/// the returned trial.
+#[derive(Debug, Clone)]
+pub struct Simulator {
+    params: SimParams,
+    camera: Camera,
+    pins_px: Vec<(f64, f64)>,
+    mechanics: Mechanics,
+    pixels: PixelModel,
+    trajectories: PinTrajectories,
+    raw: Vec<RawEvent>,
+}
+
+impl Simulator {
+    /// A simulator of the default NeuroTac geometry ([`PinGeometry::default`]).
+    pub fn new(params: SimParams, camera: &Camera) -> Result<Self, SimulationError> {
+        Self::with_geometry(params, camera, &PinGeometry::default())
+    }
+
+    /// A simulator of `geometry` (validates `params`).
+    pub fn with_geometry(
+        params: SimParams,
+        camera: &Camera,
+        geometry: &PinGeometry,
+    ) -> Result<Self, SimulationError> {
+        params.validate()?;
+        let n = geometry.n_pins();
+        if n == 0 || n >= pixel::NOISE_LABEL as usize {
+            return Err(SimulationError::Geometry { pins: n });
+        }
+        let pins_px = geometry.pin_positions_px();
+        Ok(Self {
+            pixels: PixelModel::new(&params, &pins_px, camera),
+            mechanics: Mechanics::new(
+                geometry.pin_positions_mm(),
+                geometry.dome_radius_mm,
+                geometry.scale_px_per_mm,
+            ),
+            params,
+            camera: camera.clone(),
+            pins_px,
+            trajectories: PinTrajectories::default(),
+            raw: Vec::new(),
+        })
+    }
+
+    /// The parameters.
+    pub fn params(&self) -> &SimParams {
+        &self.params
+    }
+
+    /// Rest positions of the pins in the image (px).
+    pub fn pins_px(&self) -> &[(f64, f64)] {
+        &self.pins_px
+    }
+
+    /// Builds `texture`'s field and surface for these parameters.
+    pub fn prepare(&self, texture: Texture) -> PreparedTexture {
+        PreparedTexture {
+            field: texture.field(&self.params.contact),
+            surface: texture.surface(&self.params.contact),
+            texture,
+        }
+    }
+
+    /// The pin trajectories of the last simulated trial.
+    pub fn trajectories(&self) -> &PinTrajectories {
+        &self.trajectories
+    }
+
+    /// Simulates one slide over `texture`; the result is a pure function of the parameters,
+    /// the camera, the texture and `seed`.
+    pub fn simulate(&mut self, texture: &PreparedTexture, seed: u64) -> SimulatedTrial {
+        self.simulate_with(texture, seed, true)
+    }
+
+    /// [`simulate`](Self::simulate), optionally without noise (signal only).
+    pub fn simulate_with(
+        &mut self,
+        texture: &PreparedTexture,
+        seed: u64,
+        with_noise: bool,
+    ) -> SimulatedTrial {
+        let params = self.params;
+        let mut rng = ChaCha8Rng::seed_from_u64(mix64(seed ^ 0x6d65_6368));
+        let draw = TrialDraw::draw(&params, &texture.surface, &mut rng);
+        self.mechanics.run(
+            &params,
+            &texture.field,
+            &texture.surface,
+            &draw,
+            &mut rng,
+            &mut self.trajectories,
+        );
+        let duration_s = params.duration_s();
+        self.raw.clear();
+        let pixel_stats = self.pixels.run(
+            &self.camera,
+            &self.trajectories,
+            duration_s,
+            mix64(seed ^ 0x7069_7865_6c73),
+            with_noise,
+            &mut self.raw,
+        );
+        // Time order, ties by row and column: a total order, since a pixel never emits twice in
+        // one microsecond, so the unstable (in-place) sort is deterministic.
+        self.raw.sort_unstable_by_key(|e| (e.t_us, e.y, e.x));
+        let end_us = (duration_s * 1e6).round() as i64;
+        let mut events = EventBuffer::with_capacity(self.raw.len());
+        let mut labels = Vec::with_capacity(self.raw.len());
+        for e in self.raw.iter().filter(|e| e.t_us < end_us) {
+            events.t.push(e.t_us);
+            events.x.push(e.x);
+            events.y.push(e.y);
+            events.polarity.push(e.on);
+            labels.push(EventLabel(e.label));
+        }
+        let motion_start_s = params.kinematics.rest_before_s;
+        SimulatedTrial {
+            events,
+            labels,
+            info: TrialInfo {
+                texture: texture.texture.name(),
+                seed,
+                draw,
+                duration_s,
+                motion_start_s,
+                motion_end_s: motion_start_s + params.motion_duration_s(),
+                pixel_stats,
+                max_displacement_px: self.trajectories.max_displacement_px(),
+                in_contact: self.trajectories.in_contact.clone(),
+            },
+        }
+    }
+}
+
+/// Taxel spikes of a trial and what the transduction saw.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TaxelSpikes {
+    /// One spike train per taxel (s from the recording start).
+    pub spikes: MultiSpikeTrain,
+    /// Stage counts.
+    pub counts: TransductionCounts,
+    /// Largest distance of a receptive-field centre from its home, checked every pooling
+    /// window (px).
+    pub max_centre_drift_px: f64,
+}
+
+/// The transduction with the paper's settings (BA filter 5 ms, receptive fields of radius 6 px
+/// on the default layout, 20 ms pooling, re-centring), windows aligned to the recording start.
+///
+/// Simulated recordings start at t = 0 µs, so the BA time surface starts empty
+/// ([`MapStart::Empty`]): that is how dv-processing's zero-initialised map behaves on a real
+/// camera's absolute timestamps, whereas a zero map with t starting at 0 would pass every event
+/// of the first 5 ms.
+pub fn paper_transduction() -> TransductionConfig {
+    TransductionConfig {
+        origin_us: Some(0),
+        ba_start: MapStart::Empty,
+        ..TransductionConfig::default()
+    }
+}
+
+/// Runs `trial`'s events through [`Transducer`] with [`paper_transduction`].
+pub fn taxel_spikes(trial: &SimulatedTrial) -> Result<TaxelSpikes, SimulationError> {
+    transduce(&trial.events)
+}
+
+/// Runs pixel events (from t = 0 µs) through [`Transducer`] with [`paper_transduction`], one
+/// pooling window at a time, tracking the receptive-field drift.
+pub fn transduce(events: &EventBuffer) -> Result<TaxelSpikes, SimulationError> {
+    let layout = TaxelLayout::neurotac_default();
+    let config = paper_transduction();
+    let mut transducer = Transducer::new(&layout, config)?;
+    let window = config.pool_window_us;
+    let mut chunk = EventBuffer::new();
+    let mut max_drift = 0.0f64;
+    let mut i = 0;
+    while i < events.len() {
+        let end_t = (events.t[i] / window + 1) * window;
+        chunk.clear();
+        while i < events.len() && events.t[i] < end_t {
+            chunk.push(events.get(i).expect("in range"));
+            i += 1;
+        }
+        transducer.push(&chunk)?;
+        let fields = transducer.fields();
+        for (c, h) in fields.centres().iter().zip(fields.home()) {
+            max_drift = max_drift.max(((c.0 - h.0).powi(2) + (c.1 - h.1).powi(2)).sqrt());
+        }
+    }
+    transducer.finish();
+    Ok(TaxelSpikes {
+        spikes: transducer.spike_trains(),
+        counts: transducer.counts(),
+        max_centre_drift_px: max_drift,
+    })
+}

@@ -1,0 +1,546 @@
+//! The simulator's parameters: one `Copy` record ([`SimParams`]) of documented groups, every
+//! default taken from `shared/specs/simulator.md` (section named on each field), validated once
+//! by [`SimParams::validate`] with errors naming the field as spelled in a parameter file.
+//!
+//! A parameter file is the JSON form of [`SimParams`] (`serde_json::to_string_pretty(&SimParams::default())`
+//! writes a complete one). Every field must be present: a missing or unknown field is an error
+//! naming it, so a file never silently falls back to a default.
+
+use super::error::SimulationError;
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+
+/// Robot kinematics and the per-trial variability of a slide (spec §2.1).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct KinematicsParams {
+    /// Cruise speed of the slide (mm/s). Default 15 (paper).
+    pub speed_mm_s: f64,
+    /// Slide distance (mm). Default 60 (paper).
+    pub distance_mm: f64,
+    /// Acceleration and deceleration of the trapezoidal speed profile (mm/s²). Default 300
+    /// (spec: 100–500).
+    pub acceleration_mm_s2: f64,
+    /// Rest recorded before the motion starts (s). Default 0.25 (spec: 0.2–0.5).
+    pub rest_before_s: f64,
+    /// Rest recorded after the motion stops (s). Default 0.25 (spec: 0.2–0.5).
+    pub rest_after_s: f64,
+    /// Mean press depth δ (mm). Default 2 (spec: 1.5–3).
+    pub press_depth_mm: f64,
+    /// Normal force at the mean press depth (N); it scales as δ^{3/2} (Hertz). Default 2
+    /// (spec: 1–3).
+    pub normal_force_n: f64,
+    /// Width of the uniform random lateral offset y₀ of the texture (mm), centred on 0.
+    /// Default 10.
+    pub lateral_offset_range_mm: f64,
+    /// Width of the uniform random start phase (texture offset along the slide, mm).
+    /// Default 10 (one period of the coarsest grid).
+    pub start_phase_range_mm: f64,
+    /// Trial-to-trial standard deviation of the press depth (mm): texture thickness, robot
+    /// repeatability. Default 0.1 \[A\].
+    pub press_depth_sd_mm: f64,
+    /// Trial-to-trial relative standard deviation of both friction coefficients (surface
+    /// state, humidity). Default 0.05 \[A\].
+    pub friction_sd: f64,
+}
+
+impl Default for KinematicsParams {
+    fn default() -> Self {
+        Self {
+            speed_mm_s: 15.0,
+            distance_mm: 60.0,
+            acceleration_mm_s2: 300.0,
+            rest_before_s: 0.25,
+            rest_after_s: 0.25,
+            press_depth_mm: 2.0,
+            normal_force_n: 2.0,
+            lateral_offset_range_mm: 10.0,
+            start_phase_range_mm: 10.0,
+            press_depth_sd_mm: 0.1,
+            friction_sd: 0.05,
+        }
+    }
+}
+
+/// Which length a grid's "size" d sets (spec §2.1, §7).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum PeriodRule {
+    /// Diameter d and edge-to-edge gap d: period p = 2d (default).
+    Gap,
+    /// Centre-to-centre spacing d: period p = d, diameter d/2 and gap d/2.
+    CentreToCentre,
+}
+
+/// Contact mechanics: skin → pin transfer and stick-slip shear (spec §2.2).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ContactParams {
+    /// Depth z of the elastic-layer low-pass T(k) = (1 + kz)·e^(−kz) (mm). Default 1.25 (§6).
+    pub skin_depth_mm: f64,
+    /// Gap width g₀ above which the skin fully enters a gap: c(g) = min(1, (g/g₀)²) (mm).
+    /// Default 3.75 (spec: 3.5–4).
+    pub gap_conformity_mm: f64,
+    /// Width of the contact edge in χ(r) = 1/(1 + e^((r − a)/w)) (mm). Default 0.8.
+    pub contact_edge_mm: f64,
+    /// Effective lever G_lever turning skin slope into pin-tip displacement (mm). The one
+    /// calibrated parameter (spec §5): default 0.439, from `neurotac simulate calibrate
+    /// --trials 10 --seed 1` (34.94 spikes per taxel on the 5 mm grid against the paper's
+    /// 34.73; spec range 0.4–0.6).
+    pub lever_mm: f64,
+    /// Fraction g_pin of the surface shear seen at the pin tips. Default 0.5.
+    pub pin_shear_gain: f64,
+    /// Radial bulge β: pin displacement β·w·r̂ per mm of skin deflection. Default 0.1 (0–0.3).
+    pub bulge: f64,
+    /// Shear spread: φ(r) = exp(−(r / (spread·a))²). Default 1.5.
+    pub shear_spread: f64,
+    /// Skin-only smoothing σ of the height used by the tangential texture term (mm).
+    /// Default 0.3.
+    pub texture_smoothing_mm: f64,
+    /// Height of the grid cylinders (mm). Default 1 (paper).
+    pub bump_height_mm: f64,
+    /// What a grid's size d means. Default [`PeriodRule::Gap`].
+    pub period_rule: PeriodRule,
+    /// Tangential stiffness k_t of the skin (N/mm). Default 2 (spec: 1–3).
+    pub tangential_stiffness_n_mm: f64,
+    /// Slip time constant τ = c_d/k_t (s). Default 0.01 (spec: 5–20 ms).
+    pub slip_time_s: f64,
+    /// Lag of the slip velocity behind its quasi-static value (s): the patch's inertia; it
+    /// lets velocity weakening produce periodic stick-slip. Default 0.001 \[A\].
+    pub slip_inertia_s: f64,
+    /// Static friction of the 3D-printed grids against the skin. Default 1.0 (prototype, §6).
+    pub grid_mu_static: f64,
+    /// Kinetic friction of the 3D-printed grids. Default 0.7 (prototype, §6).
+    pub grid_mu_kinetic: f64,
+    /// Smallest micro-slip amplitude δ_ms (mm). Default 0.005 (spec: 5–50 µm).
+    pub microslip_min_mm: f64,
+    /// Largest micro-slip amplitude δ_ms (mm). Default 0.05.
+    pub microslip_max_mm: f64,
+    /// Reload time constant τ_ms of a micro-slip (s). Default 0.003 (spec: 2–5 ms).
+    pub microslip_time_s: f64,
+}
+
+impl Default for ContactParams {
+    fn default() -> Self {
+        Self {
+            skin_depth_mm: 1.25,
+            gap_conformity_mm: 3.75,
+            contact_edge_mm: 0.8,
+            lever_mm: 0.439,
+            pin_shear_gain: 0.5,
+            bulge: 0.1,
+            shear_spread: 1.5,
+            texture_smoothing_mm: 0.3,
+            bump_height_mm: 1.0,
+            period_rule: PeriodRule::Gap,
+            tangential_stiffness_n_mm: 2.0,
+            slip_time_s: 0.01,
+            slip_inertia_s: 0.001,
+            grid_mu_static: 1.0,
+            grid_mu_kinetic: 0.7,
+            microslip_min_mm: 0.005,
+            microslip_max_mm: 0.05,
+            microslip_time_s: 0.003,
+        }
+    }
+}
+
+/// How the camera sees the pins (spec §1.2, §3.1).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct OpticsParams {
+    /// Radius r_d of a pin's bright disc (px). Default 3 (spec: 2.5–3.5).
+    pub pin_radius_px: f64,
+    /// Edge blur w of the disc (px). Default 0.7 (spec: 0.5–1).
+    pub edge_blur_px: f64,
+    /// Background intensity I_bg (DN). Default 25.
+    pub background_dn: f64,
+    /// Pin intensity I_pin (DN); contrast K = I_pin/I_bg = 10 by default (spec: 5–20).
+    pub pin_dn: f64,
+    /// Intensity I_lin below which the log conversion is linear (DN). Default 20 (v2e).
+    pub linear_below_dn: f64,
+    /// Intensity I_max at which the photoreceptor reaches f_max (DN). Default 255 (v2e).
+    pub full_scale_dn: f64,
+    /// Radius of the pixel patch simulated around each pin's rest position (px); pixels farther
+    /// from every pin only produce noise. Default 10 (spec: ±10 px).
+    pub patch_radius_px: f64,
+}
+
+impl Default for OpticsParams {
+    fn default() -> Self {
+        Self {
+            pin_radius_px: 3.0,
+            edge_blur_px: 0.7,
+            background_dn: 25.0,
+            pin_dn: 250.0,
+            linear_below_dn: 20.0,
+            full_scale_dn: 255.0,
+            patch_radius_px: 10.0,
+        }
+    }
+}
+
+/// The DVS pixel (spec §3.2–3.3).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PixelParams {
+    /// Mean ON threshold C⁺ (log intensity). Default 0.20.
+    pub threshold_on: f64,
+    /// Mean OFF threshold C⁻ (log intensity). Default 0.25.
+    pub threshold_off: f64,
+    /// Pixel-to-pixel standard deviation σ_C of both thresholds (fixed-pattern noise).
+    /// Default 0.03.
+    pub threshold_sd: f64,
+    /// Refractory period t_ref (s). Default 0.0005.
+    pub refractory_s: f64,
+    /// Photoreceptor bandwidth f_max at full-scale intensity (Hz). Default 300 (v2e).
+    pub bandwidth_hz: f64,
+    /// Fixed output latency (s). Default 15 µs.
+    pub latency_s: f64,
+    /// Mean of the exponential latency jitter (s). Default 30 µs (spec: 10–50 µs).
+    pub latency_jitter_s: f64,
+}
+
+impl Default for PixelParams {
+    fn default() -> Self {
+        Self {
+            threshold_on: 0.20,
+            threshold_off: 0.25,
+            threshold_sd: 0.03,
+            refractory_s: 0.0005,
+            bandwidth_hz: 300.0,
+            latency_s: 15e-6,
+            latency_jitter_s: 30e-6,
+        }
+    }
+}
+
+/// Pixel noise (spec §3.2–3.3).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct NoiseParams {
+    /// Median leak (background-activity) ON rate r₀ (Hz per pixel). Default 0.1.
+    pub leak_rate_hz: f64,
+    /// Pixel-to-pixel spread of the leak rate: r = r₀·10^(spread·N(0,1)). Default 0.1.
+    pub leak_spread_decades: f64,
+    /// Shot-noise rate (Hz per pixel), half ON and half OFF. Default 0.1.
+    pub shot_rate_hz: f64,
+}
+
+impl Default for NoiseParams {
+    fn default() -> Self {
+        Self {
+            leak_rate_hz: 0.1,
+            leak_spread_decades: 0.1,
+            shot_rate_hz: 0.1,
+        }
+    }
+}
+
+/// Numerical settings: the speed ↔ accuracy knobs (spec §3.2, "Sampling").
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SolverParams {
+    /// Largest change of (filtered) log intensity allowed in one pixel step: steps shrink
+    /// while pins move fast and grow while they rest. Default 0.067 (≈ C⁺/3, ESIM).
+    pub step_tolerance: f64,
+    /// Longest pixel step (s): how often a patch whose pins rest and whose filter has settled
+    /// is visited (its noise events are handled exactly inside the step). Default 0.25.
+    pub max_step_s: f64,
+    /// Sampling interval of the mechanics (pin positions are interpolated linearly between
+    /// samples) (s). Default 0.0005.
+    pub mechanics_dt_s: f64,
+    /// Integration step of the shear ODE (s). Default 0.00005.
+    pub shear_dt_s: f64,
+}
+
+impl Default for SolverParams {
+    fn default() -> Self {
+        Self {
+            step_tolerance: 0.067,
+            max_step_s: 0.25,
+            mechanics_dt_s: 0.0005,
+            shear_dt_s: 0.00005,
+        }
+    }
+}
+
+/// Every parameter of the simulator (see the module docs). `Copy`: pass it by value.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SimParams {
+    /// Robot kinematics and trial variability.
+    pub kinematics: KinematicsParams,
+    /// Contact mechanics.
+    pub contact: ContactParams,
+    /// Pin appearance in the image.
+    pub optics: OpticsParams,
+    /// DVS pixels.
+    pub pixel: PixelParams,
+    /// Noise.
+    pub noise: NoiseParams,
+    /// Numerical settings.
+    pub solver: SolverParams,
+}
+
+/// What a value must satisfy.
+#[derive(Clone, Copy)]
+enum Domain {
+    Positive,
+    NonNegative,
+    Between(f64, f64),
+    AtMost(f64),
+}
+
+fn check(field: &'static str, value: f64, domain: Domain) -> Result<(), SimulationError> {
+    let (ok, expected) = match domain {
+        Domain::Positive => (value > 0.0, "finite and > 0"),
+        Domain::NonNegative => (value >= 0.0, "finite and ≥ 0"),
+        Domain::Between(lo, hi) => (
+            (lo..=hi).contains(&value),
+            "finite and within its documented range",
+        ),
+        Domain::AtMost(max) => (
+            value > 0.0 && value <= max,
+            "finite, > 0 and within its documented limit",
+        ),
+    };
+    if value.is_finite() && ok {
+        Ok(())
+    } else {
+        Err(SimulationError::InvalidParameter {
+            field,
+            value,
+            expected,
+        })
+    }
+}
+
+impl SimParams {
+    /// Checks every field (finite, signs, ranges) and the relations between them; the error
+    /// names the first offending field as `group.field`.
+    pub fn validate(&self) -> Result<(), SimulationError> {
+        use Domain::*;
+        let (k, c, o) = (&self.kinematics, &self.contact, &self.optics);
+        let (p, n, s) = (&self.pixel, &self.noise, &self.solver);
+        for (field, value, domain) in [
+            ("kinematics.speed_mm_s", k.speed_mm_s, Positive),
+            ("kinematics.distance_mm", k.distance_mm, NonNegative),
+            (
+                "kinematics.acceleration_mm_s2",
+                k.acceleration_mm_s2,
+                Positive,
+            ),
+            ("kinematics.rest_before_s", k.rest_before_s, NonNegative),
+            ("kinematics.rest_after_s", k.rest_after_s, NonNegative),
+            ("kinematics.press_depth_mm", k.press_depth_mm, Positive),
+            ("kinematics.normal_force_n", k.normal_force_n, Positive),
+            (
+                "kinematics.lateral_offset_range_mm",
+                k.lateral_offset_range_mm,
+                NonNegative,
+            ),
+            (
+                "kinematics.start_phase_range_mm",
+                k.start_phase_range_mm,
+                NonNegative,
+            ),
+            (
+                "kinematics.press_depth_sd_mm",
+                k.press_depth_sd_mm,
+                NonNegative,
+            ),
+            ("kinematics.friction_sd", k.friction_sd, Between(0.0, 0.5)),
+            ("contact.skin_depth_mm", c.skin_depth_mm, Positive),
+            ("contact.gap_conformity_mm", c.gap_conformity_mm, Positive),
+            ("contact.contact_edge_mm", c.contact_edge_mm, Positive),
+            ("contact.lever_mm", c.lever_mm, NonNegative),
+            ("contact.pin_shear_gain", c.pin_shear_gain, NonNegative),
+            ("contact.bulge", c.bulge, NonNegative),
+            ("contact.shear_spread", c.shear_spread, Positive),
+            (
+                "contact.texture_smoothing_mm",
+                c.texture_smoothing_mm,
+                NonNegative,
+            ),
+            ("contact.bump_height_mm", c.bump_height_mm, NonNegative),
+            (
+                "contact.tangential_stiffness_n_mm",
+                c.tangential_stiffness_n_mm,
+                Positive,
+            ),
+            ("contact.slip_time_s", c.slip_time_s, Positive),
+            ("contact.slip_inertia_s", c.slip_inertia_s, Positive),
+            ("contact.grid_mu_static", c.grid_mu_static, Positive),
+            ("contact.grid_mu_kinetic", c.grid_mu_kinetic, Positive),
+            ("contact.microslip_min_mm", c.microslip_min_mm, NonNegative),
+            ("contact.microslip_max_mm", c.microslip_max_mm, NonNegative),
+            ("contact.microslip_time_s", c.microslip_time_s, Positive),
+            ("optics.pin_radius_px", o.pin_radius_px, Positive),
+            ("optics.edge_blur_px", o.edge_blur_px, Positive),
+            ("optics.background_dn", o.background_dn, Positive),
+            ("optics.pin_dn", o.pin_dn, Positive),
+            ("optics.linear_below_dn", o.linear_below_dn, Positive),
+            ("optics.full_scale_dn", o.full_scale_dn, Positive),
+            ("optics.patch_radius_px", o.patch_radius_px, AtMost(40.0)),
+            ("pixel.threshold_on", p.threshold_on, Positive),
+            ("pixel.threshold_off", p.threshold_off, Positive),
+            ("pixel.threshold_sd", p.threshold_sd, NonNegative),
+            ("pixel.refractory_s", p.refractory_s, NonNegative),
+            ("pixel.bandwidth_hz", p.bandwidth_hz, Positive),
+            ("pixel.latency_s", p.latency_s, NonNegative),
+            ("pixel.latency_jitter_s", p.latency_jitter_s, NonNegative),
+            ("noise.leak_rate_hz", n.leak_rate_hz, NonNegative),
+            (
+                "noise.leak_spread_decades",
+                n.leak_spread_decades,
+                NonNegative,
+            ),
+            ("noise.shot_rate_hz", n.shot_rate_hz, NonNegative),
+            ("solver.step_tolerance", s.step_tolerance, AtMost(1.0)),
+            ("solver.max_step_s", s.max_step_s, AtMost(1.0)),
+            (
+                "solver.mechanics_dt_s",
+                s.mechanics_dt_s,
+                Between(1e-6, 0.01),
+            ),
+            ("solver.shear_dt_s", s.shear_dt_s, Between(1e-7, 0.001)),
+        ] {
+            check(field, value, domain)?;
+        }
+        // Relations between fields.
+        let relations = [
+            (
+                "kinematics.distance_mm",
+                k.distance_mm,
+                self.duration_s() <= 600.0,
+                "a slide (with its rests) of at most 600 s",
+            ),
+            (
+                "contact.grid_mu_kinetic",
+                c.grid_mu_kinetic,
+                c.grid_mu_kinetic <= c.grid_mu_static,
+                "≤ contact.grid_mu_static",
+            ),
+            (
+                "contact.microslip_max_mm",
+                c.microslip_max_mm,
+                c.microslip_max_mm >= c.microslip_min_mm,
+                "≥ contact.microslip_min_mm",
+            ),
+            (
+                "noise.leak_rate_hz",
+                n.leak_rate_hz,
+                n.leak_rate_hz + n.shot_rate_hz <= 1000.0,
+                "leak + shot noise of at most 1000 Hz per pixel",
+            ),
+        ];
+        match relations.into_iter().find(|r| !r.2) {
+            Some((field, value, _, expected)) => Err(SimulationError::InvalidParameter {
+                field,
+                value,
+                expected,
+            }),
+            None => Ok(()),
+        }
+    }
+
+    /// Reads and validates a JSON parameter file (every field required).
+    pub fn from_json_file(path: &Path) -> Result<Self, SimulationError> {
+        let text = std::fs::read_to_string(path).map_err(|source| SimulationError::ParamsIo {
+            path: path.to_owned(),
+            source,
+        })?;
+        Self::from_json_str(&text, path)
+    }
+
+    /// Parses and validates the JSON form; `path` only names the source in errors.
+    pub fn from_json_str(text: &str, path: &Path) -> Result<Self, SimulationError> {
+        let params: SimParams =
+            serde_json::from_str(text).map_err(|source| SimulationError::ParamsJson {
+                path: path.to_owned(),
+                source,
+            })?;
+        params.validate()?;
+        Ok(params)
+    }
+
+    /// The JSON form (complete: every field).
+    pub fn to_json_string(&self) -> String {
+        serde_json::to_string_pretty(self).expect("finite parameters serialise")
+    }
+
+    /// Duration of the motion alone (s): trapezoidal profile over the slide distance.
+    pub fn motion_duration_s(&self) -> f64 {
+        let k = &self.kinematics;
+        let (v, a, d) = (k.speed_mm_s, k.acceleration_mm_s2, k.distance_mm);
+        if d <= 0.0 {
+            return 0.0;
+        }
+        if d >= v * v / a {
+            d / v + v / a
+        } else {
+            2.0 * (d / a).sqrt()
+        }
+    }
+
+    /// Duration of a whole trial (s): rest, motion, rest.
+    pub fn duration_s(&self) -> f64 {
+        self.kinematics.rest_before_s + self.motion_duration_s() + self.kinematics.rest_after_s
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn defaults_validate_and_a_trial_lasts_about_4_5_s() {
+        let p = SimParams::default();
+        p.validate().unwrap();
+        assert!((p.duration_s() - 4.55).abs() < 1e-12, "{}", p.duration_s());
+    }
+
+    #[test]
+    fn bad_values_name_their_field() {
+        type Spoil = fn(&mut SimParams);
+        let cases: [(Spoil, &str); 6] = [
+            (|p| p.pixel.threshold_on = -0.2, "pixel.threshold_on"),
+            (|p| p.pixel.refractory_s = -1e-4, "pixel.refractory_s"),
+            (|p| p.contact.lever_mm = f64::NAN, "contact.lever_mm"),
+            (|p| p.kinematics.speed_mm_s = -15.0, "kinematics.speed_mm_s"),
+            (|p| p.optics.pin_radius_px = -3.0, "optics.pin_radius_px"),
+            (
+                |p| p.noise.shot_rate_hz = f64::INFINITY,
+                "noise.shot_rate_hz",
+            ),
+        ];
+        for (spoil, name) in cases {
+            let mut p = SimParams::default();
+            spoil(&mut p);
+            match p.validate() {
+                Err(SimulationError::InvalidParameter { field, .. }) => assert_eq!(field, name),
+                other => panic!("{name}: {other:?}"),
+            }
+        }
+    }
+
+    #[test]
+    fn parameter_files_round_trip_and_missing_fields_are_named() {
+        let p = SimParams::default();
+        let text = p.to_json_string();
+        assert_eq!(
+            SimParams::from_json_str(&text, Path::new("p.json")).unwrap(),
+            p
+        );
+        let missing = text.replace("\"refractory_s\": 0.0005,", "");
+        let err = SimParams::from_json_str(&missing, Path::new("p.json")).unwrap_err();
+        let SimulationError::ParamsJson { source, .. } = &err else {
+            panic!("{err:?}")
+        };
+        assert!(source.to_string().contains("refractory_s"), "{source}");
+        let negative = text.replace("\"threshold_off\": 0.25", "\"threshold_off\": -0.25");
+        let err = SimParams::from_json_str(&negative, Path::new("p.json")).unwrap_err();
+        assert!(err.to_string().contains("pixel.threshold_off"), "{err}");
+    }
+}

@@ -1,0 +1,171 @@
+//! The simulator's cheap acceptance statistics (spec §5) and its bad-input errors.
+
+use neurotac_sensor::sim::{
+    Camera, SimParams, SimulatedTrial, SimulationError, Simulator, Texture, edge_pass,
+    pixel_sanity, taxel_spikes,
+};
+
+/// A shortened slide (20 mm) to keep the tests fast; rests as in the defaults.
+fn short() -> SimParams {
+    let mut p = SimParams::default();
+    p.kinematics.distance_mm = 20.0;
+    p
+}
+
+fn run(params: SimParams, texture: &str, seed: u64) -> SimulatedTrial {
+    let camera = Camera::new(&params, 11);
+    let mut sim = Simulator::new(params, &camera).unwrap();
+    let texture = sim.prepare(Texture::from_name(texture).unwrap());
+    sim.simulate(&texture, seed)
+}
+
+fn spikes_per_taxel(trial: &SimulatedTrial) -> f64 {
+    taxel_spikes(trial).unwrap().spikes.total_spikes() as f64 / 49.0
+}
+
+#[test]
+fn a_full_edge_pass_gives_ln_k_over_c_events_per_pixel() {
+    // Statistic 7: ≈ ln K / C per pixel (±30 %), intervals ≥ t_ref, per-pixel order.
+    let p = SimParams::default();
+    let pass = edge_pass(&p, 3).unwrap();
+    for (got, expected) in [
+        (pass.on_per_pixel, pass.expected_on),
+        (pass.off_per_pixel, pass.expected_off),
+    ] {
+        assert!(
+            (got / expected - 1.0).abs() <= 0.3,
+            "{got} events per pixel, expected {expected}"
+        );
+    }
+    let s = pass.sanity;
+    assert!(s.monotone && s.monotone_per_pixel);
+    assert!(s.min_interval_us.unwrap() >= 500, "{s:?}");
+}
+
+#[test]
+fn same_seed_same_trial_other_seed_other_trial() {
+    // Statistic 10.
+    let mut p = short();
+    p.kinematics.distance_mm = 5.0;
+    let a = run(p, "grid 5 mm", 1);
+    assert_eq!(a, run(p, "grid 5 mm", 1));
+    assert_ne!(a.events, run(p, "grid 5 mm", 2).events);
+}
+
+#[test]
+fn noise_is_labelled_and_at_the_background_activity_rate() {
+    // Statistic 6 (raw rate) and the labels: a static recording has only noise; without
+    // noise, no event carries the noise label; every event outside the pin patches is noise.
+    let mut p = SimParams::default();
+    p.kinematics.distance_mm = 0.0;
+    p.kinematics.rest_before_s = 4.0;
+    p.kinematics.rest_after_s = 0.0;
+    let still = run(p, "grid 5 mm", 4);
+    assert!(!still.events.is_empty());
+    assert_eq!(still.noise_count(), still.events.len());
+    let rate = still.noise_count() as f64 / (240.0 * 180.0 * 4.0);
+    assert!((0.1..=0.3).contains(&rate), "{rate} Hz per pixel");
+    // Static: taxel spikes come from filtered noise alone, ≤ 0.4 per taxel per second.
+    let per_taxel_s = spikes_per_taxel(&still) / 4.0;
+    assert!(per_taxel_s <= 0.4, "{per_taxel_s}");
+
+    let moving = short();
+    let camera = Camera::new(&moving, 11);
+    let mut sim = Simulator::new(moving, &camera).unwrap();
+    let grid = sim.prepare(Texture::grid(5.0).unwrap());
+    let clean = sim.simulate_with(&grid, 5, false);
+    assert!(!clean.events.is_empty());
+    assert_eq!(clean.noise_count(), 0);
+    let noisy = sim.simulate(&grid, 5);
+    let far =
+        |x: u16, y: u16| ((x as f64 - 120.0).powi(2) + (y as f64 - 90.0).powi(2)).sqrt() > 80.0;
+    let outside: Vec<_> = noisy
+        .events
+        .iter()
+        .zip(&noisy.labels)
+        .filter(|(e, _)| far(e.x, e.y))
+        .collect();
+    assert!(outside.len() > 1000);
+    assert!(outside.iter().all(|(_, l)| l.is_noise()));
+    assert!(noisy.labels.iter().any(|l| l.pin() == Some(0)));
+}
+
+#[test]
+fn counts_rise_with_bump_size_and_the_flat_plate_has_an_onset_burst() {
+    // Statistics 2 (monotone, on a 20 mm slide) and 5 (onset burst on the flat plate).
+    let p = short();
+    let counts: Vec<f64> = ["grid 0 mm", "grid 2.5 mm", "grid 5 mm"]
+        .iter()
+        .map(|t| (0..2).map(|s| spikes_per_taxel(&run(p, t, s))).sum::<f64>() / 2.0)
+        .collect();
+    assert!(counts[0] < counts[1] && counts[1] < counts[2], "{counts:?}");
+    // The onset burst is a fixed cost, so on a third of the slide the ratio stays below the
+    // full slide's (statistic 2 proper runs in `neurotac simulate check`).
+    assert!(counts[2] - counts[0] >= 5.0, "{counts:?}");
+
+    let flat = run(p, "grid 0 mm", 7);
+    let spikes = taxel_spikes(&flat).unwrap().spikes;
+    let onset = flat.info.motion_start_s;
+    let all = spikes.pooled();
+    let burst = all
+        .iter()
+        .filter(|&&t| t >= onset && t < onset + 0.2)
+        .count() as f64
+        / 0.2;
+    let steady_span = (onset + 0.5, flat.info.motion_end_s - 0.1);
+    let steady = all
+        .iter()
+        .filter(|&&t| t >= steady_span.0 && t < steady_span.1)
+        .count() as f64
+        / (steady_span.1 - steady_span.0);
+    assert!(burst >= 5.0 * steady, "burst {burst}/s, steady {steady}/s");
+    let involved = (0..49)
+        .filter(|&c| {
+            spikes
+                .channel(c)
+                .iter()
+                .any(|&t| t >= onset && t < onset + 0.2)
+        })
+        .count();
+    assert!(involved >= 40, "{involved} taxels in the burst");
+}
+
+#[test]
+fn a_trial_is_sane_pixel_by_pixel() {
+    // Statistic 7 on a whole slide: intervals ≥ t_ref, per-pixel order, ON/OFF balance of the
+    // pin events (leak noise is ON only, so the noise alone is 3:1 ON).
+    let trial = run(short(), "grid 4 mm", 8);
+    let s = pixel_sanity(&trial.events);
+    assert!(s.monotone && s.monotone_per_pixel, "{s:?}");
+    assert!(s.min_interval_us.unwrap() >= 500, "{s:?}");
+    let signal = pixel_sanity(&trial.signal_events());
+    assert!((0.6..=1.6).contains(&signal.on_off_ratio), "{signal:?}");
+    assert!(
+        trial
+            .events
+            .t
+            .iter()
+            .all(|&t| t >= 0 && (t as f64) < trial.info.duration_s * 1e6)
+    );
+}
+
+#[test]
+fn bad_parameters_and_names_are_typed_errors() {
+    let camera = Camera::new(&SimParams::default(), 1);
+    let mut p = SimParams::default();
+    p.pixel.refractory_s = -1e-3;
+    match Simulator::new(p, &camera) {
+        Err(SimulationError::InvalidParameter { field, .. }) => {
+            assert_eq!(field, "pixel.refractory_s")
+        }
+        other => panic!("{other:?}"),
+    }
+    let mut p = SimParams::default();
+    p.kinematics.distance_mm = f64::NAN;
+    let err = Simulator::new(p, &camera).unwrap_err();
+    assert!(err.to_string().contains("kinematics.distance_mm"), "{err}");
+    assert!(matches!(
+        Texture::from_name("corduroy velvet"),
+        Err(SimulationError::UnknownTexture { .. })
+    ));
+}
