@@ -12,17 +12,28 @@
 //! ```
 //!
 //! and for a spike away from both ends (`Δ − 1 ≤ k ≤ T − Δ`) the term is
-//! `Q_b[k + 1 + Δ] + Q_b[k + 1 − Δ] − 2·Q_b[k + 1]`: two contiguous loads per spike for a whole
-//! block of Δ values (one forward in `Q_b`, one in `Q_b` reversed). The squared distance is then
+//! `Q_b[k + 1 + Δ] + Q_b[k + 1 − Δ] − 2·Q_b[k + 1] = Σ_l x_b[l]·max(0, Δ − |k − l|)`. Summed over
+//! such spikes this is `Σ_{|d| < Δ} X(d)·(Δ − |d|)` with the correlogram
+//! `X(d) = Σ_k x_b[k + d]`, which needs one vector add of `x_b` per spike over all lags
+//! `|d| < Δ_max` (bytes: 64 lanes per vector, flushed to wider sums before a lane can reach 256)
+//! and then, for all Δ at once, a double prefix sum over `Y(j) = X(j) + X(−j)`. Spikes near
+//! either end keep the clamped `Q` form (two contiguous loads per spike for a block of Δ values,
+//! the clamped centre terms as `max`/`min` of `Q` values, since `Q` never decreases), and so do
+//! all spikes when a bin holds more than 255. The squared distance is then
 //! `‖w_a‖² + ‖w_b‖² − 2⟨w_a, w_b⟩`, an integer, computed in wrapping `i32` arithmetic — exact
 //! because it is a ring identity mod 2³² and the true value is known to lie in `[0, 2³¹)` (bound
-//! checked per dataset; `i64` otherwise). Integer distances rank exactly as the Euclidean
-//! distances of the features, ties included, so the KNN predictions are exactly those of the
-//! feature vectors.
+//! checked per dataset, as is `Q ≤ i32::MAX`; `i64` otherwise). Integer distances rank exactly
+//! as the Euclidean distances of the features, ties included, so the KNN predictions are exactly
+//! those of the feature vectors.
 //!
-//! Δ values are processed in blocks of [`LANES`]: for each block every pair's squared distances
-//! are computed (rows in parallel), then leave-one-out runs for each Δ of the block (Δ values in
-//! parallel), with the KNN tie rules of [`neurotac_core::knn`].
+//! Δ values are processed in blocks of [`LANES`] (one block covers the paper's 200 windows), and
+//! each pair's inner product comes from the sample with fewer spikes. Leave-one-out is fused
+//! with the distances: every pair's squared distances are offered, for all Δ of the block at
+//! once, to both samples' `k` nearest (one vector comparison against the current `k`-th
+//! distances; the few that pass are inserted), so no distance is stored. Rows are split into
+//! chunks that run in parallel, each with its own neighbour lists; the lists of all chunks are
+//! then merged with [`TopK`] under the `(distance, index)` order of [`neurotac_core::knn`], which
+//! gives the same neighbours for any chunking (thread count), and voted on with its tie rules.
 
 use crate::error::ExperimentError;
 use crate::protocols::Accuracy;
@@ -32,11 +43,18 @@ use neurotac_core::{Knn, KnnError, MultiSpikeTrain};
 use rayon::prelude::*;
 use serde::Serialize;
 
-/// Δ values per block (lanes of the inner loop).
-pub const LANES: usize = 40;
+/// Δ values per block (lanes of the inner loop): the paper's 200 windows in one block of
+/// 16-lane vectors.
+pub const LANES: usize = 208;
+
+/// Lags per block of the byte correlogram (7 vectors of 64 bytes: `|d| < 224`).
+const LAG_LANES: usize = 448;
 
 /// Rows computed together so that each column sample's arrays are reused from cache.
 const ROW_BLOCK: usize = 16;
+
+/// Chunks of rows per thread (each with its own neighbour lists).
+const CHUNKS_PER_THREAD: usize = 2;
 
 /// Leave-one-out accuracy at every window of the sweep.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -52,7 +70,9 @@ pub struct DtSweep {
 }
 
 /// Wrapping integer lanes (`i32` when the distances fit, `i64` otherwise).
-trait Lane: Copy + Default + PartialOrd + Send + Sync + 'static {
+trait Lane: Copy + Default + Ord + Send + Sync + 'static {
+    const MIN: Self;
+    const MAX: Self;
     fn wadd(self, o: Self) -> Self;
     fn wsub(self, o: Self) -> Self;
     fn from_i64(x: i64) -> Self;
@@ -61,6 +81,8 @@ trait Lane: Copy + Default + PartialOrd + Send + Sync + 'static {
 macro_rules! lane {
     ($($t:ty),*) => {$(
         impl Lane for $t {
+            const MIN: Self = <$t>::MIN;
+            const MAX: Self = <$t>::MAX;
             #[inline(always)]
             fn wadd(self, o: Self) -> Self { self.wrapping_add(o) }
             #[inline(always)]
@@ -72,16 +94,50 @@ macro_rules! lane {
 }
 lane!(i32, i64);
 
-/// One sample: its spike bins (sorted, with repeats) and `Q`, forward (padded with `Q[T + 1]`)
-/// and reversed (padded with `Q[0] = 0`), long enough that every block load stays inside.
+/// One sample: its spike bins (sorted, with repeats), `Q` forward (padded with `Q[T + 1]`) and
+/// reversed (padded with `Q[0] = 0`), long enough that every block load stays inside, and the
+/// bin counts as bytes shifted by `Δ_max − 1` (zero padded) for the correlogram, when they fit.
 struct Prepared<L> {
     bins: Vec<u32>,
     q: Vec<L>,
     q_reversed: Vec<L>,
+    lagged: Vec<u8>,
 }
 
-fn prepare<L: Lane>(bin_counts: &[u32], delta_max: usize) -> Prepared<L> {
-    let t = bin_counts.len();
+/// Shape of one sweep: duration `t`, largest window `delta_max` and, when every bin count fits a
+/// byte, how many spikes a byte correlogram can add before it must be flushed.
+#[derive(Debug, Clone, Copy)]
+struct Shape {
+    t: usize,
+    delta_max: usize,
+    flush_every: Option<usize>,
+}
+
+impl Shape {
+    fn new(t: usize, delta_max: usize, max_bin_count: u32) -> Self {
+        let flush_every = u8::try_from(max_bin_count.max(1))
+            .ok()
+            .map(|m| (u8::MAX / m) as usize);
+        Self {
+            t,
+            delta_max,
+            flush_every,
+        }
+    }
+
+    /// Blocks of [`LANES`] windows.
+    fn blocks(&self) -> usize {
+        self.delta_max.div_ceil(LANES)
+    }
+
+    /// Blocks of [`LAG_LANES`] lags `d ∈ [−(Δ_max − 1), Δ_max − 1]`.
+    fn lag_blocks(&self) -> usize {
+        (2 * self.delta_max - 1).div_ceil(LAG_LANES)
+    }
+}
+
+fn prepare<L: Lane>(bin_counts: &[u32], shape: &Shape) -> Prepared<L> {
+    let (t, delta_max) = (shape.t, shape.delta_max);
     let mut bins = Vec::new();
     for (b, &c) in bin_counts.iter().enumerate() {
         bins.extend(std::iter::repeat_n(b as u32, c as usize));
@@ -100,17 +156,44 @@ fn prepare<L: Lane>(bin_counts: &[u32], delta_max: usize) -> Prepared<L> {
     let (last, first) = (*q.last().expect("T + 2 ≥ 2 entries"), L::from_i64(0));
     q.resize(t + 2 + delta_max + LANES, last);
     q_reversed.resize(t + 2 + delta_max + LANES, first);
+    let lagged = match shape.flush_every {
+        Some(_) => {
+            // lagged[j] = x[j − (Δ_max − 1)]: the load at k covers x[k + d], |d| < Δ_max.
+            let mut lagged = vec![0u8; t + shape.lag_blocks() * LAG_LANES];
+            for (b, &c) in bin_counts.iter().enumerate() {
+                lagged[b + delta_max - 1] = c as u8;
+            }
+            lagged
+        }
+        None => Vec::new(),
+    };
     Prepared {
         bins,
         q,
         q_reversed,
+        lagged,
     }
 }
 
-/// `Σ_k (Q_b[k + 1 + Δ] + Q_b[k + 1 − Δ])` over interior spikes `k` for the block's Δ values,
-/// and `Σ_k Q_b[k + 1]`. Kept apart so the block accumulators stay in registers.
+/// `Σ_k (Q_b[k + 1 + Δ] + Q_b[k + 1 − Δ] − low_k(Δ) − high_k(Δ))` over the spikes `k` in `bins`
+/// for the block's Δ values, where the two centre terms are `Q_b[k + 1]` (interior) or, near the
+/// start (`LOW`), `Q_b[max(k + 1, Δ)] = max(Q_b[k + 1], Q_b[Δ])` and near the end (`HIGH`),
+/// `Q_b[min(k + 1, T + 1 − Δ)] = min(Q_b[k + 1], Q_b[T + 1 − Δ])` (`Q` never decreases and does
+/// not wrap: checked per dataset). The outer terms read the padded arrays, which clamp their
+/// indices to `[0, T + 1]`. Centre terms that stay `Q_b[k + 1]` for every Δ are summed once, as
+/// the returned scalar, to be subtracted from every lane. Kept apart so the accumulators stay in
+/// registers.
 #[inline(never)]
-fn interior_sum<L: Lane>(bins: &[u32], b: &Prepared<L>, t: usize, d0: usize) -> ([L; LANES], L) {
+fn window_sum<L: Lane, const LOW: bool, const HIGH: bool>(
+    bins: &[u32],
+    b: &Prepared<L>,
+    t: usize,
+    d0: usize,
+) -> ([L; LANES], L) {
+    let delta: &[L; LANES] = b.q[d0 + 1..d0 + 1 + LANES].try_into().expect("LANES"); // Q[Δ]
+    let tail: &[L; LANES] = b.q_reversed[d0 + 1..d0 + 1 + LANES] // Q[T + 1 − Δ]
+        .try_into()
+        .expect("LANES");
     let mut acc = [L::default(); LANES];
     let mut centre = L::default();
     for &k in bins {
@@ -121,86 +204,147 @@ fn interior_sum<L: Lane>(bins: &[u32], b: &Prepared<L>, t: usize, d0: usize) -> 
         let backward: &[L; LANES] = b.q_reversed[t - k + d0 + 1..t - k + d0 + 1 + LANES]
             .try_into()
             .expect("LANES values");
+        let qk = b.q[k + 1];
         for l in 0..LANES {
-            acc[l] = acc[l].wadd(forward[l]).wadd(backward[l]);
+            let mut x = acc[l].wadd(forward[l]).wadd(backward[l]);
+            if LOW {
+                x = x.wsub(qk.max(delta[l]));
+            }
+            if HIGH {
+                x = x.wsub(qk.min(tail[l]));
+            }
+            acc[l] = x;
         }
-        centre = centre.wadd(b.q[k + 1]);
+        if !LOW {
+            centre = centre.wadd(qk);
+        }
+        if !HIGH {
+            centre = centre.wadd(qk);
+        }
     }
     (acc, centre)
 }
 
-/// `⟨w_a, w_b⟩(Δ)` for `Δ = d0 + 1 + l`, `l < LANES`, lanes with `Δ > delta_max` left at 0.
-fn inner_block<L: Lane>(
-    a: &Prepared<L>,
-    b: &Prepared<L>,
-    t: usize,
-    d0: usize,
-    delta_max: usize,
-) -> [L; LANES] {
-    let delta_hi = (d0 + LANES).min(delta_max);
-    // Spikes whose term is the interior one for every Δ of the block.
-    let lo = a.bins.partition_point(|&k| (k as usize + 1) < delta_hi);
-    let hi = a
-        .bins
-        .partition_point(|&k| k as usize + delta_hi <= t)
-        .max(lo);
-    let (mut acc, centre) = interior_sum(&a.bins[lo..hi], b, t, d0);
-    let twice = centre.wadd(centre);
-    for a in acc.iter_mut() {
-        *a = a.wsub(twice);
-    }
-    // Spikes near either end: the general term, branch-free over the block. With the padding
-    // (forward Q by Q[T + 1], reversed Q by Q[0] = 0) the clamped indices become:
-    // Q[min(k+Δ+1, T+1)] = forward, Q[max(0, k+1−Δ)] = reversed, and two selects.
-    let delta0 = &b.q[d0 + 1..d0 + 1 + LANES]; // Q[Δ]
-    let tail = &b.q_reversed[d0 + 1..d0 + 1 + LANES]; // Q[T + 1 − Δ]
-    for &k in a.bins[..lo].iter().chain(&a.bins[hi..]) {
-        let k = k as usize;
-        let forward = &b.q[k + 2 + d0..k + 2 + d0 + LANES];
-        let backward = &b.q_reversed[t - k + d0 + 1..t - k + d0 + 1 + LANES];
-        let qk = b.q[k + 1];
-        for l in 0..LANES {
-            let delta = d0 + 1 + l;
-            let low = if delta <= k + 1 { qk } else { delta0[l] };
-            let high = if delta + k <= t { qk } else { tail[l] };
-            acc[l] = acc[l]
-                .wadd(forward[l])
-                .wadd(backward[l])
-                .wsub(low)
-                .wsub(high);
+/// Adds the correlogram `X(d) = Σ_k x_b[k + d]` over the spikes `k` in `bins` for the lags of
+/// lag block `block` to `x`, in byte lanes flushed every `flush_every` spikes (so no lane exceeds
+/// 255). Kept apart so the byte accumulators stay in registers.
+#[inline(never)]
+fn correlogram_block<L: Lane>(
+    bins: &[u32],
+    lagged: &[u8],
+    block: usize,
+    flush_every: usize,
+    x: &mut [L; LAG_LANES],
+) {
+    let offset = block * LAG_LANES;
+    for group in bins.chunks(flush_every) {
+        let mut acc = [0u8; LAG_LANES];
+        for &k in group {
+            let at = k as usize + offset;
+            let window: &[u8; LAG_LANES] = lagged[at..at + LAG_LANES]
+                .try_into()
+                .expect("LAG_LANES values");
+            for l in 0..LAG_LANES {
+                acc[l] = acc[l].wrapping_add(window[l]);
+            }
+        }
+        for (x, &a) in x.iter_mut().zip(&acc) {
+            *x = x.wadd(L::from_i64(a as i64));
         }
     }
-    for slot in acc.iter_mut().skip(delta_hi.saturating_sub(d0)) {
+}
+
+/// `⟨w_a, w_b⟩(Δ)` for `Δ = 1..=Δ_max` in `out[Δ − 1]` (`blocks · LANES` lanes, those beyond
+/// `Δ_max` set to 0), from the spikes of `a` and the arrays of `b`.
+///
+/// A spike `k` with `Δ_max − 1 ≤ k ≤ T − Δ_max` (interior) adds `Σ_l x_b[l]·max(0, Δ − |k − l|)`
+/// for every Δ. With byte bins these come from the correlogram `X(d)` over `|d| < Δ_max`, one
+/// byte vector add per spike and lag block: `Σ_{|d|<Δ} X(d)·(Δ − |d|)` is a double prefix sum
+/// over `Y(j) = X(j) + X(−j)`. Spikes near either end, and interior ones when bins exceed a
+/// byte, use [`window_sum`] on `Q_b` per block of [`LANES`] windows.
+fn inner_products<L: Lane>(
+    a: &Prepared<L>,
+    b: &Prepared<L>,
+    shape: &Shape,
+    out: &mut [L],
+    lags: &mut Vec<[L; LAG_LANES]>,
+) {
+    let (t, dm) = (shape.t, shape.delta_max);
+    // Spikes [0, low) need the start's centre term for some Δ, [high, n) the end's.
+    let low = a.bins.partition_point(|&k| (k as usize + 1) < dm);
+    let high = a.bins.partition_point(|&k| k as usize + dm <= t);
+    let (lo, hi) = (low.min(high), low.max(high));
+    let middle = &a.bins[lo..hi];
+    let interior = low <= high;
+    out.fill(L::default());
+    for (block, out) in out.chunks_exact_mut(LANES).enumerate() {
+        let d0 = block * LANES;
+        let middle_part = if !interior {
+            // Short samples: spikes near both ends.
+            Some(window_sum::<L, true, true>(middle, b, t, d0))
+        } else if shape.flush_every.is_none() {
+            Some(window_sum::<L, false, false>(middle, b, t, d0))
+        } else {
+            None
+        };
+        let parts = [
+            Some(window_sum::<L, true, false>(&a.bins[..lo], b, t, d0)),
+            Some(window_sum::<L, false, true>(&a.bins[hi..], b, t, d0)),
+            middle_part,
+        ];
+        for (part, centre) in parts.into_iter().flatten() {
+            for (o, p) in out.iter_mut().zip(part) {
+                *o = o.wadd(p).wsub(centre);
+            }
+        }
+    }
+    if let (true, Some(flush_every)) = (interior, shape.flush_every) {
+        lags.clear();
+        lags.resize(shape.lag_blocks(), [L::default(); LAG_LANES]);
+        for (block, x) in lags.iter_mut().enumerate() {
+            correlogram_block(middle, &b.lagged, block, flush_every, x);
+        }
+        let x = lags.as_flattened();
+        // Δ·Y(0) + (Δ − 1)·Y(1) + …: T(Δ + 1) = T(Δ) + Σ_{j ≤ Δ} Y(j).
+        let centre = dm - 1;
+        let (mut cumulative, mut total) = (x[centre], x[centre]);
+        out[0] = out[0].wadd(total);
+        for (j, o) in out.iter_mut().enumerate().take(dm).skip(1) {
+            cumulative = cumulative.wadd(x[centre + j]).wadd(x[centre - j]);
+            total = total.wadd(cumulative);
+            *o = o.wadd(total);
+        }
+    }
+    for slot in out.iter_mut().skip(dm) {
         *slot = L::default();
     }
-    acc
 }
 
 /// Exact squared feature distances `N²·‖R_a − R_b‖²` for `Δ = 1..=delta_max` (for checks and
-/// small problems; the sweep uses the same kernel blockwise).
+/// small problems; the sweep uses the same kernel).
 pub fn window_squared_distances(
     a: &MultiSpikeTrain,
     b: &MultiSpikeTrain,
     duration_ms: u32,
     delta_max: u32,
 ) -> Vec<i64> {
-    let (pa, pb) = (
-        prepare::<i64>(&pooled_bin_counts(a, duration_ms), delta_max as usize),
-        prepare::<i64>(&pooled_bin_counts(b, duration_ms), delta_max as usize),
-    );
-    let (t, dm) = (duration_ms as usize, delta_max as usize);
-    let mut out = Vec::with_capacity(dm);
-    for d0 in (0..dm).step_by(LANES) {
-        let (aa, bb, ab) = (
-            inner_block(&pa, &pa, t, d0, dm),
-            inner_block(&pb, &pb, t, d0, dm),
-            inner_block(&pa, &pb, t, d0, dm),
-        );
-        for l in 0..LANES.min(dm - d0) {
-            out.push(aa[l] + bb[l] - 2 * ab[l]);
-        }
-    }
-    out
+    let counts = [
+        pooled_bin_counts(a, duration_ms),
+        pooled_bin_counts(b, duration_ms),
+    ];
+    let max_count = counts.iter().flatten().copied().max().unwrap_or(0);
+    let shape = Shape::new(duration_ms as usize, delta_max as usize, max_count);
+    let [pa, pb] = counts.map(|c| prepare::<i64>(&c, &shape));
+    let mut lags = Vec::new();
+    let mut inner = |x: &Prepared<i64>, y: &Prepared<i64>| {
+        let mut out = vec![0; shape.blocks() * LANES];
+        inner_products(x, y, &shape, &mut out, &mut lags);
+        out
+    };
+    let (aa, bb, ab) = (inner(&pa, &pa), inner(&pb, &pb), inner(&pa, &pb));
+    (0..delta_max as usize)
+        .map(|l| aa[l] + bb[l] - 2 * ab[l])
+        .collect()
 }
 
 /// Runs the sweep over `Δt = 1..=max_window_ms` ms on samples of `duration_ms` (spikes outside
@@ -212,6 +356,32 @@ pub fn dt_sweep(
     max_window_ms: u32,
     knn: Knn,
 ) -> Result<DtSweep, ExperimentError> {
+    let predictions =
+        leave_one_out_predictions(observations, labels, duration_ms, max_window_ms, knn)?;
+    let n = labels.len();
+    let accuracy: Vec<f64> = predictions
+        .iter()
+        .map(|p| p.iter().zip(labels).filter(|(p, t)| p == t).count() as f64 / n as f64)
+        .collect();
+    let best = (0..accuracy.len())
+        .max_by(|&x, &y| accuracy[x].total_cmp(&accuracy[y]).then(y.cmp(&x)))
+        .expect("at least one window");
+    Ok(DtSweep {
+        windows_ms: (1..=max_window_ms).collect(),
+        best_window_ms: best as u32 + 1,
+        best: Accuracy::of(&predictions[best], labels),
+        accuracy,
+    })
+}
+
+/// The leave-one-out predictions of [`dt_sweep`]: entry `Δt − 1` holds one label per sample.
+pub fn leave_one_out_predictions(
+    observations: &[MultiSpikeTrain],
+    labels: &[usize],
+    duration_ms: u32,
+    max_window_ms: u32,
+    knn: Knn,
+) -> Result<Vec<Vec<usize>>, ExperimentError> {
     let n = observations.len();
     if labels.len() != n {
         return Err(KnnError::Shape {
@@ -239,8 +409,10 @@ pub fn dt_sweep(
         .par_iter()
         .map(|o| pooled_bin_counts(o, duration_ms))
         .collect();
-    // ‖w‖² ≤ max window count · Σ_s w(s) ≤ max window count · Δ · n; D² ≤ 2(‖w_a‖² + ‖w_b‖²).
-    let bound = counts
+    // Exact integer lanes: D² ≤ 2(‖w_a‖² + ‖w_b‖²) with ‖w‖² ≤ max window count · Δ · n, so the
+    // wrapping sums are exact below half the lane range; every prefix Q ≤ (T + 1)·n must not wrap
+    // at all (the edge terms compare Q values).
+    let (bound, q_max) = counts
         .iter()
         .map(|c| {
             let total: u64 = c.iter().map(|&x| x as u64).sum();
@@ -250,121 +422,208 @@ pub fn dt_sweep(
                 window = window + c[s] as u64 - c[s - max_window_ms as usize] as u64;
                 most = most.max(window);
             }
-            (most as u128) * (max_window_ms as u128) * (total as u128)
+            (
+                (most as u128) * (max_window_ms as u128) * (total as u128),
+                (duration_ms as u128 + 1) * total as u128,
+            )
         })
-        .max()
-        .unwrap_or(0);
-    if 4 * bound < i32::MAX as u128 {
-        sweep::<i32>(&counts, labels, duration_ms, max_window_ms, knn)
+        .fold((0, 0), |(b, q), (b2, q2)| (b.max(b2), q.max(q2)));
+    let max_count = counts.iter().flatten().copied().max().unwrap_or(0);
+    let shape = Shape::new(duration_ms as usize, max_window_ms as usize, max_count);
+    let fits = |max: u128| 4 * bound < max && q_max <= max;
+    if fits(i32::MAX as u128) {
+        Ok(sweep::<i32>(&counts, labels, &shape, knn))
+    } else if fits(i64::MAX as u128) {
+        Ok(sweep::<i64>(&counts, labels, &shape, knn))
     } else {
-        sweep::<i64>(&counts, labels, duration_ms, max_window_ms, knn)
+        Err(ExperimentError::InvalidParameter {
+            what: "duration_ms",
+            value: duration_ms as f64,
+            expected: "duration × spikes per sample small enough for exact 64-bit window sums",
+        })
     }
 }
 
 fn sweep<L: Lane>(
     counts: &[Vec<u32>],
     labels: &[usize],
-    duration_ms: u32,
-    max_window_ms: u32,
+    shape: &Shape,
     knn: Knn,
-) -> Result<DtSweep, ExperimentError> {
+) -> Vec<Vec<usize>> {
     let n = counts.len();
-    let (t, dm) = (duration_ms as usize, max_window_ms as usize);
-    let prepared: Vec<Prepared<L>> = counts.par_iter().map(|c| prepare(c, dm)).collect();
-    // Row a of the upper triangle holds LANES blocks of n − a − 1 squared distances.
-    let mut storage: Vec<L> = vec![L::default(); LANES * n * n.saturating_sub(1) / 2];
-    let mut accuracy = Vec::with_capacity(dm);
-    let mut predictions: Vec<Vec<usize>> = Vec::with_capacity(dm);
-    for d0 in (0..dm).step_by(LANES) {
-        let norms: Vec<[L; LANES]> = prepared
-            .par_iter()
-            .map(|p| inner_block(p, p, t, d0, dm))
-            .collect();
-        let mut rows: Vec<&mut [L]> = Vec::with_capacity(n);
-        let mut rest = storage.as_mut_slice();
-        for a in 0..n {
-            let (row, tail) = rest.split_at_mut(LANES * (n - a - 1));
-            rows.push(row);
-            rest = tail;
-        }
-        // Blocks of ROW_BLOCK rows; inside a block, column b outermost so its Q arrays stay in
-        // cache while every row of the block uses them.
-        let mut blocks: Vec<(usize, Vec<&mut [L]>)> = Vec::new();
-        for (a, row) in rows.into_iter().enumerate() {
-            if a % ROW_BLOCK == 0 {
-                blocks.push((a, Vec::with_capacity(ROW_BLOCK)));
-            }
-            blocks.last_mut().expect("pushed above").1.push(row);
-        }
-        blocks.into_par_iter().for_each(|(first, mut block_rows)| {
-            for b in first + 1..n {
-                for (offset, row) in block_rows.iter_mut().enumerate() {
-                    let a = first + offset;
-                    if a >= b {
-                        break;
-                    }
-                    let width = n - a - 1;
-                    let ab = inner_block(&prepared[a], &prepared[b], t, d0, dm);
-                    for l in 0..LANES {
-                        row[l * width + b - a - 1] =
-                            norms[a][l].wadd(norms[b][l]).wsub(ab[l].wadd(ab[l]));
+    let lanes = shape.blocks() * LANES;
+    let prepared: Vec<Prepared<L>> = counts.par_iter().map(|c| prepare(c, shape)).collect();
+    let norms: Vec<Vec<L>> = prepared
+        .par_iter()
+        .map_init(Vec::new, |lags, p| {
+            let mut out = vec![L::default(); lanes];
+            inner_products(p, p, shape, &mut out, lags);
+            out
+        })
+        .collect();
+    let chunks = balanced_row_chunks(n, rayon::current_num_threads() * CHUNKS_PER_THREAD);
+    let lists: Vec<Neighbours<L>> = chunks
+        .into_par_iter()
+        .map(|rows| {
+            let mut lists = Neighbours::new(n, shape.blocks(), shape.delta_max, knn.k());
+            let (mut ab, mut lags) = (vec![L::default(); lanes], Vec::new());
+            for first in rows.clone().step_by(ROW_BLOCK) {
+                let block = first..(first + ROW_BLOCK).min(rows.end);
+                // Column b outermost so its arrays stay in cache for every row of the block.
+                for b in first + 1..n {
+                    for a in block.start..block.end.min(b) {
+                        // ⟨w_a, w_b⟩ from the sample with fewer spikes.
+                        let (sparse, dense) = if prepared[a].bins.len() <= prepared[b].bins.len() {
+                            (&prepared[a], &prepared[b])
+                        } else {
+                            (&prepared[b], &prepared[a])
+                        };
+                        inner_products(sparse, dense, shape, &mut ab, &mut lags);
+                        for blk in 0..shape.blocks() {
+                            let at = blk * LANES;
+                            let (na, nb, ab) = (&norms[a][at..], &norms[b][at..], &ab[at..]);
+                            let d2: [L; LANES] =
+                                std::array::from_fn(|l| na[l].wadd(nb[l]).wsub(ab[l].wadd(ab[l])));
+                            lists.offer(a, blk, &d2, b);
+                            lists.offer(b, blk, &d2, a);
+                        }
                     }
                 }
             }
-        });
-        let lanes = LANES.min(dm - d0);
-        let block: Vec<Vec<usize>> = (0..lanes)
-            .into_par_iter()
-            .map(|l| leave_one_out_lane(&storage, n, l, labels, knn.k()))
-            .collect();
-        for p in block {
-            let hits = p.iter().zip(labels).filter(|(p, t)| p == t).count();
-            accuracy.push(hits as f64 / n as f64);
-            predictions.push(p);
-        }
-    }
-    let best = (0..dm)
-        .max_by(|&x, &y| accuracy[x].total_cmp(&accuracy[y]).then(y.cmp(&x)))
-        .expect("at least one window");
-    Ok(DtSweep {
-        windows_ms: (1..=max_window_ms).collect(),
-        best_window_ms: best as u32 + 1,
-        best: Accuracy::of(&predictions[best], labels),
-        accuracy,
-    })
+            lists
+        })
+        .collect();
+    // Merge the chunks' lists per sample and window, and vote.
+    let by_sample: Vec<Vec<usize>> = (0..n)
+        .into_par_iter()
+        .map_init(
+            || TopK::new(knn.k()),
+            |top, s| {
+                (0..shape.delta_max)
+                    .map(|lane| {
+                        top.clear();
+                        for l in &lists {
+                            for (d, j) in l.neighbours(s, lane) {
+                                top.offer(d, j);
+                            }
+                        }
+                        vote(top.neighbours().iter().map(|&(_, j)| labels[j]))
+                            .expect("k ≥ 1 and n > k")
+                    })
+                    .collect()
+            },
+        )
+        .collect();
+    (0..shape.delta_max)
+        .map(|lane| by_sample.iter().map(|p| p[lane]).collect())
+        .collect()
 }
 
-/// Leave-one-out predictions for lane `l` of the stored block: one scan of the upper triangle,
-/// each pair offered to both samples.
-fn leave_one_out_lane<L: Lane>(
-    storage: &[L],
-    n: usize,
-    l: usize,
-    labels: &[usize],
-    k: usize,
-) -> Vec<usize> {
-    let mut tops: Vec<TopK<L>> = (0..n).map(|_| TopK::new(k)).collect();
-    let mut offset = 0;
+/// At most `parts` contiguous row ranges of `0..n` with about equal numbers of pairs `(a, b)`,
+/// `a < b` (row `a` has `n − a − 1`).
+fn balanced_row_chunks(n: usize, parts: usize) -> Vec<std::ops::Range<usize>> {
+    let parts = parts.max(1);
+    let per = (n * n.saturating_sub(1) / 2).div_ceil(parts).max(1);
+    let mut chunks = Vec::with_capacity(parts);
+    let (mut start, mut pairs) = (0, 0);
     for a in 0..n {
-        let width = n - a - 1;
-        let row = &storage[offset + l * width..offset + (l + 1) * width];
-        for (b, &d) in (a + 1..n).zip(row) {
-            tops[a].offer(d, b);
-            tops[b].offer(d, a);
+        pairs += n - a - 1;
+        if pairs >= per && chunks.len() + 1 < parts {
+            chunks.push(start..a + 1);
+            (start, pairs) = (a + 1, 0);
         }
-        offset += LANES * width;
     }
-    tops.iter()
-        .map(|t| vote(t.neighbours().iter().map(|&(_, j)| labels[j])).expect("k ≥ 1 and n > k"))
-        .collect()
+    if start < n {
+        chunks.push(start..n);
+    }
+    chunks
+}
+
+/// The `k` nearest seen so far of every sample at every window, ordered by `(distance, index)`
+/// as [`TopK`], in flat arrays: slot `(sample, lane)` holds `k` entries, unfilled ones
+/// `(L::MAX, u32::MAX)`. `threshold` is each slot's `k`-th distance, the bound a candidate must
+/// not exceed (`L::MIN` for the padding lanes beyond the last window, which take nothing).
+struct Neighbours<L> {
+    k: usize,
+    lanes: usize,
+    distance: Vec<L>,
+    index: Vec<u32>,
+    threshold: Vec<L>,
+}
+
+impl<L: Lane> Neighbours<L> {
+    fn new(n: usize, blocks: usize, windows: usize, k: usize) -> Self {
+        let lanes = blocks * LANES;
+        let slots = n * lanes;
+        Self {
+            k,
+            lanes,
+            distance: vec![L::MAX; slots * k],
+            index: vec![u32::MAX; slots * k],
+            threshold: (0..slots)
+                .map(|s| if s % lanes < windows { L::MAX } else { L::MIN })
+                .collect(),
+        }
+    }
+
+    /// Offers `candidate` at the distances `d2` of block `blk` to `sample`'s lists.
+    #[inline(always)]
+    fn offer(&mut self, sample: usize, blk: usize, d2: &[L; LANES], candidate: usize) {
+        let base = sample * self.lanes + blk * LANES;
+        let threshold: &[L; LANES] = self.threshold[base..base + LANES]
+            .try_into()
+            .expect("LANES slots");
+        let mut any = false;
+        for l in 0..LANES {
+            any |= d2[l] <= threshold[l];
+        }
+        if any {
+            self.insert_block(base, d2, candidate as u32);
+        }
+    }
+
+    #[inline(never)]
+    fn insert_block(&mut self, base: usize, d2: &[L; LANES], candidate: u32) {
+        for (l, &d) in d2.iter().enumerate() {
+            if d <= self.threshold[base + l] {
+                self.insert(base + l, d, candidate);
+            }
+        }
+    }
+
+    /// Inserts `(d, candidate)` into slot `slot` when it precedes the slot's `k`-th entry.
+    fn insert(&mut self, slot: usize, d: L, candidate: u32) {
+        let first = slot * self.k;
+        let mut p = first + self.k - 1;
+        let precedes = |dist: L, index: u32| d < dist || (d == dist && candidate < index);
+        if !precedes(self.distance[p], self.index[p]) {
+            return;
+        }
+        while p > first && precedes(self.distance[p - 1], self.index[p - 1]) {
+            self.distance[p] = self.distance[p - 1];
+            self.index[p] = self.index[p - 1];
+            p -= 1;
+        }
+        self.distance[p] = d;
+        self.index[p] = candidate;
+        self.threshold[slot] = self.distance[first + self.k - 1];
+    }
+
+    /// The filled entries of `(sample, lane)` as `(distance, index)`.
+    fn neighbours(&self, sample: usize, lane: usize) -> impl Iterator<Item = (L, usize)> + '_ {
+        let first = (sample * self.lanes + lane) * self.k;
+        (first..first + self.k)
+            .filter(|&e| self.index[e] != u32::MAX)
+            .map(|e| (self.distance[e], self.index[e] as usize))
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::synthetic::{SyntheticConfig, synthetic_dataset};
-    use neurotac_core::coding::{FeatureCoding, TemporalCoding, feature_matrix};
-    use neurotac_core::distance::squared_euclidean_matrix;
+    use ndarray::Array2;
+    use neurotac_core::coding::{Coding, FeatureCoding, TemporalCoding};
 
     fn small() -> neurotac_core::SpikeDataset {
         synthetic_dataset(&SyntheticConfig {
@@ -377,51 +636,173 @@ mod tests {
         })
     }
 
+    /// Samples of one channel with `spikes[i]` spikes at the given times (ms).
+    fn samples(spikes: &[Vec<f64>]) -> Vec<MultiSpikeTrain> {
+        spikes
+            .iter()
+            .map(|ms| {
+                MultiSpikeTrain::from_unsorted_channels([ms
+                    .iter()
+                    .map(|t| t / 1e3)
+                    .collect::<Vec<_>>()])
+                .unwrap()
+            })
+            .collect()
+    }
+
+    /// The temporal features of `o` times the channel count: exact window counts.
+    fn window_counts(o: &MultiSpikeTrain, delta: u32, t: u32) -> Vec<i64> {
+        let mut coding = TemporalCoding::from_ms(delta, t).unwrap();
+        coding.encode(o);
+        let channels = o.n_channels() as f64;
+        coding
+            .features()
+            .iter()
+            .map(|x| (x * channels).round() as i64)
+            .collect()
+    }
+
+    /// Squared distances of the feature vectors, exact (integers, held exactly in f64).
+    fn reference_squared(obs: &[MultiSpikeTrain], delta: u32, t: u32) -> Array2<f64> {
+        let rows: Vec<Vec<i64>> = obs.iter().map(|o| window_counts(o, delta, t)).collect();
+        Array2::from_shape_fn((obs.len(), obs.len()), |(i, j)| {
+            rows[i]
+                .iter()
+                .zip(&rows[j])
+                .map(|(x, y)| (x - y) * (x - y))
+                .sum::<i64>() as f64
+        })
+    }
+
+    /// Short samples, many and few spikes, bins beyond a byte, long windows.
+    fn kernel_cases() -> Vec<(Vec<MultiSpikeTrain>, u32, u32)> {
+        let d = small();
+        let mut crowded = vec![vec![10.5; 300], vec![]];
+        crowded[0].extend([0.5, 3.5, 44.5, 599.5]);
+        crowded[1].extend((0..600).map(|t| t as f64 + 0.25));
+        // Bins of 200 and 150 spikes: the byte correlogram is flushed after every spike.
+        let mut full = vec![vec![300.5; 200], vec![301.5; 150]];
+        full[0].extend((250..350).map(|t| t as f64 + 0.5));
+        full[1].extend((240..360).step_by(2).map(|t| t as f64 + 0.5));
+        vec![
+            (d.observations().to_vec(), 600, 130),
+            // Spikes near both ends for the longest windows.
+            (d.observations().to_vec(), 150, 150),
+            // Two blocks of windows and two of lags.
+            (d.observations().to_vec(), 600, 300),
+            // A bin with 300 spikes (no byte correlogram), sparse against dense.
+            (samples(&crowded), 600, 220),
+            (samples(&full), 600, 220),
+        ]
+    }
+
     #[test]
     fn kernel_distances_equal_the_feature_vectors_for_every_window() {
-        let d = small();
-        let obs = d.observations();
-        let t = 600;
-        for (a, b) in [(0, 1), (2, 30), (5, 5), (7, 12)] {
-            let fast = window_squared_distances(&obs[a], &obs[b], t, 130);
-            for delta in 1..=130u32 {
-                let coding = TemporalCoding::from_ms(delta, t).unwrap();
-                let mut ca = coding.clone();
-                let mut cb = coding;
-                use neurotac_core::coding::Coding;
-                ca.encode(&obs[a]);
-                cb.encode(&obs[b]);
-                let want: f64 = ca
-                    .features()
-                    .iter()
-                    .zip(cb.features())
-                    .map(|(x, y)| ((x - y) * 5.0).round().powi(2))
-                    .sum();
-                assert_eq!(
-                    fast[delta as usize - 1] as f64,
-                    want,
-                    "pair ({a},{b}) Δ={delta}"
-                );
+        for (obs, t, dm) in kernel_cases() {
+            let pairs = [(0, 1), (1, 0), (0, 0), (1, 1)].into_iter().chain(
+                [(2, 30), (5, 5), (7, 12)]
+                    .into_iter()
+                    .filter(|_| obs.len() > 30),
+            );
+            for (a, b) in pairs {
+                let fast = window_squared_distances(&obs[a], &obs[b], t, dm);
+                for delta in 1..=dm {
+                    let want: i64 = window_counts(&obs[a], delta, t)
+                        .iter()
+                        .zip(window_counts(&obs[b], delta, t))
+                        .map(|(x, y)| (x - y) * (x - y))
+                        .sum();
+                    assert_eq!(
+                        fast[delta as usize - 1],
+                        want,
+                        "T={t} pair ({a},{b}) Δ={delta}"
+                    );
+                }
             }
         }
     }
 
+    /// Every window's leave-one-out predictions against [`Knn::leave_one_out`] on the exact
+    /// feature distances (same tie rules), and the sweep's accuracies from them.
+    fn assert_predictions_match(obs: &[MultiSpikeTrain], labels: &[usize], t: u32, dm: u32) {
+        let knn = Knn::default();
+        let fast = leave_one_out_predictions(obs, labels, t, dm, knn).unwrap();
+        assert_eq!(fast.len(), dm as usize);
+        for delta in 1..=dm {
+            let d2 = reference_squared(obs, delta, t);
+            let want = knn.leave_one_out(d2.view(), labels).unwrap();
+            assert_eq!(fast[delta as usize - 1], want, "T={t} Δ={delta}");
+        }
+        let sweep = dt_sweep(obs, labels, t, dm, knn).unwrap();
+        for (p, &acc) in fast.iter().zip(&sweep.accuracy) {
+            assert_eq!(acc, Accuracy::of(p, labels).mean);
+        }
+    }
+
     #[test]
-    fn sweep_equals_leave_one_out_on_the_feature_matrices() {
+    fn predictions_equal_leave_one_out_on_the_feature_vectors() {
+        let d = small();
+        assert_predictions_match(d.observations(), d.labels(), 600, 85);
+        // Two blocks of windows.
+        assert_predictions_match(d.observations(), d.labels(), 600, 230);
+    }
+
+    #[test]
+    fn distance_ties_go_to_the_lowest_index_as_in_the_knn_head() {
+        // One or two spikes per sample on a coarse grid: many equal distances at the k-th
+        // neighbour, and 2–2 votes.
+        let spikes: Vec<Vec<f64>> = (0..40)
+            .map(|i| {
+                let first = ((i * 7) % 5) as f64 * 20.0 + 0.5;
+                if i % 3 == 0 {
+                    vec![first]
+                } else {
+                    vec![first, first + ((i % 4) * 30) as f64]
+                }
+            })
+            .collect();
+        let labels: Vec<usize> = (0..40).map(|i| (i * 5 / 3) % 4).collect();
+        assert_predictions_match(&samples(&spikes), &labels, 200, 120);
+    }
+
+    #[test]
+    fn dense_samples_use_exact_64_bit_lanes() {
+        // ~1500 spikes in 0.6 s: the window bound exceeds 32-bit lanes.
+        let d = synthetic_dataset(&SyntheticConfig {
+            samples: 12,
+            classes: 3,
+            channels: 2,
+            spikes_per_unit: 750.0,
+            duration_s: 0.6,
+            seed: 5,
+        });
+        assert_predictions_match(d.observations(), d.labels(), 600, 40);
+    }
+
+    #[test]
+    fn predictions_are_identical_at_any_thread_count() {
+        let d = small();
+        let run = |threads: usize| {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap()
+                .install(|| {
+                    leave_one_out_predictions(d.observations(), d.labels(), 600, 90, Knn::default())
+                        .unwrap()
+                })
+        };
+        let one = run(1);
+        for threads in [2, 3, 7] {
+            assert_eq!(run(threads), one, "{threads} threads");
+        }
+    }
+
+    #[test]
+    fn the_best_window_is_the_first_with_the_highest_accuracy() {
         let d = small();
         let sweep = dt_sweep(d.observations(), d.labels(), 600, 85, Knn::default()).unwrap();
         assert_eq!(sweep.windows_ms.len(), 85);
-        for delta in [1u32, 17, 40, 41, 80, 85] {
-            let f = feature_matrix(
-                &TemporalCoding::from_ms(delta, 600).unwrap(),
-                d.observations(),
-            )
-            .unwrap();
-            let d2 = squared_euclidean_matrix(f.view()).unwrap();
-            let p = Knn::default().leave_one_out(d2.view(), d.labels()).unwrap();
-            let acc = Accuracy::of(&p, d.labels()).mean;
-            assert_eq!(sweep.accuracy[delta as usize - 1], acc, "Δ={delta}");
-        }
         let best = sweep.accuracy.iter().cloned().fold(0.0, f64::max);
         assert_eq!(sweep.best.mean, best);
         assert_eq!(sweep.accuracy[sweep.best_window_ms as usize - 1], best);
@@ -430,6 +811,16 @@ mod tests {
                 .iter()
                 .all(|&a| a < best)
         );
+    }
+
+    #[test]
+    fn row_chunks_cover_every_row_once() {
+        for (n, parts) in [(0, 3), (1, 4), (2, 1), (33, 4), (1100, 4), (5, 64)] {
+            let chunks = balanced_row_chunks(n, parts);
+            assert!(chunks.len() <= parts.max(1), "{n} {parts}");
+            let rows: Vec<usize> = chunks.into_iter().flatten().collect();
+            assert_eq!(rows, (0..n).collect::<Vec<_>>());
+        }
     }
 
     #[test]
