@@ -2,38 +2,41 @@
 //! leave-one-out KNN accuracy at each), exact, from one prefix sum per sample.
 //!
 //! # Why it is fast
-//! With `x[b]` the pooled spike count of a sample in 1-ms bin `b`, `C[m] = Σ_{b<m} x[b]` and
-//! `Q[m] = Σ_{i<m} C[i]`, the temporal features are `w(s) = C[s + Δ] − C[s]` (times `1/N`,
-//! which no ranking sees). Their inner product for every Δ needs no feature vector at all:
+//! With `x[b]` the pooled spike count of a sample in 1-ms bin `b` and `C[m] = Σ_{b<m} x[b]`, the
+//! temporal features are `w(s) = C[s + Δ] − C[s]`, `s ∈ [0, T − Δ]` (times `1/N`, which no
+//! ranking sees). Their inner product for every Δ needs no feature vector at all. Summed over
+//! every window start `s ∈ ℤ` instead,
 //!
 //! ```text
-//! ⟨w_a, w_b⟩(Δ) = Σ_{k ∈ spikes of a} Σ_{s = lo}^{hi} (C_b[s + Δ] − C_b[s]),  lo = max(0, k − Δ + 1), hi = min(k, T − Δ)
-//!              = Σ_k (Q_b[hi + Δ + 1] − Q_b[lo + Δ] − Q_b[hi + 1] + Q_b[lo])
+//! Σ_s w_a(s)·w_b(s) = Σ_{k ∈ a, l ∈ b} max(0, Δ − |k − l|) = Σ_{|d| < Δ} X(d)·(Δ − |d|),   X(d) = Σ_{k ∈ a} x_b[k + d]
 //! ```
 //!
-//! and for a spike away from both ends (`Δ − 1 ≤ k ≤ T − Δ`) the term is
-//! `Q_b[k + 1 + Δ] + Q_b[k + 1 − Δ] − 2·Q_b[k + 1] = Σ_l x_b[l]·max(0, Δ − |k − l|)`. Summed over
-//! such spikes this is `Σ_{|d| < Δ} X(d)·(Δ − |d|)` with the correlogram
-//! `X(d) = Σ_k x_b[k + d]`, which needs one vector add of `x_b` per spike over all lags
-//! `|d| < Δ_max` (bytes: 64 lanes per vector, flushed to wider sums before a lane can reach 256)
-//! and then, for all Δ at once, a double prefix sum over `Y(j) = X(j) + X(−j)`. Spikes near
-//! either end keep the clamped `Q` form (two contiguous loads per spike for a block of Δ values,
-//! the clamped centre terms as `max`/`min` of `Q` values, since `Q` never decreases), and so do
-//! all spikes when a bin holds more than 255. The squared distance is then
-//! `‖w_a‖² + ‖w_b‖² − 2⟨w_a, w_b⟩`, an integer, computed in wrapping `i32` arithmetic — exact
-//! because it is a ring identity mod 2³² and the true value is known to lie in `[0, 2³¹)` (bound
-//! checked per dataset, as is `Q ≤ i32::MAX`; `i64` otherwise). Integer distances rank exactly
-//! as the Euclidean distances of the features, ties included, so the KNN predictions are exactly
-//! those of the feature vectors.
+//! so one correlogram `X` over the lags `|d| < Δ_max` gives all windows at once, as a double
+//! prefix sum over `Y(j) = X(j) + X(−j)`. `X` costs one vector add of `b`'s bins per spike of
+//! `a` (bytes, 64 lanes per vector, flushed to wider sums before a lane can reach 256). The
+//! windows starting before 0 or after `T − Δ` hold `C[s + Δ]` and `n − C[s]` spikes, so
 //!
-//! Δ values are processed in blocks of [`LANES`] (one block covers the paper's 200 windows), and
-//! each pair's inner product comes from the sample with fewer spikes. Leave-one-out is fused
-//! with the distances: every pair's squared distances are offered, for all Δ of the block at
-//! once, to both samples' `k` nearest (one vector comparison against the current `k`-th
-//! distances; the few that pass are inserted), so no distance is stored. Rows are split into
-//! chunks that run in parallel, each with its own neighbour lists; the lists of all chunks are
-//! then merged with [`TopK`] under the `(distance, index)` order of [`neurotac_core::knn`], which
-//! gives the same neighbours for any chunking (thread count), and voted on with its tie rules.
+//! ```text
+//! ⟨w_a, w_b⟩(Δ) = Σ_s w_a(s)·w_b(s) − Σ_{0 < m < Δ} (C_a[m]·C_b[m] + (n_a − C_a[T − m])·(n_b − C_b[T − m]))
+//! ```
+//!
+//! a running sum over per-sample arrays. When a bin holds more than 255 spikes, the first sum
+//! comes instead from `Q[m] = Σ_{i<m} C[i]` continued past both ends: a spike `k` adds
+//! `Q_b[k + 1 + Δ] + Q_b[k + 1 − Δ] − 2·Q_b[k + 1]`, two contiguous loads for a block of Δ
+//! values. The squared distance is then `‖w_a‖² + ‖w_b‖² − 2⟨w_a, w_b⟩`, an integer, computed in
+//! wrapping `i32` arithmetic — exact because every step is a ring operation mod 2³² and the true
+//! value is known to lie in `[0, 2³¹)` (bound checked per dataset; `i64` otherwise). Integer
+//! distances rank exactly as the Euclidean distances of the features, ties included, so the KNN
+//! predictions are exactly those of the feature vectors.
+//!
+//! Each pair's inner products, for all windows at once, come from the sample with fewer
+//! spikes. Leave-one-out is fused with the distances: every pair's squared distances are
+//! offered, for a block of [`LANES`] windows (one block covers the paper's 200) at once, to both
+//! samples' `k` nearest (one vector comparison against the current `k`-th distances; the few
+//! that pass are inserted), so no distance is stored. Rows are split into chunks that run in
+//! parallel, each with its own neighbour lists; the lists of all chunks are then merged with
+//! [`TopK`] under the `(distance, index)` order of [`neurotac_core::knn`], which gives the same
+//! neighbours for any chunking (thread count), and voted on with its tie rules.
 
 use crate::error::ExperimentError;
 use crate::protocols::Accuracy;
@@ -70,11 +73,12 @@ pub struct DtSweep {
 }
 
 /// Wrapping integer lanes (`i32` when the distances fit, `i64` otherwise).
-trait Lane: Copy + Default + Ord + Send + Sync + 'static {
+trait Lane: Copy + Default + PartialOrd + Send + Sync + 'static {
     const MIN: Self;
     const MAX: Self;
     fn wadd(self, o: Self) -> Self;
     fn wsub(self, o: Self) -> Self;
+    fn wmul(self, o: Self) -> Self;
     fn from_i64(x: i64) -> Self;
 }
 
@@ -88,20 +92,27 @@ macro_rules! lane {
             #[inline(always)]
             fn wsub(self, o: Self) -> Self { self.wrapping_sub(o) }
             #[inline(always)]
+            fn wmul(self, o: Self) -> Self { self.wrapping_mul(o) }
+            #[inline(always)]
             fn from_i64(x: i64) -> Self { x as $t }
         }
     )*};
 }
 lane!(i32, i64);
 
-/// One sample: its spike bins (sorted, with repeats), `Q` forward (padded with `Q[T + 1]`) and
-/// reversed (padded with `Q[0] = 0`), long enough that every block load stays inside, and the
-/// bin counts as bytes shifted by `Δ_max − 1` (zero padded) for the correlogram, when they fit.
+/// One sample: its spike bins (sorted, with repeats); the counts in its first and in its last
+/// `m` bins, `C[m]` and `n − C[T − m]`, for `m < Δ_max` (zero padded to whole blocks); and either
+/// the bin counts as bytes shifted by `Δ_max − 1` (zero padded) for the correlogram, or, when a
+/// bin holds more than a byte, `Q[m] = Σ_j x[j]·(m − 1 − j)₊` forward and reversed
+/// (`Q[T + 1 − j]`), both continued past their ends as that formula does (linearly after
+/// `T + 1`, 0 before 0) and long enough that every block load stays inside.
 struct Prepared<L> {
     bins: Vec<u32>,
     q: Vec<L>,
     q_reversed: Vec<L>,
     lagged: Vec<u8>,
+    first: Vec<L>,
+    last: Vec<L>,
 }
 
 /// Shape of one sweep: duration `t`, largest window `delta_max` and, when every bin count fits a
@@ -142,58 +153,50 @@ fn prepare<L: Lane>(bin_counts: &[u32], shape: &Shape) -> Prepared<L> {
     for (b, &c) in bin_counts.iter().enumerate() {
         bins.extend(std::iter::repeat_n(b as u32, c as usize));
     }
-    // C[m] for m = 0..=T, Q[m] for m = 0..=T+1 (exact in i64, then wrapped).
-    let mut q = Vec::with_capacity(t + 2 + delta_max + LANES);
-    let (mut c, mut acc) = (0i64, 0i64);
-    q.push(L::from_i64(0));
-    // Q[m + 1] = Q[m] + C[m], with C[m + 1] = C[m] + x[m].
-    for x in bin_counts.iter().map(|&x| x as i64).chain([0]) {
-        acc += c;
-        q.push(L::from_i64(acc));
-        c += x;
-    }
-    let mut q_reversed: Vec<L> = q.iter().rev().copied().collect();
-    let (last, first) = (*q.last().expect("T + 2 ≥ 2 entries"), L::from_i64(0));
-    q.resize(t + 2 + delta_max + LANES, last);
-    q_reversed.resize(t + 2 + delta_max + LANES, first);
-    let lagged = match shape.flush_every {
-        Some(_) => {
-            // lagged[j] = x[j − (Δ_max − 1)]: the load at k covers x[k + d], |d| < Δ_max.
-            let mut lagged = vec![0u8; t + shape.lag_blocks() * LAG_LANES];
-            for (b, &c) in bin_counts.iter().enumerate() {
-                lagged[b + delta_max - 1] = c as u8;
-            }
-            lagged
+    let (mut q, mut q_reversed, mut lagged) = (Vec::new(), Vec::new(), Vec::new());
+    if shape.flush_every.is_some() {
+        // lagged[j] = x[j − (Δ_max − 1)]: the load at k covers x[k + d], |d| < Δ_max.
+        lagged = vec![0u8; t + shape.lag_blocks() * LAG_LANES];
+        for (b, &c) in bin_counts.iter().enumerate() {
+            lagged[b + delta_max - 1] = c as u8;
         }
-        None => Vec::new(),
-    };
+    } else {
+        // Q[m + 1] = Q[m] + C[m], C[m + 1] = C[m] + x[m] (x = 0 from T on), in wrapping lanes.
+        let len = t + 2 + delta_max + LANES;
+        let (mut c, mut acc) = (L::default(), L::default());
+        let mut x = bin_counts.iter().map(|&x| L::from_i64(x as i64));
+        for _ in 0..len {
+            q.push(acc);
+            acc = acc.wadd(c);
+            c = c.wadd(x.next().unwrap_or_default());
+        }
+        q_reversed = q[..t + 2].iter().rev().copied().collect();
+        q_reversed.resize(len, L::default());
+    }
+    let lanes = shape.blocks() * LANES;
+    let (mut first, mut last) = (vec![L::default(); lanes], vec![L::default(); lanes]);
+    let (mut head, mut tail) = (0i64, 0i64);
+    for m in 1..delta_max {
+        head += bin_counts[m - 1] as i64;
+        tail += bin_counts[t - m] as i64;
+        first[m] = L::from_i64(head);
+        last[m] = L::from_i64(tail);
+    }
     Prepared {
         bins,
         q,
         q_reversed,
         lagged,
+        first,
+        last,
     }
 }
 
-/// `Σ_k (Q_b[k + 1 + Δ] + Q_b[k + 1 − Δ] − low_k(Δ) − high_k(Δ))` over the spikes `k` in `bins`
-/// for the block's Δ values, where the two centre terms are `Q_b[k + 1]` (interior) or, near the
-/// start (`LOW`), `Q_b[max(k + 1, Δ)] = max(Q_b[k + 1], Q_b[Δ])` and near the end (`HIGH`),
-/// `Q_b[min(k + 1, T + 1 − Δ)] = min(Q_b[k + 1], Q_b[T + 1 − Δ])` (`Q` never decreases and does
-/// not wrap: checked per dataset). The outer terms read the padded arrays, which clamp their
-/// indices to `[0, T + 1]`. Centre terms that stay `Q_b[k + 1]` for every Δ are summed once, as
-/// the returned scalar, to be subtracted from every lane. Kept apart so the accumulators stay in
-/// registers.
+/// `Σ_k (Q_b[k + 1 + Δ] + Q_b[k + 1 − Δ])` over the spikes `k` in `bins` for the block's Δ
+/// values, and `Σ_k Q_b[k + 1]`: with the continued `Q`, `Σ_k Σ_l x_b[l]·max(0, Δ − |k − l|)`
+/// is the first minus twice the second. Kept apart so the block accumulators stay in registers.
 #[inline(never)]
-fn window_sum<L: Lane, const LOW: bool, const HIGH: bool>(
-    bins: &[u32],
-    b: &Prepared<L>,
-    t: usize,
-    d0: usize,
-) -> ([L; LANES], L) {
-    let delta: &[L; LANES] = b.q[d0 + 1..d0 + 1 + LANES].try_into().expect("LANES"); // Q[Δ]
-    let tail: &[L; LANES] = b.q_reversed[d0 + 1..d0 + 1 + LANES] // Q[T + 1 − Δ]
-        .try_into()
-        .expect("LANES");
+fn window_sum<L: Lane>(bins: &[u32], b: &Prepared<L>, t: usize, d0: usize) -> ([L; LANES], L) {
     let mut acc = [L::default(); LANES];
     let mut centre = L::default();
     for &k in bins {
@@ -204,23 +207,10 @@ fn window_sum<L: Lane, const LOW: bool, const HIGH: bool>(
         let backward: &[L; LANES] = b.q_reversed[t - k + d0 + 1..t - k + d0 + 1 + LANES]
             .try_into()
             .expect("LANES values");
-        let qk = b.q[k + 1];
         for l in 0..LANES {
-            let mut x = acc[l].wadd(forward[l]).wadd(backward[l]);
-            if LOW {
-                x = x.wsub(qk.max(delta[l]));
-            }
-            if HIGH {
-                x = x.wsub(qk.min(tail[l]));
-            }
-            acc[l] = x;
+            acc[l] = acc[l].wadd(forward[l]).wadd(backward[l]);
         }
-        if !LOW {
-            centre = centre.wadd(qk);
-        }
-        if !HIGH {
-            centre = centre.wadd(qk);
-        }
+        centre = centre.wadd(b.q[k + 1]);
     }
     (acc, centre)
 }
@@ -257,11 +247,12 @@ fn correlogram_block<L: Lane>(
 /// `⟨w_a, w_b⟩(Δ)` for `Δ = 1..=Δ_max` in `out[Δ − 1]` (`blocks · LANES` lanes, those beyond
 /// `Δ_max` set to 0), from the spikes of `a` and the arrays of `b`.
 ///
-/// A spike `k` with `Δ_max − 1 ≤ k ≤ T − Δ_max` (interior) adds `Σ_l x_b[l]·max(0, Δ − |k − l|)`
-/// for every Δ. With byte bins these come from the correlogram `X(d)` over `|d| < Δ_max`, one
-/// byte vector add per spike and lag block: `Σ_{|d|<Δ} X(d)·(Δ − |d|)` is a double prefix sum
-/// over `Y(j) = X(j) + X(−j)`. Spikes near either end, and interior ones when bins exceed a
-/// byte, use [`window_sum`] on `Q_b` per block of [`LANES`] windows.
+/// First the sum over windows at every start `s ∈ ℤ`, `Σ_{k,l} x_a[k]·x_b[l]·max(0, Δ − |k − l|)`.
+/// With byte bins it comes from the correlogram `X(d)` over `|d| < Δ_max`, one byte vector add
+/// per spike and lag block, as a double prefix sum over `Y(j) = X(j) + X(−j)`; otherwise from
+/// [`window_sum`] per block of [`LANES`] windows. The windows starting before 0 count `C[s + Δ]`
+/// and those starting after `T − Δ` count `n − C[s]`, so the sum over `s ∈ [0, T − Δ]` is that
+/// minus `Σ_{0 < m < Δ} (C_a[m]·C_b[m] + (n_a − C_a[T − m])·(n_b − C_b[T − m]))`.
 fn inner_products<L: Lane>(
     a: &Prepared<L>,
     b: &Prepared<L>,
@@ -269,51 +260,42 @@ fn inner_products<L: Lane>(
     out: &mut [L],
     lags: &mut Vec<[L; LAG_LANES]>,
 ) {
-    let (t, dm) = (shape.t, shape.delta_max);
-    // Spikes [0, low) need the start's centre term for some Δ, [high, n) the end's.
-    let low = a.bins.partition_point(|&k| (k as usize + 1) < dm);
-    let high = a.bins.partition_point(|&k| k as usize + dm <= t);
-    let (lo, hi) = (low.min(high), low.max(high));
-    let middle = &a.bins[lo..hi];
-    let interior = low <= high;
-    out.fill(L::default());
-    for (block, out) in out.chunks_exact_mut(LANES).enumerate() {
-        let d0 = block * LANES;
-        let middle_part = if !interior {
-            // Short samples: spikes near both ends.
-            Some(window_sum::<L, true, true>(middle, b, t, d0))
-        } else if shape.flush_every.is_none() {
-            Some(window_sum::<L, false, false>(middle, b, t, d0))
-        } else {
-            None
-        };
-        let parts = [
-            Some(window_sum::<L, true, false>(&a.bins[..lo], b, t, d0)),
-            Some(window_sum::<L, false, true>(&a.bins[hi..], b, t, d0)),
-            middle_part,
-        ];
-        for (part, centre) in parts.into_iter().flatten() {
-            for (o, p) in out.iter_mut().zip(part) {
-                *o = o.wadd(p).wsub(centre);
+    let dm = shape.delta_max;
+    match shape.flush_every {
+        Some(flush_every) => {
+            lags.resize(shape.lag_blocks(), [L::default(); LAG_LANES]);
+            lags.fill([L::default(); LAG_LANES]);
+            for (block, x) in lags.iter_mut().enumerate() {
+                correlogram_block(&a.bins, &b.lagged, block, flush_every, x);
+            }
+            // Δ·Y(0) + (Δ − 1)·Y(1) + …: T(Δ + 1) = T(Δ) + Σ_{j ≤ Δ} Y(j), Y(0) = X(0).
+            let x = lags.as_flattened();
+            let (right, left) = (&x[dm - 1..2 * dm - 1], &x[..dm]);
+            let (mut cumulative, mut total) = (L::default().wsub(right[0]), L::default());
+            for ((o, &r), &l) in out.iter_mut().zip(right).zip(left.iter().rev()) {
+                cumulative = cumulative.wadd(r).wadd(l);
+                total = total.wadd(cumulative);
+                *o = total;
+            }
+        }
+        None => {
+            for (block, out) in out.chunks_exact_mut(LANES).enumerate() {
+                let (part, centre) = window_sum(&a.bins, b, shape.t, block * LANES);
+                let twice = centre.wadd(centre);
+                for (o, p) in out.iter_mut().zip(part) {
+                    *o = p.wsub(twice);
+                }
             }
         }
     }
-    if let (true, Some(flush_every)) = (interior, shape.flush_every) {
-        lags.clear();
-        lags.resize(shape.lag_blocks(), [L::default(); LAG_LANES]);
-        for (block, x) in lags.iter_mut().enumerate() {
-            correlogram_block(middle, &b.lagged, block, flush_every, x);
-        }
-        let x = lags.as_flattened();
-        // Δ·Y(0) + (Δ − 1)·Y(1) + …: T(Δ + 1) = T(Δ) + Σ_{j ≤ Δ} Y(j).
-        let centre = dm - 1;
-        let (mut cumulative, mut total) = (x[centre], x[centre]);
-        out[0] = out[0].wadd(total);
-        for (j, o) in out.iter_mut().enumerate().take(dm).skip(1) {
-            cumulative = cumulative.wadd(x[centre + j]).wadd(x[centre - j]);
-            total = total.wadd(cumulative);
-            *o = o.wadd(total);
-        }
+    let mut clipped = L::default();
+    for (o, (((fa, fb), la), lb)) in out
+        .iter_mut()
+        .zip(a.first.iter().zip(&b.first).zip(&a.last).zip(&b.last))
+        .take(dm)
+    {
+        clipped = clipped.wadd(fa.wmul(*fb)).wadd(la.wmul(*lb));
+        *o = o.wsub(clipped);
     }
     for slot in out.iter_mut().skip(dm) {
         *slot = L::default();
@@ -410,9 +392,8 @@ pub fn leave_one_out_predictions(
         .map(|o| pooled_bin_counts(o, duration_ms))
         .collect();
     // Exact integer lanes: D² ≤ 2(‖w_a‖² + ‖w_b‖²) with ‖w‖² ≤ max window count · Δ · n, so the
-    // wrapping sums are exact below half the lane range; every prefix Q ≤ (T + 1)·n must not wrap
-    // at all (the edge terms compare Q values).
-    let (bound, q_max) = counts
+    // wrapping ring arithmetic gives it exactly when below half the lane range.
+    let bound = counts
         .iter()
         .map(|c| {
             let total: u64 = c.iter().map(|&x| x as u64).sum();
@@ -422,18 +403,15 @@ pub fn leave_one_out_predictions(
                 window = window + c[s] as u64 - c[s - max_window_ms as usize] as u64;
                 most = most.max(window);
             }
-            (
-                (most as u128) * (max_window_ms as u128) * (total as u128),
-                (duration_ms as u128 + 1) * total as u128,
-            )
+            (most as u128) * (max_window_ms as u128) * (total as u128)
         })
-        .fold((0, 0), |(b, q), (b2, q2)| (b.max(b2), q.max(q2)));
+        .max()
+        .unwrap_or(0);
     let max_count = counts.iter().flatten().copied().max().unwrap_or(0);
     let shape = Shape::new(duration_ms as usize, max_window_ms as usize, max_count);
-    let fits = |max: u128| 4 * bound < max && q_max <= max;
-    if fits(i32::MAX as u128) {
+    if 4 * bound < i32::MAX as u128 {
         Ok(sweep::<i32>(&counts, labels, &shape, knn))
-    } else if fits(i64::MAX as u128) {
+    } else if 4 * bound < i64::MAX as u128 {
         Ok(sweep::<i64>(&counts, labels, &shape, knn))
     } else {
         Err(ExperimentError::InvalidParameter {
