@@ -207,8 +207,8 @@ pub(super) struct PrefixTables {
 impl PrefixTables {
     /// Tabulates `sample` (reusing the allocations).
     pub(super) fn fill(&mut self, sample: &CentredSample, grid: &Grid) {
+        // Every cell is overwritten below.
         self.overflow.clear();
-        self.pooled.clear();
         self.pooled.resize(grid.pooled_cells, Cell::default());
         fill_train(
             &mut self.pooled,
@@ -218,7 +218,6 @@ impl PrefixTables {
             0,
             1,
         );
-        self.labelled.clear();
         self.labelled
             .resize(grid.labelled_time_cells * grid.channels, Cell::default());
         for (c, w) in sample.offsets.windows(2).enumerate() {
