@@ -337,8 +337,9 @@ impl PreparedVanRossum {
     }
 
     /// `(LL², SP²)` between prepared samples `i` and `j` (0 for `i == j`). Panics when an index is
-    /// out of range. For many pairs, [`matrices`](Self::matrices) is much faster: it tabulates
-    /// each sample once instead of once per pair.
+    /// out of range. Equal, bit for bit, to the entries of [`matrices`](Self::matrices), which
+    /// is much faster for many pairs (it tabulates each sample once; a single pair walks both
+    /// samples' trains instead).
     pub fn squared_parts(&self, i: usize, j: usize) -> (f64, f64) {
         if i == j {
             return (0.0, 0.0);

@@ -22,7 +22,9 @@
 //! (`cell · P + channel`) so that a column sample's spikes, visited in time order, read both
 //! tables forwards. A row computes `Σ_{j ∈ b} e⁻_j P_a(≤ t_j)` for the columns after it and the
 //! strict `Σ_{j ∈ b} e⁻_j P_a(< t_j)` for the columns before it; `⟨a, b⟩` is the sum of the two
-//! entries, so every ordered pair is one pass over the column's spikes.
+//! entries, so every ordered pair is one pass over the column's spikes. A single pair, where
+//! tabulating would cost more than it saves, finds the same prefixes by walking the row's trains
+//! alongside the column's spikes (the same sums in the same order: the same bits).
 
 use ndarray::Array2;
 use rayon::prelude::*;
@@ -340,14 +342,48 @@ fn fill_train(
     }
 }
 
-/// `Σ_n ⟨u_n, v_n⟩` and `⟨∪u, ∪v⟩` between two samples.
+/// `Σ_n ⟨u_n, v_n⟩` and `⟨∪u, ∪v⟩` between two samples, as the sum of the two entries of
+/// [`half_product_matrices`], bit for bit, without tabulating either sample.
 pub(super) fn cross_pair(a: &CentredSample, b: &CentredSample, grid: &Grid) -> (f64, f64) {
-    let mut tables = PrefixTables::default();
-    tables.fill(a, grid);
-    let [(ll_ab, sp_ab)] = half_products::<false, 1>([&tables], b, grid);
-    tables.fill(b, grid);
-    let [(ll_ba, sp_ba)] = half_products::<true, 1>([&tables], a, grid);
+    let (ll_ab, sp_ab) = merged_half_products::<false>(a, b, grid);
+    let (ll_ba, sp_ba) = merged_half_products::<true>(b, a, grid);
     (ll_ab + ll_ba, sp_ab + sp_ba)
+}
+
+/// [`half_products`] of the row sample `row` over `column`, with each prefix found by walking
+/// `row`'s trains alongside the column's spikes instead of reading a table: the same running
+/// sums, accumulated in the same chains, so the same result bit for bit, in O(n + m) without
+/// the O(cells) tabulation (for single pairs).
+fn merged_half_products<const STRICT: bool>(
+    row: &CentredSample,
+    column: &CentredSample,
+    grid: &Grid,
+) -> (f64, f64) {
+    let counts = |r: u32, rank: u32| if STRICT { r < rank } else { r <= rank };
+    let (mut ll, mut sp) = ([0.0f64; UNROLL], [0.0f64; UNROLL]);
+    // Per channel: the next spike of `row` and the prefix before it; the same for the pool.
+    let mut next: Vec<usize> = row.offsets[..row.offsets.len() - 1].to_vec();
+    let mut channel_prefix = vec![0.0f64; next.len()];
+    let (mut next_pooled, mut pooled_prefix) = (0, 0.0f64);
+    for (j, p) in column.probes.iter().enumerate() {
+        let channel = p.labelled_cell as usize - grid.labelled_cell(p.rank, 0);
+        let end = row.offsets[channel + 1];
+        let (at, prefix) = (&mut next[channel], &mut channel_prefix[channel]);
+        while *at < end && counts(row.labelled[*at].0, p.rank) {
+            *prefix += row.labelled[*at].1;
+            *at += 1;
+        }
+        while next_pooled < row.pooled.len() && counts(row.pooled[next_pooled].0, p.rank) {
+            pooled_prefix += row.pooled[next_pooled].1;
+            next_pooled += 1;
+        }
+        // The chains of `half_products`: probe j goes to chain j mod UNROLL.
+        let k = j % UNROLL;
+        ll[k] = p.e_minus.mul_add(*prefix, ll[k]);
+        sp[k] = p.e_minus.mul_add(pooled_prefix, sp[k]);
+    }
+    let total = |a: &[f64; UNROLL]| (a[0] + a[1]) + (a[2] + a[3]);
+    (total(&ll), total(&sp))
 }
 
 /// One probe of [`half_products`] into accumulator chain `k` of every table.
