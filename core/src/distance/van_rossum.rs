@@ -22,39 +22,39 @@
 //! coding at `c = 0`, 49 × intensive at `c = 1`); `τ → 0` gives the number of spikes that have no
 //! coincident partner, since `⟨u,v⟩` then counts coincident pairs.
 //!
-//! # Algorithm: one merge per pair of trains, O(n + m)
+//! # Algorithm: O(n + m) per pair of samples, no `exp` per pair
 //! With the markage `m_k = Σ_{l<k} e^{−(u_k − u_l)/τ}`, `⟨u,u⟩ = n + 2·Σ_k m_k`, and
-//! `⟨u,v⟩ = Σ_{u_l ≤ v_j} e^{−(v_j − u_l)/τ} + Σ_{v_l < u_k} e^{−(u_k − v_l)/τ}`: one merge of the
-//! two sorted trains in which a `u` spike is taken before an equal `v` spike, so **every pair is
-//! counted exactly once, coincident pairs with weight 1**, duplicates included. Two exact
-//! evaluations of the merge are used:
+//! `⟨u,v⟩ = Σ_{u_l ≤ v_j} e^{−(v_j − u_l)/τ} + Σ_{v_l < u_k} e^{−(u_k − v_l)/τ}`: a `u` spike
+//! is taken before an equal `v` spike, so **every pair is counted exactly once, coincident pairs
+//! with weight 1**, duplicates included. Two exact evaluations are used:
 //!
 //! - **centred exponentials** (fast): with `c₀` the middle of the spike-time span of the prepared
-//!   samples, each spike stores `e⁻ = e^{−(t − c₀)/τ}` and `P`, the sum of `e^{(t_l − c₀)/τ}` over
-//!   the earlier spikes of its train, so a merge step is one multiply-add and no `exp`. Used
-//!   while `span/(2τ) ≤ 690`, which bounds every exponent by 690 in magnitude: nothing
-//!   overflows or becomes subnormal.
-//! - **decayed sums** (always stable): running sums `A_u`, `A_v` decayed by `e^{−Δt/τ}` with
-//!   `Δt ≥ 0` between merged spikes; a `v` spike adds `A_u`, a `u` spike adds `A_v`. Only
-//!   exponentials of non-positive numbers, any τ > 0 and any time offset. Used beyond the bound.
+//!   samples, each spike stores `e^{∓(t − c₀)/τ}`; the sums become
+//!   `Σ_j e^{−(v_j − c₀)/τ}·P_u(≤ v_j)` with `P_u` a running sum of `e^{(u_l − c₀)/τ}`, and each
+//!   `P_u(≤ v_j)` is one read of a table of `u`'s prefixes over global rank cells (the
+//!   `centred` submodule), so a pair costs one independent multiply-add per spike of each
+//!   side, labelled line and pooled together. Used while `span/(2τ) ≤ 690`, which bounds every
+//!   exponent by 690 in magnitude: nothing overflows or becomes subnormal.
+//! - **decayed sums** (always stable): one merge per pair of trains with running sums `A_u`,
+//!   `A_v` decayed by `e^{−Δt/τ}` with `Δt ≥ 0` between merged spikes; a `v` spike adds `A_u`, a
+//!   `u` spike adds `A_v`. Only exponentials of non-positive numbers, any τ > 0 and any time
+//!   offset. Used beyond the bound; tests also use it as the reference of the centred tables.
 //!
-//! The labelled-line merges of all channels run as one merge over channel-major keys
-//! `(channel, rank of t)` with an end-of-channel marker per channel, so each pair of samples costs
-//! two branch-free merges (labelled line and pooled), interleaved for instruction-level
-//! parallelism. `D²` smaller than 0 by rounding (about 10⁻¹⁵ for identical samples) is clamped
-//! to 0, as pymuvr does.
+//! `D²` smaller than 0 by rounding (about 10⁻¹⁵ for identical samples) is clamped to 0, as
+//! pymuvr does. Every entry is computed in a fixed order from its two samples alone, so the
+//! matrices are identical at any thread count.
+
+mod centred;
 
 use super::{check_cos, check_tau, symmetric_matrices};
 use crate::error::DistanceError;
 use crate::spikes::MultiSpikeTrain;
+use centred::{CentredSample, Grid};
 use ndarray::Array2;
 use rayon::prelude::*;
 
 /// Largest `span/(2τ)` for which the centred-exponential evaluation is used (module docs).
 pub const CENTRED_EXP_LIMIT: f64 = 690.0;
-
-/// Rank field of an end-of-channel marker key (larger than any spike's rank).
-const MARKER_RANK: u64 = u32::MAX as u64;
 
 /// Multi-unit Van Rossum distance with kernel time constant `tau_s`.
 ///
@@ -89,6 +89,12 @@ pub fn combine_squared(ll2: f64, sp2: f64, cos: f64) -> f64 {
     ((1.0 - cos) * ll2 + cos * sp2).max(0.0)
 }
 
+/// `d² = ⟨u,u⟩ + ⟨v,v⟩ − 2⟨u,v⟩`, clamped at 0.
+#[inline]
+fn squared_from_products(self_u: f64, self_v: f64, cross: f64) -> f64 {
+    (self_u + self_v - 2.0 * cross).max(0.0)
+}
+
 impl VanRossumMatrices {
     /// `D²(c)` for every pair. Errors when `cos ∉ [0, 1]`.
     pub fn squared(&self, cos: f64) -> Result<Array2<f64>, DistanceError> {
@@ -104,53 +110,43 @@ impl VanRossumMatrices {
     }
 }
 
-/// One merge entry. A merge step reads all three fields of one entry per side, so they sit
-/// together (one cache line, one bounds check) rather than in three arrays.
-#[derive(Debug, Clone, Copy, Default)]
-struct Entry {
-    /// `(channel << 32) | rank(t)`; end-of-channel markers have rank [`MARKER_RANK`].
-    key: u64,
-    /// Centred: `e^{−(t − c₀)/τ}` (0 for markers). Decayed: `t` (unused for markers).
-    x: f64,
-    /// Centred: sum of `e^{(t_l − c₀)/τ}` over the earlier spikes of the same channel.
-    p: f64,
+/// One sample prepared for the decayed-sum merges: its trains and self products.
+#[derive(Debug, Clone)]
+struct DecayedSample {
+    trains: MultiSpikeTrain,
+    pooled: Vec<f64>,
+    labelled_self: f64,
+    pooled_self: f64,
 }
 
-/// Keyed spike entries of one sample for one merge (labelled line or pooled), ending with a
-/// sentinel key `u64::MAX`.
-#[derive(Debug, Clone, Default)]
-struct MergeArrays {
-    entries: Vec<Entry>,
-    /// `⟨u,u⟩` summed over the channels of this merge.
-    self_product: f64,
-}
-
-impl MergeArrays {
-    /// Number of entries without the sentinel.
-    fn len(&self) -> usize {
-        self.entries.len() - 1
+impl DecayedSample {
+    fn new(trains: &MultiSpikeTrain, tau_s: f64) -> Self {
+        let pooled = trains.pooled();
+        Self {
+            labelled_self: trains.channels().map(|c| decayed_self(c, tau_s)).sum(),
+            pooled_self: decayed_self(&pooled, tau_s),
+            trains: trains.clone(),
+            pooled,
+        }
     }
 }
 
-#[derive(Debug, Clone, Default)]
-struct PreparedSample {
-    labelled: MergeArrays,
-    pooled: MergeArrays,
-    /// Index in `labelled` where channel `P/2` starts and in `pooled` of the first spike at or
-    /// after the middle rank: each merge runs as two independent halves (the prefixes `P` are
-    /// global, so a half can start anywhere), four chains per pair for instruction-level
-    /// parallelism.
-    labelled_split: usize,
-    pooled_split: usize,
+/// The evaluation chosen for the prepared samples (module docs).
+#[derive(Debug, Clone)]
+enum Evaluation {
+    Centred {
+        grid: Grid,
+        samples: Vec<CentredSample>,
+    },
+    Decayed(Vec<DecayedSample>),
 }
 
-/// Samples prepared for one τ: ranks, keys and (centred) exponentials computed once, so every
-/// pair costs only the two merges.
+/// Samples prepared for one τ: ranks and (centred) exponentials computed once, so every pair
+/// costs only its lookups or merges.
 #[derive(Debug, Clone)]
 pub struct PreparedVanRossum {
     tau_s: f64,
-    centred: bool,
-    samples: Vec<PreparedSample>,
+    evaluation: Evaluation,
 }
 
 impl VanRossum {
@@ -182,105 +178,53 @@ impl VanRossum {
         observations: &[MultiSpikeTrain],
         allow_centred: bool,
     ) -> Result<PreparedVanRossum, DistanceError> {
-        let expected = observations.first().map_or(0, MultiSpikeTrain::n_channels);
-        if let Some(sample) = observations.iter().position(|o| o.n_channels() != expected) {
+        let channels = observations.first().map_or(0, MultiSpikeTrain::n_channels);
+        if let Some(sample) = observations.iter().position(|o| o.n_channels() != channels) {
             return Err(DistanceError::ChannelCount {
                 sample,
-                expected,
+                expected: channels,
                 got: observations[sample].n_channels(),
             });
         }
-        // Global ranks of the distinct spike times: exact integer keys for the merges.
-        let mut distinct: Vec<f64> = observations
-            .iter()
-            .flat_map(|o| o.flat_times().iter().copied())
+        let spikes: Vec<Vec<(u32, f64)>> = observations
+            .par_iter()
+            .map(MultiSpikeTrain::pooled_with_channels)
             .collect();
-        distinct.par_sort_unstable_by(f64::total_cmp);
-        distinct.dedup_by(|a, b| a.total_cmp(b).is_eq());
-        let (lo, hi) = match (distinct.first(), distinct.last()) {
-            (Some(&lo), Some(&hi)) => (lo, hi),
-            _ => (0.0, 0.0),
-        };
+        let ranked = RankedTimes::of(&spikes);
+        let (lo, hi) = ranked.range;
         let centre = lo / 2.0 + hi / 2.0;
         // (hi − lo) may overflow for extreme times; halves do not.
         let half_span_over_tau = (hi / 2.0 - lo / 2.0) / self.tau_s;
-        let centred = allow_centred && half_span_over_tau <= CENTRED_EXP_LIMIT;
-        let rank = |t: f64| distinct.partition_point(|&d| d.total_cmp(&t).is_lt()) as u64;
-        let middle_rank = (distinct.len() / 2) as u64;
-        let samples = observations
-            .par_iter()
-            .map(|o| {
-                let channels: Vec<&[f64]> = o.channels().collect();
-                let pooled = o.pooled();
-                let labelled = self.merge_arrays(&channels, centred, centre, &rank);
-                let pooled = self.merge_arrays(&[&pooled], centred, centre, &rank);
-                let middle_channel = ((channels.len() / 2) as u64) << 32;
-                PreparedSample {
-                    labelled_split: labelled.entries.partition_point(|e| e.key < middle_channel),
-                    pooled_split: pooled.entries.partition_point(|e| e.key < middle_rank),
-                    labelled,
-                    pooled,
-                }
-            })
-            .collect();
+        let total: usize = spikes.iter().map(Vec::len).sum();
+        let grid = Grid::new(
+            ranked.distinct,
+            channels,
+            total as f64 / observations.len().max(1) as f64,
+        );
+        let evaluation = match grid {
+            Some(grid) if allow_centred && half_span_over_tau <= CENTRED_EXP_LIMIT => {
+                let inv_tau = 1.0 / self.tau_s;
+                let samples = spikes
+                    .par_iter()
+                    .enumerate()
+                    .map(|(s, spikes)| {
+                        let ranks = ranked.ranks(s);
+                        CentredSample::new(spikes, ranks, channels, &grid, centre, inv_tau)
+                    })
+                    .collect();
+                Evaluation::Centred { grid, samples }
+            }
+            _ => Evaluation::Decayed(
+                observations
+                    .par_iter()
+                    .map(|o| DecayedSample::new(o, self.tau_s))
+                    .collect(),
+            ),
+        };
         Ok(PreparedVanRossum {
             tau_s: self.tau_s,
-            centred,
-            samples,
+            evaluation,
         })
-    }
-
-    /// Keys and exponentials of `trains` (channel `c` = position in the slice) for one merge.
-    fn merge_arrays(
-        &self,
-        trains: &[&[f64]],
-        centred: bool,
-        centre: f64,
-        rank: &(impl Fn(f64) -> u64 + Sync),
-    ) -> MergeArrays {
-        let total: usize = trains.iter().map(|t| t.len()).sum();
-        let mut m = MergeArrays {
-            entries: Vec::with_capacity(total + trains.len() + 1),
-            self_product: 0.0,
-        };
-        let inv_tau = 1.0 / self.tau_s;
-        for (c, times) in trains.iter().enumerate() {
-            let high = (c as u64) << 32;
-            let mut prefix = 0.0;
-            let mut markage_sum = 0.0;
-            let mut markage = 0.0;
-            for (k, &t) in times.iter().enumerate() {
-                let key = high | rank(t);
-                if centred {
-                    let e_minus = (-(t - centre) * inv_tau).exp();
-                    m.entries.push(Entry {
-                        key,
-                        x: e_minus,
-                        p: prefix,
-                    });
-                    markage_sum += e_minus * prefix;
-                    prefix += ((t - centre) * inv_tau).exp();
-                } else {
-                    m.entries.push(Entry { key, x: t, p: 0.0 });
-                    if k > 0 {
-                        markage = (1.0 + markage) * (-(t - times[k - 1]) * inv_tau).exp();
-                        markage_sum += markage;
-                    }
-                }
-            }
-            m.self_product += times.len() as f64 + 2.0 * markage_sum;
-            m.entries.push(Entry {
-                key: high | MARKER_RANK,
-                x: 0.0,
-                p: prefix,
-            });
-        }
-        m.entries.push(Entry {
-            key: u64::MAX,
-            x: 0.0,
-            p: 0.0,
-        });
-        m
     }
 
     /// `LL²` and `SP²` for every pair of `observations` (parallel over rows).
@@ -288,16 +232,7 @@ impl VanRossum {
         &self,
         observations: &[MultiSpikeTrain],
     ) -> Result<VanRossumMatrices, DistanceError> {
-        let prepared = self.prepare(observations)?;
-        let [ll2, sp2] = symmetric_matrices(observations.len(), |i, j| {
-            let (ll, sp) = prepared.squared_parts(i, j);
-            [ll, sp]
-        });
-        Ok(VanRossumMatrices {
-            tau_s: self.tau_s,
-            ll2,
-            sp2,
-        })
+        Ok(self.prepare(observations)?.matrices())
     }
 
     /// `D²(c)` between two samples with the same channel count.
@@ -324,6 +259,59 @@ impl VanRossum {
     }
 }
 
+/// Global ranks of the spike times of all samples (equal times share a rank).
+struct RankedTimes {
+    /// Ranks of every sample's spikes, concatenated in the order given.
+    ranks: Vec<u64>,
+    /// Where each sample's ranks start (and the end).
+    offsets: Vec<usize>,
+    /// Number of distinct times.
+    distinct: usize,
+    /// Earliest and latest time (`(0, 0)` without spikes).
+    range: (f64, f64),
+}
+
+impl RankedTimes {
+    /// Ranks by one sort of all times.
+    fn of(samples: &[Vec<(u32, f64)>]) -> Self {
+        let mut offsets = Vec::with_capacity(samples.len() + 1);
+        offsets.push(0);
+        for s in samples {
+            offsets.push(offsets.last().copied().unwrap_or(0) + s.len());
+        }
+        let mut all: Vec<(f64, usize)> = samples
+            .iter()
+            .flatten()
+            .enumerate()
+            .map(|(k, &(_, t))| (t, k))
+            .collect();
+        all.par_sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
+        let mut ranks = vec![0u64; all.len()];
+        let mut rank = 0u64;
+        for (w, &(t, k)) in all.iter().enumerate() {
+            if w > 0 && all[w - 1].0.total_cmp(&t).is_ne() {
+                rank += 1;
+            }
+            ranks[k] = rank;
+        }
+        let range = match (all.first(), all.last()) {
+            (Some(lo), Some(hi)) => (lo.0, hi.0),
+            _ => (0.0, 0.0),
+        };
+        Self {
+            distinct: if all.is_empty() { 0 } else { rank as usize + 1 },
+            ranks,
+            offsets,
+            range,
+        }
+    }
+
+    /// The ranks of sample `s`'s spikes.
+    fn ranks(&self, s: usize) -> &[u64] {
+        &self.ranks[self.offsets[s]..self.offsets[s + 1]]
+    }
+}
+
 impl PreparedVanRossum {
     /// Kernel time constant (s).
     pub fn tau_s(&self) -> f64 {
@@ -332,132 +320,126 @@ impl PreparedVanRossum {
 
     /// Number of prepared samples.
     pub fn len(&self) -> usize {
-        self.samples.len()
+        match &self.evaluation {
+            Evaluation::Centred { samples, .. } => samples.len(),
+            Evaluation::Decayed(samples) => samples.len(),
+        }
     }
 
     /// `true` when no sample was prepared.
     pub fn is_empty(&self) -> bool {
-        self.samples.is_empty()
+        self.len() == 0
     }
 
     /// `true` when the centred-exponential evaluation is in use (module docs).
     pub fn is_centred(&self) -> bool {
-        self.centred
+        matches!(self.evaluation, Evaluation::Centred { .. })
     }
 
     /// `(LL², SP²)` between prepared samples `i` and `j` (0 for `i == j`). Panics when an index is
-    /// out of range.
+    /// out of range. Equal, bit for bit, to the entries of [`matrices`](Self::matrices), which
+    /// is much faster for many pairs (it tabulates each sample once; a single pair walks both
+    /// samples' trains instead).
     pub fn squared_parts(&self, i: usize, j: usize) -> (f64, f64) {
         if i == j {
             return (0.0, 0.0);
         }
-        let (a, b) = (&self.samples[i], &self.samples[j]);
-        let (ll_cross, sp_cross) = if self.centred {
-            centred_cross_pair(a, b)
-        } else {
-            (
-                decayed_cross(&a.labelled, &b.labelled, self.tau_s),
-                decayed_cross(&a.pooled, &b.pooled, self.tau_s),
-            )
+        match &self.evaluation {
+            Evaluation::Centred { grid, samples } => {
+                let (a, b) = (&samples[i], &samples[j]);
+                let (ll, sp) = centred::cross_pair(a, b, grid);
+                (
+                    squared_from_products(a.labelled_self, b.labelled_self, ll),
+                    squared_from_products(a.pooled_self, b.pooled_self, sp),
+                )
+            }
+            Evaluation::Decayed(samples) => decayed_parts(&samples[i], &samples[j], self.tau_s),
+        }
+    }
+
+    /// `LL²` and `SP²` for every pair of the prepared samples (parallel over rows).
+    pub fn matrices(&self) -> VanRossumMatrices {
+        let [ll2, sp2] = match &self.evaluation {
+            Evaluation::Centred { grid, samples } => {
+                let mut halves = centred::half_product_matrices(samples, grid);
+                let self_products = [
+                    samples.iter().map(|s| s.labelled_self).collect::<Vec<_>>(),
+                    samples.iter().map(|s| s.pooled_self).collect(),
+                ];
+                for (m, own) in halves.iter_mut().zip(&self_products) {
+                    // ⟨a, b⟩ = (a, b) + (b, a); d² written to both.
+                    for a in 0..own.len() {
+                        for b in a + 1..own.len() {
+                            let d2 = squared_from_products(own[a], own[b], m[[a, b]] + m[[b, a]]);
+                            m[[a, b]] = d2;
+                            m[[b, a]] = d2;
+                        }
+                    }
+                }
+                halves
+            }
+            Evaluation::Decayed(samples) => symmetric_matrices(samples.len(), |i, j| {
+                let (ll, sp) = decayed_parts(&samples[i], &samples[j], self.tau_s);
+                [ll, sp]
+            }),
         };
-        let ll = a.labelled.self_product + b.labelled.self_product - 2.0 * ll_cross;
-        let sp = a.pooled.self_product + b.pooled.self_product - 2.0 * sp_cross;
-        (ll.max(0.0), sp.max(0.0))
+        VanRossumMatrices {
+            tau_s: self.tau_s,
+            ll2,
+            sp2,
+        }
     }
 }
 
-/// One branch-free step of a centred merge: take the smaller key (`u` on ties), add its `e⁻`
-/// times the other side's prefix `P` at the merge position.
-#[inline(always)]
-fn centred_step(u: &[Entry], v: &[Entry], i: &mut usize, j: &mut usize, acc: &mut f64) {
-    let (a, b) = (&u[*i], &v[*j]);
-    let take_u = a.key <= b.key;
-    let (taken, other) = if take_u { (a, b) } else { (b, a) };
-    *acc += taken.x * other.p;
-    *i += take_u as usize;
-    *j += (!take_u) as usize;
+/// `(LL², SP²)` of two samples by decayed-sum merges.
+fn decayed_parts(a: &DecayedSample, b: &DecayedSample, tau_s: f64) -> (f64, f64) {
+    let ll_cross: f64 = a
+        .trains
+        .channels()
+        .zip(b.trains.channels())
+        .map(|(u, v)| decayed_cross(u, v, tau_s))
+        .sum();
+    let sp_cross = decayed_cross(&a.pooled, &b.pooled, tau_s);
+    (
+        squared_from_products(a.labelled_self, b.labelled_self, ll_cross),
+        squared_from_products(a.pooled_self, b.pooled_self, sp_cross),
+    )
 }
 
-/// `(Σ_n ⟨u_n, v_n⟩, ⟨∪u, ∪v⟩)`: both merges, each in two halves, as four interleaved chains.
-fn centred_cross_pair(a: &PreparedSample, b: &PreparedSample) -> (f64, f64) {
-    let (ll_u, ll_v) = (&a.labelled.entries[..], &b.labelled.entries[..]);
-    let (sp_u, sp_v) = (&a.pooled.entries[..], &b.pooled.entries[..]);
-    let len = |e: &[Entry]| e.len() - 1;
-    // (start i, start j, steps) of each chain.
-    let chains = [
-        (0, 0, a.labelled_split + b.labelled_split),
-        (
-            a.labelled_split,
-            b.labelled_split,
-            len(ll_u) - a.labelled_split + len(ll_v) - b.labelled_split,
-        ),
-        (0, 0, a.pooled_split + b.pooled_split),
-        (
-            a.pooled_split,
-            b.pooled_split,
-            len(sp_u) - a.pooled_split + len(sp_v) - b.pooled_split,
-        ),
-    ];
-    let [
-        (mut i0, mut j0, n0),
-        (mut i1, mut j1, n1),
-        (mut i2, mut j2, n2),
-        (mut i3, mut j3, n3),
-    ] = chains;
-    let mut acc = [0.0f64; 4];
-    let common = n0.min(n1).min(n2).min(n3);
-    for _ in 0..common {
-        centred_step(ll_u, ll_v, &mut i0, &mut j0, &mut acc[0]);
-        centred_step(ll_u, ll_v, &mut i1, &mut j1, &mut acc[1]);
-        centred_step(sp_u, sp_v, &mut i2, &mut j2, &mut acc[2]);
-        centred_step(sp_u, sp_v, &mut i3, &mut j3, &mut acc[3]);
+/// `⟨u, u⟩ = n + 2·Σ_k m_k` by the markage recursion `m_k = (1 + m_{k−1})·e^{−(u_k − u_{k−1})/τ}`.
+fn decayed_self(u: &[f64], tau_s: f64) -> f64 {
+    let (mut markage, mut sum) = (0.0, 0.0);
+    for w in u.windows(2) {
+        markage = (1.0 + markage) * (-(w[1] - w[0]) / tau_s).exp();
+        sum += markage;
     }
-    for _ in common..n0 {
-        centred_step(ll_u, ll_v, &mut i0, &mut j0, &mut acc[0]);
-    }
-    for _ in common..n1 {
-        centred_step(ll_u, ll_v, &mut i1, &mut j1, &mut acc[1]);
-    }
-    for _ in common..n2 {
-        centred_step(sp_u, sp_v, &mut i2, &mut j2, &mut acc[2]);
-    }
-    for _ in common..n3 {
-        centred_step(sp_u, sp_v, &mut i3, &mut j3, &mut acc[3]);
-    }
-    (acc[0] + acc[1], acc[2] + acc[3])
+    u.len() as f64 + 2.0 * sum
 }
 
-/// `Σ_n ⟨u_n, v_n⟩` by decayed running sums (exponentials of non-positive numbers only).
-fn decayed_cross(u: &MergeArrays, v: &MergeArrays, tau_s: f64) -> f64 {
+/// `⟨u, v⟩` of two sorted trains by one merge with decayed running sums (exponentials of
+/// non-positive numbers only; `u` before `v` on equal times).
+fn decayed_cross(u: &[f64], v: &[f64], tau_s: f64) -> f64 {
     let (mut i, mut j) = (0, 0);
-    let (mut a_u, mut a_v, mut last) = (0.0f64, 0.0f64, f64::NAN);
+    let (mut a_u, mut a_v) = (0.0f64, 0.0f64);
+    let mut last: Option<f64> = None;
     let mut acc = 0.0;
-    for _ in 0..u.len() + v.len() {
-        let (a, b) = (&u.entries[i], &v.entries[j]);
-        let take_u = a.key <= b.key;
-        let (key, t) = if take_u { (a.key, a.x) } else { (b.key, b.x) };
-        if take_u {
-            i += 1;
-        } else {
-            j += 1;
-        }
-        if key & MARKER_RANK == MARKER_RANK {
-            // End of a channel: nothing carries over to the next one.
-            (a_u, a_v, last) = (0.0, 0.0, f64::NAN);
-            continue;
-        }
-        if !last.is_nan() {
+    while i < u.len() || j < v.len() {
+        let take_u = j == v.len() || (i < u.len() && u[i] <= v[j]);
+        let t = if take_u { u[i] } else { v[j] };
+        if let Some(last) = last {
             let decay = (-(t - last) / tau_s).exp();
             a_u *= decay;
             a_v *= decay;
         }
-        last = t;
+        last = Some(t);
         if take_u {
             acc += a_v;
             a_u += 1.0;
+            i += 1;
         } else {
             acc += a_u;
             a_v += 1.0;
+            j += 1;
         }
     }
     acc

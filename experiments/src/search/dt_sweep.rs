@@ -2,41 +2,65 @@
 //! leave-one-out KNN accuracy at each), exact, from one prefix sum per sample.
 //!
 //! # Why it is fast
-//! With `x[b]` the pooled spike count of a sample in 1-ms bin `b`, `C[m] = Σ_{b<m} x[b]` and
-//! `Q[m] = Σ_{i<m} C[i]`, the temporal features are `w(s) = C[s + Δ] − C[s]` (times `1/N`,
-//! which no ranking sees). Their inner product for every Δ needs no feature vector at all:
+//! With `x[b]` the pooled spike count of a sample in 1-ms bin `b` and `C[m] = Σ_{b<m} x[b]`, the
+//! temporal features are `w(s) = C[s + Δ] − C[s]`, `s ∈ [0, T − Δ]` (times `1/N`, which no
+//! ranking sees). Their inner product for every Δ needs no feature vector at all. Summed over
+//! every window start `s ∈ ℤ` instead,
 //!
 //! ```text
-//! ⟨w_a, w_b⟩(Δ) = Σ_{k ∈ spikes of a} Σ_{s = lo}^{hi} (C_b[s + Δ] − C_b[s]),  lo = max(0, k − Δ + 1), hi = min(k, T − Δ)
-//!              = Σ_k (Q_b[hi + Δ + 1] − Q_b[lo + Δ] − Q_b[hi + 1] + Q_b[lo])
+//! Σ_s w_a(s)·w_b(s) = Σ_{k ∈ a, l ∈ b} max(0, Δ − |k − l|) = Σ_{|d| < Δ} X(d)·(Δ − |d|),   X(d) = Σ_{k ∈ a} x_b[k + d]
 //! ```
 //!
-//! and for a spike away from both ends (`Δ − 1 ≤ k ≤ T − Δ`) the term is
-//! `Q_b[k + 1 + Δ] + Q_b[k + 1 − Δ] − 2·Q_b[k + 1]`: two contiguous loads per spike for a whole
-//! block of Δ values (one forward in `Q_b`, one in `Q_b` reversed). The squared distance is then
-//! `‖w_a‖² + ‖w_b‖² − 2⟨w_a, w_b⟩`, an integer, computed in wrapping `i32` arithmetic — exact
-//! because it is a ring identity mod 2³² and the true value is known to lie in `[0, 2³¹)` (bound
-//! checked per dataset; `i64` otherwise). Integer distances rank exactly as the Euclidean
-//! distances of the features, ties included, so the KNN predictions are exactly those of the
-//! feature vectors.
+//! so one correlogram `X` over the lags `|d| < Δ_max` gives all windows at once, as a double
+//! prefix sum over `Y(j) = X(j) + X(−j)`. `X` costs one vector add of `b`'s bins per spike of
+//! `a` (bytes, 64 lanes per vector, flushed to wider sums before a lane can reach 256). The
+//! windows starting before 0 or after `T − Δ` hold `C[s + Δ]` and `n − C[s]` spikes, so
 //!
-//! Δ values are processed in blocks of [`LANES`]: for each block every pair's squared distances
-//! are computed (rows in parallel), then leave-one-out runs for each Δ of the block (Δ values in
-//! parallel), with the KNN tie rules of [`neurotac_core::knn`].
+//! ```text
+//! ⟨w_a, w_b⟩(Δ) = Σ_s w_a(s)·w_b(s) − Σ_{0 < m < Δ} (C_a[m]·C_b[m] + (n_a − C_a[T − m])·(n_b − C_b[T − m]))
+//! ```
+//!
+//! a running sum over per-sample arrays. When a bin holds more than 255 spikes, the first sum
+//! comes instead from `Q[m] = Σ_{i<m} C[i]` continued past both ends: a spike `k` adds
+//! `Q_b[k + 1 + Δ] + Q_b[k + 1 − Δ] − 2·Q_b[k + 1]`, two contiguous loads for a block of Δ
+//! values. The squared distance is then `‖w_a‖² + ‖w_b‖² − 2⟨w_a, w_b⟩`, an integer, computed in
+//! wrapping `i32` arithmetic — exact because every step is a ring operation mod 2³² and the true
+//! value is known to lie in `[0, 2³¹)` (bound checked per dataset; `i64` otherwise). Integer
+//! distances rank exactly as the Euclidean distances of the features, ties included, so the KNN
+//! predictions are exactly those of the feature vectors.
+//!
+//! Each pair's inner products, for all windows at once, come from the sample with fewer
+//! spikes. Leave-one-out is fused with the distances: every pair's squared distances are
+//! offered, for a block of [`LANES`] windows (one block covers the paper's 200) at once, to both
+//! samples' `k` nearest (one vector comparison against the current `k`-th distances; the few
+//! that pass are inserted), so no distance is stored. Rows are split into chunks that run in
+//! parallel, each with its own neighbour lists; the lists of all chunks are then merged with
+//! [`TopK`] under the `(distance, index)` order of [`neurotac_core::knn`], which gives the same
+//! neighbours for any chunking (thread count), and voted on with its tie rules.
 
 use crate::error::ExperimentError;
 use crate::protocols::Accuracy;
+use neighbours::Neighbours;
 use neurotac_core::coding::pooled_bin_counts;
 use neurotac_core::knn::{TopK, vote};
 use neurotac_core::{Knn, KnnError, MultiSpikeTrain};
 use rayon::prelude::*;
 use serde::Serialize;
 
-/// Δ values per block (lanes of the inner loop).
-pub const LANES: usize = 40;
+mod neighbours;
+
+/// Δ values per block (lanes of the inner loop): the paper's 200 windows in one block of
+/// 16-lane vectors.
+pub const LANES: usize = 208;
+
+/// Lags per block of the byte correlogram (7 vectors of 64 bytes: `|d| < 224`).
+const LAG_LANES: usize = 448;
 
 /// Rows computed together so that each column sample's arrays are reused from cache.
 const ROW_BLOCK: usize = 16;
+
+/// Chunks of rows per thread (each with its own neighbour lists).
+const CHUNKS_PER_THREAD: usize = 2;
 
 /// Leave-one-out accuracy at every window of the sweep.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -53,18 +77,25 @@ pub struct DtSweep {
 
 /// Wrapping integer lanes (`i32` when the distances fit, `i64` otherwise).
 trait Lane: Copy + Default + PartialOrd + Send + Sync + 'static {
+    const MIN: Self;
+    const MAX: Self;
     fn wadd(self, o: Self) -> Self;
     fn wsub(self, o: Self) -> Self;
+    fn wmul(self, o: Self) -> Self;
     fn from_i64(x: i64) -> Self;
 }
 
 macro_rules! lane {
     ($($t:ty),*) => {$(
         impl Lane for $t {
+            const MIN: Self = <$t>::MIN;
+            const MAX: Self = <$t>::MAX;
             #[inline(always)]
             fn wadd(self, o: Self) -> Self { self.wrapping_add(o) }
             #[inline(always)]
             fn wsub(self, o: Self) -> Self { self.wrapping_sub(o) }
+            #[inline(always)]
+            fn wmul(self, o: Self) -> Self { self.wrapping_mul(o) }
             #[inline(always)]
             fn from_i64(x: i64) -> Self { x as $t }
         }
@@ -72,45 +103,103 @@ macro_rules! lane {
 }
 lane!(i32, i64);
 
-/// One sample: its spike bins (sorted, with repeats) and `Q`, forward (padded with `Q[T + 1]`)
-/// and reversed (padded with `Q[0] = 0`), long enough that every block load stays inside.
+/// One sample: its spike bins (sorted, with repeats); the counts in its first and in its last
+/// `m` bins, `C[m]` and `n − C[T − m]`, for `m < Δ_max` (zero padded to whole blocks); and either
+/// the bin counts as bytes shifted by `Δ_max − 1` (zero padded) for the correlogram, or, when a
+/// bin holds more than a byte, `Q[m] = Σ_j x[j]·(m − 1 − j)₊` forward and reversed
+/// (`Q[T + 1 − j]`), both continued past their ends as that formula does (linearly after
+/// `T + 1`, 0 before 0) and long enough that every block load stays inside.
 struct Prepared<L> {
     bins: Vec<u32>,
     q: Vec<L>,
     q_reversed: Vec<L>,
+    lagged: Vec<u8>,
+    first: Vec<L>,
+    last: Vec<L>,
 }
 
-fn prepare<L: Lane>(bin_counts: &[u32], delta_max: usize) -> Prepared<L> {
-    let t = bin_counts.len();
+/// Shape of one sweep: duration `t`, largest window `delta_max` and, when every bin count fits a
+/// byte, how many spikes a byte correlogram can add before it must be flushed.
+#[derive(Debug, Clone, Copy)]
+struct Shape {
+    t: usize,
+    delta_max: usize,
+    flush_every: Option<usize>,
+}
+
+impl Shape {
+    fn new(t: usize, delta_max: usize, max_bin_count: u32) -> Self {
+        let flush_every = u8::try_from(max_bin_count.max(1))
+            .ok()
+            .map(|m| (u8::MAX / m) as usize);
+        Self {
+            t,
+            delta_max,
+            flush_every,
+        }
+    }
+
+    /// Blocks of [`LANES`] windows.
+    fn blocks(&self) -> usize {
+        self.delta_max.div_ceil(LANES)
+    }
+
+    /// Blocks of [`LAG_LANES`] lags `d ∈ [−(Δ_max − 1), Δ_max − 1]`.
+    fn lag_blocks(&self) -> usize {
+        (2 * self.delta_max - 1).div_ceil(LAG_LANES)
+    }
+}
+
+fn prepare<L: Lane>(bin_counts: &[u32], shape: &Shape) -> Prepared<L> {
+    let (t, delta_max) = (shape.t, shape.delta_max);
     let mut bins = Vec::new();
     for (b, &c) in bin_counts.iter().enumerate() {
         bins.extend(std::iter::repeat_n(b as u32, c as usize));
     }
-    // C[m] for m = 0..=T, Q[m] for m = 0..=T+1 (exact in i64, then wrapped).
-    let mut q = Vec::with_capacity(t + 2 + delta_max + LANES);
-    let (mut c, mut acc) = (0i64, 0i64);
-    q.push(L::from_i64(0));
-    // Q[m + 1] = Q[m] + C[m], with C[m + 1] = C[m] + x[m].
-    for x in bin_counts.iter().map(|&x| x as i64).chain([0]) {
-        acc += c;
-        q.push(L::from_i64(acc));
-        c += x;
+    let (mut q, mut q_reversed, mut lagged) = (Vec::new(), Vec::new(), Vec::new());
+    if shape.flush_every.is_some() {
+        // lagged[j] = x[j − (Δ_max − 1)]: the load at k covers x[k + d], |d| < Δ_max.
+        lagged = vec![0u8; t + shape.lag_blocks() * LAG_LANES];
+        for (b, &c) in bin_counts.iter().enumerate() {
+            lagged[b + delta_max - 1] = c as u8;
+        }
+    } else {
+        // Q[m + 1] = Q[m] + C[m], C[m + 1] = C[m] + x[m] (x = 0 from T on), in wrapping lanes.
+        let len = t + 2 + delta_max + LANES;
+        let (mut c, mut acc) = (L::default(), L::default());
+        let mut x = bin_counts.iter().map(|&x| L::from_i64(x as i64));
+        for _ in 0..len {
+            q.push(acc);
+            acc = acc.wadd(c);
+            c = c.wadd(x.next().unwrap_or_default());
+        }
+        q_reversed = q[..t + 2].iter().rev().copied().collect();
+        q_reversed.resize(len, L::default());
     }
-    let mut q_reversed: Vec<L> = q.iter().rev().copied().collect();
-    let (last, first) = (*q.last().expect("T + 2 ≥ 2 entries"), L::from_i64(0));
-    q.resize(t + 2 + delta_max + LANES, last);
-    q_reversed.resize(t + 2 + delta_max + LANES, first);
+    let lanes = shape.blocks() * LANES;
+    let (mut first, mut last) = (vec![L::default(); lanes], vec![L::default(); lanes]);
+    let (mut head, mut tail) = (0i64, 0i64);
+    for m in 1..delta_max {
+        head += bin_counts[m - 1] as i64;
+        tail += bin_counts[t - m] as i64;
+        first[m] = L::from_i64(head);
+        last[m] = L::from_i64(tail);
+    }
     Prepared {
         bins,
         q,
         q_reversed,
+        lagged,
+        first,
+        last,
     }
 }
 
-/// `Σ_k (Q_b[k + 1 + Δ] + Q_b[k + 1 − Δ])` over interior spikes `k` for the block's Δ values,
-/// and `Σ_k Q_b[k + 1]`. Kept apart so the block accumulators stay in registers.
+/// `Σ_k (Q_b[k + 1 + Δ] + Q_b[k + 1 − Δ])` over the spikes `k` in `bins` for the block's Δ
+/// values, and `Σ_k Q_b[k + 1]`: with the continued `Q`, `Σ_k Σ_l x_b[l]·max(0, Δ − |k − l|)`
+/// is the first minus twice the second. Kept apart so the block accumulators stay in registers.
 #[inline(never)]
-fn interior_sum<L: Lane>(bins: &[u32], b: &Prepared<L>, t: usize, d0: usize) -> ([L; LANES], L) {
+fn window_sum<L: Lane>(bins: &[u32], b: &Prepared<L>, t: usize, d0: usize) -> ([L; LANES], L) {
     let mut acc = [L::default(); LANES];
     let mut centre = L::default();
     for &k in bins {
@@ -129,78 +218,118 @@ fn interior_sum<L: Lane>(bins: &[u32], b: &Prepared<L>, t: usize, d0: usize) -> 
     (acc, centre)
 }
 
-/// `⟨w_a, w_b⟩(Δ)` for `Δ = d0 + 1 + l`, `l < LANES`, lanes with `Δ > delta_max` left at 0.
-fn inner_block<L: Lane>(
-    a: &Prepared<L>,
-    b: &Prepared<L>,
-    t: usize,
-    d0: usize,
-    delta_max: usize,
-) -> [L; LANES] {
-    let delta_hi = (d0 + LANES).min(delta_max);
-    // Spikes whose term is the interior one for every Δ of the block.
-    let lo = a.bins.partition_point(|&k| (k as usize + 1) < delta_hi);
-    let hi = a
-        .bins
-        .partition_point(|&k| k as usize + delta_hi <= t)
-        .max(lo);
-    let (mut acc, centre) = interior_sum(&a.bins[lo..hi], b, t, d0);
-    let twice = centre.wadd(centre);
-    for a in acc.iter_mut() {
-        *a = a.wsub(twice);
-    }
-    // Spikes near either end: the general term, branch-free over the block. With the padding
-    // (forward Q by Q[T + 1], reversed Q by Q[0] = 0) the clamped indices become:
-    // Q[min(k+Δ+1, T+1)] = forward, Q[max(0, k+1−Δ)] = reversed, and two selects.
-    let delta0 = &b.q[d0 + 1..d0 + 1 + LANES]; // Q[Δ]
-    let tail = &b.q_reversed[d0 + 1..d0 + 1 + LANES]; // Q[T + 1 − Δ]
-    for &k in a.bins[..lo].iter().chain(&a.bins[hi..]) {
-        let k = k as usize;
-        let forward = &b.q[k + 2 + d0..k + 2 + d0 + LANES];
-        let backward = &b.q_reversed[t - k + d0 + 1..t - k + d0 + 1 + LANES];
-        let qk = b.q[k + 1];
-        for l in 0..LANES {
-            let delta = d0 + 1 + l;
-            let low = if delta <= k + 1 { qk } else { delta0[l] };
-            let high = if delta + k <= t { qk } else { tail[l] };
-            acc[l] = acc[l]
-                .wadd(forward[l])
-                .wadd(backward[l])
-                .wsub(low)
-                .wsub(high);
+/// Adds the correlogram `X(d) = Σ_k x_b[k + d]` over the spikes `k` in `bins` for the lags of
+/// lag block `block` to `x`, in byte lanes flushed every `flush_every` spikes (so no lane exceeds
+/// 255). Kept apart so the byte accumulators stay in registers.
+#[inline(never)]
+fn correlogram_block<L: Lane>(
+    bins: &[u32],
+    lagged: &[u8],
+    block: usize,
+    flush_every: usize,
+    x: &mut [L; LAG_LANES],
+) {
+    let offset = block * LAG_LANES;
+    for group in bins.chunks(flush_every) {
+        let mut acc = [0u8; LAG_LANES];
+        for &k in group {
+            let at = k as usize + offset;
+            let window: &[u8; LAG_LANES] = lagged[at..at + LAG_LANES]
+                .try_into()
+                .expect("LAG_LANES values");
+            for l in 0..LAG_LANES {
+                acc[l] = acc[l].wrapping_add(window[l]);
+            }
+        }
+        for (x, &a) in x.iter_mut().zip(&acc) {
+            *x = x.wadd(L::from_i64(a as i64));
         }
     }
-    for slot in acc.iter_mut().skip(delta_hi.saturating_sub(d0)) {
+}
+
+/// `⟨w_a, w_b⟩(Δ)` for `Δ = 1..=Δ_max` in `out[Δ − 1]` (`blocks · LANES` lanes, those beyond
+/// `Δ_max` set to 0), from the spikes of `a` and the arrays of `b`.
+///
+/// First the sum over windows at every start `s ∈ ℤ`, `Σ_{k,l} x_a[k]·x_b[l]·max(0, Δ − |k − l|)`.
+/// With byte bins it comes from the correlogram `X(d)` over `|d| < Δ_max`, one byte vector add
+/// per spike and lag block, as a double prefix sum over `Y(j) = X(j) + X(−j)`; otherwise from
+/// [`window_sum`] per block of [`LANES`] windows. The windows starting before 0 count `C[s + Δ]`
+/// and those starting after `T − Δ` count `n − C[s]`, so the sum over `s ∈ [0, T − Δ]` is that
+/// minus `Σ_{0 < m < Δ} (C_a[m]·C_b[m] + (n_a − C_a[T − m])·(n_b − C_b[T − m]))`.
+fn inner_products<L: Lane>(
+    a: &Prepared<L>,
+    b: &Prepared<L>,
+    shape: &Shape,
+    out: &mut [L],
+    lags: &mut Vec<[L; LAG_LANES]>,
+) {
+    let dm = shape.delta_max;
+    match shape.flush_every {
+        Some(flush_every) => {
+            lags.resize(shape.lag_blocks(), [L::default(); LAG_LANES]);
+            lags.fill([L::default(); LAG_LANES]);
+            for (block, x) in lags.iter_mut().enumerate() {
+                correlogram_block(&a.bins, &b.lagged, block, flush_every, x);
+            }
+            // Δ·Y(0) + (Δ − 1)·Y(1) + …: T(Δ + 1) = T(Δ) + Σ_{j ≤ Δ} Y(j), Y(0) = X(0).
+            let x = lags.as_flattened();
+            let (right, left) = (&x[dm - 1..2 * dm - 1], &x[..dm]);
+            let (mut cumulative, mut total) = (L::default().wsub(right[0]), L::default());
+            for ((o, &r), &l) in out.iter_mut().zip(right).zip(left.iter().rev()) {
+                cumulative = cumulative.wadd(r).wadd(l);
+                total = total.wadd(cumulative);
+                *o = total;
+            }
+        }
+        None => {
+            for (block, out) in out.chunks_exact_mut(LANES).enumerate() {
+                let (part, centre) = window_sum(&a.bins, b, shape.t, block * LANES);
+                let twice = centre.wadd(centre);
+                for (o, p) in out.iter_mut().zip(part) {
+                    *o = p.wsub(twice);
+                }
+            }
+        }
+    }
+    let mut clipped = L::default();
+    for (o, (((fa, fb), la), lb)) in out
+        .iter_mut()
+        .zip(a.first.iter().zip(&b.first).zip(&a.last).zip(&b.last))
+        .take(dm)
+    {
+        clipped = clipped.wadd(fa.wmul(*fb)).wadd(la.wmul(*lb));
+        *o = o.wsub(clipped);
+    }
+    for slot in out.iter_mut().skip(dm) {
         *slot = L::default();
     }
-    acc
 }
 
 /// Exact squared feature distances `N²·‖R_a − R_b‖²` for `Δ = 1..=delta_max` (for checks and
-/// small problems; the sweep uses the same kernel blockwise).
+/// small problems; the sweep uses the same kernel).
 pub fn window_squared_distances(
     a: &MultiSpikeTrain,
     b: &MultiSpikeTrain,
     duration_ms: u32,
     delta_max: u32,
 ) -> Vec<i64> {
-    let (pa, pb) = (
-        prepare::<i64>(&pooled_bin_counts(a, duration_ms), delta_max as usize),
-        prepare::<i64>(&pooled_bin_counts(b, duration_ms), delta_max as usize),
-    );
-    let (t, dm) = (duration_ms as usize, delta_max as usize);
-    let mut out = Vec::with_capacity(dm);
-    for d0 in (0..dm).step_by(LANES) {
-        let (aa, bb, ab) = (
-            inner_block(&pa, &pa, t, d0, dm),
-            inner_block(&pb, &pb, t, d0, dm),
-            inner_block(&pa, &pb, t, d0, dm),
-        );
-        for l in 0..LANES.min(dm - d0) {
-            out.push(aa[l] + bb[l] - 2 * ab[l]);
-        }
-    }
-    out
+    let counts = [
+        pooled_bin_counts(a, duration_ms),
+        pooled_bin_counts(b, duration_ms),
+    ];
+    let max_count = counts.iter().flatten().copied().max().unwrap_or(0);
+    let shape = Shape::new(duration_ms as usize, delta_max as usize, max_count);
+    let [pa, pb] = counts.map(|c| prepare::<i64>(&c, &shape));
+    let mut lags = Vec::new();
+    let mut inner = |x: &Prepared<i64>, y: &Prepared<i64>| {
+        let mut out = vec![0; shape.blocks() * LANES];
+        inner_products(x, y, &shape, &mut out, &mut lags);
+        out
+    };
+    let (aa, bb, ab) = (inner(&pa, &pa), inner(&pb, &pb), inner(&pa, &pb));
+    (0..delta_max as usize)
+        .map(|l| aa[l] + bb[l] - 2 * ab[l])
+        .collect()
 }
 
 /// Runs the sweep over `Δt = 1..=max_window_ms` ms on samples of `duration_ms` (spikes outside
@@ -212,6 +341,32 @@ pub fn dt_sweep(
     max_window_ms: u32,
     knn: Knn,
 ) -> Result<DtSweep, ExperimentError> {
+    let predictions =
+        leave_one_out_predictions(observations, labels, duration_ms, max_window_ms, knn)?;
+    let n = labels.len();
+    let accuracy: Vec<f64> = predictions
+        .iter()
+        .map(|p| p.iter().zip(labels).filter(|(p, t)| p == t).count() as f64 / n as f64)
+        .collect();
+    let best = (0..accuracy.len())
+        .max_by(|&x, &y| accuracy[x].total_cmp(&accuracy[y]).then(y.cmp(&x)))
+        .expect("at least one window");
+    Ok(DtSweep {
+        windows_ms: (1..=max_window_ms).collect(),
+        best_window_ms: best as u32 + 1,
+        best: Accuracy::of(&predictions[best], labels),
+        accuracy,
+    })
+}
+
+/// The leave-one-out predictions of [`dt_sweep`]: entry `Δt − 1` holds one label per sample.
+pub fn leave_one_out_predictions(
+    observations: &[MultiSpikeTrain],
+    labels: &[usize],
+    duration_ms: u32,
+    max_window_ms: u32,
+    knn: Knn,
+) -> Result<Vec<Vec<usize>>, ExperimentError> {
     let n = observations.len();
     if labels.len() != n {
         return Err(KnnError::Shape {
@@ -228,6 +383,14 @@ pub fn dt_sweep(
         }
         .into());
     }
+    if u32::try_from(n).is_err() {
+        // Neighbour indices are stored as u32 (u32::MAX marks an empty slot).
+        return Err(ExperimentError::InvalidParameter {
+            what: "samples",
+            value: n as f64,
+            expected: "fewer than 2³² − 1",
+        });
+    }
     if max_window_ms == 0 || max_window_ms > duration_ms {
         return Err(ExperimentError::InvalidParameter {
             what: "max_window_ms",
@@ -239,7 +402,8 @@ pub fn dt_sweep(
         .par_iter()
         .map(|o| pooled_bin_counts(o, duration_ms))
         .collect();
-    // ‖w‖² ≤ max window count · Σ_s w(s) ≤ max window count · Δ · n; D² ≤ 2(‖w_a‖² + ‖w_b‖²).
+    // Exact integer lanes: D² ≤ 2(‖w_a‖² + ‖w_b‖²) with ‖w‖² ≤ max window count · Δ · n, so the
+    // wrapping ring arithmetic gives it exactly when below half the lane range.
     let bound = counts
         .iter()
         .map(|c| {
@@ -254,202 +418,115 @@ pub fn dt_sweep(
         })
         .max()
         .unwrap_or(0);
+    let max_count = counts.iter().flatten().copied().max().unwrap_or(0);
+    let shape = Shape::new(duration_ms as usize, max_window_ms as usize, max_count);
     if 4 * bound < i32::MAX as u128 {
-        sweep::<i32>(&counts, labels, duration_ms, max_window_ms, knn)
+        Ok(sweep::<i32>(&counts, labels, &shape, knn))
+    } else if 4 * bound < i64::MAX as u128 {
+        Ok(sweep::<i64>(&counts, labels, &shape, knn))
     } else {
-        sweep::<i64>(&counts, labels, duration_ms, max_window_ms, knn)
+        Err(ExperimentError::InvalidParameter {
+            what: "duration_ms",
+            value: duration_ms as f64,
+            expected: "duration × spikes per sample small enough for exact 64-bit window sums",
+        })
     }
 }
 
 fn sweep<L: Lane>(
     counts: &[Vec<u32>],
     labels: &[usize],
-    duration_ms: u32,
-    max_window_ms: u32,
+    shape: &Shape,
     knn: Knn,
-) -> Result<DtSweep, ExperimentError> {
+) -> Vec<Vec<usize>> {
     let n = counts.len();
-    let (t, dm) = (duration_ms as usize, max_window_ms as usize);
-    let prepared: Vec<Prepared<L>> = counts.par_iter().map(|c| prepare(c, dm)).collect();
-    // Row a of the upper triangle holds LANES blocks of n − a − 1 squared distances.
-    let mut storage: Vec<L> = vec![L::default(); LANES * n * n.saturating_sub(1) / 2];
-    let mut accuracy = Vec::with_capacity(dm);
-    let mut predictions: Vec<Vec<usize>> = Vec::with_capacity(dm);
-    for d0 in (0..dm).step_by(LANES) {
-        let norms: Vec<[L; LANES]> = prepared
-            .par_iter()
-            .map(|p| inner_block(p, p, t, d0, dm))
-            .collect();
-        let mut rows: Vec<&mut [L]> = Vec::with_capacity(n);
-        let mut rest = storage.as_mut_slice();
-        for a in 0..n {
-            let (row, tail) = rest.split_at_mut(LANES * (n - a - 1));
-            rows.push(row);
-            rest = tail;
-        }
-        // Blocks of ROW_BLOCK rows; inside a block, column b outermost so its Q arrays stay in
-        // cache while every row of the block uses them.
-        let mut blocks: Vec<(usize, Vec<&mut [L]>)> = Vec::new();
-        for (a, row) in rows.into_iter().enumerate() {
-            if a % ROW_BLOCK == 0 {
-                blocks.push((a, Vec::with_capacity(ROW_BLOCK)));
-            }
-            blocks.last_mut().expect("pushed above").1.push(row);
-        }
-        blocks.into_par_iter().for_each(|(first, mut block_rows)| {
-            for b in first + 1..n {
-                for (offset, row) in block_rows.iter_mut().enumerate() {
-                    let a = first + offset;
-                    if a >= b {
-                        break;
-                    }
-                    let width = n - a - 1;
-                    let ab = inner_block(&prepared[a], &prepared[b], t, d0, dm);
-                    for l in 0..LANES {
-                        row[l * width + b - a - 1] =
-                            norms[a][l].wadd(norms[b][l]).wsub(ab[l].wadd(ab[l]));
+    let lanes = shape.blocks() * LANES;
+    let prepared: Vec<Prepared<L>> = counts.par_iter().map(|c| prepare(c, shape)).collect();
+    let norms: Vec<Vec<L>> = prepared
+        .par_iter()
+        .map_init(Vec::new, |lags, p| {
+            let mut out = vec![L::default(); lanes];
+            inner_products(p, p, shape, &mut out, lags);
+            out
+        })
+        .collect();
+    let chunks = balanced_row_chunks(n, rayon::current_num_threads() * CHUNKS_PER_THREAD);
+    let lists: Vec<Neighbours<L>> = chunks
+        .into_par_iter()
+        .map(|rows| {
+            let mut lists = Neighbours::new(n, shape.blocks(), shape.delta_max, knn.k());
+            let (mut ab, mut lags) = (vec![L::default(); lanes], Vec::new());
+            for first in rows.clone().step_by(ROW_BLOCK) {
+                let block = first..(first + ROW_BLOCK).min(rows.end);
+                // Column b outermost so its arrays stay in cache for every row of the block.
+                for b in first + 1..n {
+                    for a in block.start..block.end.min(b) {
+                        // ⟨w_a, w_b⟩ from the sample with fewer spikes.
+                        let (sparse, dense) = if prepared[a].bins.len() <= prepared[b].bins.len() {
+                            (&prepared[a], &prepared[b])
+                        } else {
+                            (&prepared[b], &prepared[a])
+                        };
+                        inner_products(sparse, dense, shape, &mut ab, &mut lags);
+                        for blk in 0..shape.blocks() {
+                            let at = blk * LANES;
+                            let (na, nb, ab) = (&norms[a][at..], &norms[b][at..], &ab[at..]);
+                            let d2: [L; LANES] =
+                                std::array::from_fn(|l| na[l].wadd(nb[l]).wsub(ab[l].wadd(ab[l])));
+                            lists.offer(a, blk, &d2, b);
+                            lists.offer(b, blk, &d2, a);
+                        }
                     }
                 }
             }
-        });
-        let lanes = LANES.min(dm - d0);
-        let block: Vec<Vec<usize>> = (0..lanes)
-            .into_par_iter()
-            .map(|l| leave_one_out_lane(&storage, n, l, labels, knn.k()))
-            .collect();
-        for p in block {
-            let hits = p.iter().zip(labels).filter(|(p, t)| p == t).count();
-            accuracy.push(hits as f64 / n as f64);
-            predictions.push(p);
-        }
-    }
-    let best = (0..dm)
-        .max_by(|&x, &y| accuracy[x].total_cmp(&accuracy[y]).then(y.cmp(&x)))
-        .expect("at least one window");
-    Ok(DtSweep {
-        windows_ms: (1..=max_window_ms).collect(),
-        best_window_ms: best as u32 + 1,
-        best: Accuracy::of(&predictions[best], labels),
-        accuracy,
-    })
-}
-
-/// Leave-one-out predictions for lane `l` of the stored block: one scan of the upper triangle,
-/// each pair offered to both samples.
-fn leave_one_out_lane<L: Lane>(
-    storage: &[L],
-    n: usize,
-    l: usize,
-    labels: &[usize],
-    k: usize,
-) -> Vec<usize> {
-    let mut tops: Vec<TopK<L>> = (0..n).map(|_| TopK::new(k)).collect();
-    let mut offset = 0;
-    for a in 0..n {
-        let width = n - a - 1;
-        let row = &storage[offset + l * width..offset + (l + 1) * width];
-        for (b, &d) in (a + 1..n).zip(row) {
-            tops[a].offer(d, b);
-            tops[b].offer(d, a);
-        }
-        offset += LANES * width;
-    }
-    tops.iter()
-        .map(|t| vote(t.neighbours().iter().map(|&(_, j)| labels[j])).expect("k ≥ 1 and n > k"))
+            lists
+        })
+        .collect();
+    // Merge the chunks' lists per sample and window, and vote.
+    let by_sample: Vec<Vec<usize>> = (0..n)
+        .into_par_iter()
+        .map_init(
+            || TopK::new(knn.k()),
+            |top, s| {
+                (0..shape.delta_max)
+                    .map(|lane| {
+                        top.clear();
+                        for l in &lists {
+                            for (d, j) in l.neighbours(s, lane) {
+                                top.offer(d, j);
+                            }
+                        }
+                        vote(top.neighbours().iter().map(|&(_, j)| labels[j]))
+                            .expect("k ≥ 1 and n > k")
+                    })
+                    .collect()
+            },
+        )
+        .collect();
+    (0..shape.delta_max)
+        .map(|lane| by_sample.iter().map(|p| p[lane]).collect())
         .collect()
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::synthetic::{SyntheticConfig, synthetic_dataset};
-    use neurotac_core::coding::{FeatureCoding, TemporalCoding, feature_matrix};
-    use neurotac_core::distance::squared_euclidean_matrix;
-
-    fn small() -> neurotac_core::SpikeDataset {
-        synthetic_dataset(&SyntheticConfig {
-            samples: 33,
-            channels: 5,
-            spikes_per_unit: 6.0,
-            duration_s: 0.6,
-            seed: 11,
-            ..Default::default()
-        })
-    }
-
-    #[test]
-    fn kernel_distances_equal_the_feature_vectors_for_every_window() {
-        let d = small();
-        let obs = d.observations();
-        let t = 600;
-        for (a, b) in [(0, 1), (2, 30), (5, 5), (7, 12)] {
-            let fast = window_squared_distances(&obs[a], &obs[b], t, 130);
-            for delta in 1..=130u32 {
-                let coding = TemporalCoding::from_ms(delta, t).unwrap();
-                let mut ca = coding.clone();
-                let mut cb = coding;
-                use neurotac_core::coding::Coding;
-                ca.encode(&obs[a]);
-                cb.encode(&obs[b]);
-                let want: f64 = ca
-                    .features()
-                    .iter()
-                    .zip(cb.features())
-                    .map(|(x, y)| ((x - y) * 5.0).round().powi(2))
-                    .sum();
-                assert_eq!(
-                    fast[delta as usize - 1] as f64,
-                    want,
-                    "pair ({a},{b}) Δ={delta}"
-                );
-            }
+/// At most `parts` contiguous row ranges of `0..n` with about equal numbers of pairs `(a, b)`,
+/// `a < b` (row `a` has `n − a − 1`).
+fn balanced_row_chunks(n: usize, parts: usize) -> Vec<std::ops::Range<usize>> {
+    let parts = parts.max(1);
+    let per = (n * n.saturating_sub(1) / 2).div_ceil(parts).max(1);
+    let mut chunks = Vec::with_capacity(parts);
+    let (mut start, mut pairs) = (0, 0);
+    for a in 0..n {
+        pairs += n - a - 1;
+        if pairs >= per && chunks.len() + 1 < parts {
+            chunks.push(start..a + 1);
+            (start, pairs) = (a + 1, 0);
         }
     }
-
-    #[test]
-    fn sweep_equals_leave_one_out_on_the_feature_matrices() {
-        let d = small();
-        let sweep = dt_sweep(d.observations(), d.labels(), 600, 85, Knn::default()).unwrap();
-        assert_eq!(sweep.windows_ms.len(), 85);
-        for delta in [1u32, 17, 40, 41, 80, 85] {
-            let f = feature_matrix(
-                &TemporalCoding::from_ms(delta, 600).unwrap(),
-                d.observations(),
-            )
-            .unwrap();
-            let d2 = squared_euclidean_matrix(f.view()).unwrap();
-            let p = Knn::default().leave_one_out(d2.view(), d.labels()).unwrap();
-            let acc = Accuracy::of(&p, d.labels()).mean;
-            assert_eq!(sweep.accuracy[delta as usize - 1], acc, "Δ={delta}");
-        }
-        let best = sweep.accuracy.iter().cloned().fold(0.0, f64::max);
-        assert_eq!(sweep.best.mean, best);
-        assert_eq!(sweep.accuracy[sweep.best_window_ms as usize - 1], best);
-        assert!(
-            sweep.accuracy[..sweep.best_window_ms as usize - 1]
-                .iter()
-                .all(|&a| a < best)
-        );
+    if start < n {
+        chunks.push(start..n);
     }
-
-    #[test]
-    fn bad_sweeps_are_typed_errors() {
-        let d = small();
-        assert!(dt_sweep(d.observations(), d.labels(), 600, 601, Knn::default()).is_err());
-        assert!(dt_sweep(d.observations(), d.labels(), 600, 0, Knn::default()).is_err());
-        assert!(matches!(
-            dt_sweep(
-                &d.observations()[..3],
-                &d.labels()[..3],
-                600,
-                10,
-                Knn::default()
-            ),
-            Err(ExperimentError::Knn(KnnError::KTooLarge {
-                k: 4,
-                n_train: 2
-            }))
-        ));
-        assert!(dt_sweep(d.observations(), &d.labels()[1..], 600, 10, Knn::default()).is_err());
-    }
+    chunks
 }
+
+#[cfg(test)]
+mod tests;

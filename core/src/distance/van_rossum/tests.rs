@@ -318,3 +318,71 @@ fn bad_parameters_and_shapes_are_typed_errors() {
         }
     );
 }
+
+/// Random samples on a coarse time grid (many coincidences, crowded table cells), with varying
+/// counts, an empty sample and a repeated one.
+fn crowded_samples(seed: u64) -> Vec<MultiSpikeTrain> {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let mut samples: Vec<MultiSpikeTrain> = (0..24)
+        .map(|s| {
+            MultiSpikeTrain::from_unsorted_channels((0..5).map(|_| {
+                let k = rng.random_range(0..=(s % 6) * 8);
+                (0..k)
+                    .map(|_| rng.random_range(0..200u32) as f64 * 0.0025)
+                    .collect::<Vec<_>>()
+            }))
+            .unwrap()
+        })
+        .collect();
+    samples.push(MultiSpikeTrain::empty(5));
+    samples.push(samples[7].clone());
+    samples
+}
+
+#[test]
+fn centred_tables_equal_the_decayed_merges_to_1e_12() {
+    for (seed, tau) in [(7, 0.002), (8, 0.02), (9, 0.3), (10, 5.0)] {
+        let samples = crowded_samples(seed);
+        let vr = VanRossum::new(tau).unwrap();
+        let centred = vr.prepare(&samples).unwrap();
+        let decayed = vr.prepare_with(&samples, false).unwrap();
+        assert!(centred.is_centred() && !decayed.is_centred());
+        let (fast, reference) = (centred.matrices(), decayed.matrices());
+        for (what, f, r) in [
+            ("LL²", &fast.ll2, &reference.ll2),
+            ("SP²", &fast.sp2, &reference.sp2),
+        ] {
+            for ((i, j), &a) in f.indexed_iter() {
+                let b = r[[i, j]];
+                // Relative to D² or, where D² cancels (nearly identical samples, long τ), to the
+                // self products ⟨u,u⟩ + ⟨v,v⟩ it is the difference of (distances to the empty 24).
+                let scale = a.abs().max(b.abs()).max(r[[i, 24]] + r[[j, 24]]);
+                let tol = 1e-12 * scale;
+                assert!((a - b).abs() <= tol, "τ={tau} {what} ({i},{j}): {a} vs {b}");
+            }
+        }
+        // Pairs evaluated alone give exactly the matrix entries (same sums, same order).
+        for (i, j) in [(0, 1), (5, 23), (24, 3), (25, 7), (11, 11)] {
+            let (ll, sp) = centred.squared_parts(i, j);
+            assert_eq!((ll, sp), (fast.ll2[[i, j]], fast.sp2[[i, j]]), "({i},{j})");
+        }
+        assert!(fast.ll2[[25, 7]] <= 1e-10 && fast.sp2[[25, 7]] <= 1e-10);
+    }
+}
+
+#[test]
+fn matrices_are_identical_at_any_thread_count() {
+    let samples = crowded_samples(11);
+    let vr = VanRossum::new(0.01).unwrap();
+    let run = |threads: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(|| vr.matrices(&samples).unwrap())
+    };
+    let one = run(1);
+    for threads in [2, 3, 5] {
+        assert_eq!(run(threads), one, "{threads} threads");
+    }
+}
