@@ -11,29 +11,18 @@
 
 mod common;
 
-use common::ThreadCpuTime;
-use criterion::measurement::{Measurement, WallTime};
-use criterion::{Criterion, Throughput, criterion_group, criterion_main};
+use criterion::measurement::Measurement;
+use criterion::{Criterion, Throughput};
 use neurotac::core::EventBuffer;
 use neurotac::sensor::davis::UsbDecoder;
 use neurotac::sensor::format::{Aedat2Reader, Aedat4Reader, EventReader};
 use std::hint::black_box;
-use std::path::Path;
 
 fn load(name: &str) -> Option<Vec<u8>> {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../shared/data/davis240")
-        .join(name);
-    match std::fs::read(&path) {
-        Ok(bytes) => Some(bytes),
-        Err(e) => {
-            eprintln!(
-                "skipping {name}: {} ({e}); the recording is not part of the repository",
-                path.display()
-            );
-            None
-        }
-    }
+    let path = common::shared_recording(name)?;
+    std::fs::read(&path)
+        .map_err(|e| eprintln!("skipping {name}: {e}"))
+        .ok()
 }
 
 /// Reads every event of `reader` into `out` (cleared first); returns the count.
@@ -81,18 +70,4 @@ fn decode<M: Measurement>(c: &mut Criterion<M>, group_name: &str) {
     group.finish();
 }
 
-fn wall_time(c: &mut Criterion<WallTime>) {
-    decode(c, "davis240_decode");
-}
-
-fn cpu_time(c: &mut Criterion<ThreadCpuTime>) {
-    decode(c, "davis240_decode_cpu");
-}
-
-criterion_group!(wall, wall_time);
-criterion_group! {
-    name = cpu;
-    config = Criterion::default().with_measurement(ThreadCpuTime);
-    targets = cpu_time
-}
-criterion_main!(wall, cpu);
+wall_and_cpu_main!(decode, "davis240_decode");

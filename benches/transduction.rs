@@ -7,25 +7,20 @@
 
 mod common;
 
-use common::ThreadCpuTime;
 use criterion::measurement::Measurement;
-use criterion::{Criterion, Throughput, criterion_group, criterion_main};
+use criterion::{Criterion, Throughput};
 use neurotac::core::EventBuffer;
 use neurotac::sensor::filter::{BackgroundActivityFilter, MapStart};
 use neurotac::sensor::stage::EventFilter;
 use neurotac::sensor::taxel::{TaxelLayout, Transducer, TransductionConfig};
-use std::path::Path;
 use std::time::Duration;
 
 fn recording() -> Option<EventBuffer> {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/data/davis240/pick.aedat");
-    match neurotac::sensor::format::read_file(&path) {
-        Ok((events, _)) => Some(events),
-        Err(e) => {
-            eprintln!("skipped: cannot read {} ({e})", path.display());
-            None
-        }
-    }
+    let path = common::shared_recording("pick.aedat")?;
+    neurotac::sensor::format::read_file(&path)
+        .map(|(events, _)| events)
+        .map_err(|e| eprintln!("skipping: {e}"))
+        .ok()
 }
 
 fn transduction<M: Measurement>(c: &mut Criterion<M>, group: &str) {
@@ -55,18 +50,4 @@ fn transduction<M: Measurement>(c: &mut Criterion<M>, group: &str) {
     g.finish();
 }
 
-fn wall_time(c: &mut Criterion) {
-    transduction(c, "transduction");
-}
-
-fn cpu_time(c: &mut Criterion<ThreadCpuTime>) {
-    transduction(c, "transduction_cpu");
-}
-
-criterion_group!(wall, wall_time);
-criterion_group! {
-    name = cpu;
-    config = Criterion::default().with_measurement(ThreadCpuTime);
-    targets = cpu_time
-}
-criterion_main!(wall, cpu);
+wall_and_cpu_main!(transduction, "transduction");

@@ -81,3 +81,40 @@ impl ValueFormatter for CpuFormatter {
         "ns"
     }
 }
+
+/// `../shared/data/davis240/<name>` when it exists; otherwise prints why the bench skips it.
+pub fn shared_recording(name: &str) -> Option<std::path::PathBuf> {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../shared/data/davis240")
+        .join(name);
+    if path.is_file() {
+        Some(path)
+    } else {
+        eprintln!(
+            "skipping {name}: {} is absent (the recording is not part of the repository)",
+            path.display()
+        );
+        None
+    }
+}
+
+/// Runs `$bench(c, group)` twice — as `$group` in wall-clock time and as `${group}_cpu` in the
+/// thread's CPU time — and makes the criterion `main`.
+#[macro_export]
+macro_rules! wall_and_cpu_main {
+    ($bench:ident, $group:literal) => {
+        fn wall_time(c: &mut criterion::Criterion) {
+            $bench(c, $group);
+        }
+        fn cpu_time(c: &mut criterion::Criterion<common::ThreadCpuTime>) {
+            $bench(c, concat!($group, "_cpu"));
+        }
+        criterion::criterion_group!(wall, wall_time);
+        criterion::criterion_group! {
+            name = cpu;
+            config = criterion::Criterion::default().with_measurement(common::ThreadCpuTime);
+            targets = cpu_time
+        }
+        criterion::criterion_main!(wall, cpu);
+    };
+}

@@ -42,6 +42,13 @@ struct NeuronsArgs {
     /// Integrator (default: exact for LIF, izhikevich2003 for Izhikevich).
     #[arg(long)]
     integrator: Option<Integrator>,
+    #[command(flatten)]
+    run: RunOptions,
+}
+
+/// Options shared by every benchmark.
+#[derive(Debug, Args)]
+struct RunOptions {
     /// Worker threads (0 = one per core).
     #[arg(long, default_value_t = 0)]
     threads: usize,
@@ -64,15 +71,8 @@ struct CubaArgs {
     /// Seed of the connectivity and initial potentials.
     #[arg(long, default_value_t = 1)]
     seed: u64,
-    /// Worker threads (0 = one per core).
-    #[arg(long, default_value_t = 0)]
-    threads: usize,
-    /// Also run CUBA in Brian2 (C++ standalone) with this Python and report the ratio.
-    #[arg(long, value_name = "PYTHON")]
-    brian2: Option<PathBuf>,
-    /// Print one JSON object.
-    #[arg(long)]
-    json: bool,
+    #[command(flatten)]
+    run: RunOptions,
 }
 
 /// Adds the peer's numbers and `speedup = peer time / our time` to `report`.
@@ -118,10 +118,10 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
                 a.dt,
                 a.precision,
                 a.integrator,
-                a.threads,
+                a.run.threads,
             )?;
             let mut report = serde_json::to_value(&r)?;
-            if let Some(python) = &a.brian2 {
+            if let Some(python) = &a.run.brian2 {
                 let peer_args = ["neurons", r.model.name()].map(String::from).into_iter();
                 let peer_args = peer_args.chain([
                     a.n.to_string(),
@@ -150,7 +150,7 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
                 r.spikes,
                 r.wall_s
             );
-            print(&report, a.json, line);
+            print(&report, a.run.json, line);
         }
         BenchCommand::Cuba(a) => {
             let config = CubaConfig {
@@ -159,13 +159,13 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
                 seed: a.seed,
                 ..CubaConfig::default()
             };
-            let (r, threads) = neurotac_experiments::bench::with_threads(a.threads, || {
+            let (r, threads) = neurotac_experiments::bench::with_threads(a.run.threads, || {
                 (cuba(config), rayon::current_num_threads())
             })?;
             let r = r?;
             let mut report = serde_json::to_value(&r)?;
             report["threads"] = json!(threads);
-            if let Some(python) = &a.brian2 {
+            if let Some(python) = &a.run.brian2 {
                 let peer_args = vec![
                     "cuba".into(),
                     a.duration.to_string(),
@@ -186,7 +186,7 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
                 r.spikes,
                 r.rate_hz
             );
-            print(&report, a.json, line);
+            print(&report, a.run.json, line);
         }
     }
     Ok(())
