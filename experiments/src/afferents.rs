@@ -14,11 +14,13 @@
 //!   for an event 20 ms later (a smaller weight, 15, is silenced by adaptation on the second);
 //! - dt = 0.1 ms: below a tenth of both time constants.
 
+use crate::error::ExperimentError;
 use neurotac_core::{
     Connectivity, ExpSynapse, GraphError, MultiSpikeTrain, NetworkBuilder, NetworkConfig,
-    ReadoutId, SpikeArrayInput, SpikeRecorder, SpikeSource,
+    ReadoutId, SpikeArrayInput, SpikeDataset, SpikeRecorder, SpikeSource,
 };
 use neurotac_neurons::{Integrator, Izhikevich, IzhikevichParams, Lif, LifParams};
+use rayon::prelude::*;
 
 /// Which afferent model to use, with its default parameters.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -125,6 +127,32 @@ pub fn afferent_response(
     let mut net = build_afferent_network(SpikeArrayInput::new(taxels.clone()), config)?;
     net.network.run(duration_s)?;
     Ok(net.network.readout(net.spikes).to_spike_trains())
+}
+
+/// Runs every sample of `data` through its own afferent network for `duration_s` (in
+/// parallel, deterministic) and returns the afferents' spikes with the same labels, class names
+/// and metadata. `progress` is called once per sample.
+pub fn afferent_dataset(
+    data: &SpikeDataset,
+    duration_s: f64,
+    config: AfferentConfig,
+    progress: &(dyn Fn() + Sync),
+) -> Result<SpikeDataset, ExperimentError> {
+    let observations = data
+        .observations()
+        .par_iter()
+        .map(|taxels| {
+            let out = afferent_response(taxels, duration_s, config);
+            progress();
+            out
+        })
+        .collect::<Result<Vec<_>, GraphError>>()?;
+    Ok(SpikeDataset::new(
+        observations,
+        data.labels().to_vec(),
+        data.class_names().to_vec(),
+        data.meta().clone(),
+    )?)
 }
 
 #[cfg(test)]

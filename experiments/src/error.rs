@@ -1,6 +1,6 @@
 //! The error type of `neurotac-experiments`.
 
-use neurotac_core::{CodingError, DatasetError, DistanceError, KnnError};
+use neurotac_core::{CodingError, DatasetError, DistanceError, GraphError, KnnError};
 use thiserror::Error;
 
 /// Anything that stops an experiment, protocol or search.
@@ -15,9 +15,26 @@ pub enum ExperimentError {
     /// See [`DistanceError`].
     #[error(transparent)]
     Distance(#[from] DistanceError),
+    /// See [`GraphError`] (a network such as the afferent one could not be built or run).
+    #[error(transparent)]
+    Graph(#[from] GraphError),
     /// See [`KnnError`].
     #[error(transparent)]
     Knn(#[from] KnnError),
+    /// A stratified split would leave a class out of the training or the test set.
+    #[error(
+        "class {class} has {samples} sample(s): a {percent}/{rest} split needs every class in both the training and the test set (use leave-one-out, which is defined for any class size)",
+        percent = 100.0 - 100.0 * test_fraction,
+        rest = 100.0 * test_fraction
+    )]
+    ClassTooSmallToSplit {
+        /// The class label.
+        class: usize,
+        /// Its samples.
+        samples: usize,
+        /// The test fraction asked for.
+        test_fraction: f64,
+    },
     /// A search or protocol parameter outside its domain.
     #[error("{what} = {value}: {expected}")]
     InvalidParameter {

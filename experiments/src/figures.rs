@@ -1,7 +1,8 @@
 //! Paper-style figures of taxel spike trains (SVG): the raster of Fig. "spike trains", with
-//! its spatial (spikes per taxel) and temporal (rolling-window) distributions.
+//! its spatial (spikes per taxel) and temporal (rolling-window) distributions, and confusion
+//! matrices as heat maps.
 
-use crate::svg::{Axis, Chart, Marker, PALETTE, Series, panels};
+use crate::svg::{Axis, Chart, Marker, PALETTE, Series, escape, panels};
 use neurotac_core::MultiSpikeTrain;
 
 /// A raster: one row of ticks per taxel (y = taxel index, x = time in s).
@@ -119,4 +120,86 @@ mod tests {
         assert!(svg.matches("<line x1").count() >= 3);
         assert!(svg.contains("spatial distribution") && svg.contains("temporal distribution"));
     }
+}
+
+/// A confusion matrix as an SVG heat map (rows: true class, columns: predicted; cell shade ∝
+/// the fraction of the row's samples, count printed in each non-empty cell), like the paper's
+/// confusion-matrix figures.
+pub fn confusion_figure(counts: &[Vec<usize>], class_names: &[String], title: &str) -> String {
+    use std::fmt::Write;
+    let n = counts.len();
+    let name = |i: usize| {
+        escape(
+            class_names
+                .get(i)
+                .map(String::as_str)
+                .unwrap_or(&i.to_string()),
+        )
+    };
+    let cell = (440.0 / n.max(1) as f64).clamp(14.0, 40.0);
+    let (left, top) = (130.0, 60.0);
+    let side = cell * n as f64;
+    let (w, h) = (left + side + 30.0, top + side + 120.0);
+    let mut svg = format!(
+        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{w:.0}" height="{h:.0}" viewBox="0 0 {w:.0} {h:.0}" font-family="sans-serif"><rect width="100%" height="100%" fill="white"/><text x="{:.1}" y="24" font-size="15" text-anchor="middle">{}</text>"#,
+        w / 2.0,
+        escape(title)
+    );
+    let font = (cell * 0.45).clamp(7.0, 12.0);
+    for (i, row) in counts.iter().enumerate() {
+        let total: usize = row.iter().sum();
+        let y = top + i as f64 * cell;
+        let _ = write!(
+            svg,
+            r#"<text x="{:.1}" y="{:.1}" font-size="{font:.1}" text-anchor="end">{}</text>"#,
+            left - 6.0,
+            y + cell / 2.0 + font / 3.0,
+            name(i)
+        );
+        for (j, &c) in row.iter().enumerate() {
+            let f = if total == 0 {
+                0.0
+            } else {
+                c as f64 / total as f64
+            };
+            // White → the palette's blue.
+            let mix = |a: f64, b: f64| (a + (b - a) * f).round() as u8;
+            let x = left + j as f64 * cell;
+            let _ = write!(
+                svg,
+                r##"<rect x="{x:.1}" y="{y:.1}" width="{cell:.1}" height="{cell:.1}" fill="#{:02x}{:02x}{:02x}" stroke="#ddd"/>"##,
+                mix(255.0, 0x2b as f64),
+                mix(255.0, 0x59 as f64),
+                mix(255.0, 0x8c as f64)
+            );
+            if c > 0 {
+                let _ = write!(
+                    svg,
+                    r#"<text x="{:.1}" y="{:.1}" font-size="{font:.1}" text-anchor="middle" fill="{}">{c}</text>"#,
+                    x + cell / 2.0,
+                    y + cell / 2.0 + font / 3.0,
+                    if f > 0.5 { "white" } else { "black" }
+                );
+            }
+        }
+    }
+    for j in 0..n {
+        let x = left + j as f64 * cell + cell / 2.0 + font / 3.0;
+        let y = top + side + 6.0;
+        let _ = write!(
+            svg,
+            r#"<text x="{x:.1}" y="{y:.1}" font-size="{font:.1}" transform="rotate(90 {x:.1} {y:.1})">{}</text>"#,
+            name(j)
+        );
+    }
+    let _ = write!(
+        svg,
+        r#"<text x="{:.1}" y="{:.1}" font-size="12" text-anchor="middle">predicted class</text><text x="14" y="{:.1}" font-size="12" text-anchor="middle" transform="rotate(-90 14 {:.1})">true class</text></svg>"#,
+        left + side / 2.0,
+        h - 8.0,
+        top + side / 2.0,
+        top + side / 2.0
+    );
+    svg.push('\n');
+    svg
 }

@@ -20,10 +20,12 @@ pub mod neuron_setup;
 pub mod neuron_tradeoff;
 pub mod peers;
 pub mod protocols;
+pub mod reproduce;
 pub mod search;
 pub mod simulator_check;
 pub mod simulator_tradeoff;
 pub mod svg;
 pub mod synthetic;
+pub mod timing;
 
 pub use error::ExperimentError;

@@ -142,7 +142,9 @@ fn by_class(labels: &[usize], seed: u64) -> Vec<Vec<usize>> {
 }
 
 /// A seeded stratified split: from each class, `round(test_fraction · n_class)` samples (shuffled
-/// with `seed`) go to the test set. Returns `(train, test)`, each sorted.
+/// with `seed`) go to the test set. Returns `(train, test)`, each sorted. A class that would
+/// end up only in one of the two sets (too few samples for the fraction, e.g. one sample) is
+/// an error, [`ExperimentError::ClassTooSmallToSplit`].
 pub fn stratified_split(
     labels: &[usize],
     test_fraction: f64,
@@ -156,8 +158,15 @@ pub fn stratified_split(
         });
     }
     let (mut train, mut test) = (Vec::new(), Vec::new());
-    for members in by_class(labels, seed) {
+    for (class, members) in by_class(labels, seed).into_iter().enumerate() {
         let n_test = (test_fraction * members.len() as f64).round() as usize;
+        if !members.is_empty() && (n_test == 0 || n_test == members.len()) {
+            return Err(ExperimentError::ClassTooSmallToSplit {
+                class,
+                samples: members.len(),
+                test_fraction,
+            });
+        }
         test.extend_from_slice(&members[..n_test]);
         train.extend_from_slice(&members[n_test..]);
     }
@@ -294,6 +303,22 @@ mod tests {
         assert_eq!(all, (0..55).collect::<Vec<_>>());
         assert!(folds.iter().all(|f| f.len() == 11));
         assert!(stratified_split(&labels, 1.0, 0).is_err());
+        // A one-sample class can be in the training or the test set, not both: refused.
+        let mut lonely = labels.clone();
+        lonely.push(11);
+        let err = stratified_split(&lonely, 0.2, 3).unwrap_err();
+        assert!(
+            matches!(
+                err,
+                ExperimentError::ClassTooSmallToSplit {
+                    class: 11,
+                    samples: 1,
+                    ..
+                }
+            ),
+            "{err}"
+        );
+        assert!(err.to_string().contains("leave-one-out"), "{err}");
         assert!(stratified_kfold(&labels, 1, 0).is_err());
         assert!(stratified_kfold(&labels, 56, 0).is_err());
     }

@@ -14,6 +14,7 @@ mod devices;
 mod distances;
 mod neuron;
 mod record;
+mod reproduce;
 mod search;
 mod simulate;
 mod synth;
@@ -30,6 +31,9 @@ pub struct Cli {
 
 #[derive(Debug, Subcommand)]
 enum Command {
+    /// Reproduce the NeuroTac paper: texture datasets → taxel spikes → four codings → KNN, with
+    /// the paper's tables side by side and a report folder of figures.
+    Reproduce(reproduce::ReproduceArgs),
     /// Run 49 taxel spike trains through 49 afferent neurons and print their spike counts.
     Demo(demo::DemoArgs),
     /// Measure throughput: neuron updates per second, or the CUBA network.
@@ -67,6 +71,7 @@ enum Command {
 /// Runs the parsed command.
 pub fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
+        Command::Reproduce(args) => reproduce::run(args),
         Command::Demo(args) => demo::run(args),
         Command::Bench(args) => bench::run(args),
         Command::Neuron(args) => neuron::run(args),

@@ -95,6 +95,8 @@ pub struct BayesResult {
     pub trace: Vec<BayesStep>,
     /// Best τ (s).
     pub best_tau_s: f64,
+    /// Index of the best τ in the τ grid (the key of [`VanRossumObjective`]'s cache).
+    pub best_tau_index: usize,
     /// Best cos θ.
     pub best_cos: f64,
     /// Best objective value.
@@ -307,6 +309,7 @@ where
     Ok(BayesResult {
         trace,
         best_tau_s: taus[bg / nc],
+        best_tau_index: bg / nc,
         best_cos: coss[bg % nc],
         best_value,
     })
@@ -343,6 +346,28 @@ impl<'a> VanRossumObjective<'a> {
         }
     }
 
+    /// The `LL²`/`SP²` matrices at grid τ index `tau_index` (value `tau_s`), from the cache or
+    /// computed (and cached).
+    pub fn matrices(
+        &mut self,
+        tau_index: usize,
+        tau_s: f64,
+    ) -> Result<Arc<VanRossumMatrices>, ExperimentError> {
+        if let Some(p) = self.cache.iter().position(|(t, _)| *t == tau_index) {
+            let entry = self.cache.remove(p);
+            let m = entry.1.clone();
+            self.cache.push(entry);
+            return Ok(m);
+        }
+        let m = Arc::new(VanRossum::new(tau_s)?.matrices(self.observations)?);
+        self.matrices_computed += 1;
+        if self.cache.len() == self.capacity {
+            self.cache.remove(0);
+        }
+        self.cache.push((tau_index, m.clone()));
+        Ok(m)
+    }
+
     /// The LOO accuracy at grid τ index `tau_index` (value `tau_s`) and `cos`.
     pub fn accuracy(
         &mut self,
@@ -350,24 +375,7 @@ impl<'a> VanRossumObjective<'a> {
         tau_s: f64,
         cos: f64,
     ) -> Result<f64, ExperimentError> {
-        let matrices = match self.cache.iter().position(|(t, _)| *t == tau_index) {
-            Some(p) => {
-                let entry = self.cache.remove(p);
-                let m = entry.1.clone();
-                self.cache.push(entry);
-                m
-            }
-            None => {
-                let m = Arc::new(VanRossum::new(tau_s)?.matrices(self.observations)?);
-                self.matrices_computed += 1;
-                if self.cache.len() == self.capacity {
-                    self.cache.remove(0);
-                }
-                self.cache.push((tau_index, m.clone()));
-                m
-            }
-        };
-        let d2 = matrices.squared(cos)?;
+        let d2 = self.matrices(tau_index, tau_s)?.squared(cos)?;
         let predicted = self.knn.leave_one_out(d2.view(), self.labels)?;
         Ok(Accuracy::of(&predicted, self.labels).mean)
     }
