@@ -19,6 +19,7 @@ pub mod figures;
 pub mod neuron_setup;
 pub mod neuron_tradeoff;
 pub mod peers;
+pub mod png;
 pub mod protocols;
 pub mod reproduce;
 pub mod search;

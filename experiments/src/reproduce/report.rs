@@ -1,5 +1,5 @@
-//! A reproduction's report folder: `report.json` (every number), CSV tables, SVG figures and a
-//! `report.md` that embeds them.
+//! A reproduction's report folder: `report.json` (every number), CSV tables, figures as SVG and
+//! PNG (see [`crate::png`]), and a `report.md` that embeds them.
 //!
 //! The folder is written next to its destination under a temporary name and renamed into place
 //! only when complete, so a failed or interrupted run never leaves a folder that looks finished;
@@ -8,6 +8,7 @@
 use super::paper::{self, PaperTable};
 use super::{CodingName, SetResult};
 use crate::figures::{confusion_figure, raster_chart, spatial_chart, temporal_chart};
+use crate::png::PngRenderer;
 use crate::svg::{Axis, Chart, Marker, PALETTE, Series, panels};
 use crate::timing::Timing;
 use neurotac_core::{MultiSpikeTrain, SpikeDataset};
@@ -21,6 +22,14 @@ pub enum ReportError {
     /// The destination exists and replacing it was not asked for.
     #[error("{0} already exists (use --force to replace it)")]
     Exists(PathBuf),
+    /// A figure could not be rasterised.
+    #[error("cannot draw {path}")]
+    Png {
+        /// The PNG's path.
+        path: PathBuf,
+        /// Why.
+        source: crate::png::PngError,
+    },
     /// A file or folder could not be written.
     #[error("cannot write {path}")]
     Io {
@@ -283,6 +292,17 @@ fn write(dir: &Path, file: &str, text: &str) -> Result<(), ReportError> {
     std::fs::write(&path, text).map_err(io(&path))
 }
 
+/// Writes a figure as `<stem>.svg` and `<stem>.png`.
+fn figure(dir: &Path, stem: &str, svg: &str, png: &PngRenderer) -> Result<(), ReportError> {
+    write(dir, &format!("{stem}.svg"), svg)?;
+    let path = dir.join(format!("{stem}.png"));
+    let bytes = png.render(svg, 1.5).map_err(|source| ReportError::Png {
+        path: path.clone(),
+        source,
+    })?;
+    std::fs::write(&path, bytes).map_err(io(&path))
+}
+
 /// The chart of the Δt sweep (accuracy against Δt, the chosen window marked).
 fn dt_chart(set: &SetResult) -> Chart {
     let sweep = &set.dt_sweep;
@@ -395,6 +415,7 @@ fn csv_field(s: &str) -> String {
 }
 
 fn write_files(dir: &Path, report: &Report) -> Result<(), ReportError> {
+    let png = PngRenderer::new();
     let json = serde_json::to_string_pretty(report).expect("the report serialises");
     write(dir, "report.json", &json)?;
     let mut accuracy = String::from(
@@ -502,7 +523,12 @@ fn write_files(dir: &Path, report: &Report) -> Result<(), ReportError> {
             let _ = writeln!(dt_csv, "{w},{a}");
         }
         write(dir, &format!("dt_sweep_{name}.csv"), &dt_csv)?;
-        write(dir, &format!("dt_sweep_{name}.svg"), &dt_chart(d).to_svg())?;
+        figure(
+            dir,
+            &format!("dt_sweep_{name}"),
+            &dt_chart(d).to_svg(),
+            &png,
+        )?;
         let mut bo_csv =
             String::from("epoch,tau_s,cos,accuracy,best_accuracy,best_tau_s,best_cos\n");
         for s in &d.bayes.trace {
@@ -513,15 +539,17 @@ fn write_files(dir: &Path, report: &Report) -> Result<(), ReportError> {
             );
         }
         write(dir, &format!("bo_convergence_{name}.csv"), &bo_csv)?;
-        write(
+        figure(
             dir,
-            &format!("bo_convergence_{name}.svg"),
+            &format!("bo_convergence_{name}"),
             &panels(&bayes_charts(d), 3),
+            &png,
         )?;
-        write(
+        figure(
             dir,
-            &format!("spike_trains_{name}.svg"),
+            &format!("spike_trains_{name}"),
             &spike_train_figure(set),
+            &png,
         )?;
         for (pipeline, r) in &runs {
             let suffix = if *pipeline == "direct" {
@@ -545,10 +573,11 @@ fn write_files(dir: &Path, report: &Report) -> Result<(), ReportError> {
                     pct(e.accuracy.mean)
                 );
                 let file = format!("confusion_{name}_{}{suffix}", c.coding.key());
-                write(
+                figure(
                     dir,
-                    &format!("{file}.svg"),
+                    &file,
                     &confusion_figure(&e.confusion.counts, &r.class_names, &title),
+                    &png,
                 )?;
                 let mut csv = String::from("true\\predicted");
                 for n in &r.class_names {
@@ -626,7 +655,8 @@ fn write_files(dir: &Path, report: &Report) -> Result<(), ReportError> {
     }
     md.push_str(
         "Files: `report.json` (every number), `accuracy.csv`, `parameters.csv`, \
-         `dt_sweep_<set>.csv`, `bo_convergence_<set>.csv`, `confusion_<set>_<coding>.csv`.\n",
+         `dt_sweep_<set>.csv`, `bo_convergence_<set>.csv`, `confusion_<set>_<coding>.csv`; every \
+         figure as SVG and PNG.\n",
     );
     write(dir, "accuracy.csv", &accuracy)?;
     write(dir, "parameters.csv", &parameters)?;
