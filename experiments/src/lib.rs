@@ -6,6 +6,7 @@
 //! |---|---|
 //! | [`afferents`] | taxel → afferent networks (the `demo` command) |
 //! | [`protocols`] | leave-one-out, stratified split and k-fold on a distance matrix; [`protocols::Accuracy`] (mean ± std, Wilson 95 %), [`protocols::ConfusionMatrix`] |
+//! | [`recorded`] | recorded texture datasets: a folder of event files per class → taxel spike dataset ([`recorded::load_recorded`]) |
 //! | [`search`] | the Δt brute force ([`search::dt_sweep`]) and Bayesian optimisation of (τ, cos θ) ([`search::bayes`]) |
 //! | [`synthetic`] | seeded NeuroTac-like texture datasets for benchmarks and trials |
 //! | [`error`] | [`ExperimentError`] |
@@ -20,6 +21,7 @@ pub mod neuron_setup;
 pub mod neuron_tradeoff;
 pub mod peers;
 pub mod protocols;
+pub mod recorded;
 pub mod search;
 pub mod simulator_check;
 pub mod simulator_tradeoff;
