@@ -19,6 +19,7 @@ pub mod error;
 pub mod figures;
 pub mod neuron_setup;
 pub mod neuron_tradeoff;
+pub mod pareto;
 pub mod peers;
 pub mod protocols;
 pub mod recorded;
@@ -27,5 +28,7 @@ pub mod simulator_check;
 pub mod simulator_tradeoff;
 pub mod svg;
 pub mod synthetic;
+pub mod tradeoff_summary;
+pub mod vr_tradeoff;
 
 pub use error::ExperimentError;

@@ -1,5 +1,5 @@
 //! Helpers shared by the commands: loading a dataset, the sample duration, codings and their
-//! distance matrices, and CPU/wall timing.
+//! distance matrices, and CPU/wall timing (re-exported from the library's `bench`).
 
 use anyhow::{Context, bail};
 use clap::ValueEnum;
@@ -10,7 +10,8 @@ use neurotac_core::coding::{
 };
 use neurotac_core::distance::{VanRossum, euclidean_distance_matrix};
 use std::path::Path;
-use std::time::Instant;
+
+pub use neurotac_experiments::bench::timed;
 
 /// The paper's four codings.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -89,55 +90,6 @@ pub fn van_rossum_distances(
     Ok(VanRossum::new(tau)?
         .matrices(data.observations())?
         .distances(cos)?)
-}
-
-/// Process CPU time (user + system, all threads) in seconds, from `/proc/self/stat` (Linux;
-/// `None` elsewhere). Resolution: one clock tick (10 ms).
-pub fn cpu_seconds() -> Option<f64> {
-    let stat = std::fs::read_to_string("/proc/self/stat").ok()?;
-    // Fields after the parenthesised command name; utime and stime are fields 14 and 15.
-    let rest = stat.rsplit_once(')')?.1;
-    let fields: Vec<&str> = rest.split_whitespace().collect();
-    let utime: f64 = fields.get(11)?.parse().ok()?;
-    let stime: f64 = fields.get(12)?.parse().ok()?;
-    Some((utime + stime) / 100.0)
-}
-
-/// Wall and CPU time of a piece of work.
-#[derive(Debug, Clone, Copy, serde::Serialize)]
-pub struct Timing {
-    /// Wall-clock seconds.
-    pub wall_s: f64,
-    /// Process CPU seconds (all threads), if known.
-    pub cpu_s: Option<f64>,
-    /// Worker threads available.
-    pub threads: usize,
-}
-
-/// Runs `f` and measures it.
-pub fn timed<T>(f: impl FnOnce() -> T) -> (T, Timing) {
-    let (cpu0, wall0) = (cpu_seconds(), Instant::now());
-    let out = f();
-    let wall_s = wall0.elapsed().as_secs_f64();
-    let cpu_s = cpu_seconds().zip(cpu0).map(|(b, a)| b - a);
-    (
-        out,
-        Timing {
-            wall_s,
-            cpu_s,
-            threads: rayon::current_num_threads(),
-        },
-    )
-}
-
-impl std::fmt::Display for Timing {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "{:.3} s wall", self.wall_s)?;
-        if let Some(cpu) = self.cpu_s {
-            write!(f, ", {cpu:.2} s CPU")?;
-        }
-        write!(f, " on {} threads", self.threads)
-    }
 }
 
 /// Mean spikes per channel over the dataset.
