@@ -9,6 +9,8 @@
 
 use crate::bench::{BenchError, with_threads};
 use crate::datasets::{DatasetsError, TextureSet, camera_seed, trial_seed};
+use crate::pareto::pareto_front;
+use crate::svg::{Axis, Chart, Marker, PALETTE, Series, panels};
 use neurotac_sensor::sim::{Camera, SimParams, SimulatedTrial, Simulator, Texture, taxel_spikes};
 use serde::Serialize;
 use std::collections::HashMap;
@@ -64,6 +66,8 @@ pub struct SimulatorTradeoffRow {
     pub pixel_steps_per_trial: f64,
     /// Trials per second on one thread (simulation only).
     pub trials_per_s: f64,
+    /// No other tolerance is both faster (trials/s) and more accurate (mean timing error).
+    pub pareto: bool,
 }
 
 type Key = (u16, u16, bool);
@@ -162,12 +166,20 @@ pub fn simulator_tradeoff(
                 .sum::<f64>()
                 / n,
             trials_per_s: n / wall,
+            pareto: false,
         });
+    }
+    let points: Vec<_> = rows
+        .iter()
+        .map(|r| Some((r.trials_per_s, r.mean_timing_error_us)))
+        .collect();
+    for (row, on_front) in rows.iter_mut().zip(pareto_front(&points)) {
+        row.pareto = on_front;
     }
     Ok(rows)
 }
 
-const COLUMNS: [&str; 9] = [
+const COLUMNS: [&str; 10] = [
     "tolerance",
     "events_per_trial",
     "signal_events_per_trial",
@@ -177,10 +189,11 @@ const COLUMNS: [&str; 9] = [
     "spikes_per_taxel",
     "pixel_steps_per_trial",
     "trials_per_s",
+    "pareto",
 ];
 
 /// The cells of one row, in [`COLUMNS`] order.
-fn cells(r: &SimulatorTradeoffRow) -> [String; 9] {
+fn cells(r: &SimulatorTradeoffRow) -> [String; 10] {
     [
         format!("{}", r.tolerance),
         format!("{:.0}", r.events_per_trial),
@@ -191,6 +204,7 @@ fn cells(r: &SimulatorTradeoffRow) -> [String; 9] {
         format!("{:.2}", r.spikes_per_taxel),
         format!("{:.3e}", r.pixel_steps_per_trial),
         format!("{:.2}", r.trials_per_s),
+        format!("{}", r.pareto),
     ]
 }
 
@@ -203,16 +217,56 @@ pub fn to_csv(rows: &[SimulatorTradeoffRow]) -> String {
     s
 }
 
-/// The rows as a Markdown table.
-pub fn to_markdown(rows: &[SimulatorTradeoffRow], config: &SimulatorTradeoffConfig) -> String {
-    let mut s = format!(
-        "# Simulator step tolerance: speed ↔ event timing\n\nFlat plate and 5 mm grid, {} slides each, one thread; reference: tolerance {}. Timing error: distance (µs) of each pin event to the nearest reference event of the same pixel and polarity; count error: relative difference of the pin-event count.\n\n",
-        config.trials, config.reference_tolerance
-    );
+fn table(rows: &[&SimulatorTradeoffRow]) -> String {
+    let mut s = String::new();
     let _ = writeln!(s, "| {} |", COLUMNS.join(" | "));
     let _ = writeln!(s, "|{}", "---|".repeat(COLUMNS.len()));
     for r in rows {
         let _ = writeln!(s, "| {} |", cells(r).join(" | "));
     }
     s
+}
+
+/// The Pareto front (no other tolerance both faster and more accurate) as a Markdown table,
+/// fastest first.
+pub fn pareto_table(rows: &[SimulatorTradeoffRow]) -> String {
+    let mut front: Vec<&SimulatorTradeoffRow> = rows.iter().filter(|r| r.pareto).collect();
+    front.sort_by(|a, b| b.trials_per_s.total_cmp(&a.trials_per_s));
+    table(&front)
+}
+
+/// The rows as a Markdown table.
+pub fn to_markdown(rows: &[SimulatorTradeoffRow], config: &SimulatorTradeoffConfig) -> String {
+    let mut s = format!(
+        "# Simulator step tolerance: speed ↔ event timing\n\nFlat plate and 5 mm grid, {} slides each, one thread; reference: tolerance {}. Timing error: distance (µs) of each pin event to the nearest reference event of the same pixel and polarity; count error: relative difference of the pin-event count.\n\n",
+        config.trials, config.reference_tolerance
+    );
+    s += &table(&rows.iter().collect::<Vec<_>>());
+    s
+}
+
+/// Mean and 95th-percentile event-timing error against trials per second, one point per
+/// tolerance.
+pub fn to_svg(rows: &[SimulatorTradeoffRow]) -> String {
+    let series = |label: &str, c: usize, marker, error: fn(&SimulatorTradeoffRow) -> f64| Series {
+        label: label.to_owned(),
+        points: rows.iter().map(|r| (r.trials_per_s, error(r))).collect(),
+        color: PALETTE[c].to_owned(),
+        marker,
+        filled: true,
+        line: true,
+    };
+    let chart = Chart {
+        title: "simulator step tolerance: event-timing error vs speed (points: tolerance)"
+            .to_owned(),
+        x: Axis::log("trials per second (1 thread)"),
+        y: Axis::log("pin-event timing error (µs)"),
+        series: vec![
+            series("mean", 0, Marker::Circle, |r| r.mean_timing_error_us),
+            series("95th percentile", 1, Marker::Square, |r| {
+                r.p95_timing_error_us
+            }),
+        ],
+    };
+    panels(&[chart], 1)
 }

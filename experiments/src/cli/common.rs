@@ -1,5 +1,5 @@
 //! Helpers shared by the commands: loading a dataset, the sample duration, codings and their
-//! distance matrices, and CPU/wall timing.
+//! distance matrices, and CPU/wall timing (re-exported from the library's `bench`).
 
 use anyhow::{Context, bail};
 use clap::ValueEnum;

@@ -44,9 +44,9 @@ enum Command {
     Distances(distances::DistancesArgs),
     /// Classify a spike dataset with KNN under one coding and protocol.
     Classify(classify::ClassifyArgs),
-    /// Speed ↔ accuracy reports (tables and SVG plots).
-    #[command(subcommand)]
-    Tradeoff(tradeoff::TradeoffCommand),
+    /// Speed ↔ accuracy reports (tables and SVG plots); without a subcommand, all of them and
+    /// a summary (tradeoff.md).
+    Tradeoff(tradeoff::TradeoffArgs),
     /// Parameter searches (Δt brute force, Bayesian optimisation of τ and cos θ).
     #[command(subcommand)]
     Search(search::SearchCommand),
@@ -77,7 +77,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Neuron(args) => neuron::run(args),
         Command::Distances(args) => distances::run(args),
         Command::Classify(args) => classify::run(args),
-        Command::Tradeoff(command) => tradeoff::run(command),
+        Command::Tradeoff(args) => tradeoff::run(args),
         Command::Search(command) => search::run(command),
         Command::Synth(args) => synth::run(args),
         Command::Transduce(args) => transduce::run_transduce(args),

@@ -214,6 +214,10 @@ impl<R: Read> EventReader for Aedat2Reader<R> {
     fn stats(&self) -> ReadStats {
         self.stats
     }
+
+    fn sensor_size(&self) -> Option<(u16, u16)> {
+        Some((SIZE_X as u16, SIZE_Y as u16))
+    }
 }
 
 /// Writer of AEDAT 2.0 DAVIS240 files (the header of `pick.aedat`, records as in

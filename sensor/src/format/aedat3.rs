@@ -243,6 +243,10 @@ impl<R: Read> EventReader for Aedat3Reader<R> {
     fn stats(&self) -> ReadStats {
         self.stats
     }
+
+    fn sensor_size(&self) -> Option<(u16, u16)> {
+        Some(self.size)
+    }
 }
 
 /// Writer of AEDAT 3.1 files (davis240.md §2.2): polarity packets of up to [`PACKET_EVENTS`] events (capacity =

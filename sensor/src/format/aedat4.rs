@@ -546,6 +546,10 @@ impl<R: Read> EventReader for Aedat4Reader<R> {
     fn stats(&self) -> ReadStats {
         self.stats
     }
+
+    fn sensor_size(&self) -> Option<(u16, u16)> {
+        Some(self.stream.map_or(DAVIS240_SIZE, |s| s.size))
+    }
 }
 
 /// One entry of the file data table.

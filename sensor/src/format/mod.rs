@@ -278,6 +278,14 @@ pub trait EventReader {
     /// What was read and skipped so far.
     fn stats(&self) -> ReadStats;
 
+    /// The pixel-array size `(width, height)` the file states or its format fixes: the event
+    /// stream's `sizeX`/`sizeY` for AEDAT 4.0 (240 × 180 when the header names none), the
+    /// DAVIS240's 240 × 180 for AEDAT 2.0 and 3.1 (their DAVIS240 layouts); `None` for formats
+    /// that state no size (ECD text, CSV). Events outside it are skipped by the reader.
+    fn sensor_size(&self) -> Option<(u16, u16)> {
+        None
+    }
+
     /// Reads every remaining event into `out`.
     fn read_to_end(&mut self, out: &mut EventBuffer) -> Result<u64, FormatError> {
         let mut n = 0u64;
@@ -298,6 +306,10 @@ impl<R: EventReader + ?Sized> EventReader for Box<R> {
 
     fn stats(&self) -> ReadStats {
         (**self).stats()
+    }
+
+    fn sensor_size(&self) -> Option<(u16, u16)> {
+        (**self).sensor_size()
     }
 }
 
@@ -447,6 +459,41 @@ mod tests {
         );
         assert_eq!(Format::detect(b"0.5 1 2 x\n"), Err((8, "`x`".into())));
         assert_eq!(Format::detect(b""), Err((0, "end of file".into())));
+    }
+
+    #[test]
+    fn sensor_size_is_stated_by_aedat_and_absent_from_text() {
+        let mut events = EventBuffer::new();
+        events.push(neurotac_core::Event {
+            t: neurotac_core::Timestamp(5),
+            x: 239,
+            y: 179,
+            polarity: true,
+        });
+        for format in Format::ALL {
+            let bytes = to_bytes(&events, format).unwrap();
+            let reader = reader_from_bytes(&bytes).unwrap();
+            let expected = match format {
+                Format::EcdText | Format::Csv => None,
+                _ => Some(DAVIS240_SIZE),
+            };
+            assert_eq!(reader.sensor_size(), expected, "{}", format.name());
+        }
+        // An AEDAT 4.0 header naming another sensor (same byte length: 240 → 346, 180 → 260).
+        let bytes = to_bytes(&events, Format::Aedat4(Compression::None)).unwrap();
+        let text = String::from_utf8_lossy(&bytes).into_owned();
+        let from = "<attr key=\"sizeX\" type=\"int\">240</attr>";
+        assert!(text.contains(from));
+        let mut patched = bytes.clone();
+        for (old, new) in [(">240<", ">346<"), (">180<", ">260<")] {
+            let at = patched
+                .windows(old.len())
+                .position(|w| w == old.as_bytes())
+                .unwrap();
+            patched[at..at + old.len()].copy_from_slice(new.as_bytes());
+        }
+        let reader = reader_from_bytes(&patched).unwrap();
+        assert_eq!(reader.sensor_size(), Some((346, 260)));
     }
 
     #[test]

@@ -1,11 +1,11 @@
 //! `neurotac tradeoff neurons`: writes neurons.csv, neurons.md and neurons.svg.
 
-use anyhow::Context;
+use super::write_files;
 use clap::Args;
 use neurotac_experiments::neuron_tradeoff::{
-    NeuronTradeoffConfig, neuron_tradeoff, to_csv, to_markdown, to_svg,
+    NeuronTradeoffConfig, NeuronTradeoffRow, neuron_tradeoff, to_csv, to_markdown, to_svg,
 };
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 #[derive(Debug, Args)]
 pub struct NeuronsArgs {
@@ -20,30 +20,35 @@ pub struct NeuronsArgs {
     quick: bool,
 }
 
-pub fn run(args: NeuronsArgs) -> anyhow::Result<()> {
+/// Measures the sweep of `--duration` and `--quick` and writes `neurons.{csv,md,svg}` to `out`.
+pub fn report(duration: f64, quick: bool, out: &Path) -> anyhow::Result<Vec<NeuronTradeoffRow>> {
+    if !(duration.is_finite() && duration > 0.0) {
+        anyhow::bail!("--duration {duration} must be finite and > 0");
+    }
     let mut config = NeuronTradeoffConfig {
-        duration_s: args.duration,
+        duration_s: duration,
         ..NeuronTradeoffConfig::default()
     };
-    if !(args.duration.is_finite() && args.duration > 0.0) {
-        anyhow::bail!("--duration {} must be finite and > 0", args.duration);
-    }
-    if args.quick {
+    if quick {
         config.dts_s = vec![1e-5, 1e-4, 1e-3];
         config.speed_neurons = 20_000;
     }
-    let start = std::time::Instant::now();
     let rows = neuron_tradeoff(&config)?;
-    std::fs::create_dir_all(&args.out)
-        .with_context(|| format!("creating {}", args.out.display()))?;
-    let write = |name: &str, text: String| {
-        let path = args.out.join(name);
-        std::fs::write(&path, text).with_context(|| format!("writing {}", path.display()))
-    };
+    write_files(
+        out,
+        &[
+            ("neurons.csv", to_csv(&rows)),
+            ("neurons.md", to_markdown(&rows)),
+            ("neurons.svg", to_svg(&rows)),
+        ],
+    )?;
+    Ok(rows)
+}
+
+pub fn run(args: NeuronsArgs) -> anyhow::Result<()> {
+    let start = std::time::Instant::now();
+    let rows = report(args.duration, args.quick, &args.out)?;
     let markdown = to_markdown(&rows);
-    write("neurons.csv", to_csv(&rows))?;
-    write("neurons.md", markdown.clone())?;
-    write("neurons.svg", to_svg(&rows))?;
     let front_end = markdown.find("\n## Every point").unwrap_or(markdown.len());
     println!("{}", &markdown[..front_end]);
     println!(

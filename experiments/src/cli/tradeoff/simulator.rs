@@ -1,12 +1,12 @@
-//! `neurotac tradeoff simulator`: writes simulator.csv and simulator.md.
+//! `neurotac tradeoff simulator`: writes simulator.csv, simulator.md and simulator.svg.
 
-use anyhow::Context;
+use super::write_files;
 use clap::Args;
 use neurotac_experiments::simulator_tradeoff::{
-    SimulatorTradeoffConfig, simulator_tradeoff, to_csv, to_markdown,
+    SimulatorTradeoffConfig, SimulatorTradeoffRow, simulator_tradeoff, to_csv, to_markdown, to_svg,
 };
 use neurotac_sensor::sim::SimParams;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 #[derive(Debug, Args)]
 pub struct SimulatorArgs {
@@ -27,8 +27,38 @@ pub struct SimulatorArgs {
     quick: bool,
 }
 
+/// The sweep's settings: `config` as given, or its quick version.
+pub fn config(base: SimulatorTradeoffConfig, quick: bool) -> SimulatorTradeoffConfig {
+    if quick {
+        SimulatorTradeoffConfig {
+            trials: 1,
+            tolerances: vec![0.02, 0.067, 0.2],
+            ..base
+        }
+    } else {
+        base
+    }
+}
+
+/// Measures the sweep and writes `simulator.{csv,md,svg}` to `out`.
+pub fn report(
+    config: &SimulatorTradeoffConfig,
+    out: &Path,
+) -> anyhow::Result<Vec<SimulatorTradeoffRow>> {
+    let rows = simulator_tradeoff(config)?;
+    write_files(
+        out,
+        &[
+            ("simulator.csv", to_csv(&rows)),
+            ("simulator.md", to_markdown(&rows, config)),
+            ("simulator.svg", to_svg(&rows)),
+        ],
+    )?;
+    Ok(rows)
+}
+
 pub fn run(args: SimulatorArgs) -> anyhow::Result<()> {
-    let mut config = SimulatorTradeoffConfig {
+    let base = SimulatorTradeoffConfig {
         trials: args.trials,
         seed: args.seed,
         params: match &args.params {
@@ -37,25 +67,12 @@ pub fn run(args: SimulatorArgs) -> anyhow::Result<()> {
         },
         ..SimulatorTradeoffConfig::default()
     };
-    if args.quick {
-        config.trials = 1;
-        config.tolerances = vec![0.02, 0.067, 0.2];
-    }
+    let config = config(base, args.quick);
     let start = std::time::Instant::now();
-    let rows = simulator_tradeoff(&config)?;
-    std::fs::create_dir_all(&args.out)
-        .with_context(|| format!("creating {}", args.out.display()))?;
-    let markdown = to_markdown(&rows, &config);
-    for (name, text) in [
-        ("simulator.csv", to_csv(&rows)),
-        ("simulator.md", markdown.clone()),
-    ] {
-        let path = args.out.join(name);
-        std::fs::write(&path, text).with_context(|| format!("writing {}", path.display()))?;
-    }
-    println!("{markdown}");
+    let rows = report(&config, &args.out)?;
+    println!("{}", to_markdown(&rows, &config));
     println!(
-        "{} tolerances in {:.1} s → {}/simulator.{{csv,md}}",
+        "{} tolerances in {:.1} s → {}/simulator.{{csv,md,svg}}",
         rows.len(),
         start.elapsed().as_secs_f64(),
         args.out.display()

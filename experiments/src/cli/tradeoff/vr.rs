@@ -1,11 +1,14 @@
 //! `neurotac tradeoff vr`: the trace-sampled Van Rossum distance (traces advanced at step dt by
 //! the graph's synapse filter) against the exact one, as dt shrinks.
 
-use crate::cli::common::{duration_ms, load, timed};
-use anyhow::Context;
+use super::write_files;
+use crate::cli::common::{duration_ms, load};
 use clap::Args;
-use neurotac_core::distance::{VanRossum, check_cos, trace_sampled_matrices};
-use std::path::PathBuf;
+use neurotac_core::SpikeDataset;
+use neurotac_experiments::vr_tradeoff::{
+    VrTradeoff, VrTradeoffConfig, to_csv, to_markdown, to_svg, vr_tradeoff,
+};
+use std::path::{Path, PathBuf};
 
 #[derive(Debug, Args)]
 pub struct VrArgs {
@@ -36,64 +39,64 @@ pub struct VrArgs {
     json: bool,
 }
 
+/// Measures the sweep on `data` (sample duration: `duration_s`, else as [`duration_ms`]).
+pub fn measure(
+    data: &SpikeDataset,
+    duration_s: Option<f64>,
+    config: &VrTradeoffConfig,
+) -> anyhow::Result<VrTradeoff> {
+    let duration_s = duration_ms(data, duration_s)? as f64 / 1e3;
+    Ok(vr_tradeoff(data.observations(), duration_s, config)?)
+}
+
+/// Writes `vr.{csv,md,svg}` to `out`.
+pub fn write_report(sweep: &VrTradeoff, out: &Path) -> anyhow::Result<()> {
+    write_files(
+        out,
+        &[
+            ("vr.csv", to_csv(sweep)),
+            ("vr.md", to_markdown(sweep)),
+            ("vr.svg", to_svg(sweep)),
+        ],
+    )
+}
+
 pub fn run(args: VrArgs) -> anyhow::Result<()> {
     let data = load(&args.input)?;
-    check_cos(args.cos)?;
-    let obs = &data.observations()[..args.samples.min(data.len())];
-    let n = obs.len();
-    anyhow::ensure!(n >= 2, "need at least 2 samples, have {n}");
-    let duration_s = duration_ms(&data, args.duration)? as f64 / 1e3;
-    let (exact, exact_time) = timed(|| -> anyhow::Result<_> {
-        Ok(VanRossum::new(args.tau)?.matrices(obs)?.squared(args.cos)?)
-    });
-    let exact = exact?;
-    let mut rows = Vec::new();
-    for &dt in &args.dts {
-        let (sampled, time) = timed(|| -> anyhow::Result<_> {
-            Ok(trace_sampled_matrices(obs, args.tau, dt, duration_s)?.squared(args.cos)?)
-        });
-        let sampled = sampled.with_context(|| format!("dt = {dt} s"))?;
-        let (mut max_rel, mut sum_rel, mut pairs) = (0.0f64, 0.0, 0usize);
-        for i in 0..n {
-            for j in i + 1..n {
-                let (e, s) = (exact[[i, j]].sqrt(), sampled[[i, j]].sqrt());
-                if e > 0.0 {
-                    let rel = (s - e).abs() / e;
-                    max_rel = max_rel.max(rel);
-                    sum_rel += rel;
-                    pairs += 1;
-                }
-            }
-        }
-        let mean_rel = if pairs > 0 {
-            sum_rel / pairs as f64
-        } else {
-            0.0
-        };
-        rows.push((dt, time, mean_rel, max_rel));
-    }
+    let config = VrTradeoffConfig {
+        tau_s: args.tau,
+        cos: args.cos,
+        dts_s: args.dts.clone(),
+        samples: args.samples,
+    };
+    let sweep = measure(&data, args.duration, &config)?;
     if args.json {
         let out = serde_json::json!({
-            "samples": n, "tau_s": args.tau, "cos": args.cos,
-            "exact": exact_time,
-            "sampled": rows.iter().map(|(dt, t, mean, max)| serde_json::json!({
-                "dt_s": dt, "timing": t, "mean_relative_error": mean, "max_relative_error": max
+            "samples": sweep.samples, "tau_s": sweep.tau_s, "cos": sweep.cos,
+            "exact": sweep.exact,
+            "sampled": sweep.rows.iter().map(|r| serde_json::json!({
+                "dt_s": r.dt_s, "timing": r.timing,
+                "mean_relative_error": r.mean_relative_error,
+                "max_relative_error": r.max_relative_error
             })).collect::<Vec<_>>(),
         });
         println!("{out}");
         return Ok(());
     }
     println!(
-        "trace-sampled vs exact Van Rossum distance, {n} samples, τ = {} s, cos θ = {}",
-        args.tau, args.cos
+        "trace-sampled vs exact Van Rossum distance, {} samples, τ = {} s, cos θ = {}",
+        sweep.samples, sweep.tau_s, sweep.cos
     );
-    println!("  exact (markage)           {exact_time}");
+    println!("  exact (markage)           {}", sweep.exact);
     println!(
         "  {:>9}  {:>14}  {:>14}  time",
         "dt (s)", "mean rel. err", "max rel. err"
     );
-    for (dt, time, mean, max) in rows {
-        println!("  {dt:>9}  {mean:>14.3e}  {max:>14.3e}  {time}");
+    for r in &sweep.rows {
+        println!(
+            "  {:>9}  {:>14.3e}  {:>14.3e}  {}",
+            r.dt_s, r.mean_relative_error, r.max_relative_error, r.timing
+        );
     }
     Ok(())
 }
