@@ -56,7 +56,6 @@ pub fn with_threads<T: Send>(
     Ok(pool.install(f))
 }
 
-
 /// What a neuron-throughput run measured.
 #[derive(Debug, Clone, Serialize)]
 pub struct NeuronBenchResult {

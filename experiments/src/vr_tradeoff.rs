@@ -5,10 +5,10 @@
 //! Error: the relative difference `|D_dt − D| / D` over every pair of distinct samples with
 //! `D > 0` (mean and max). Time: wall and CPU time of the whole N × N matrix.
 
-use crate::timing::{Timing, timed};
 use crate::error::ExperimentError;
 use crate::pareto::pareto_front;
 use crate::svg::{Axis, Chart, Marker, PALETTE, Series, panels};
+use crate::timing::{Timing, timed};
 use neurotac_core::MultiSpikeTrain;
 use neurotac_core::distance::{VanRossum, check_cos, trace_sampled_matrices};
 use std::fmt::Write;

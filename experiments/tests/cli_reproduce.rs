@@ -3,6 +3,7 @@
 mod common;
 
 use common::neurotac;
+use neurotac_sensor::format::{Compression, Format, to_bytes};
 use std::path::{Path, PathBuf};
 
 /// A fresh, empty scratch folder for one test.
@@ -140,5 +141,151 @@ fn the_afferent_variant_reports_accuracy_and_time_next_to_the_direct_pipeline() 
         out.join("confusion_artificial_spatial_afferents.svg")
             .is_file()
     );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Writes a recorded dataset: class `c` has pins twitching every `30 + 20·c` ms for 1.2 s,
+/// `counts[c]` slides of it (CSV event files), plus a note that is not an event file.
+fn recorded_dataset(dir: &Path, counts: &[usize]) {
+    use neurotac_core::{Event, EventBuffer, Timestamp};
+    use neurotac_sensor::taxel::TaxelLayout;
+    for (c, &n) in counts.iter().enumerate() {
+        let class = dir.join(format!("texture{c}"));
+        std::fs::create_dir_all(&class).unwrap();
+        for trial in 0..n {
+            let period = 30_000 + 20_000 * c as i64;
+            let mut events = Vec::new();
+            for burst in 0..(1_200_000 / period) {
+                for (p, &(cx, cy)) in TaxelLayout::neurotac_default().centres().iter().enumerate() {
+                    for (k, (dx, dy)) in [(0, 0), (1, 0), (0, 1), (-1, 0)].into_iter().enumerate() {
+                        events.push(Event {
+                            t: Timestamp(
+                                5_000_000
+                                    + burst * period
+                                    + p as i64 * 40
+                                    + k as i64 * 150
+                                    + trial as i64 * 7,
+                            ),
+                            x: (cx.round() as i32 + dx) as u16,
+                            y: (cy.round() as i32 + dy) as u16,
+                            polarity: k % 2 == 0,
+                        });
+                    }
+                }
+            }
+            events.sort_by_key(|e| e.t);
+            let buffer: EventBuffer = events.into_iter().collect();
+            neurotac_sensor::format::write_file(&class.join(format!("{trial:02}.csv")), &buffer)
+                .unwrap();
+        }
+        std::fs::write(class.join("notes.md"), "not an event file").unwrap();
+    }
+}
+
+#[test]
+fn a_recorded_dataset_runs_through_the_same_pipeline() {
+    let dir = scratch("recorded");
+    let data = dir.join("my-textures");
+    recorded_dataset(&data, &[4, 4]);
+    let out = dir.join("report");
+    let (ok, stdout, stderr) = neurotac(&[
+        "reproduce",
+        "--dataset",
+        data.to_str().unwrap(),
+        "--epochs",
+        "8",
+        "--tau-step",
+        "0.03",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(ok, "{stderr}");
+    assert!(
+        stdout.contains("my-textures set — 2 classes × 8 samples"),
+        "{stdout}"
+    );
+    assert!(!stdout.contains("paper, Table"), "{stdout}");
+    assert!(out.join("confusion_my-textures_temporal.svg").is_file());
+    assert!(out.join("confusion_my-textures_temporal.png").is_file());
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_one_sample_class_keeps_leave_one_out_and_the_split_says_why_it_refuses() {
+    let dir = scratch("lonely");
+    let data = dir.join("lonely");
+    recorded_dataset(&data, &[5, 1]);
+    let out = dir.join("report");
+    let (ok, stdout, stderr) = neurotac(&[
+        "reproduce",
+        "--dataset",
+        data.to_str().unwrap(),
+        "--epochs",
+        "8",
+        "--tau-step",
+        "0.03",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(ok, "{stderr}");
+    assert!(
+        stdout.contains("80/20 split refused: class 1 has 1 sample(s)"),
+        "{stdout}"
+    );
+    assert!(stdout.contains("| refused |"), "{stdout}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn bad_datasets_are_clear_errors_and_leave_no_report() {
+    let dir = scratch("bad");
+    let out = dir.join("report");
+    let run = |data: &Path| {
+        neurotac(&[
+            "reproduce",
+            "--dataset",
+            data.to_str().unwrap(),
+            "--epochs",
+            "8",
+            "--out",
+            out.to_str().unwrap(),
+        ])
+    };
+    // Class folders without any event file.
+    let empty = dir.join("empty");
+    std::fs::create_dir_all(empty.join("a")).unwrap();
+    std::fs::create_dir_all(empty.join("b")).unwrap();
+    std::fs::write(empty.join("a").join("notes.md"), "x").unwrap();
+    let (ok, _, stderr) = run(&empty);
+    assert!(!ok);
+    assert!(stderr.contains("no event files"), "{stderr}");
+    assert_eq!(
+        stderr.lines().filter(|l| l.starts_with("error")).count(),
+        1,
+        "{stderr}"
+    );
+    // A folder that does not exist.
+    let (ok, _, stderr) = run(&dir.join("nowhere"));
+    assert!(!ok && stderr.contains("does not exist"), "{stderr}");
+    // An AEDAT 4.0 file of a 346 × 260 sensor among the CSV files of a DAVIS240.
+    let mixed = dir.join("mixed");
+    recorded_dataset(&mixed, &[3, 3]);
+    let events = neurotac_sensor::format::read_file(&mixed.join("texture0").join("00.csv"))
+        .unwrap()
+        .0;
+    let mut bytes = to_bytes(&events, Format::Aedat4(Compression::Lz4)).unwrap();
+    let at = bytes.windows(5).position(|w| w == b">240<").unwrap();
+    bytes[at..at + 5].copy_from_slice(b">346<");
+    std::fs::write(mixed.join("texture0").join("99.aedat4"), bytes).unwrap();
+    let (ok, _, stderr) = run(&mixed);
+    assert!(!ok);
+    assert!(stderr.contains("346"), "{stderr}");
+    assert!(!out.exists(), "no report after a failed run");
+    let leftovers: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().into_string().unwrap())
+        .filter(|n| n.contains("partial"))
+        .collect();
+    assert!(leftovers.is_empty(), "{leftovers:?}");
     let _ = std::fs::remove_dir_all(&dir);
 }

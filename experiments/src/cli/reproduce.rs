@@ -9,13 +9,16 @@ use neurotac_core::SpikeDataset;
 use neurotac_experiments::afferents::{AfferentConfig, AfferentModel, afferent_dataset};
 use neurotac_experiments::bench::with_threads;
 use neurotac_experiments::datasets::{TextureSet, load_or_simulate_with};
+use neurotac_experiments::recorded::{list_recorded, load_recorded};
 use neurotac_experiments::reproduce::report::{
     AfferentRun, Report, SetReport, accuracy_table, check_destination, example_samples,
     parameter_table, write_report,
 };
 use neurotac_experiments::reproduce::{PipelineConfig, Progress, run_set};
 use neurotac_experiments::timing::timed;
+use neurotac_sensor::filter::MapStart;
 use neurotac_sensor::sim::SimParams;
+use neurotac_sensor::taxel::{TaxelLayout, TransductionConfig};
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 
@@ -262,8 +265,29 @@ fn run_source(
                 ))
             }
             Source::Recorded(dir) => {
-                let _ = (dir, trials);
-                anyhow::bail!("recorded datasets are not wired in yet")
+                let name = dir
+                    .canonicalize()
+                    .ok()
+                    .and_then(|d| d.file_name().map(|n| n.to_string_lossy().into_owned()))
+                    .unwrap_or_else(|| "recorded".into());
+                let files: usize = list_recorded(dir)?.iter().map(|(_, f)| f.len()).sum();
+                bars.stage(&format!("{name}: transducing event files"), files as u64);
+                // The paper's transduction; the BA map starts empty, so a recording's first
+                // events are judged like any others whatever its time origin.
+                let config = TransductionConfig {
+                    ba_start: MapStart::Empty,
+                    ..TransductionConfig::default()
+                };
+                let recorded =
+                    load_recorded(dir, &TaxelLayout::neurotac_default(), config, |_, _| {
+                        bars.advance(1)
+                    })?;
+                bars.finish();
+                Ok((
+                    name,
+                    format!("recorded, {}", dir.display()),
+                    recorded.dataset,
+                ))
             }
         }
     });
