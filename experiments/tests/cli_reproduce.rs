@@ -127,10 +127,13 @@ fn the_afferent_variant_reports_accuracy_and_time_next_to_the_direct_pipeline() 
     let (ok, stdout, stderr) = small_run(&out, &cache, &["--afferents", "lif"]);
     assert!(ok, "{stderr}");
     assert!(
-        stdout.contains("afferents: LOO (%)") && stdout.contains("time: direct / afferents (s)"),
+        stdout.contains("| lif afferents: LOO (%) |") && stdout.contains("| direct: time (s) |"),
         "{stdout}"
     );
-    assert!(stdout.contains("lif afferents: network"), "{stdout}");
+    assert!(
+        stdout.contains("| (afferent network, all samples) |"),
+        "{stdout}"
+    );
     let csv = std::fs::read_to_string(out.join("accuracy.csv")).unwrap();
     assert_eq!(
         csv.lines().filter(|l| l.contains(",afferents,")).count(),

@@ -11,8 +11,8 @@ use neurotac_experiments::bench::with_threads;
 use neurotac_experiments::datasets::{TextureSet, load_or_simulate_with};
 use neurotac_experiments::recorded::{list_recorded, load_recorded};
 use neurotac_experiments::reproduce::report::{
-    AfferentRun, Report, SetReport, accuracy_table, check_destination, example_samples,
-    parameter_table, write_report,
+    AfferentRun, Report, SetReport, accuracy_table, afferent_table, check_destination,
+    example_samples, parameter_table, write_report,
 };
 use neurotac_experiments::reproduce::{PipelineConfig, Progress, run_set};
 use neurotac_experiments::timing::timed;
@@ -223,9 +223,12 @@ pub fn run(args: ReproduceArgs) -> anyhow::Result<()> {
         sets,
         time,
     };
-    write_report(&args.out, &report, args.force)?;
+    bars.stage("writing the report (SVG, PNG, CSV, JSON, Markdown)", 0);
+    let written = write_report(&args.out, &report, args.force);
+    bars.finish();
+    written?;
     println!(
-        "report: {} (report.md, report.json, CSV tables, SVG figures)",
+        "report: {} (report.md, report.json, CSV tables, SVG and PNG figures)",
         args.out.display()
     );
     println!("total: {time}");
@@ -350,10 +353,7 @@ fn print_set(set: &SetReport) {
     if let Some(why) = d.codings.iter().find_map(|c| c.split_refused.as_ref()) {
         println!("80/20 split refused: {why}\n");
     }
-    if let Some(a) = &set.afferent {
-        println!(
-            "{} afferents: network {:.1} s for {} samples\n",
-            a.model, a.network_time.wall_s, samples
-        );
+    if set.afferent.is_some() {
+        println!("{}", afferent_table(set));
     }
 }
