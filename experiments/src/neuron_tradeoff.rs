@@ -247,10 +247,14 @@ pub fn pareto_table(rows: &[NeuronTradeoffRow]) -> String {
     out
 }
 
-/// A Markdown report: the Pareto front of each model, then every point.
-pub fn to_markdown(rows: &[NeuronTradeoffRow]) -> String {
+/// A Markdown report: the Pareto front of each model, then every point (`speed_neurons`: the
+/// population size of the speed runs).
+pub fn to_markdown(rows: &[NeuronTradeoffRow], speed_neurons: usize) -> String {
     let mut out = String::from("# Neuron simulation: speed ↔ accuracy\n\n");
-    out.push_str("Truth: LIF closed form (I = 1.04); Izhikevich RS (I = 10) by RK4 at 1 µs. Speed: 100 000 neurons, one thread.\n\n");
+    let _ = write!(
+        out,
+        "Truth: LIF closed form (I = 1.04); Izhikevich RS (I = 10) by RK4 at 1 µs. Speed: {speed_neurons} neurons, one thread.\n\n"
+    );
     out.push_str("## Pareto front (no other point with the right spike count is both faster and more accurate)\n\n");
     out.push_str(&pareto_table(rows));
     out.push_str("\n## Every point\n\n");
@@ -365,7 +369,7 @@ mod tests {
         );
         let csv = to_csv(&rows);
         assert_eq!(csv.lines().count(), rows.len() + 1);
-        assert!(to_markdown(&rows).contains("## Pareto front"));
+        assert!(to_markdown(&rows, 1000).contains("## Pareto front"));
         assert!(to_svg(&rows).contains("lif: spike-time error vs speed"));
     }
 }

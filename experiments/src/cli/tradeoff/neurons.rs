@@ -38,7 +38,7 @@ pub fn report(duration: f64, quick: bool, out: &Path) -> anyhow::Result<Vec<Neur
         out,
         &[
             ("neurons.csv", to_csv(&rows)),
-            ("neurons.md", to_markdown(&rows)),
+            ("neurons.md", to_markdown(&rows, config.speed_neurons)),
             ("neurons.svg", to_svg(&rows)),
         ],
     )?;
@@ -48,7 +48,7 @@ pub fn report(duration: f64, quick: bool, out: &Path) -> anyhow::Result<Vec<Neur
 pub fn run(args: NeuronsArgs) -> anyhow::Result<()> {
     let start = std::time::Instant::now();
     let rows = report(args.duration, args.quick, &args.out)?;
-    let markdown = to_markdown(&rows);
+    let markdown = std::fs::read_to_string(args.out.join("neurons.md"))?;
     let front_end = markdown.find("\n## Every point").unwrap_or(markdown.len());
     println!("{}", &markdown[..front_end]);
     println!(
