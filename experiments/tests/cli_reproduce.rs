@@ -185,13 +185,9 @@ fn recorded_dataset(dir: &Path, counts: &[usize]) {
     }
 }
 
-#[test]
-fn a_recorded_dataset_runs_through_the_same_pipeline() {
-    let dir = scratch("recorded");
-    let data = dir.join("my-textures");
-    recorded_dataset(&data, &[4, 4]);
-    let out = dir.join("report");
-    let (ok, stdout, stderr) = neurotac(&[
+/// `neurotac reproduce --dataset data --out out`, small search.
+fn reproduce_recorded(data: &Path, out: &Path) -> (bool, String, String) {
+    neurotac(&[
         "reproduce",
         "--dataset",
         data.to_str().unwrap(),
@@ -201,7 +197,16 @@ fn a_recorded_dataset_runs_through_the_same_pipeline() {
         "0.03",
         "--out",
         out.to_str().unwrap(),
-    ]);
+    ])
+}
+
+#[test]
+fn a_recorded_dataset_runs_through_the_same_pipeline() {
+    let dir = scratch("recorded");
+    let data = dir.join("my-textures");
+    recorded_dataset(&data, &[4, 4]);
+    let out = dir.join("report");
+    let (ok, stdout, stderr) = reproduce_recorded(&data, &out);
     assert!(ok, "{stderr}");
     assert!(
         stdout.contains("my-textures set — 2 classes × 8 samples"),
@@ -219,17 +224,7 @@ fn a_one_sample_class_keeps_leave_one_out_and_the_split_says_why_it_refuses() {
     let data = dir.join("lonely");
     recorded_dataset(&data, &[5, 1]);
     let out = dir.join("report");
-    let (ok, stdout, stderr) = neurotac(&[
-        "reproduce",
-        "--dataset",
-        data.to_str().unwrap(),
-        "--epochs",
-        "8",
-        "--tau-step",
-        "0.03",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+    let (ok, stdout, stderr) = reproduce_recorded(&data, &out);
     assert!(ok, "{stderr}");
     assert!(
         stdout.contains("80/20 split refused: class 1 has 1 sample(s)"),
@@ -243,17 +238,8 @@ fn a_one_sample_class_keeps_leave_one_out_and_the_split_says_why_it_refuses() {
 fn bad_datasets_are_clear_errors_and_leave_no_report() {
     let dir = scratch("bad");
     let out = dir.join("report");
-    let run = |data: &Path| {
-        neurotac(&[
-            "reproduce",
-            "--dataset",
-            data.to_str().unwrap(),
-            "--epochs",
-            "8",
-            "--out",
-            out.to_str().unwrap(),
-        ])
-    };
+    let run = |data: &Path| reproduce_recorded(data, &out);
+
     // Class folders without any event file.
     let empty = dir.join("empty");
     std::fs::create_dir_all(empty.join("a")).unwrap();

@@ -221,38 +221,72 @@ pub fn coding_seconds(set: &SetResult, coding: CodingName) -> f64 {
     }
 }
 
-/// The chosen parameters and the intensive means against the paper's, as Markdown.
+/// One chosen parameter or intensive class mean, with the paper's value where it gives one.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ParameterRow {
+    /// What it is (`temporal Δt (ms)`, `intensive mean, grid 2.5 mm (spikes per taxel)`, …).
+    pub quantity: String,
+    /// This run's value.
+    pub value: f64,
+    /// The paper's value (the paper reports its parameters for the artificial set only).
+    pub paper: Option<f64>,
+}
+
+/// The chosen Δt, τ and cos θ, then the intensive mean of every class.
+pub fn parameter_rows(set: &SetResult) -> Vec<ParameterRow> {
+    let paper_set = set.name == "artificial";
+    let row = |quantity: &str, value: f64, paper: f64| ParameterRow {
+        quantity: quantity.into(),
+        value,
+        paper: paper_set.then_some(paper),
+    };
+    let mut rows = vec![
+        row(
+            "temporal Δt (ms)",
+            set.dt_sweep.best_window_ms as f64,
+            paper::DT_MS,
+        ),
+        row(
+            "Van Rossum τ (ms)",
+            set.bayes.best_tau_s * 1e3,
+            paper::TAU_MS,
+        ),
+        row("Van Rossum cos θ", set.bayes.best_cos, paper::COS_THETA),
+    ];
+    rows.extend(
+        set.class_names
+            .iter()
+            .zip(&set.intensive_class_means)
+            .map(|(class, &value)| ParameterRow {
+                quantity: format!("intensive mean, {class} (spikes per taxel)"),
+                value,
+                paper: paper::INTENSIVE_MEANS
+                    .iter()
+                    .find(|&&(mm, _)| *class == grid_name(mm))
+                    .map(|&(_, m)| m),
+            }),
+    );
+    rows
+}
+
+/// The chosen parameters, and the intensive means the paper gives, against the paper's, as
+/// Markdown.
 pub fn parameter_table(set: &SetResult) -> String {
     let mut s = String::from("| quantity | this run | paper |\n|---|---|---|\n");
-    let paper_set = set.name == "artificial";
-    let or_dash = |v: String| if paper_set { v } else { "—".into() };
-    let _ = writeln!(
-        s,
-        "| temporal Δt (ms) | {} | {} |",
-        set.dt_sweep.best_window_ms,
-        or_dash(format!("{}", paper::DT_MS))
-    );
-    let _ = writeln!(
-        s,
-        "| Van Rossum τ (ms) | {:.0} | {} |",
-        set.bayes.best_tau_s * 1e3,
-        or_dash(format!("{}", paper::TAU_MS))
-    );
-    let _ = writeln!(
-        s,
-        "| Van Rossum cos θ | {:.2} | {} |",
-        set.bayes.best_cos,
-        or_dash(format!("{}", paper::COS_THETA))
-    );
-    for &(mm, mean) in &paper::INTENSIVE_MEANS {
-        if let Some(c) = set.class_names.iter().position(|n| *n == grid_name(mm)) {
-            let _ = writeln!(
-                s,
-                "| intensive mean, {} (spikes per taxel) | {:.2} | {mean} |",
-                grid_name(mm),
-                set.intensive_class_means[c]
-            );
+    for (i, r) in parameter_rows(set).iter().enumerate() {
+        // The three parameters always; class means only where the paper has one.
+        if i >= 3 && r.paper.is_none() {
+            continue;
         }
+        let value = if i == 0 {
+            format!("{}", r.value)
+        } else if i == 1 {
+            format!("{:.0}", r.value)
+        } else {
+            format!("{:.2}", r.value)
+        };
+        let paper = r.paper.map_or("—".into(), |p| p.to_string());
+        let _ = writeln!(s, "| {} | {value} | {paper} |", r.quantity);
     }
     s
 }
@@ -439,7 +473,157 @@ fn write_files(dir: &Path, report: &Report) -> Result<(), ReportError> {
         "set,pipeline,coding,parameters,loo_accuracy,loo_std,wilson_low,wilson_high,split_accuracy,paper_accuracy,wall_s\n",
     );
     let mut parameters = String::from("set,quantity,value,paper\n");
-    let mut md = format!(
+    let mut md = markdown_intro(report);
+    for set in &report.sets {
+        accuracy_rows(set, &mut accuracy);
+        for r in parameter_rows(&set.direct) {
+            let _ = writeln!(
+                parameters,
+                "{},{},{},{}",
+                csv_field(&set.direct.name),
+                csv_field(&r.quantity),
+                r.value,
+                r.paper.map(|p| p.to_string()).unwrap_or_default()
+            );
+        }
+        write_set_files(dir, set, &png)?;
+        markdown_set(set, &mut md);
+    }
+    md.push_str(
+        "Files: `report.json` (every number), `accuracy.csv`, `parameters.csv`, \
+         `dt_sweep_<set>.csv`, `bo_convergence_<set>.csv`, `confusion_<set>_<coding>.csv`; every \
+         figure as SVG and PNG.\n",
+    );
+    write(dir, "accuracy.csv", &accuracy)?;
+    write(dir, "parameters.csv", &parameters)?;
+    write(dir, "report.md", &md)
+}
+
+/// The runs of a set: `("direct", result)` and, if run, `("afferents", result)`.
+fn runs(set: &SetReport) -> Vec<(&'static str, &SetResult)> {
+    let mut runs = vec![("direct", &set.direct)];
+    if let Some(a) = &set.afferent {
+        runs.push(("afferents", &a.result));
+    }
+    runs
+}
+
+/// One CSV row per pipeline and coding.
+fn accuracy_rows(set: &SetReport, out: &mut String) {
+    let paper = paper_table(&set.direct);
+    for (pipeline, r) in runs(set) {
+        for (i, c) in r.codings.iter().enumerate() {
+            let a = c.loo.accuracy;
+            let _ = writeln!(
+                out,
+                "{},{pipeline},{},{},{},{},{},{},{},{},{:.3}",
+                csv_field(&r.name),
+                c.coding.key(),
+                csv_field(&c.parameters),
+                a.mean,
+                a.std,
+                a.wilson_low,
+                a.wilson_high,
+                c.split
+                    .as_ref()
+                    .map(|e| e.accuracy.mean.to_string())
+                    .unwrap_or_default(),
+                paper
+                    .filter(|_| pipeline == "direct")
+                    .map(|p| (p.accuracy_percent[i] / 100.0).to_string())
+                    .unwrap_or_default(),
+                coding_seconds(r, c.coding)
+            );
+        }
+    }
+}
+
+/// A confusion matrix as CSV (rows: true class, columns: predicted).
+fn confusion_csv(counts: &[Vec<usize>], class_names: &[String]) -> String {
+    let mut csv = String::from("true\\predicted");
+    for n in class_names {
+        let _ = write!(csv, ",{}", csv_field(n));
+    }
+    csv.push('\n');
+    for (i, row) in counts.iter().enumerate() {
+        csv.push_str(&csv_field(
+            class_names.get(i).map(String::as_str).unwrap_or(""),
+        ));
+        for v in row {
+            let _ = write!(csv, ",{v}");
+        }
+        csv.push('\n');
+    }
+    csv
+}
+
+/// A set's own files: Δt sweep and BO trace (CSV + figure), spike-train figure, and the
+/// confusion matrices of every run (CSV + figure).
+fn write_set_files(dir: &Path, set: &SetReport, png: &PngRenderer) -> Result<(), ReportError> {
+    let d = &set.direct;
+    let name = &d.name;
+    let mut dt_csv = String::from("dt_ms,loo_accuracy\n");
+    for (w, a) in d.dt_sweep.windows_ms.iter().zip(&d.dt_sweep.accuracy) {
+        let _ = writeln!(dt_csv, "{w},{a}");
+    }
+    write(dir, &format!("dt_sweep_{name}.csv"), &dt_csv)?;
+    figure(dir, &format!("dt_sweep_{name}"), &dt_chart(d).to_svg(), png)?;
+    let mut bo_csv = String::from("epoch,tau_s,cos,accuracy,best_accuracy,best_tau_s,best_cos\n");
+    for s in &d.bayes.trace {
+        let _ = writeln!(
+            bo_csv,
+            "{},{},{},{},{},{},{}",
+            s.epoch, s.tau_s, s.cos, s.value, s.best_value, s.best_tau_s, s.best_cos
+        );
+    }
+    write(dir, &format!("bo_convergence_{name}.csv"), &bo_csv)?;
+    figure(
+        dir,
+        &format!("bo_convergence_{name}"),
+        &panels(&bayes_charts(d), 3),
+        png,
+    )?;
+    figure(
+        dir,
+        &format!("spike_trains_{name}"),
+        &spike_train_figure(set),
+        png,
+    )?;
+    for (pipeline, r) in runs(set) {
+        let (suffix, label) = match pipeline {
+            "direct" => ("", ""),
+            _ => ("_afferents", " (afferents)"),
+        };
+        for c in &r.codings {
+            let (e, how) = match &c.split {
+                Some(e) => (e, "80/20 split"),
+                None => (&c.loo, "leave-one-out (split refused)"),
+            };
+            let title = format!(
+                "{name}{label}: {} coding, {how}, {} %",
+                c.coding.label(),
+                pct(e.accuracy.mean)
+            );
+            let file = format!("confusion_{name}_{}{suffix}", c.coding.key());
+            figure(
+                dir,
+                &file,
+                &confusion_figure(&e.confusion.counts, &r.class_names, &title),
+                png,
+            )?;
+            write(
+                dir,
+                &format!("{file}.csv"),
+                &confusion_csv(&e.confusion.counts, &r.class_names),
+            )?;
+        }
+    }
+    Ok(())
+}
+
+/// The head of `report.md`: how the run was made and what the numbers mean.
+fn markdown_intro(report: &Report) -> String {
+    format!(
         "# NeuroTac reproduction\n\n`{}` (neurotac {}, seed {}): {:.1} s wall{}.\n\n\
          Pipeline (the paper's Methods): pixel events → background-activity filter (5 ms) → 49 \
          receptive fields → 20 ms pooling with re-centring → taxel spikes → four codings → KNN \
@@ -456,227 +640,66 @@ fn write_files(dir: &Path, report: &Report) -> Result<(), ReportError> {
             .cpu_s
             .map(|c| format!(", {c:.1} s CPU on {} threads", report.time.threads))
             .unwrap_or_default()
+    )
+}
+
+/// A set's section of `report.md`.
+fn markdown_set(set: &SetReport, md: &mut String) {
+    let d = &set.direct;
+    let name = &d.name;
+    let samples: usize = d.samples_per_class.iter().sum();
+    let _ = write!(
+        md,
+        "## {} set\n\n{} classes, {samples} samples ({}); {:.2} spikes per taxel on average; \
+         dataset {:.1} s, pipeline {:.1} s wall.\n\n",
+        name,
+        d.class_names.len(),
+        set.source,
+        d.mean_spikes_per_taxel,
+        set.dataset_time.wall_s,
+        d.time.wall_s
     );
-    for set in &report.sets {
-        let d = &set.direct;
-        let name = &d.name;
-        let paper = paper_table(d);
-        let mut runs = vec![("direct", d)];
-        if let Some(a) = &set.afferent {
-            runs.push(("afferents", &a.result));
-        }
-        for (pipeline, r) in &runs {
-            for (i, c) in r.codings.iter().enumerate() {
-                let a = c.loo.accuracy;
-                let _ = writeln!(
-                    accuracy,
-                    "{},{pipeline},{},{},{},{},{},{},{},{},{:.3}",
-                    csv_field(name),
-                    c.coding.key(),
-                    csv_field(&c.parameters),
-                    a.mean,
-                    a.std,
-                    a.wilson_low,
-                    a.wilson_high,
-                    c.split
-                        .as_ref()
-                        .map(|e| e.accuracy.mean.to_string())
-                        .unwrap_or_default(),
-                    paper
-                        .filter(|_| *pipeline == "direct")
-                        .map(|p| (p.accuracy_percent[i] / 100.0).to_string())
-                        .unwrap_or_default(),
-                    coding_seconds(r, c.coding)
-                );
-            }
-        }
-        let paper_set = name == "artificial";
-        let p = |v: f64| {
-            if paper_set {
-                v.to_string()
-            } else {
-                String::new()
-            }
-        };
-        let _ = writeln!(
-            parameters,
-            "{},dt_ms,{},{}",
-            csv_field(name),
-            d.dt_sweep.best_window_ms,
-            p(paper::DT_MS)
-        );
-        let _ = writeln!(
-            parameters,
-            "{},tau_ms,{},{}",
-            csv_field(name),
-            d.bayes.best_tau_s * 1e3,
-            p(paper::TAU_MS)
-        );
-        let _ = writeln!(
-            parameters,
-            "{},cos_theta,{},{}",
-            csv_field(name),
-            d.bayes.best_cos,
-            p(paper::COS_THETA)
-        );
-        for (c, class) in d.class_names.iter().enumerate() {
-            let paper_mean = paper::INTENSIVE_MEANS
-                .iter()
-                .find(|&&(mm, _)| *class == grid_name(mm))
-                .map(|&(_, m)| m.to_string())
-                .unwrap_or_default();
-            let _ = writeln!(
-                parameters,
-                "{},intensive_mean {},{},{paper_mean}",
-                csv_field(name),
-                csv_field(class),
-                d.intensive_class_means[c]
-            );
-        }
-
-        // Per-set CSVs and figures.
-        let mut dt_csv = String::from("dt_ms,loo_accuracy\n");
-        for (w, a) in d.dt_sweep.windows_ms.iter().zip(&d.dt_sweep.accuracy) {
-            let _ = writeln!(dt_csv, "{w},{a}");
-        }
-        write(dir, &format!("dt_sweep_{name}.csv"), &dt_csv)?;
-        figure(
-            dir,
-            &format!("dt_sweep_{name}"),
-            &dt_chart(d).to_svg(),
-            &png,
-        )?;
-        let mut bo_csv =
-            String::from("epoch,tau_s,cos,accuracy,best_accuracy,best_tau_s,best_cos\n");
-        for s in &d.bayes.trace {
-            let _ = writeln!(
-                bo_csv,
-                "{},{},{},{},{},{},{}",
-                s.epoch, s.tau_s, s.cos, s.value, s.best_value, s.best_tau_s, s.best_cos
-            );
-        }
-        write(dir, &format!("bo_convergence_{name}.csv"), &bo_csv)?;
-        figure(
-            dir,
-            &format!("bo_convergence_{name}"),
-            &panels(&bayes_charts(d), 3),
-            &png,
-        )?;
-        figure(
-            dir,
-            &format!("spike_trains_{name}"),
-            &spike_train_figure(set),
-            &png,
-        )?;
-        for (pipeline, r) in &runs {
-            let suffix = if *pipeline == "direct" {
-                String::new()
-            } else {
-                format!("_{pipeline}")
-            };
-            for c in &r.codings {
-                let (e, how) = match &c.split {
-                    Some(e) => (e, "80/20 split"),
-                    None => (&c.loo, "leave-one-out (split refused)"),
-                };
-                let title = format!(
-                    "{name}{}: {} coding, {how}, {} %",
-                    if suffix.is_empty() {
-                        ""
-                    } else {
-                        " (afferents)"
-                    },
-                    c.coding.label(),
-                    pct(e.accuracy.mean)
-                );
-                let file = format!("confusion_{name}_{}{suffix}", c.coding.key());
-                figure(
-                    dir,
-                    &file,
-                    &confusion_figure(&e.confusion.counts, &r.class_names, &title),
-                    &png,
-                )?;
-                let mut csv = String::from("true\\predicted");
-                for n in &r.class_names {
-                    let _ = write!(csv, ",{}", csv_field(n));
-                }
-                csv.push('\n');
-                for (i, row) in e.confusion.counts.iter().enumerate() {
-                    csv.push_str(&csv_field(
-                        r.class_names.get(i).map(String::as_str).unwrap_or(""),
-                    ));
-                    for v in row {
-                        let _ = write!(csv, ",{v}");
-                    }
-                    csv.push('\n');
-                }
-                write(dir, &format!("{file}.csv"), &csv)?;
-            }
-        }
-
-        // report.md section.
-        let samples: usize = d.samples_per_class.iter().sum();
+    md.push_str(&accuracy_table(set));
+    md.push('\n');
+    if let Some(c) = d.codings.iter().find_map(|c| c.split_refused.as_ref()) {
         let _ = write!(
             md,
-            "## {} set\n\n{} classes, {samples} samples ({}); {:.2} spikes per taxel on average; \
-             dataset {:.1} s, pipeline {:.1} s wall.\n\n",
-            name,
-            d.class_names.len(),
-            set.source,
-            d.mean_spikes_per_taxel,
-            set.dataset_time.wall_s,
-            d.time.wall_s
-        );
-        md.push_str(&accuracy_table(set));
-        md.push('\n');
-        if let Some(c) = d.codings.iter().find_map(|c| c.split_refused.as_ref()) {
-            let _ = write!(
-                md,
-                "The 80/20 split was refused: {c}. The confusion matrices show leave-one-out.\n\n"
-            );
-        }
-        md.push_str(&parameter_table(d));
-        md.push('\n');
-        if let Some(a) = &set.afferent {
-            let _ = write!(
-                md,
-                "Afferent variant: taxel spikes → exponential synapses (τ = {:.0} ms, weight {}) \
-                 → one {} neuron per taxel (dt = {:.2} ms), then the same pipeline (its own Δt \
-                 sweep and optimisation). Times include each coding's parameter search.\n\n",
-                a.tau_syn_s * 1e3,
-                a.weight,
-                a.model,
-                a.dt_s * 1e3,
-            );
-            md.push_str(&afferent_table(set));
-            md.push('\n');
-        }
-        let _ = write!(
-            md,
-            "![spike trains](spike_trains_{name}.svg)\n\n*Spike trains of one sample per \
-             texture (rows: raster, spikes per taxel, spikes per taxel in the chosen Δt \
-             window).*\n\n"
-        );
-        md.push_str("Confusion matrices (80/20 split):\n\n");
-        for c in CodingName::ALL {
-            let _ = write!(
-                md,
-                "![{} confusion](confusion_{name}_{}.svg) ",
-                c.label(),
-                c.key()
-            );
-        }
-        let _ = write!(
-            md,
-            "\n\n![Δt sweep](dt_sweep_{name}.svg)\n\n![BO convergence](bo_convergence_{name}.svg)\n\n"
+            "The 80/20 split was refused: {c}. The confusion matrices show leave-one-out.\n\n"
         );
     }
-    md.push_str(
-        "Files: `report.json` (every number), `accuracy.csv`, `parameters.csv`, \
-         `dt_sweep_<set>.csv`, `bo_convergence_<set>.csv`, `confusion_<set>_<coding>.csv`; every \
-         figure as SVG and PNG.\n",
+    md.push_str(&parameter_table(d));
+    md.push('\n');
+    if let Some(a) = &set.afferent {
+        let _ = write!(
+            md,
+            "Afferent variant: taxel spikes → exponential synapses (τ = {:.0} ms, weight {}) \
+             → one {} neuron per taxel (dt = {:.2} ms), then the same pipeline (its own Δt \
+             sweep and optimisation). Times include each coding's parameter search.\n\n",
+            a.tau_syn_s * 1e3,
+            a.weight,
+            a.model,
+            a.dt_s * 1e3,
+        );
+        md.push_str(&afferent_table(set));
+        md.push('\n');
+    }
+    let _ = write!(
+        md,
+        "![spike trains](spike_trains_{name}.svg)\n\n*Spike trains of one sample per \
+         texture (rows: raster, spikes per taxel, spikes per taxel in the chosen Δt \
+         window).*\n\n"
     );
-    write(dir, "accuracy.csv", &accuracy)?;
-    write(dir, "parameters.csv", &parameters)?;
-    write(dir, "report.md", &md)
+    md.push_str("Confusion matrices (80/20 split):\n\n");
+    for c in CodingName::ALL {
+        let _ = write!(
+            md,
+            "![{} confusion](confusion_{name}_{}.svg) ",
+            c.label(),
+            c.key()
+        );
+    }
+    let _ = write!(
+        md,
+        "\n\n![Δt sweep](dt_sweep_{name}.svg)\n\n![BO convergence](bo_convergence_{name}.svg)\n\n"
+    );
 }
