@@ -6,7 +6,7 @@
 //! candidate taxels per 8 × 8-pixel cell — those whose disc can reach the cell — answers every
 //! lookup with a few distance tests. On top of it, a per-pixel label memo
 //! ([`ReceptiveFields::assign_cached`]) answers repeated lookups with one read; moving a centre
-//! forgets the labels around its old and new disc only.
+//! forgets only the labels inside its old or new disc that may have changed.
 
 use super::layout::{TaxelLayout, dist};
 use crate::error::{TransductionError, check_in_sensor};
@@ -42,8 +42,8 @@ pub struct ReceptiveFields {
     cols: usize,
     cell_offsets: Vec<u32>,
     cell_taxels: Vec<u16>,
-    /// Per pixel (row-major): [`Self::assign`]'s answer at the current centres, [`NO_TAXEL`],
-    /// or [`UNKNOWN`].
+    /// Per pixel (row-major): [`Self::assign`]'s answer at the current centres ([`NO_TAXEL`]
+    /// for none), or [`UNKNOWN`].
     labels: Vec<u16>,
 }
 
@@ -152,19 +152,48 @@ impl ReceptiveFields {
         }
     }
 
-    /// Forgets the labels of every pixel whose distance test against `centre` may pass: a
-    /// square around the disc, one pixel wider than rounding could need.
-    fn forget_labels_around(&mut self, centre: (f64, f64)) {
-        let span = |c: f64, len: u16| {
-            let low = (c - self.radius).floor() - 1.0;
-            let high = (c + self.radius).ceil() + 1.0;
-            // Centres lie inside the image, so the span is never empty; casts saturate.
+    /// Keeps the label memo true while taxel `t` moves from `old` to `new`. Only pixels inside
+    /// the old or the new disc can change hands; of those, a label stays if it is still
+    /// [`Self::assign`]'s answer for certain, and is forgotten otherwise:
+    /// - labelled `t`, and at most as far from `new` as from `old`: `t` only got closer, the
+    ///   other candidates did not move, so `t` still wins;
+    /// - labelled something else (another taxel, none, unknown) and outside the new disc: the
+    ///   candidates holding the pixel are those of before minus `t`, which was not the winner.
+    ///
+    /// The distances are computed as in [`Self::assign`], so "inside" means the same there.
+    fn relabel_after_move(&mut self, t: u16, old: (f64, f64), new: (f64, f64)) {
+        let r = self.radius;
+        // The square around both discs, one pixel wider than rounding could need. Centres lie
+        // inside the image, so the span is never empty; casts saturate.
+        let span = |a: f64, b: f64, len: u16| {
+            let low = (a.min(b) - r).floor() - 1.0;
+            let high = (a.max(b) + r).ceil() + 1.0;
             (low.max(0.0) as usize, (high as usize).min(len as usize - 1))
         };
-        let ((x0, x1), (y0, y1)) = (span(centre.0, self.width), span(centre.1, self.height));
+        let ((x0, x1), (y0, y1)) = (
+            span(old.0, new.0, self.width),
+            span(old.1, new.1, self.height),
+        );
         let width = self.width as usize;
         for y in y0..=y1 {
-            self.labels[y * width + x0..=y * width + x1].fill(UNKNOWN);
+            let py = y as f64;
+            let dy2_new = (py - new.1) * (py - new.1);
+            let dy2_old = (py - old.1) * (py - old.1);
+            let row = &mut self.labels[y * width + x0..=y * width + x1];
+            for (x, label) in (x0..).zip(row) {
+                let px = x as f64;
+                let d2_new = (px - new.0) * (px - new.0) + dy2_new;
+                let d2_old = (px - old.0) * (px - old.0) + dy2_old;
+                let inside_new = d2_new <= r * r;
+                let still_true = if *label == t {
+                    inside_new && d2_new <= d2_old
+                } else {
+                    !inside_new
+                };
+                if !still_true {
+                    *label = UNKNOWN;
+                }
+            }
         }
     }
 
@@ -206,9 +235,7 @@ impl ReceptiveFields {
         if collides || !p.0.is_finite() || !p.1.is_finite() {
             return false;
         }
-        // Only pixels inside the old or the new disc can change hands.
-        self.forget_labels_around(self.centres[t]);
-        self.forget_labels_around(p);
+        self.relabel_after_move(t as u16, self.centres[t], p);
         self.centres[t] = p;
         true
     }
@@ -271,6 +298,35 @@ mod tests {
             }
         }
         best.map(|(_, t)| t)
+    }
+
+    /// The relabelling rules do not rely on the spacing that `move_centre` keeps: with centres
+    /// forced into overlapping discs, a taxel moving away from a pixel that another disc also
+    /// holds loses it.
+    #[test]
+    fn relabelling_is_exact_for_overlapping_discs_too() {
+        let layout = TaxelLayout::new(vec![(50.0, 50.0), (70.0, 50.0)]);
+        let mut fields = ReceptiveFields::new(&layout, 6.0, 20.0, 240, 180).unwrap();
+        fields.centres[1] = (57.0, 50.0);
+        let check_all = |fields: &mut ReceptiveFields| {
+            for y in 40..60 {
+                for x in 40..70 {
+                    assert_eq!(
+                        fields.assign_cached(x, y),
+                        brute_force(fields, x, y),
+                        "({x}, {y})"
+                    );
+                }
+            }
+        };
+        check_all(&mut fields);
+        assert_eq!(fields.assign_cached(53, 50), Some(0));
+        // Taxel 0 moves 2 px left: pixel 53 is still inside its disc (5 px) but taxel 1 (4 px)
+        // is now nearer.
+        fields.relabel_after_move(0, (50.0, 50.0), (48.0, 50.0));
+        fields.centres[0] = (48.0, 50.0);
+        assert_eq!(fields.assign_cached(53, 50), Some(1));
+        check_all(&mut fields);
     }
 
     /// Integer moves around home (often landing exactly 2·r from a neighbour, so pixels tie),
