@@ -35,19 +35,31 @@ const MAX_WINDOW_US: i64 = 100_000_000;
 
 /// dv-processing's background-activity filter (see the module docs).
 ///
-/// The time surface stores `i32` times relative to a base that follows the stream (moved every
-/// ~9 minutes of event time, cells saturating at "never"), half the memory of `i64` times, so
-/// the 8-neighbour reads stay in cache; the decisions are those of the `i64` definition.
+/// Besides the time surface `T` it keeps, per pixel, the time until which an event there is
+/// supported: `S[p] = max over p's neighbours n of T[n] + window`, so step 1 is `t < S[p]`, one
+/// read. While time does not decrease, an event at `p` raises `S` of its 8 neighbours to
+/// `t + window` (8 stores, no reads); an event earlier than the latest one recomputes those 8
+/// cells from `T` (slow, exact). Both maps store `i32` times relative to a base that follows the
+/// stream (moved every ~9 minutes of event time, cells saturating at "never"), half the memory
+/// of `i64` times. The decisions are those of the `i64` definition for timestamps ≥ 0 that never
+/// fall more than 2²⁹ µs (~9 minutes) behind the latest one; a larger step back saturates
+/// future cells, as a negative first timestamp moves the zero start to it.
 #[derive(Debug, Clone)]
 pub struct BackgroundActivityFilter {
     width: u16,
     height: u16,
     window_us: i64,
     start: MapStart,
-    /// Time surface with a one-pixel border that never supports: `(width + 2) × (height + 2)`,
-    /// times relative to `base_us` (`None` before the first event).
-    map: Vec<i32>,
+    /// Time surface `T` with a one-pixel border that never supports: `(width + 2) × (height +
+    /// 2)`, times relative to `base_us`. The border is never written.
+    last: Vec<i32>,
+    /// `S` on the same grid and base; its border cells are written (by events next to the edge)
+    /// but never read.
+    support_until: Vec<i32>,
+    /// `None` before the first event.
     base_us: Option<i64>,
+    /// The latest event time so far (`i64::MIN` before the first event).
+    latest_us: i64,
     index: u64,
 }
 
@@ -66,15 +78,16 @@ impl BackgroundActivityFilter {
                 expected: "> 0 and ≤ 10⁸ (100 s)",
             });
         }
-        let stride = width as usize + 2;
-        let map = vec![NEVER_REL; stride * (height as usize + 2)];
+        let cells = (width as usize + 2) * (height as usize + 2);
         Ok(Self {
             width,
             height,
             window_us,
             start,
-            map,
+            last: vec![NEVER_REL; cells],
+            support_until: vec![NEVER_REL; cells],
             base_us: None,
+            latest_us: i64::MIN,
             index: 0,
         })
     }
@@ -91,28 +104,42 @@ impl BackgroundActivityFilter {
 }
 
 impl BackgroundActivityFilter {
-    /// Moves the base to `t_us`: every cell is re-expressed relative to it, saturating at never.
+    /// The grid's row stride (the sensor width plus the two border columns).
+    #[inline]
+    fn stride(&self) -> usize {
+        self.width as usize + 2
+    }
+
+    /// Moves the base to `t_us`: every cell is re-expressed relative to it, saturating at never
+    /// (and, for a base moved back in time, at a future no event before the next move reaches).
     /// At the first event this also lays down the zero start (`MapStart::Zero`).
     #[cold]
     fn rebase(&mut self, t_us: i64) {
-        let stride = self.width as usize + 2;
+        let (stride, width) = (self.stride(), self.width as usize);
+        let w = self.window_us as i32;
+        let interior = |y: usize| (y + 1) * stride + 1..(y + 1) * stride + 1 + width;
         match self.base_us {
             None => {
                 if self.start == MapStart::Zero {
                     let zero = (0 - t_us).clamp(NEVER_REL as i64, 0) as i32;
+                    // Every pixel has a neighbour inside the array unless the array is 1 × 1.
+                    let has_neighbour = self.width as usize * self.height as usize > 1;
+                    let support = if has_neighbour { zero + w } else { NEVER_REL };
                     for y in 0..self.height as usize {
-                        self.map[(y + 1) * stride + 1..(y + 1) * stride + 1 + self.width as usize]
-                            .fill(zero);
+                        self.last[interior(y)].fill(zero);
+                        self.support_until[interior(y)].fill(support);
                     }
                 }
             }
             Some(old) => {
                 let shift = t_us - old;
+                let shifted = |c: i32, high: i64| (c as i64 - shift).clamp(NEVER_REL as i64, high);
                 for y in 0..self.height as usize {
-                    for c in &mut self.map
-                        [(y + 1) * stride + 1..(y + 1) * stride + 1 + self.width as usize]
-                    {
-                        *c = (*c as i64 - shift).clamp(NEVER_REL as i64, REBASE_AT) as i32;
+                    for c in &mut self.last[interior(y)] {
+                        *c = shifted(*c, REBASE_AT) as i32;
+                    }
+                    for c in &mut self.support_until[interior(y)] {
+                        *c = shifted(*c, REBASE_AT + MAX_WINDOW_US) as i32;
                     }
                 }
             }
@@ -120,30 +147,71 @@ impl BackgroundActivityFilter {
         self.base_us = Some(t_us);
     }
 
+    /// Recomputes `S` of the pixels around cell `c` from `T` (an event earlier than the latest
+    /// one: its neighbours' supports need not be its own time).
+    #[cold]
+    fn recompute_support_around(&mut self, c: usize) {
+        let stride = self.stride();
+        let w = self.window_us as i32;
+        let (x, y) = (c % stride, c / stride);
+        for ny in y - 1..=y + 1 {
+            for nx in x - 1..=x + 1 {
+                let interior = (1..=self.width as usize).contains(&nx)
+                    && (1..=self.height as usize).contains(&ny);
+                if (nx, ny) == (x, y) || !interior {
+                    continue;
+                }
+                let n = ny * stride + nx;
+                let newest = [
+                    n - stride - 1,
+                    n - stride,
+                    n - stride + 1,
+                    n - 1,
+                    n + 1,
+                    n + stride - 1,
+                    n + stride,
+                    n + stride + 1,
+                ]
+                .into_iter()
+                .map(|m| self.last[m])
+                .max()
+                .expect("eight neighbours");
+                // `NEVER_REL + w` still supports nothing: every relative time is ≥ −2²⁹.
+                self.support_until[n] = newest + w;
+            }
+        }
+    }
+
     /// The filter's decision for an event already known to be inside the sensor; updates the
-    /// time surface.
-    #[inline]
-    pub(crate) fn support_and_update(&mut self, t: i64, x: u16, y: u16) -> bool {
-        let mut rel = t - self.base_us.unwrap_or(i64::MIN / 4);
+    /// time surface. Always inlined: the call would cost as much as the work.
+    #[inline(always)]
+    pub(crate) fn support_and_update(&mut self, t_us: i64, x: u16, y: u16) -> bool {
+        let mut rel = t_us - self.base_us.unwrap_or(i64::MIN / 4);
         if !(-REBASE_AT..=REBASE_AT).contains(&rel) {
-            self.rebase(t);
+            self.rebase(t_us);
             rel = 0;
         }
         let t = rel as i32;
-        let stride = self.width as usize + 2;
+        let stride = self.stride();
         let c = (y as usize + 1) * stride + x as usize + 1;
-        let w = self.window_us as i32;
-        let m = &self.map;
-        // All eight tests, no early exit: cheaper than branching on random data.
-        let support = (t - m[c - stride - 1] < w)
-            | (t - m[c - stride] < w)
-            | (t - m[c - stride + 1] < w)
-            | (t - m[c - 1] < w)
-            | (t - m[c + 1] < w)
-            | (t - m[c + stride - 1] < w)
-            | (t - m[c + stride] < w)
-            | (t - m[c + stride + 1] < w);
-        self.map[c] = t;
+        // t − T[n] < w for some neighbour n  ⇔  t < max T[n] + w = S[c] (no overflow: |t| ≤ 2²⁹).
+        let support = t < self.support_until[c];
+        self.last[c] = t;
+        if t_us >= self.latest_us {
+            self.latest_us = t_us;
+            let s = t + self.window_us as i32;
+            let around = &mut self.support_until[c - stride - 1..=c + stride + 1];
+            around[0] = s;
+            around[1] = s;
+            around[2] = s;
+            around[stride] = s;
+            around[stride + 2] = s;
+            around[2 * stride] = s;
+            around[2 * stride + 1] = s;
+            around[2 * stride + 2] = s;
+        } else {
+            self.recompute_support_around(c);
+        }
         support
     }
 }
@@ -164,8 +232,13 @@ mod tests {
     use neurotac_core::Timestamp;
 
     /// The definition, with `i64` times and no rebasing.
-    fn reference(events: &[(i64, u16, u16)], window: i64, start: MapStart) -> Vec<bool> {
-        let (w, h) = (16usize, 12usize);
+    fn reference(
+        events: &[(i64, u16, u16)],
+        window: i64,
+        start: MapStart,
+        w: usize,
+        h: usize,
+    ) -> Vec<bool> {
         let mut map = vec![
             if start == MapStart::Zero {
                 0
@@ -234,12 +307,61 @@ mod tests {
                         .collect();
                     assert_eq!(
                         ours,
-                        reference(&events, window, start),
+                        reference(&events, window, start, 16, 12),
                         "origin {origin}, {start:?}, {window} µs"
                     );
                 }
             }
         }
         assert!(BackgroundActivityFilter::new(16, 12, 100_000_001, MapStart::Zero).is_err());
+    }
+
+    /// `retain` does not require ordered input: times that step back (by up to ~8 minutes)
+    /// take the slow path and still give the definition's decisions, also across rebases.
+    #[test]
+    fn times_going_back_equal_the_i64_definition() {
+        let mut state = 987654321u64;
+        let mut next = || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            state >> 33
+        };
+        for (w, h) in [(16u16, 12u16), (1, 1), (1, 5), (7, 1)] {
+            let mut t = 1_000_000i64;
+            let events: Vec<(i64, u16, u16)> = (0..20_000)
+                .map(|i| {
+                    // Back by up to ~8 minutes, then ahead of the latest time by ≥ 8 minutes.
+                    let step = match i % 1009 {
+                        0 => -((next() % 500_000_000) as i64),
+                        500 => 500_000_000 + (next() % 2_000_000_000) as i64,
+                        _ => (next() % 3000) as i64 - 600,
+                    };
+                    // Times stay ≥ 0 (the zero start treats negative times differently).
+                    t = (t + step).max(0);
+                    (t, (next() % w as u64) as u16, (next() % h as u64) as u16)
+                })
+                .collect();
+            for start in [MapStart::Zero, MapStart::Empty] {
+                for window in [1, 2000, 100_000_000] {
+                    let mut f = BackgroundActivityFilter::new(w, h, window, start).unwrap();
+                    let ours: Vec<bool> = events
+                        .iter()
+                        .map(|&(t, x, y)| {
+                            f.retain(Event {
+                                t: Timestamp(t),
+                                x,
+                                y,
+                                polarity: true,
+                            })
+                            .unwrap()
+                        })
+                        .collect();
+                    let truth = reference(&events, window, start, w as usize, h as usize);
+                    let first_difference = (0..events.len()).find(|&i| ours[i] != truth[i]);
+                    assert_eq!(first_difference, None, "{w} × {h}, {start:?}, {window} µs");
+                }
+            }
+        }
     }
 }

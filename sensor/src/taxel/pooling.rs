@@ -26,12 +26,14 @@ pub struct TaxelEvent {
     pub t_us: f64,
 }
 
+/// A taxel's sums over the open window, all exact in integers (the means divide once, at the
+/// close).
 #[derive(Debug, Clone, Copy, Default)]
 struct Sums {
     count: u32,
-    x: f64,
-    y: f64,
-    /// Σ (t − window start), exact in integers.
+    x: u64,
+    y: u64,
+    /// Σ (t − window start).
     t: i64,
 }
 
@@ -42,6 +44,8 @@ pub struct TaxelPooling {
     min_events: u32,
     origin_us: Option<i64>,
     current: Option<u64>,
+    /// Start of the open window (µs; meaningless while none is open).
+    start_us: i64,
     sums: Vec<Sums>,
     touched: Vec<u16>,
     index: u64,
@@ -75,6 +79,7 @@ impl TaxelPooling {
             min_events,
             origin_us,
             current: None,
+            start_us: 0,
             sums: vec![Sums::default(); n_taxels],
             touched: Vec::new(),
             index: 0,
@@ -118,22 +123,28 @@ impl TaxelPooling {
     ) -> Result<i64, TransductionError> {
         let w = self.window_of(t_us)?;
         self.close(out);
+        self.open(w);
+        Ok(self.start_us + self.window_us)
+    }
+
+    /// Opens window `w` (the origin is known).
+    fn open(&mut self, w: u64) {
         self.current = Some(w);
-        Ok(self.origin_us.unwrap_or(0) + (w as i64 + 1) * self.window_us)
+        self.start_us = self.origin_us.unwrap_or(0) + w as i64 * self.window_us;
     }
 
     /// Adds an event of the open window (the caller guarantees it belongs there).
     #[inline]
     pub(crate) fn accumulate(&mut self, taxel: u16, t_us: i64, x: u16, y: u16) {
-        let w = self.current.expect("a window is open");
+        debug_assert!(self.current.is_some(), "a window is open");
         let s = &mut self.sums[taxel as usize];
         if s.count == 0 {
             self.touched.push(taxel);
         }
         s.count += 1;
-        s.x += x as f64;
-        s.y += y as f64;
-        s.t += t_us - (self.origin_us.unwrap_or(0) + w as i64 * self.window_us);
+        s.x += x as u64;
+        s.y += y as u64;
+        s.t += t_us - self.start_us;
     }
 
     /// Adds one labelled event (its window must not be earlier than the open one); a later
@@ -156,7 +167,7 @@ impl TaxelPooling {
             }
             _ => {
                 self.close(out);
-                self.current = Some(w);
+                self.open(w);
             }
         }
         self.accumulate(e.taxel, e.event.t.0, e.event.x, e.event.y);
@@ -166,7 +177,7 @@ impl TaxelPooling {
     /// Closes the open window (if any) into `out`, taxels in index order.
     pub fn close(&mut self, out: &mut Vec<TaxelEvent>) {
         let Some(w) = self.current.take() else { return };
-        let start = self.origin_us.unwrap_or(0) + w as i64 * self.window_us;
+        let start = self.start_us;
         self.touched.sort_unstable();
         for &t in &self.touched {
             let s = std::mem::take(&mut self.sums[t as usize]);
@@ -176,8 +187,9 @@ impl TaxelPooling {
                     taxel: t,
                     window: w,
                     count: s.count,
-                    x: s.x / n,
-                    y: s.y / n,
+                    // Sums below 2⁵³ convert exactly: the means are those of f64 sums.
+                    x: s.x as f64 / n,
+                    y: s.y as f64 / n,
                     t_us: start as f64 + s.t as f64 / n,
                 });
             }

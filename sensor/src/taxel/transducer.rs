@@ -179,7 +179,7 @@ impl Transducer {
                     self.update.apply(&self.closed, &mut self.fields);
                     self.taxel_events.append(&mut self.closed);
                 }
-                if let Some(taxel) = self.fields.assign(x, y) {
+                if let Some(taxel) = self.fields.assign_cached(x, y) {
                     counts.in_fields += 1;
                     self.pooling.accumulate(taxel, t, x, y);
                 }
