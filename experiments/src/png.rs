@@ -35,11 +35,28 @@ impl Default for PngRenderer {
 }
 
 impl PngRenderer {
-    /// A renderer with the machine's fonts (a sans-serif family is the default).
+    /// A renderer with the machine's fonts; the figures' `sans-serif` is the first of a few
+    /// common sans-serif families that is installed, else any installed family.
     pub fn new() -> Self {
         let mut options = usvg::Options::default();
-        options.fontdb_mut().load_system_fonts();
-        options.font_family = "DejaVu Sans".into();
+        let db = options.fontdb_mut();
+        db.load_system_fonts();
+        let installed = |name: &str| {
+            db.faces()
+                .any(|face| face.families.iter().any(|(family, _)| family == name))
+        };
+        let family = ["DejaVu Sans", "Liberation Sans", "Arial", "Helvetica", "Noto Sans"]
+            .into_iter()
+            .find(|f| installed(f))
+            .map(str::to_owned)
+            .or_else(|| {
+                db.faces()
+                    .find_map(|face| face.families.first().map(|(family, _)| family.clone()))
+            });
+        if let Some(family) = family {
+            db.set_sans_serif_family(&family);
+            options.font_family = family;
+        }
         Self { options }
     }
 
