@@ -100,28 +100,6 @@ pub fn spike_train_figure(trains: &MultiSpikeTrain, title: &str, window_s: f64) 
     )
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn figures_show_every_spike_and_the_rolling_mean() {
-        let trains =
-            MultiSpikeTrain::from_channels(vec![vec![0.01, 0.5], vec![], vec![0.2]]).unwrap();
-        let raster = raster_chart(&trains, "t");
-        assert_eq!(
-            raster.series[0].points,
-            vec![(0.01, 0.0), (0.5, 0.0), (0.2, 2.0)]
-        );
-        let temporal = temporal_chart(&trains, 0.1, "t");
-        // Window [0.2, 0.3) holds one spike of three taxels.
-        assert_eq!(temporal.series[0].points[200], (0.2, 1.0 / 3.0));
-        let svg = spike_train_figure(&trains, "3 taxels", 0.1);
-        assert!(svg.matches("<line x1").count() >= 3);
-        assert!(svg.contains("spatial distribution") && svg.contains("temporal distribution"));
-    }
-}
-
 /// A confusion matrix as an SVG heat map (rows: true class, columns: predicted; cell shade ∝
 /// the fraction of the row's samples, count printed in each non-empty cell), like the paper's
 /// confusion-matrix figures.
@@ -202,4 +180,37 @@ pub fn confusion_figure(counts: &[Vec<usize>], class_names: &[String], title: &s
     );
     svg.push('\n');
     svg
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn figures_show_every_spike_and_the_rolling_mean() {
+        let trains =
+            MultiSpikeTrain::from_channels(vec![vec![0.01, 0.5], vec![], vec![0.2]]).unwrap();
+        let raster = raster_chart(&trains, "t");
+        assert_eq!(
+            raster.series[0].points,
+            vec![(0.01, 0.0), (0.5, 0.0), (0.2, 2.0)]
+        );
+        let temporal = temporal_chart(&trains, 0.1, "t");
+        // Window [0.2, 0.3) holds one spike of three taxels.
+        assert_eq!(temporal.series[0].points[200], (0.2, 1.0 / 3.0));
+        let svg = spike_train_figure(&trains, "3 taxels", 0.1);
+        assert!(svg.matches("<line x1").count() >= 3);
+        assert!(svg.contains("spatial distribution") && svg.contains("temporal distribution"));
+    }
+
+    #[test]
+    fn confusion_figure_draws_one_cell_per_pair_and_prints_the_counts() {
+        let names = vec!["a<b".to_owned(), "c".to_owned()];
+        let svg = confusion_figure(&[vec![3, 1], vec![0, 4]], &names, "t & u");
+        assert_eq!(svg.matches("<rect x=").count(), 4);
+        assert!(svg.contains(">3</text>") && svg.contains(">4</text>"));
+        // Empty cells print nothing; text is escaped.
+        assert!(!svg.contains(">0</text>"));
+        assert!(svg.contains("a&lt;b") && svg.contains("t &amp; u"));
+    }
 }

@@ -45,14 +45,20 @@ impl PngRenderer {
             db.faces()
                 .any(|face| face.families.iter().any(|(family, _)| family == name))
         };
-        let family = ["DejaVu Sans", "Liberation Sans", "Arial", "Helvetica", "Noto Sans"]
-            .into_iter()
-            .find(|f| installed(f))
-            .map(str::to_owned)
-            .or_else(|| {
-                db.faces()
-                    .find_map(|face| face.families.first().map(|(family, _)| family.clone()))
-            });
+        let family = [
+            "DejaVu Sans",
+            "Liberation Sans",
+            "Arial",
+            "Helvetica",
+            "Noto Sans",
+        ]
+        .into_iter()
+        .find(|f| installed(f))
+        .map(str::to_owned)
+        .or_else(|| {
+            db.faces()
+                .find_map(|face| face.families.first().map(|(family, _)| family.clone()))
+        });
         if let Some(family) = family {
             db.set_sans_serif_family(&family);
             options.font_family = family;
