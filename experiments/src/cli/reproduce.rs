@@ -19,7 +19,7 @@ use neurotac_experiments::timing::timed;
 use neurotac_sensor::filter::MapStart;
 use neurotac_sensor::sim::SimParams;
 use neurotac_sensor::taxel::{TaxelLayout, TransductionConfig};
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::sync::Mutex;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -201,51 +201,73 @@ pub fn run(args: ReproduceArgs) -> anyhow::Result<()> {
         AfferentArg::Lif => AfferentConfig::lif(),
         AfferentArg::Izhikevich => AfferentConfig::izhikevich(),
     });
-    let bars = Bars::new();
-    let (sets, time) = timed(|| {
-        with_threads(args.threads, || -> anyhow::Result<Vec<SetReport>> {
-            let mut sets = Vec::new();
-            for source in &sources {
-                let set = run_source(
-                    source, trials, args.seed, &params, &cache, &config, afferents, &bars,
-                )?;
-                print_set(&set);
-                sets.push(set);
-            }
-            Ok(sets)
-        })
-    });
-    let sets = sets??;
-    let report = Report {
-        command,
-        version: env!("CARGO_PKG_VERSION").to_owned(),
+    let context = RunContext {
+        trials,
         seed: args.seed,
-        sets,
-        time,
+        params,
+        cache,
+        config,
+        afferents,
+        bars: Bars::new(),
     };
-    bars.stage("writing the report (SVG, PNG, CSV, JSON, Markdown)", 0);
-    let written = write_report(&args.out, &report, args.force);
-    bars.finish();
+    let (written, total) = timed(|| -> anyhow::Result<()> {
+        let (sets, time) = timed(|| {
+            with_threads(args.threads, || -> anyhow::Result<Vec<SetReport>> {
+                let mut sets = Vec::new();
+                for source in &sources {
+                    let set = run_source(source, &context)?;
+                    print_set(&set);
+                    sets.push(set);
+                }
+                Ok(sets)
+            })
+        });
+        let report = Report {
+            command,
+            version: env!("CARGO_PKG_VERSION").to_owned(),
+            seed: args.seed,
+            sets: sets??,
+            time,
+        };
+        context
+            .bars
+            .stage("writing the report (SVG, PNG, CSV, JSON, Markdown)", 0);
+        let written = write_report(&args.out, &report, args.force);
+        context.bars.finish();
+        Ok(written?)
+    });
     written?;
     println!(
         "report: {} (report.md, report.json, CSV tables, SVG and PNG figures)",
         args.out.display()
     );
-    println!("total: {time}");
+    println!("total: {total}");
     Ok(())
 }
 
-#[allow(clippy::too_many_arguments)]
-fn run_source(
-    source: &Source,
+/// What every set of a run shares.
+struct RunContext {
+    /// Slides per texture (`None`: the paper's).
     trials: Option<usize>,
     seed: u64,
-    params: &SimParams,
-    cache: &Path,
-    config: &PipelineConfig,
+    params: SimParams,
+    cache: PathBuf,
+    config: PipelineConfig,
     afferents: Option<AfferentConfig>,
-    bars: &Bars,
-) -> anyhow::Result<SetReport> {
+    bars: Bars,
+}
+
+fn run_source(source: &Source, context: &RunContext) -> anyhow::Result<SetReport> {
+    let RunContext {
+        trials,
+        seed,
+        params,
+        cache,
+        config,
+        afferents,
+        bars,
+    } = context;
+    let (trials, seed, afferents) = (*trials, *seed, *afferents);
     let (loaded, dataset_time) = timed(|| -> anyhow::Result<(String, String, SpikeDataset)> {
         match source {
             Source::Simulated(set) => {

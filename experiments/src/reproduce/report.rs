@@ -84,7 +84,7 @@ pub struct Report {
     pub seed: u64,
     /// The sets, in run order.
     pub sets: Vec<SetReport>,
-    /// Wall and CPU time of the whole run.
+    /// Wall and CPU time of the datasets and pipelines (writing the report not included).
     pub time: Timing,
 }
 
