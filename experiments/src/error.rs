@@ -23,7 +23,7 @@ pub enum ExperimentError {
     Knn(#[from] KnnError),
     /// A stratified split would leave a class out of the training or the test set.
     #[error(
-        "class {class} has {samples} sample(s): a {percent}/{rest} split needs every class in both the training and the test set (use leave-one-out, which is defined for any class size)",
+        "class {class} has {samples} sample(s): the {percent}/{rest} split needs every class in both the training and the test set (use leave-one-out, which is defined for any class size)",
         percent = 100.0 - 100.0 * test_fraction,
         rest = 100.0 * test_fraction
     )]
