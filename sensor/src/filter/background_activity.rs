@@ -268,6 +268,22 @@ mod tests {
             .collect()
     }
 
+    /// `f`'s decision for each `(t, x, y)`.
+    fn decisions(mut f: BackgroundActivityFilter, events: &[(i64, u16, u16)]) -> Vec<bool> {
+        events
+            .iter()
+            .map(|&(t, x, y)| {
+                f.retain(Event {
+                    t: Timestamp(t),
+                    x,
+                    y,
+                    polarity: true,
+                })
+                .unwrap()
+            })
+            .collect()
+    }
+
     #[test]
     fn relative_time_surface_equals_the_i64_definition_across_rebases() {
         // Dense bursts separated by jumps of up to ~40 minutes, from two time origins.
@@ -292,19 +308,8 @@ mod tests {
                 .collect();
             for start in [MapStart::Zero, MapStart::Empty] {
                 for window in [1, 2000, 5000, 100_000_000] {
-                    let mut f = BackgroundActivityFilter::new(16, 12, window, start).unwrap();
-                    let ours: Vec<bool> = events
-                        .iter()
-                        .map(|&(t, x, y)| {
-                            f.retain(Event {
-                                t: Timestamp(t),
-                                x,
-                                y,
-                                polarity: true,
-                            })
-                            .unwrap()
-                        })
-                        .collect();
+                    let f = BackgroundActivityFilter::new(16, 12, window, start).unwrap();
+                    let ours = decisions(f, &events);
                     assert_eq!(
                         ours,
                         reference(&events, window, start, 16, 12),
@@ -344,19 +349,8 @@ mod tests {
                 .collect();
             for start in [MapStart::Zero, MapStart::Empty] {
                 for window in [1, 2000, 100_000_000] {
-                    let mut f = BackgroundActivityFilter::new(w, h, window, start).unwrap();
-                    let ours: Vec<bool> = events
-                        .iter()
-                        .map(|&(t, x, y)| {
-                            f.retain(Event {
-                                t: Timestamp(t),
-                                x,
-                                y,
-                                polarity: true,
-                            })
-                            .unwrap()
-                        })
-                        .collect();
+                    let f = BackgroundActivityFilter::new(w, h, window, start).unwrap();
+                    let ours = decisions(f, &events);
                     let truth = reference(&events, window, start, w as usize, h as usize);
                     let first_difference = (0..events.len()).find(|&i| ours[i] != truth[i]);
                     assert_eq!(first_difference, None, "{w} × {h}, {start:?}, {window} µs");
