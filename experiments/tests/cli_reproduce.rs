@@ -92,12 +92,19 @@ fn a_small_run_prints_the_tables_and_writes_the_whole_report() {
         .collect();
     assert!(leftovers.is_empty(), "{leftovers:?}");
 
-    // The same seed gives the same numbers (the cached dataset is reused).
+    // The same seed gives the same numbers on one thread (the cached dataset is reused).
     let again = dir.join("again");
-    let (ok, stdout2, stderr) = small_run(&again, &cache, &[]);
+    let (ok, stdout2, stderr) = small_run(&again, &cache, &["--threads", "1"]);
     assert!(ok, "{stderr}");
     let table = |s: &str| -> String { s.lines().filter(|l| l.starts_with('|')).collect() };
     assert_eq!(table(&stdout), table(&stdout2));
+    let numbers = |dir: &Path| std::fs::read_to_string(dir.join("accuracy.csv")).unwrap();
+    let without_time = |csv: String| -> Vec<String> {
+        csv.lines()
+            .map(|l| l.rsplit_once(',').map_or(l, |(head, _)| head).to_owned())
+            .collect()
+    };
+    assert_eq!(without_time(numbers(&out)), without_time(numbers(&again)));
 
     // An existing report folder is refused without --force, and kept as it was.
     let before = std::fs::read_to_string(out.join("report.json")).unwrap();

@@ -61,7 +61,7 @@ pub struct ReproduceArgs {
     #[arg(long)]
     trials: Option<usize>,
     /// Run on a recorded dataset instead: one folder per texture class, one event file per
-    /// slide (AEDAT 2/3.1/4, ECD text or CSV).
+    /// slide (AEDAT 2/3.1/4, ECD text or CSV); --set, --trials and --params then do not apply.
     #[arg(long)]
     dataset: Option<PathBuf>,
     /// Replace an existing report folder.
