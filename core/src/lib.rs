@@ -15,6 +15,7 @@
 //! | the paper's four codings (readouts, or direct on trains) | [`coding`]: [`IntensiveCoding`], [`SpatialCoding`], [`TemporalCoding`], [`SpatiotemporalCoding`] |
 //! | distances and N×N matrices | [`distance`]: Euclidean, exact multi-unit [`VanRossum`], trace-sampled |
 //! | the KNN head | [`knn`]: [`Knn`] (leave-one-out in one pass, documented tie rules) |
+//! | special functions | [`special`]: `erfc` |
 //! | errors | [`SpikeError`], [`DatasetError`], [`GraphError`], [`ModelError`], [`CodingError`], [`DistanceError`], [`KnnError`], [`CoreError`] |
 //!
 //! Data flows one way through neurotac: sensor → core graph → readouts → experiments. Neuron
@@ -38,6 +39,7 @@ pub mod event;
 pub mod graph;
 pub mod knn;
 pub mod model;
+pub mod special;
 pub mod spikes;
 pub mod time;
 

@@ -1,11 +1,10 @@
 //! Recorded datasets (`neurotac_experiments::recorded`): tiny folders of synthetic event files
 //! in every format, and every way a folder can be wrong.
 
-use neurotac_core::{Event, EventBuffer, Timestamp};
+use neurotac_core::{Event, EventBuffer, Timestamp, error_chain};
 use neurotac_experiments::recorded::{RecordedDataset, RecordedError, load_recorded};
 use neurotac_sensor::format::{Compression, Format, to_bytes, write_file};
 use neurotac_sensor::taxel::{TaxelLayout, TransductionConfig};
-use std::error::Error;
 use std::path::Path;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
@@ -38,17 +37,6 @@ fn load(dir: &Path) -> Result<RecordedDataset, RecordedError> {
         TransductionConfig::default(),
         |_, _| {},
     )
-}
-
-/// The whole error chain as one line.
-fn chain(e: &dyn Error) -> String {
-    let mut s = e.to_string();
-    let mut source = e.source();
-    while let Some(inner) = source {
-        s += &format!(": {inner}");
-        source = inner.source();
-    }
-    s
 }
 
 /// An AEDAT 4.0 file whose header states a 346 × 260 sensor.
@@ -192,13 +180,17 @@ fn a_corrupt_file_is_named_with_the_format_error_chained() {
         matches!(&e, RecordedError::Read { path, .. } if path.ends_with("b/2.aedat4")),
         "{e}"
     );
-    let message = chain(&e);
+    let message = error_chain(&e);
     assert!(message.contains("not an event file"), "{message}");
     // A truncated AEDAT 4.0 file fails while reading its events, not only at its header.
     let bytes = to_bytes(&clustered(1), Format::Aedat4(Compression::Lz4)).unwrap();
     std::fs::write(dir.path().join("b/2.aedat4"), &bytes[..bytes.len() / 2]).unwrap();
     let e = load(dir.path()).unwrap_err();
-    assert!(matches!(e, RecordedError::Read { .. }), "{}", chain(&e));
+    assert!(
+        matches!(e, RecordedError::Read { .. }),
+        "{}",
+        error_chain(&e)
+    );
 }
 
 #[test]
@@ -304,9 +296,9 @@ fn events_going_back_in_time_are_a_transduction_error_naming_the_file() {
         "{e}"
     );
     assert!(
-        chain(&e).contains("earlier than the previous"),
+        error_chain(&e).contains("earlier than the previous"),
         "{}",
-        chain(&e)
+        error_chain(&e)
     );
 }
 

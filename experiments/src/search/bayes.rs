@@ -21,6 +21,7 @@
 use crate::error::ExperimentError;
 use crate::protocols::Accuracy;
 use neurotac_core::distance::{VanRossum, VanRossumMatrices};
+use neurotac_core::special::erfc;
 use neurotac_core::{Knn, MultiSpikeTrain};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -141,22 +142,6 @@ fn check(config: &BayesConfig) -> Result<(), ExperimentError> {
         return bad("epochs/initial", 0.0, "≥ 1");
     }
     Ok(())
-}
-
-/// `erfc(x)` (Numerical Recipes' Chebyshev fit, fractional error < 1.2·10⁻⁷).
-fn erfc(x: f64) -> f64 {
-    let z = x.abs();
-    let t = 1.0 / (1.0 + 0.5 * z);
-    let poly = -z * z - 1.265_512_23
-        + t * (1.000_023_68
-            + t * (0.374_091_96
-                + t * (0.096_784_18
-                    + t * (-0.186_288_06
-                        + t * (0.278_868_07
-                            + t * (-1.135_203_98
-                                + t * (1.488_515_87 + t * (-0.822_152_23 + t * 0.170_872_77))))))));
-    let r = t * poly.exp();
-    if x >= 0.0 { r } else { 2.0 - r }
 }
 
 /// Expected improvement of a normal `(mean, sd)` over `best + xi` (maximisation).

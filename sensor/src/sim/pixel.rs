@@ -39,6 +39,7 @@
 
 use super::camera::Camera;
 use super::params::SimParams;
+use neurotac_core::special::erfc;
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -90,24 +91,6 @@ struct Tables {
 
 const COVERAGE_ENTRIES: usize = 4096;
 const LOG_ENTRIES: usize = 2048;
-
-/// erfc with |error| < 1.2·10⁻⁷ (Numerical Recipes' Chebyshev fit).
-fn erfc(x: f64) -> f64 {
-    let z = x.abs();
-    let t = 1.0 / (1.0 + 0.5 * z);
-    let r = t
-        * (-z * z - 1.265_512_23
-            + t * (1.000_023_68
-                + t * (0.374_091_96
-                    + t * (0.096_784_18
-                        + t * (-0.186_288_06
-                            + t * (0.278_868_07
-                                + t * (-1.135_203_98
-                                    + t * (1.488_515_87
-                                        + t * (-0.822_152_23 + t * 0.170_872_77)))))))))
-            .exp();
-    if x >= 0.0 { r } else { 2.0 - r }
-}
 
 impl Tables {
     fn new(params: &SimParams) -> Self {
