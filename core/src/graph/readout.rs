@@ -3,7 +3,8 @@
 //! A readout implements [`Readout`]: [`begin`](Readout::begin) once before the first step,
 //! [`on_step`](Readout::on_step) after every step (it may ask the run to stop), and
 //! [`finish`](Readout::finish) when a run ends. The bundled ones are [`SpikeRecorder`],
-//! [`StateRecorder`] and [`SynapticTraceRecorder`]; the codings of the paper are readouts too.
+//! [`StateRecorder`] and [`SynapticTraceRecorder`] (both a [`TraceRecorder`], differing only in
+//! their [`TraceSampler`]); the codings of the paper are readouts too.
 
 use crate::model::{NeuronModel, SpikeBuffer};
 use crate::spikes::MultiSpikeTrain;
@@ -106,23 +107,72 @@ impl Readout for SpikeRecorder {
     }
 }
 
-/// Samples one state variable of chosen neurons every `every_steps` steps, at the end of the
-/// step (time `t_start + dt`).
+/// Records chosen neurons' values at the end of steps (time `t_start + dt`): the scaffolding of
+/// [`StateRecorder`] and [`SynapticTraceRecorder`]; `S` says what is sampled and when.
 #[derive(Debug, Clone)]
-pub struct StateRecorder {
-    variable: usize,
+pub struct TraceRecorder<S> {
+    sampler: S,
     neurons: Vec<u32>,
-    every_steps: u64,
     times: Vec<f64>,
     values: Vec<f64>,
 }
 
-impl StateRecorder {
-    pub(crate) fn new(variable: usize, neurons: Vec<u32>, every_steps: u64) -> Self {
+/// What a [`TraceRecorder`] samples: one value per recorded neuron after a step, or nothing in
+/// a step it skips.
+pub trait TraceSampler: Send + 'static {
+    /// Appends the value of each of `neurons` (in order) after the step `view` to `values` and
+    /// returns `true`, or leaves `values` alone and returns `false` to skip this step.
+    fn sample(&self, view: &StepView<'_>, neurons: &[u32], values: &mut Vec<f64>) -> bool;
+}
+
+/// Samples one state variable of chosen neurons every `every_steps` steps, at the end of the
+/// step (time `t_start + dt`).
+pub type StateRecorder = TraceRecorder<StateSampler>;
+
+/// Records a projection's synaptic currents onto chosen target neurons at the end of every step
+/// (time `t_start + dt`, the current the next step starts from before its own delivery).
+pub type SynapticTraceRecorder = TraceRecorder<SynapticCurrentSampler>;
+
+/// [`StateRecorder`]'s sampler: state variable `variable` of the source population, every
+/// `every_steps` steps (nothing for sources without a population).
+#[derive(Debug, Clone)]
+pub struct StateSampler {
+    variable: usize,
+    every_steps: u64,
+}
+
+impl TraceSampler for StateSampler {
+    fn sample(&self, view: &StepView<'_>, neurons: &[u32], values: &mut Vec<f64>) -> bool {
+        match view.population {
+            Some(p) if (view.step + 1) % self.every_steps == 0 => {
+                p.read_variable(self.variable, neurons, values);
+                true
+            }
+            _ => false,
+        }
+    }
+}
+
+/// [`SynapticTraceRecorder`]'s sampler: a projection's synaptic currents, every step (nothing
+/// for node sources).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct SynapticCurrentSampler;
+
+impl TraceSampler for SynapticCurrentSampler {
+    fn sample(&self, view: &StepView<'_>, neurons: &[u32], values: &mut Vec<f64>) -> bool {
+        let Some(current) = view.synaptic_current else {
+            return false;
+        };
+        values.extend(neurons.iter().map(|&i| current[i as usize]));
+        true
+    }
+}
+
+impl<S> TraceRecorder<S> {
+    fn with_sampler(sampler: S, neurons: Vec<u32>) -> Self {
         Self {
-            variable,
+            sampler,
             neurons,
-            every_steps: every_steps.max(1),
             times: Vec::new(),
             values: Vec::new(),
         }
@@ -155,79 +205,31 @@ impl StateRecorder {
     }
 }
 
-impl Readout for StateRecorder {
-    fn begin(&mut self, _context: &ReadoutContext<'_>) {
-        self.times.clear();
-        self.values.clear();
+impl StateRecorder {
+    pub(crate) fn new(variable: usize, neurons: Vec<u32>, every_steps: u64) -> Self {
+        let sampler = StateSampler {
+            variable,
+            every_steps: every_steps.max(1),
+        };
+        Self::with_sampler(sampler, neurons)
     }
-
-    fn on_step(&mut self, view: &StepView<'_>) -> ControlFlow<()> {
-        if (view.step + 1) % self.every_steps == 0 {
-            if let Some(p) = view.population {
-                self.times.push(view.t_start_s + view.dt_s);
-                p.read_variable(self.variable, &self.neurons, &mut self.values);
-            }
-        }
-        ControlFlow::Continue(())
-    }
-}
-
-/// Records a projection's synaptic currents onto chosen target neurons at the end of every step
-/// (time `t_start + dt`, the current the next step starts from before its own delivery).
-#[derive(Debug, Clone)]
-pub struct SynapticTraceRecorder {
-    neurons: Vec<u32>,
-    times: Vec<f64>,
-    values: Vec<f64>,
 }
 
 impl SynapticTraceRecorder {
     pub(crate) fn new(neurons: Vec<u32>) -> Self {
-        Self {
-            neurons,
-            times: Vec::new(),
-            values: Vec::new(),
-        }
-    }
-
-    /// Sample times (s).
-    pub fn times(&self) -> &[f64] {
-        &self.times
-    }
-
-    /// The recorded target neurons, in column order.
-    pub fn neurons(&self) -> &[u32] {
-        &self.neurons
-    }
-
-    /// Values, row-major as in [`StateRecorder::values`].
-    pub fn values(&self) -> &[f64] {
-        &self.values
-    }
-
-    /// The trace of the `j`-th recorded neuron.
-    pub fn trace(&self, j: usize) -> Vec<f64> {
-        let n = self.neurons.len();
-        self.values
-            .iter()
-            .skip(j)
-            .step_by(n.max(1))
-            .copied()
-            .collect()
+        Self::with_sampler(SynapticCurrentSampler, neurons)
     }
 }
 
-impl Readout for SynapticTraceRecorder {
+impl<S: TraceSampler> Readout for TraceRecorder<S> {
     fn begin(&mut self, _context: &ReadoutContext<'_>) {
         self.times.clear();
         self.values.clear();
     }
 
     fn on_step(&mut self, view: &StepView<'_>) -> ControlFlow<()> {
-        if let Some(current) = view.synaptic_current {
+        if self.sampler.sample(view, &self.neurons, &mut self.values) {
             self.times.push(view.t_start_s + view.dt_s);
-            self.values
-                .extend(self.neurons.iter().map(|&i| current[i as usize]));
         }
         ControlFlow::Continue(())
     }
