@@ -11,7 +11,7 @@
 //! | labelled spike data | [`SpikeDataset`] (JSON and binary) |
 //! | neuron-model interface | [`NeuronModel`], [`SpikeBuffer`] |
 //! | the network graph | [`NetworkBuilder`] → [`Network`], [`ExpSynapse`], [`Connectivity`], [`SpikeArrayInput`], [`PoissonInput`], [`CurrentInput`] |
-//! | readouts (monitors) | [`Readout`], [`SpikeRecorder`], [`StateRecorder`], [`SynapticTraceRecorder`] |
+//! | readouts (monitors) | [`Readout`], [`SpikeRecorder`], [`StateRecorder`], [`SynapticTraceRecorder`] (both a [`TraceRecorder`]) |
 //! | the paper's four codings (readouts, or direct on trains) | [`coding`]: [`IntensiveCoding`], [`SpatialCoding`], [`TemporalCoding`], [`SpatiotemporalCoding`] |
 //! | distances and N×N matrices | [`distance`]: Euclidean, exact multi-unit [`VanRossum`], trace-sampled |
 //! | the KNN head | [`knn`]: [`Knn`] (leave-one-out in one pass, documented tie rules) |
@@ -54,8 +54,8 @@ pub use event::{Event, EventBuffer};
 pub use graph::{
     Connectivity, CurrentInput, ExpSynapse, Network, NetworkBuilder, NetworkConfig, NodeId,
     PoissonInput, ProjectionId, Readout, ReadoutContext, ReadoutId, ReadoutSource, RunSummary,
-    SpikeArrayInput, SpikeRecorder, SpikeSource, StateRecorder, StepView, Synapse,
-    SynapticTraceRecorder,
+    SpikeArrayInput, SpikeRecorder, SpikeSource, StateRecorder, StateSampler, StepView, Synapse,
+    SynapticCurrentSampler, SynapticTraceRecorder, TraceRecorder, TraceSampler,
 };
 pub use knn::Knn;
 pub use model::{NeuronModel, SpikeBuffer};

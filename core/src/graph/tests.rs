@@ -1,5 +1,8 @@
 use super::*;
+use crate::error::GraphError;
+use crate::model::{NeuronModel, SpikeBuffer};
 use crate::{ModelError, MultiSpikeTrain};
+use std::ops::ControlFlow;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicUsize, Ordering};
 

@@ -1,0 +1,425 @@
+//! [`NetworkBuilder`]: the network described node by node, checked, pruned to what the
+//! readouts need and prepared into a [`Network`] (see the [module docs](super)).
+
+use super::ids::{NetworkConfig, NodeId, ProjectionId, ReadoutId, ReadoutSource};
+use super::input::{CurrentInput, SpikeSource};
+use super::network::{Network, RunningKind, RunningNode, RunningSource};
+use super::readout::{Readout, SpikeRecorder, StateRecorder, SynapticTraceRecorder};
+use super::synapse::{Connectivity, ExpSynapse, RunningProjection};
+use crate::error::GraphError;
+use crate::model::{NeuronModel, SpikeBuffer};
+use std::marker::PhantomData;
+
+enum NodeKind {
+    Spikes(Box<dyn SpikeSource>),
+    Current(CurrentInput),
+    Population(Box<dyn NeuronModel>),
+}
+
+impl NodeKind {
+    fn describe(&self) -> &'static str {
+        match self {
+            NodeKind::Spikes(_) => "spike source",
+            NodeKind::Current(_) => "current source",
+            NodeKind::Population(_) => "population",
+        }
+    }
+}
+
+struct NodeSpec {
+    name: String,
+    size: usize,
+    kind: NodeKind,
+}
+
+struct ProjectionSpec {
+    pre: usize,
+    post: usize,
+    connectivity: Connectivity,
+    synapse: ExpSynapse,
+}
+
+/// Describes a network node by node; [`build`](Self::build) checks it and prunes it.
+#[derive(Default)]
+pub struct NetworkBuilder {
+    nodes: Vec<NodeSpec>,
+    projections: Vec<ProjectionSpec>,
+    /// `(current node, population)` injections.
+    injections: Vec<(usize, usize)>,
+    readouts: Vec<(ReadoutSource, Box<dyn Readout>)>,
+}
+
+impl NetworkBuilder {
+    /// An empty network description.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    fn add(&mut self, name: &str, size: usize, kind: NodeKind) -> Result<NodeId, GraphError> {
+        if self.nodes.iter().any(|n| n.name == name) {
+            return Err(GraphError::DuplicateName(name.to_owned()));
+        }
+        self.nodes.push(NodeSpec {
+            name: name.to_owned(),
+            size,
+            kind,
+        });
+        Ok(NodeId(self.nodes.len() - 1))
+    }
+
+    fn node(&self, id: NodeId) -> Result<&NodeSpec, GraphError> {
+        self.nodes.get(id.0).ok_or(GraphError::UnknownNode(id.0))
+    }
+
+    fn wrong_role(node: &NodeSpec, role: &'static str) -> GraphError {
+        GraphError::WrongRole {
+            node: node.name.clone(),
+            kind: node.kind.describe(),
+            role,
+        }
+    }
+
+    /// Adds a population of neurons; `model` carries its size and parameters.
+    pub fn add_population(
+        &mut self,
+        name: &str,
+        model: impl NeuronModel + 'static,
+    ) -> Result<NodeId, GraphError> {
+        let size = model.len();
+        self.add(name, size, NodeKind::Population(Box::new(model)))
+    }
+
+    /// Adds a spike source (recorded trains, Poisson, or your own [`SpikeSource`]).
+    pub fn add_spike_input(
+        &mut self,
+        name: &str,
+        source: impl SpikeSource + 'static,
+    ) -> Result<NodeId, GraphError> {
+        let size = source.len();
+        self.add(name, size, NodeKind::Spikes(Box::new(source)))
+    }
+
+    /// Adds a current source; attach it to populations with [`inject`](Self::inject).
+    pub fn add_current_input(
+        &mut self,
+        name: &str,
+        current: CurrentInput,
+    ) -> Result<NodeId, GraphError> {
+        current.validate(name)?;
+        let size = current.len();
+        self.add(name, size, NodeKind::Current(current))
+    }
+
+    /// Feeds a current source into a population. The source must have one value per neuron or
+    /// a single broadcast value.
+    pub fn inject(&mut self, current: NodeId, population: NodeId) -> Result<(), GraphError> {
+        let src = self.node(current)?;
+        if !matches!(src.kind, NodeKind::Current(_)) {
+            return Err(Self::wrong_role(src, "injected as a current"));
+        }
+        let dst = self.node(population)?;
+        if !matches!(dst.kind, NodeKind::Population(_)) {
+            return Err(Self::wrong_role(dst, "the target of a current"));
+        }
+        if src.size != 1 && src.size != dst.size {
+            return Err(GraphError::SizeMismatch {
+                what: format!("current '{}' into population '{}'", src.name, dst.name),
+                expected: dst.size,
+                got: src.size,
+            });
+        }
+        self.injections.push((current.0, population.0));
+        Ok(())
+    }
+
+    /// Connects a spike-emitting node (`pre`: population or spike source) to a population
+    /// (`post`) through exponential current synapses.
+    pub fn connect(
+        &mut self,
+        pre: NodeId,
+        post: NodeId,
+        connectivity: Connectivity,
+        synapse: ExpSynapse,
+    ) -> Result<ProjectionId, GraphError> {
+        let src = self.node(pre)?;
+        if matches!(src.kind, NodeKind::Current(_)) {
+            return Err(Self::wrong_role(src, "a presynaptic spike source"));
+        }
+        let dst = self.node(post)?;
+        if !matches!(dst.kind, NodeKind::Population(_)) {
+            return Err(Self::wrong_role(dst, "a postsynaptic target"));
+        }
+        let what = format!("projection '{}' → '{}'", src.name, dst.name);
+        if !(synapse.tau_s.is_finite() && synapse.tau_s > 0.0) {
+            return Err(GraphError::InvalidParameter {
+                what: format!("{what} tau_s"),
+                value: synapse.tau_s,
+                expected: "finite and > 0",
+            });
+        }
+        if matches!(src.kind, NodeKind::Population(_)) && synapse.delay_steps == 0 {
+            return Err(GraphError::InvalidParameter {
+                what: format!("{what} delay_steps"),
+                value: 0.0,
+                expected: "≥ 1 from a population (its spikes of a step exist only after integration)",
+            });
+        }
+        connectivity.validate(&what, src.size, dst.size)?;
+        self.projections.push(ProjectionSpec {
+            pre: pre.0,
+            post: post.0,
+            connectivity,
+            synapse,
+        });
+        Ok(ProjectionId(self.projections.len() - 1))
+    }
+
+    /// Attaches any readout. Node sources must emit spikes (population or spike source).
+    pub fn add_readout<R: Readout>(
+        &mut self,
+        source: ReadoutSource,
+        readout: R,
+    ) -> Result<ReadoutId<R>, GraphError> {
+        match source {
+            ReadoutSource::Node(id) => {
+                let n = self.node(id)?;
+                if matches!(n.kind, NodeKind::Current(_)) {
+                    return Err(Self::wrong_role(n, "read out (it emits no spikes)"));
+                }
+            }
+            ReadoutSource::Projection(p) if p.0 >= self.projections.len() => {
+                return Err(GraphError::UnknownProjection(p.0));
+            }
+            ReadoutSource::Projection(_) => {}
+        }
+        self.readouts.push((source, Box::new(readout)));
+        Ok(ReadoutId {
+            index: self.readouts.len() - 1,
+            _type: PhantomData,
+        })
+    }
+
+    /// Records every spike of a population or spike source.
+    pub fn record_spikes(&mut self, node: NodeId) -> Result<ReadoutId<SpikeRecorder>, GraphError> {
+        self.add_readout(ReadoutSource::Node(node), SpikeRecorder::new())
+    }
+
+    /// Records state variable `variable` of `neurons` (all when `None`) of a population every
+    /// `every_steps` steps.
+    pub fn record_state(
+        &mut self,
+        population: NodeId,
+        variable: &str,
+        neurons: Option<Vec<u32>>,
+        every_steps: u64,
+    ) -> Result<ReadoutId<StateRecorder>, GraphError> {
+        let node = self.node(population)?;
+        let NodeKind::Population(model) = &node.kind else {
+            return Err(Self::wrong_role(
+                node,
+                "state-recorded (it has no state variables)",
+            ));
+        };
+        let variables = model.variables();
+        let var = variables
+            .iter()
+            .position(|v| *v == variable)
+            .ok_or_else(|| GraphError::Model {
+                population: node.name.clone(),
+                source: crate::ModelError::UnknownVariable {
+                    model: model.model_name(),
+                    name: variable.to_owned(),
+                    available: variables.join(", "),
+                },
+            })?;
+        let neurons = self.checked_neurons(neurons, node.size, &node.name)?;
+        self.add_readout(
+            ReadoutSource::Node(population),
+            StateRecorder::new(var, neurons, every_steps),
+        )
+    }
+
+    /// Records the synaptic currents of a projection onto `neurons` (all when `None`) every step.
+    pub fn record_synaptic_trace(
+        &mut self,
+        projection: ProjectionId,
+        neurons: Option<Vec<u32>>,
+    ) -> Result<ReadoutId<SynapticTraceRecorder>, GraphError> {
+        let p = self
+            .projections
+            .get(projection.0)
+            .ok_or(GraphError::UnknownProjection(projection.0))?;
+        let post = &self.nodes[p.post];
+        let neurons = self.checked_neurons(neurons, post.size, &post.name)?;
+        self.add_readout(
+            ReadoutSource::Projection(projection),
+            SynapticTraceRecorder::new(neurons),
+        )
+    }
+
+    fn checked_neurons(
+        &self,
+        neurons: Option<Vec<u32>>,
+        size: usize,
+        name: &str,
+    ) -> Result<Vec<u32>, GraphError> {
+        let neurons = neurons.unwrap_or_else(|| (0..size as u32).collect());
+        if let Some((index, &n)) = neurons
+            .iter()
+            .enumerate()
+            .find(|(_, n)| **n as usize >= size)
+        {
+            return Err(GraphError::IndexOutOfRange {
+                what: format!("recorded neurons of '{name}'"),
+                index,
+                neuron: n as usize,
+                size,
+            });
+        }
+        Ok(neurons)
+    }
+
+    /// Checks the description, drops whatever no readout depends on, prepares the rest for
+    /// `config.dt_s` and returns the runnable network.
+    pub fn build(self, config: NetworkConfig) -> Result<Network, GraphError> {
+        let dt_s = config.dt_s;
+        if !(dt_s.is_finite() && dt_s > 0.0) {
+            return Err(GraphError::InvalidParameter {
+                what: "NetworkConfig dt_s".into(),
+                value: dt_s,
+                expected: "finite and > 0",
+            });
+        }
+        // Walk back from the readouts.
+        let mut node_needed = vec![false; self.nodes.len()];
+        let mut proj_needed = vec![false; self.projections.len()];
+        let mut stack: Vec<usize> = Vec::new();
+        for (source, _) in &self.readouts {
+            match *source {
+                ReadoutSource::Node(n) => stack.push(n.0),
+                ReadoutSource::Projection(p) => {
+                    proj_needed[p.0] = true;
+                    stack.push(self.projections[p.0].pre);
+                }
+            }
+        }
+        while let Some(n) = stack.pop() {
+            if std::mem::replace(&mut node_needed[n], true) {
+                continue;
+            }
+            for (i, p) in self.projections.iter().enumerate() {
+                if p.post == n {
+                    proj_needed[i] = true;
+                    stack.push(p.pre);
+                }
+            }
+            stack.extend(
+                self.injections
+                    .iter()
+                    .filter(|(_, pop)| *pop == n)
+                    .map(|(c, _)| *c),
+            );
+        }
+
+        // Renumber the needed nodes and prepare them.
+        let sizes: Vec<usize> = self.nodes.iter().map(|n| n.size).collect();
+        let mut runtime_index = vec![None; self.nodes.len()];
+        let mut nodes = Vec::new();
+        let mut currents = Vec::new();
+        let mut pruned = Vec::new();
+        for (i, spec) in self.nodes.into_iter().enumerate() {
+            if !node_needed[i] {
+                pruned.push(spec.name);
+                continue;
+            }
+            let kind = match spec.kind {
+                NodeKind::Current(c) => {
+                    runtime_index[i] = Some(currents.len());
+                    currents.push(c);
+                    continue;
+                }
+                NodeKind::Spikes(mut s) => {
+                    s.prepare(dt_s)?;
+                    RunningKind::Spikes(s)
+                }
+                NodeKind::Population(mut m) => {
+                    m.prepare(dt_s).map_err(|source| GraphError::Model {
+                        population: spec.name.clone(),
+                        source,
+                    })?;
+                    RunningKind::Population(m)
+                }
+            };
+            runtime_index[i] = Some(nodes.len());
+            nodes.push(RunningNode {
+                name: spec.name,
+                size: spec.size,
+                kind,
+                history: vec![SpikeBuffer::new()],
+                input: vec![0.0; spec.size],
+                incoming: Vec::new(),
+                currents: Vec::new(),
+            });
+        }
+        let mut projections = Vec::new();
+        let mut untargeted = Vec::new();
+        let mut projection_index = vec![None; self.projections.len()];
+        for (i, p) in self.projections.iter().enumerate() {
+            if !proj_needed[i] {
+                continue;
+            }
+            let pre =
+                runtime_index[p.pre].expect("a needed projection's presynaptic node is needed");
+            let delay = p.synapse.delay_steps as usize;
+            let history = &mut nodes[pre].history;
+            if history.len() < delay + 1 {
+                history.resize(delay + 1, SpikeBuffer::new());
+            }
+            // A projection kept only for a trace readout may have a pruned target.
+            match runtime_index[p.post] {
+                Some(post) => nodes[post].incoming.push(projections.len()),
+                None => untargeted.push(projections.len()),
+            }
+            projection_index[i] = Some(projections.len());
+            projections.push(RunningProjection {
+                pre,
+                delay,
+                decay: (-dt_s / p.synapse.tau_s).exp(),
+                wiring: p.connectivity.compile(sizes[p.pre], sizes[p.post]),
+                current: vec![0.0; sizes[p.post]],
+            });
+        }
+        for (c, pop) in self.injections {
+            if let (Some(c), Some(pop)) = (runtime_index[c], runtime_index[pop]) {
+                nodes[pop].currents.push(c);
+            }
+        }
+        let readouts = self
+            .readouts
+            .into_iter()
+            .map(|(source, readout)| {
+                let source = match source {
+                    ReadoutSource::Node(n) => {
+                        RunningSource::Node(runtime_index[n.0].expect("readout sources are needed"))
+                    }
+                    ReadoutSource::Projection(p) => RunningSource::Projection(
+                        projection_index[p.0].expect("read-out projections are needed"),
+                    ),
+                };
+                (source, readout)
+            })
+            .collect();
+        Ok(Network {
+            dt_s,
+            step: 0,
+            nodes,
+            currents,
+            projections,
+            readouts,
+            begun: false,
+            pruned,
+            node_index: runtime_index,
+            untargeted,
+        })
+    }
+}
