@@ -1,26 +1,15 @@
-//! The DAVIS240 driver above the raw USB calls: open checks, default configuration, libcaer's
-//! start/stop order, the reader thread and its bounded ring of buffers (davis240.md §1.1–1.5).
-//!
-//! ```text
-//! reader thread: bulk IN 0x82 → free buffer → ring (filled)       overflow → freewheel buffer, counted as dropped
-//! consumer:      ring (filled) → UsbDecoder → caller's EventBuffer → buffer back to the free list
-//! ```
-//!
-//! The reader never waits for the consumer: when every buffer is full it keeps reading into a
-//! spare buffer and counts each such transfer as a dropped packet ([`DavisStream::dropped_packets`]).
-//! A disconnection ends the stream after every buffer received before it has been decoded, with
-//! [`DeviceError::Disconnected`].
+//! The DAVIS240 driver above the raw USB calls: open checks, default configuration and
+//! libcaer's start/stop order (davis240.md §1.1–1.5). [`Davis::start`] hands the camera to a
+//! [`DavisStream`] (module `stream`: the reader thread and its bounded ring of buffers).
 
-use super::decode::{DecodeStats, DecoderConfig, UsbDecoder};
+use super::decode::{DecoderConfig, UsbDecoder};
 use super::protocol::*;
+use super::stream::{DavisStream, Ring, reader_loop};
 use super::transport::{DeviceInfo, Transport, TransportError};
 use crate::error::DeviceError;
-use neurotac_core::EventBuffer;
-use std::collections::VecDeque;
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::{Arc, Condvar, Mutex, MutexGuard};
-use std::thread::JoinHandle;
-use std::time::{Duration, Instant};
+use std::sync::Arc;
+use std::sync::atomic::AtomicBool;
+use std::time::Duration;
 
 /// What the device reports about itself at open (SYSINFO, DVS, APS and IMU registers; §1.4–1.5).
 #[derive(Debug, Clone, PartialEq)]
@@ -106,8 +95,8 @@ impl Default for StartOptions {
 
 /// An opened DAVIS240, not yet streaming (davis240.md §1.5).
 pub struct Davis<T: Transport> {
-    transport: Arc<T>,
-    info: DavisInfo,
+    pub(super) transport: Arc<T>,
+    pub(super) info: DavisInfo,
 }
 
 fn usb(operation: String) -> impl FnOnce(TransportError) -> DeviceError {
@@ -140,7 +129,7 @@ fn read_register<T: Transport>(t: &T, module: u16, param: u16) -> Result<u32, De
 }
 
 /// Writes one register (request 0xBF OUT, big-endian u32; §1.3).
-fn write_register<T: Transport>(
+pub(super) fn write_register<T: Transport>(
     t: &T,
     module: u16,
     param: u16,
@@ -400,7 +389,7 @@ impl<T: Transport> Davis<T> {
     }
 
     /// The registers that stop every part of the camera (step 1 of start, and stop; §1.5).
-    fn all_off(&self) -> [Register; 10] {
+    pub(super) fn all_off(&self) -> [Register; 10] {
         [
             (DVS, dvs::RUN, 0),
             (APS, aps::RUN, 0),
@@ -493,211 +482,12 @@ impl<T: Transport> Davis<T> {
     }
 }
 
-/// How the reader thread ended.
-#[derive(Debug, Clone)]
-enum ReaderEnd {
-    Disconnected,
-    Failed(String),
-    Stopped,
-}
-
-#[derive(Debug)]
-struct RingState {
-    filled: VecDeque<(Vec<u8>, usize)>,
-    free: Vec<Vec<u8>>,
-    dropped_packets: u64,
-    bytes_received: u64,
-    end: Option<ReaderEnd>,
-}
-
-/// The bounded ring between the reader thread and the consumer: a fixed set of buffers
-/// allocated once, moving between a free list and a queue of filled ones.
-#[derive(Debug)]
-struct Ring {
-    state: Mutex<RingState>,
-    ready: Condvar,
-}
-
-impl Ring {
-    fn new(buffers: usize, bytes: usize) -> Self {
-        Self {
-            state: Mutex::new(RingState {
-                filled: VecDeque::with_capacity(buffers),
-                free: (0..buffers).map(|_| vec![0u8; bytes]).collect(),
-                dropped_packets: 0,
-                bytes_received: 0,
-                end: None,
-            }),
-            ready: Condvar::new(),
-        }
-    }
-
-    fn lock(&self) -> MutexGuard<'_, RingState> {
-        self.state.lock().unwrap_or_else(|p| p.into_inner())
-    }
-}
-
-/// Bulk reads into free ring buffers; when none is free, into `spare`, counted as dropped.
-fn reader_loop<T: Transport>(t: &T, ring: &Ring, stop: &AtomicBool, mut spare: Vec<u8>) {
-    let timeout = Duration::from_millis(100);
-    let end = loop {
-        if stop.load(Ordering::Acquire) {
-            break ReaderEnd::Stopped;
-        }
-        let buffer = ring.lock().free.pop();
-        let overflow = buffer.is_none();
-        let mut buffer = buffer.unwrap_or_else(|| std::mem::take(&mut spare));
-        let result = t.bulk_in(DATA_ENDPOINT, &mut buffer, timeout);
-        let mut state = ring.lock();
-        match result {
-            Ok(n) if n > 0 => {
-                state.bytes_received += n as u64;
-                if overflow {
-                    state.dropped_packets += 1;
-                    spare = buffer;
-                } else {
-                    state.filled.push_back((buffer, n));
-                    ring.ready.notify_one();
-                }
-                continue;
-            }
-            Ok(_) | Err(TransportError::Timeout) => {}
-            Err(TransportError::Disconnected) => break ReaderEnd::Disconnected,
-            Err(TransportError::Other(m)) => break ReaderEnd::Failed(m),
-        }
-        if overflow {
-            spare = buffer;
-        } else {
-            state.free.push(buffer);
-        }
-    };
-    ring.lock().end = Some(end);
-    ring.ready.notify_all();
-}
-
-/// A streaming DAVIS240: decodes the ring's buffers on the consumer side (davis240.md §1.2, §1.6).
-pub struct DavisStream<T: Transport> {
-    davis: Davis<T>,
-    ring: Arc<Ring>,
-    stop: Arc<AtomicBool>,
-    reader: Option<JoinHandle<()>>,
-    decoder: UsbDecoder,
-    events: u64,
-    stopped: bool,
-}
-
-impl<T: Transport> DavisStream<T> {
-    /// What the device reported at open.
-    pub fn info(&self) -> &DavisInfo {
-        &self.davis.info
-    }
-
-    /// Waits up to `timeout` for data, decodes every buffer that is ready and appends the events
-    /// to `out`; returns how many were appended (0 when nothing arrived in time).
-    ///
-    /// When the camera is unplugged, the buffers received before are decoded and returned
-    /// first; the next call fails with [`DeviceError::Disconnected`].
-    pub fn next_events(
-        &mut self,
-        out: &mut EventBuffer,
-        timeout: Duration,
-    ) -> Result<usize, DeviceError> {
-        let before = out.len();
-        let deadline = Instant::now() + timeout;
-        let mut state = self.ring.lock();
-        loop {
-            if let Some((buffer, n)) = state.filled.pop_front() {
-                drop(state);
-                self.decoder.decode(&buffer[..n], out);
-                state = self.ring.lock();
-                state.free.push(buffer);
-                continue;
-            }
-            if out.len() > before {
-                break;
-            }
-            match &state.end {
-                Some(ReaderEnd::Disconnected) => {
-                    return Err(DeviceError::Disconnected {
-                        bytes_received: state.bytes_received,
-                        events_decoded: self.events,
-                    });
-                }
-                Some(ReaderEnd::Failed(m)) => {
-                    return Err(DeviceError::Usb {
-                        operation: "bulk read on endpoint 0x82".into(),
-                        message: m.clone(),
-                    });
-                }
-                Some(ReaderEnd::Stopped) => return Err(DeviceError::Stopped),
-                None => {}
-            }
-            let now = Instant::now();
-            if now >= deadline {
-                break;
-            }
-            state = self
-                .ring
-                .ready
-                .wait_timeout(state, deadline - now)
-                .unwrap_or_else(|p| p.into_inner())
-                .0;
-        }
-        let n = out.len() - before;
-        self.events += n as u64;
-        Ok(n)
-    }
-
-    /// Bulk transfers dropped because the ring was full (the consumer fell behind).
-    pub fn dropped_packets(&self) -> u64 {
-        self.ring.lock().dropped_packets
-    }
-
-    /// Bytes received from the device.
-    pub fn bytes_received(&self) -> u64 {
-        self.ring.lock().bytes_received
-    }
-
-    /// The decoder's counters (events, specials, out-of-range addresses, …).
-    pub fn decode_stats(&self) -> DecodeStats {
-        self.decoder.stats()
-    }
-
-    /// Stops the camera in libcaer's order (DVS, APS, IMU, external input, MUX, timestamps, USB,
-    /// chip off) and ends the reader thread. After an unplug the register writes fail quietly.
-    pub fn stop(&mut self) -> Result<(), DeviceError> {
-        if self.stopped {
-            return Ok(());
-        }
-        self.stopped = true;
-        let disconnected = matches!(self.ring.lock().end, Some(ReaderEnd::Disconnected));
-        let mut result = Ok(());
-        if !disconnected {
-            for (m, p, v) in self.davis.all_off() {
-                if let Err(e) = write_register(&*self.davis.transport, m, p, v) {
-                    result = Err(e);
-                    break;
-                }
-            }
-        }
-        self.stop.store(true, Ordering::Release);
-        if let Some(reader) = self.reader.take() {
-            let _ = reader.join();
-        }
-        result
-    }
-}
-
-impl<T: Transport> Drop for DavisStream<T> {
-    fn drop(&mut self) {
-        let _ = self.stop();
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::super::transport::{ControlRecord, ReplayEnd, ReplayTransport};
     use super::*;
+    use neurotac_core::EventBuffer;
+    use std::time::Instant;
 
     fn fx2() -> DeviceInfo {
         DeviceInfo {

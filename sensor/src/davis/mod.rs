@@ -21,11 +21,13 @@ mod decode;
 mod device;
 pub mod protocol;
 mod record;
+mod stream;
 mod transport;
 
 pub use decode::{DecodeStats, DecoderConfig, SpecialEvent, SpecialKind, UsbDecoder};
-pub use device::{Davis, DavisInfo, DavisStream, StartOptions};
+pub use device::{Davis, DavisInfo, StartOptions};
 pub use record::{Recording, record};
+pub use stream::DavisStream;
 pub use transport::{
     CONTROL_TIMEOUT, ControlRecord, DeviceInfo, ReplayEnd, ReplayTransport, RusbTransport,
     Transport, TransportError, list_devices,

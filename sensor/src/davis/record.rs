@@ -2,7 +2,7 @@
 //! [`Transport`] so that it is tested with recorded byte streams.
 
 use super::decode::DecodeStats;
-use super::device::DavisStream;
+use super::stream::DavisStream;
 use super::transport::Transport;
 use crate::error::{DeviceError, FormatError};
 use crate::format::EventWriter;
