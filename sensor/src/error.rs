@@ -1,6 +1,7 @@
 //! Error types of `neurotac-sensor`: one enum per concern ([`FormatError`] for files and byte
 //! streams, [`DeviceError`] for the camera, [`TransductionError`] for filters, taxels and
-//! layouts), chained into [`SensorError`].
+//! layouts, [`ReaderTransductionError`] for a whole input read and transduced), chained into
+//! [`SensorError`].
 //!
 //! Every format error names the input (a file path, or a label such as `<memory>` for in-memory
 //! data), the byte offset where the problem was found and what was expected there. As in
@@ -217,6 +218,9 @@ pub enum SensorError {
     /// A transduction problem.
     #[error(transparent)]
     Transduction(#[from] TransductionError),
+    /// An input that cannot be read or transduced.
+    #[error(transparent)]
+    ReaderTransduction(#[from] ReaderTransductionError),
 }
 
 /// Transduction (filters, receptive fields, pooling, layouts) that cannot proceed.
@@ -321,6 +325,24 @@ pub enum TransductionError {
         path: PathBuf,
         /// The parser's error.
         source: serde_json::Error,
+    },
+}
+
+/// An event file or stream that cannot be transduced
+/// ([`Transducer::transduce_reader`](crate::taxel::Transducer::transduce_reader)).
+#[derive(Debug, Error)]
+pub enum ReaderTransductionError {
+    /// Reading failed; the reader's error names the input and the byte offset.
+    #[error(transparent)]
+    Read(#[from] FormatError),
+    /// The events read are not a stream the transducer accepts (an event outside the sensor,
+    /// time going back); the cause names the event by its index in the input.
+    #[error("{path}: cannot transduce the events read")]
+    Transduction {
+        /// The input (a file path, or the label given for in-memory data).
+        path: PathBuf,
+        /// What the transducer found.
+        source: TransductionError,
     },
 }
 

@@ -16,7 +16,7 @@
 //! | noise filters (§3) | [`filter::BackgroundActivityFilter`] (dv-processing semantics), [`filter::RefractoryFilter`] |
 //! | taxels | [`taxel::TaxelLayout`], [`taxel::ReceptiveFields`], [`taxel::TaxelPooling`], [`taxel::PositionUpdate`], [`taxel::Transducer`] |
 //! | the NeuroTac simulator (spec `simulator.md`) | [`sim::Simulator`], [`sim::SimParams`], [`sim::Texture`], [`sim::Camera`] |
-//! | errors | [`FormatError`], [`DeviceError`], [`TransductionError`], [`SensorError`], [`sim::SimulationError`] |
+//! | errors | [`FormatError`], [`DeviceError`], [`TransductionError`], [`ReaderTransductionError`], [`SensorError`], [`sim::SimulationError`] |
 //!
 //! Events land in a reusable [`neurotac_core::EventBuffer`] (t in µs, x, y top-left, polarity).
 //! Decoders and readers append chunk by chunk, so a stream or a 10 GB file is processed in
@@ -68,4 +68,6 @@ pub mod sim;
 pub mod stage;
 pub mod taxel;
 
-pub use error::{DeviceError, FormatError, SensorError, TransductionError};
+pub use error::{
+    DeviceError, FormatError, ReaderTransductionError, SensorError, TransductionError,
+};

@@ -3,13 +3,15 @@
 mod common;
 
 use neurotac_core::{Event, EventBuffer, Timestamp};
-use neurotac_sensor::error::TransductionError;
-use neurotac_sensor::filter::MapStart;
-use neurotac_sensor::stage::Stage;
+use neurotac_sensor::error::{FormatError, ReaderTransductionError, TransductionError};
+use neurotac_sensor::filter::{BackgroundActivityFilter, MapStart, RefractoryFilter};
+use neurotac_sensor::format::{Format, reader_from_bytes, to_bytes};
+use neurotac_sensor::stage::{Filtered, Stage};
 use neurotac_sensor::taxel::{
-    PositionUpdate, ReceptiveFieldMask, ReceptiveFields, TaxelLayout, TaxelPixelEvent,
+    PositionUpdate, ReceptiveFieldMask, ReceptiveFields, TaxelEvent, TaxelLayout, TaxelPixelEvent,
     TaxelPooling, Transducer, TransductionConfig,
 };
+use std::path::Path;
 
 fn ev(t: i64, x: u16, y: u16) -> Event {
     Event {
@@ -332,4 +334,188 @@ fn the_real_recording_transduces_with_consistent_counts() {
     assert!(c.in_fields <= c.after_filters && c.taxel_events <= c.in_fields);
     // 1.39 s in 20 ms windows: at most 70 spikes per taxel.
     assert!(t.spike_trains().counts().iter().all(|&n| n <= 70));
+}
+
+/// `stage` run over `events` in chunks of `chunk`, then finished.
+fn run_chain<S>(mut stage: S, events: &EventBuffer, chunk: usize) -> Vec<TaxelEvent>
+where
+    S: Stage<Input = EventBuffer, Output = Vec<TaxelEvent>>,
+{
+    let mut out = Vec::new();
+    let mut start = 0;
+    while start < events.len() {
+        let end = (start + chunk).min(events.len());
+        let part: EventBuffer = (start..end).map(|i| events.get(i).unwrap()).collect();
+        stage.push(&part, &mut out).unwrap();
+        start = end;
+    }
+    stage.finish(&mut out).unwrap();
+    out
+}
+
+/// The stages of `config` (without re-centring) chained: BA filter → refractory filter (when
+/// configured) → receptive-field mask → pooling, windows aligned to the first event as the
+/// transducer aligns them.
+fn chain_taxel_events(
+    events: &EventBuffer,
+    chunk: usize,
+    config: TransductionConfig,
+) -> Vec<TaxelEvent> {
+    let layout = TaxelLayout::neurotac_default();
+    let (w, h) = (config.width, config.height);
+    let ba = BackgroundActivityFilter::new(w, h, config.ba_window_us.unwrap(), config.ba_start);
+    let fields =
+        ReceptiveFields::new(&layout, config.rf_radius_px, config.max_shift_px, w, h).unwrap();
+    let origin = config.origin_us.or(events.t.first().copied());
+    let pooling = TaxelPooling::new(
+        layout.len(),
+        config.pool_window_us,
+        config.min_events,
+        origin,
+    )
+    .unwrap();
+    let mask_and_pool = ReceptiveFieldMask::new(fields).then(pooling);
+    let ba = Filtered::new(ba.unwrap());
+    match config.refractory_us {
+        None => run_chain(ba.then(mask_and_pool), events, chunk),
+        Some(p) => {
+            let refractory = Filtered::new(RefractoryFilter::new(w, h, p).unwrap());
+            run_chain(ba.then(refractory).then(mask_and_pool), events, chunk)
+        }
+    }
+}
+
+/// Issue 13 (one transduction pipeline): the transducer is the stage chain fused; without
+/// re-centring (which only the fused loop feeds back) both give the same taxel events, with
+/// and without the refractory filter, however either input is chunked.
+#[test]
+fn issue_13_stage_chain_and_transducer_give_the_same_taxel_events() {
+    let events = synthetic_stream(50_000, 11);
+    for refractory_us in [None, Some(300)] {
+        for ba_start in [MapStart::Zero, MapStart::Empty] {
+            let config = TransductionConfig {
+                recentre_gain: 0.0,
+                refractory_us,
+                ba_start,
+                ..TransductionConfig::default()
+            };
+            let fused = transduce(&events, 4096, config);
+            assert!(fused.counts().taxel_events > 1000);
+            assert!(fused.counts().after_filters < fused.counts().events_in);
+            for chunk in [1000, usize::MAX] {
+                assert_eq!(
+                    chain_taxel_events(&events, chunk, config),
+                    fused.taxel_events(),
+                    "refractory {refractory_us:?}, {ba_start:?}, chunk {chunk}"
+                );
+            }
+        }
+    }
+    // Re-centring is what the chain lacks: with it the fields move and the events differ.
+    let recentred = transduce(&events, 4096, TransductionConfig::default());
+    let fixed = TransductionConfig {
+        recentre_gain: 0.0,
+        ..TransductionConfig::default()
+    };
+    assert_ne!(
+        recentred.taxel_events(),
+        chain_taxel_events(&events, 4096, fixed)
+    );
+}
+
+/// The same on the shared DAVIS240C recording (skipped when absent).
+#[test]
+fn issue_13_stage_chain_equals_the_transducer_on_the_real_recording() {
+    let Some(dir) = common::shared_data() else {
+        return;
+    };
+    let events = common::pick_events(&dir);
+    let config = TransductionConfig {
+        recentre_gain: 0.0,
+        ..TransductionConfig::default()
+    };
+    let fused = transduce(&events, 10_000, config);
+    assert!(fused.counts().taxel_events > 100);
+    assert_eq!(
+        chain_taxel_events(&events, 10_000, config),
+        fused.taxel_events()
+    );
+}
+
+#[test]
+fn transducing_a_reader_equals_pushing_its_events() {
+    let events = synthetic_stream(30_000, 5);
+    let pushed = transduce(&events, usize::MAX, TransductionConfig::default());
+    for format in [Format::Aedat2, Format::Csv] {
+        let bytes = to_bytes(&events, format).unwrap();
+        let mut reader = reader_from_bytes(&bytes).unwrap();
+        let mut t = Transducer::new(
+            &TaxelLayout::neurotac_default(),
+            TransductionConfig::default(),
+        )
+        .unwrap();
+        let done = t
+            .transduce_reader(&mut reader, Path::new("<memory>"))
+            .unwrap();
+        assert_eq!(t.taxel_events(), pushed.taxel_events(), "{format:?}");
+        assert_eq!(done.counts, pushed.counts());
+        assert_eq!(done.spike_trains, pushed.spike_trains());
+        assert_eq!(done.read.events, events.len() as u64);
+        assert_eq!(
+            done.first_last_us,
+            Some((events.t[0], events.t[events.len() - 1]))
+        );
+    }
+    // An empty input: no events, no spikes, 49 empty trains.
+    let mut reader = reader_from_bytes(b"t,x,y,on\n").unwrap();
+    let mut t = Transducer::new(
+        &TaxelLayout::neurotac_default(),
+        TransductionConfig::default(),
+    )
+    .unwrap();
+    let done = t
+        .transduce_reader(&mut reader, Path::new("empty.csv"))
+        .unwrap();
+    assert_eq!((done.read.events, done.first_last_us), (0, None));
+    assert_eq!(done.spike_trains.n_channels(), 49);
+    assert_eq!(done.spike_trains.total_spikes(), 0);
+}
+
+#[test]
+fn transducing_a_bad_reader_names_the_input_and_where() {
+    let layout = TaxelLayout::neurotac_default();
+    let mut t = Transducer::new(&layout, TransductionConfig::default()).unwrap();
+    // Readers keep a time going back in file order; the transducer refuses it.
+    let mut reader = reader_from_bytes(b"t,x,y,on\n10,5,5,1\n9,5,5,0\n").unwrap();
+    let e = t
+        .transduce_reader(&mut reader, Path::new("recording.csv"))
+        .unwrap_err();
+    assert!(
+        matches!(
+            &e,
+            ReaderTransductionError::Transduction {
+                path,
+                source: TransductionError::Backwards { index: 1, .. },
+            } if path == Path::new("recording.csv")
+        ),
+        "{e:?}"
+    );
+    assert!(e.to_string().starts_with("recording.csv: "), "{e}");
+    // A line that does not parse: the reader's error, naming line and byte offset.
+    let mut t = Transducer::new(&layout, TransductionConfig::default()).unwrap();
+    let mut reader = reader_from_bytes(b"t,x,y,on\n10,5,5,1\n11,x,5,0\n").unwrap();
+    let e = t
+        .transduce_reader(&mut reader, Path::new("recording.csv"))
+        .unwrap_err();
+    assert!(
+        matches!(
+            e,
+            ReaderTransductionError::Read(FormatError::Text {
+                line: 3,
+                offset: 18,
+                ..
+            })
+        ),
+        "{e:?}"
+    );
 }

@@ -1,6 +1,7 @@
 //! Taxels: the 49 receptive fields of the NeuroTac's pins, and turning pixel events into taxel
-//! spikes ([`Transducer`]; stages [`ReceptiveFieldMask`] and [`TaxelPooling`]; re-centring
-//! [`PositionUpdate`]; layouts [`TaxelLayout`]).
+//! spikes ([`Transducer`], a whole input with [`Transducer::transduce_reader`]; stages
+//! [`ReceptiveFieldMask`] and [`TaxelPooling`]; re-centring [`PositionUpdate`]; layouts
+//! [`TaxelLayout`]).
 
 mod fields;
 mod layout;
@@ -10,4 +11,4 @@ mod transducer;
 pub use fields::{ReceptiveFieldMask, ReceptiveFields, TaxelPixelEvent};
 pub use layout::{LayoutDetection, TaxelLayout};
 pub use pooling::{PositionUpdate, TaxelEvent, TaxelPooling};
-pub use transducer::{Transducer, TransductionConfig, TransductionCounts};
+pub use transducer::{ReaderTransduction, Transducer, TransductionConfig, TransductionCounts};

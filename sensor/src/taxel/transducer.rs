@@ -1,20 +1,17 @@
 //! The whole NeuroTac transduction (paper, Methods, "Sensor operation"): pixel events →
 //! background-activity filter → receptive-field mask → 20 ms pooling → position update, giving
 //! the 49 taxel spike trains of a recording.
-//!
-//! Events are processed one pooling window at a time: a window's taxel events re-centre the
-//! fields before any event of the next window is assigned, so the result never depends on how
-//! the input stream was cut into chunks (live USB transfers or file reads). Live use: call
-//! [`Transducer::advance_to`] with the device clock to close a window without waiting for the
-//! next event — taxel events then lag their window by at most one window.
 
 use super::fields::ReceptiveFields;
 use super::layout::TaxelLayout;
 use super::pooling::{PositionUpdate, TaxelEvent, TaxelPooling};
-use crate::error::{TransductionError, check_in_sensor};
+use crate::error::{ReaderTransductionError, TransductionError, check_in_sensor};
 use crate::filter::{BackgroundActivityFilter, MapStart, RefractoryFilter};
+use crate::format::{EventReader, ReadStats};
 use crate::geometry::{DAVIS240_HEIGHT, DAVIS240_WIDTH};
 use neurotac_core::{EventBuffer, MultiSpikeTrain};
+use std::path::Path;
+use std::time::{Duration, Instant};
 
 /// Transduction settings; the defaults are the paper's.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -75,7 +72,40 @@ pub struct TransductionCounts {
     pub taxel_events: u64,
 }
 
-/// Pixel events in, taxel events out (see the module docs).
+/// What [`Transducer::transduce_reader`] read and produced.
+#[derive(Debug, Clone)]
+pub struct ReaderTransduction {
+    /// One spike train per taxel, in seconds since the origin ([`Transducer::spike_trains`]).
+    pub spike_trains: MultiSpikeTrain,
+    /// What each stage passed ([`Transducer::counts`]: totals, events pushed before included).
+    pub counts: TransductionCounts,
+    /// What the reader delivered and skipped.
+    pub read: ReadStats,
+    /// Times of the first and the last event read (µs, the input's clock); `None` when the
+    /// input held no event.
+    pub first_last_us: Option<(i64, i64)>,
+    /// Time spent transducing (pushing the events and closing the last window), without
+    /// reading and decoding the input.
+    pub transduce_time: Duration,
+}
+
+/// Pixel events in, taxel events out.
+///
+/// Events are processed one pooling window at a time: a window's taxel events re-centre the
+/// fields before any event of the next window is assigned, so the result never depends on how
+/// the input stream was cut into chunks (live USB transfers or file reads). Live use: call
+/// [`Transducer::advance_to`] with the device clock to close a window without waiting for the
+/// next event — taxel events then lag their window by at most one window. A whole file or
+/// other [`EventReader`]: [`Transducer::transduce_reader`].
+///
+/// The transducer is the stage chain `Filtered<BackgroundActivityFilter>` →
+/// `Filtered<RefractoryFilter>` → [`ReceptiveFieldMask`](super::ReceptiveFieldMask) →
+/// [`TaxelPooling`] (composed with [`Stage::then`](crate::stage::Stage::then)) fused into one
+/// pass over the events, with the re-centring
+/// ([`PositionUpdate`]) fed back between windows, which a chain of independent stages cannot do.
+/// It calls the stages' own per-event decisions, so without re-centring it gives the chain's
+/// taxel events exactly (tested); fused, it makes no intermediate batches and checks each event
+/// once.
 #[derive(Debug, Clone)]
 pub struct Transducer {
     ba: Option<BackgroundActivityFilter>,
@@ -188,6 +218,43 @@ impl Transducer {
         })();
         self.counts = counts;
         result
+    }
+
+    /// Reads `reader` to its end chunk by chunk, pushes every chunk ([`Self::push`]) and closes
+    /// the last window ([`Self::finish`]). `path` names the input in transduction errors; read
+    /// errors name it (and the byte offset) themselves. Events decoded before a read error are
+    /// transduced first, as the reader delivers them.
+    pub fn transduce_reader<R: EventReader + ?Sized>(
+        &mut self,
+        reader: &mut R,
+        path: &Path,
+    ) -> Result<ReaderTransduction, ReaderTransductionError> {
+        let mut chunk = EventBuffer::new();
+        let mut first_last_us: Option<(i64, i64)> = None;
+        let mut transduce_time = Duration::ZERO;
+        while reader.read_chunk(&mut chunk)? > 0 {
+            if let (Some(&first), Some(&last)) = (chunk.t.first(), chunk.t.last()) {
+                first_last_us = Some((first_last_us.map_or(first, |(f, _)| f), last));
+            }
+            let start = Instant::now();
+            self.push(&chunk)
+                .map_err(|source| ReaderTransductionError::Transduction {
+                    path: path.to_path_buf(),
+                    source,
+                })?;
+            transduce_time += start.elapsed();
+            chunk.clear();
+        }
+        let start = Instant::now();
+        self.finish();
+        transduce_time += start.elapsed();
+        Ok(ReaderTransduction {
+            spike_trains: self.spike_trains(),
+            counts: self.counts,
+            read: reader.stats(),
+            first_last_us,
+            transduce_time,
+        })
     }
 
     fn close_window(&mut self) {
