@@ -35,7 +35,11 @@ impl Default for PinGeometry {
             pin_pitch_mm: 4.5,
             rings: vec![1, 8, 16, 24],
             scale_px_per_mm: 4.5,
-            centre_px: (120.0, 90.0),
+            // The image centre: (120, 90).
+            centre_px: (
+                f64::from(DAVIS240_WIDTH) / 2.0,
+                f64::from(DAVIS240_HEIGHT) / 2.0,
+            ),
         }
     }
 }
@@ -88,7 +92,8 @@ mod tests {
         }
         assert!(
             px.iter()
-                .all(|&(x, y)| (0.0..240.0).contains(&x) && (0.0..180.0).contains(&y))
+                .all(|&(x, y)| (0.0..f64::from(DAVIS240_WIDTH)).contains(&x)
+                    && (0.0..f64::from(DAVIS240_HEIGHT)).contains(&y))
         );
     }
 }

@@ -17,6 +17,7 @@
 //! piece of state (time, last row, an odd trailing byte) persists across chunks, so a stream may
 //! be cut anywhere.
 
+use crate::geometry::{DAVIS240_HEIGHT, DAVIS240_WIDTH};
 use neurotac_core::EventBuffer;
 
 /// Words decoded per inner block; events of a block go to fixed scratch arrays first.
@@ -36,8 +37,8 @@ pub struct DecoderConfig {
 impl DecoderConfig {
     /// The DAVIS240 (A/B/C): 240 × 180, no X/Y swap.
     pub const DAVIS240: Self = Self {
-        size_x: 240,
-        size_y: 180,
+        size_x: DAVIS240_WIDTH,
+        size_y: DAVIS240_HEIGHT,
         invert_xy: false,
     };
 }

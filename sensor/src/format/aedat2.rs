@@ -24,8 +24,8 @@ use std::path::PathBuf;
 /// Largest header accepted (jAER may embed its XML preferences, some 100 KB; davis240.md §2.1).
 pub const MAX_HEADER_BYTES: u64 = 16 << 20;
 
-const SIZE_X: u32 = 240;
-const SIZE_Y: u32 = 180;
+const SIZE_X: u32 = crate::geometry::DAVIS240_WIDTH as u32;
+const SIZE_Y: u32 = crate::geometry::DAVIS240_HEIGHT as u32;
 const RECORD: usize = 8;
 
 /// The header lines this crate writes (a minimal jAER-style header for a DAVIS240C).

@@ -48,13 +48,14 @@ pub use aedat4::{Aedat4Reader, Aedat4Writer, Compression};
 pub use text::{CsvReader, CsvWriter, EcdTextReader, EcdTextWriter};
 
 use crate::error::FormatError;
+use crate::geometry::{DAVIS240_HEIGHT, DAVIS240_WIDTH};
 use neurotac_core::EventBuffer;
 use std::fs::File;
 use std::io::{BufRead, BufReader, BufWriter, Read, Seek, Write};
 use std::path::{Path, PathBuf};
 
 /// Pixel-array size assumed when a file does not state one: the DAVIS240's 240 × 180.
-pub const DAVIS240_SIZE: (u16, u16) = (240, 180);
+pub const DAVIS240_SIZE: (u16, u16) = (DAVIS240_WIDTH, DAVIS240_HEIGHT);
 
 /// Byte size of the blocks readers pull from their input.
 pub(crate) const READ_BLOCK: usize = 1 << 18;
