@@ -298,6 +298,7 @@ impl ReplayTransport {
         use super::protocol::{APS, IMU};
         use super::protocol::{DVS, SYSINFO, aps, dvs, sysinfo};
         use crate::geometry::{DAVIS240_HEIGHT, DAVIS240_WIDTH};
+        let (columns, rows) = (u32::from(DAVIS240_WIDTH), u32::from(DAVIS240_HEIGHT));
         HashMap::from([
             ((SYSINFO, sysinfo::LOGIC_VERSION), 18),
             ((SYSINFO, sysinfo::CHIP_IDENTIFIER), 2),
@@ -307,8 +308,8 @@ impl ReplayTransport {
             ((SYSINFO, sysinfo::USB_CLOCK), 80),
             ((SYSINFO, sysinfo::CLOCK_DEVIATION), 1000),
             ((SYSINFO, sysinfo::LOGIC_PATCH), 1),
-            ((DVS, dvs::SIZE_COLUMNS), u32::from(DAVIS240_WIDTH)),
-            ((DVS, dvs::SIZE_ROWS), u32::from(DAVIS240_HEIGHT)),
+            ((DVS, dvs::SIZE_COLUMNS), columns),
+            ((DVS, dvs::SIZE_ROWS), rows),
             ((DVS, dvs::ORIENTATION_INFO), 0),
             ((DVS, dvs::HAS_PIXEL_FILTER), 1),
             ((DVS, dvs::HAS_BACKGROUND_ACTIVITY_FILTER), 1),
@@ -316,8 +317,8 @@ impl ReplayTransport {
             ((DVS, dvs::HAS_SKIP_FILTER), 1),
             ((DVS, dvs::HAS_POLARITY_FILTER), 1),
             ((DVS, dvs::HAS_STATISTICS), 1),
-            ((APS, aps::SIZE_COLUMNS), u32::from(DAVIS240_WIDTH)),
-            ((APS, aps::SIZE_ROWS), u32::from(DAVIS240_HEIGHT)),
+            ((APS, aps::SIZE_COLUMNS), columns),
+            ((APS, aps::SIZE_ROWS), rows),
             ((APS, aps::ORIENTATION_INFO), 0),
             ((APS, aps::HAS_GLOBAL_SHUTTER), 1),
             ((IMU, 0), 0),
