@@ -1,9 +1,9 @@
 //! The network graph: defined in Rust code with a [`NetworkBuilder`], run by a [`Network`].
 //!
-//! Nodes are populations ([`NeuronModel`]s), spike sources ([`SpikeSource`]s: recorded arrays,
-//! Poisson) and current sources ([`CurrentInput`]). Projections connect a spike-emitting node
-//! to a population through exponential current synapses ([`ExpSynapse`], [`Connectivity`]).
-//! Readouts ([`Readout`]) watch a node or projection.
+//! Nodes are populations ([`NeuronModel`](crate::NeuronModel)s), spike sources ([`SpikeSource`]s:
+//! recorded arrays, Poisson) and current sources ([`CurrentInput`]). Projections connect a
+//! spike-emitting node to a population through exponential current synapses ([`ExpSynapse`],
+//! [`Connectivity`]). Readouts ([`Readout`]) watch a node or projection.
 //!
 //! # Only what a readout needs is modelled
 //! [`NetworkBuilder::build`] walks back from every readout: a readout needs its source; a
