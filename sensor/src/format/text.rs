@@ -19,6 +19,9 @@ use std::path::PathBuf;
 /// Longest line accepted (bytes).
 pub const MAX_LINE_BYTES: usize = 4096;
 
+/// Most bytes of a line quoted in an error.
+const FOUND_MAX_BYTES: usize = 64;
+
 /// Which text dialect a reader parses.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Dialect {
@@ -92,7 +95,7 @@ fn parse_line(dialect: Dialect, line: &[u8]) -> Result<(i64, i64, i64, bool), Fi
                 continue;
             }
             if count == 4 {
-                return Err(("line", "exactly 4 fields", start, line.len()));
+                return Err(("line", "exactly 4 fields", 0, line.len()));
             }
             fields[count] = (start, i);
             count += 1;
@@ -165,7 +168,7 @@ impl<R: Read> TextReader<R> {
             line: self.line,
             offset,
             field,
-            found: String::from_utf8_lossy(&line[a..b.min(a + 64)]).into_owned(),
+            found: super::escape_text(&line[a..b], FOUND_MAX_BYTES),
             expected,
         }
     }
@@ -228,7 +231,7 @@ impl<R: Read> TextReader<R> {
                 None => {
                     if rest.len() > MAX_LINE_BYTES {
                         let offset = self.block_offset + self.start as u64;
-                        let e = ("line", "a line shorter than 4096 bytes", 0, 16);
+                        let e = ("line", "a line shorter than 4096 bytes", 0, rest.len());
                         return Err(self.text_error(offset, rest, e));
                     }
                     return Ok(());
