@@ -12,8 +12,10 @@
 //! has bit 31 = 0 and bits 11–10 ≠ `01`: raw y = bits 30–22, raw x = bits 21–12, polarity = bit
 //! 11 (1 = ON). For a DAVIS240, top-left coordinates are **x = 239 − raw x, y = 179 − raw y**.
 //! Other records (external input, APS samples, IMU) are skipped and counted. Timestamps are
-//! 32-bit: a drop of more than 2³¹ µs is a wrap and is unwrapped; a smaller drop is a timestamp
-//! going backwards, reported in [`ReadStats`] and kept in file order. A header whose `AEChip`
+//! 32-bit: each one is unwrapped to the time closest to the one before with the same low 32
+//! bits, so a drop of more than 2³¹ µs is a wrap (counted), and a step back of less than 2³¹ µs
+//! is a timestamp going backwards — across a wrap too — reported in [`ReadStats`] and kept in
+//! file order. A header whose `AEChip`
 //! line names another chip than a DAVIS240 is refused (its layout differs); a header without one
 //! is read as DAVIS240.
 
@@ -76,8 +78,6 @@ pub struct Aedat2Reader<R> {
     filled: usize,
     /// Offset of `block[0]` in the input.
     block_offset: u64,
-    /// Added to the 32-bit timestamps (multiples of 2³²).
-    wrap_offset: i64,
     previous: i64,
     stats: ReadStats,
     end: ReaderEnd,
@@ -114,7 +114,6 @@ impl<R: Read> Aedat2Reader<R> {
             block,
             filled,
             block_offset,
-            wrap_offset: 0,
             previous: i64::MIN,
             stats: ReadStats::default(),
             end: ReaderEnd::default(),
@@ -131,7 +130,6 @@ impl<R: Read> Aedat2Reader<R> {
         let whole = self.filled - self.filled % RECORD;
         let mut stats = self.stats;
         let mut previous = self.previous;
-        let mut wrap_offset = self.wrap_offset;
         out.t.reserve(whole / RECORD);
         out.x.reserve(whole / RECORD);
         out.y.reserve(whole / RECORD);
@@ -149,17 +147,21 @@ impl<R: Read> Aedat2Reader<R> {
                 stats.out_of_range += 1;
                 continue;
             }
-            let mut t = wrap_offset + i64::from(ts);
-            if t < previous {
-                if previous - t > 1 << 31 {
-                    wrap_offset += 1 << 32;
-                    t += 1 << 32;
-                    stats.timestamp_wraps += 1;
-                } else {
+            let t = match previous {
+                i64::MIN => i64::from(ts),
+                _ => {
+                    // The time closest to the previous one with these low 32 bits.
+                    let low = previous as i32;
+                    let step = ts.wrapping_sub(low);
+                    if step > 0 && ts < low {
+                        stats.timestamp_wraps += 1;
+                    }
+                    let t = previous + i64::from(step);
                     let offset = self.block_offset + (i * RECORD) as u64;
                     stats.check_order(offset, previous, t);
+                    t
                 }
-            }
+            };
             previous = t;
             out.t.push(t);
             out.x.push((SIZE_X - 1 - raw_x) as u16);
@@ -168,7 +170,6 @@ impl<R: Read> Aedat2Reader<R> {
         }
         self.stats = stats;
         self.previous = previous;
-        self.wrap_offset = wrap_offset;
         whole
     }
 }

@@ -771,3 +771,22 @@ fn issue_14_one_warning_line_for_backwards_time_and_skipped_events() {
     let (_, stats, _) = read(b"t,x,y,on\n10,1,2,1\n");
     assert_eq!(stats.warning(Path::new("in.csv")), None);
 }
+
+#[test]
+fn issue_14_aedat2_round_trips_steps_back_across_a_wrap() {
+    // Every step is below 2^31 µs, so the writer accepts it; the last steps back over the
+    // 32-bit wrap the one before crossed.
+    let mut ev = events(4);
+    ev.t = vec![0, 2_147_483_000, 4_294_966_000, 2_147_483_000];
+    let (got, stats, err) = read(&encode(Format::Aedat2, &ev));
+    assert!(err.is_none(), "{err:?}");
+    assert_eq!(got.t, ev.t);
+    assert_eq!((stats.timestamp_wraps, stats.timestamps_backwards), (1, 1));
+    // A step of 2^31 µs or more, or a first time beyond ±2^31 µs, is refused by the writer.
+    for t in [vec![0, 1 << 31], vec![-(1 << 31) - 1]] {
+        let mut ev = events(t.len());
+        ev.t = t;
+        let err = to_bytes(&ev, Format::Aedat2).unwrap_err();
+        assert!(matches!(err, FormatError::Unrepresentable { .. }), "{err}");
+    }
+}
