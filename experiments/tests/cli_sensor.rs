@@ -4,7 +4,6 @@
 mod common;
 
 use common::neurotac;
-use std::path::Path;
 
 #[test]
 fn devices_lists_none_without_a_camera() {

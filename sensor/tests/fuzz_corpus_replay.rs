@@ -92,11 +92,12 @@ fn corpus_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../fuzz/corpus")
 }
 
-/// Every reader on `bytes`, named; a reader whose header is refused is `Err`.
-fn readers(bytes: &[u8]) -> Vec<(&'static str, Result<Box<dyn EventReader + '_>, FormatError>)> {
-    fn boxed<'a, R: EventReader + 'a>(
-        r: Result<R, FormatError>,
-    ) -> Result<Box<dyn EventReader + 'a>, FormatError> {
+/// A reader, or the error that refused its input's header.
+type Opened<'a> = Result<Box<dyn EventReader + 'a>, FormatError>;
+
+/// Every reader on `bytes`, named.
+fn readers(bytes: &[u8]) -> Vec<(&'static str, Opened<'_>)> {
+    fn boxed<'a, R: EventReader + 'a>(r: Result<R, FormatError>) -> Opened<'a> {
         r.map(|r| Box::new(r) as Box<dyn EventReader + 'a>)
     }
     let len = Some(bytes.len() as u64);
