@@ -16,18 +16,9 @@ const EVENTS: usize = 118_558;
 /// The shift of the USB stream's times relative to the files (README: 2^31 − 700 000 µs).
 const USB_SHIFT_US: i64 = 2_146_783_648;
 
-/// The data folder, or `None` (with the reason printed) when it is absent.
+/// The data folder, or `None` (with the reason printed) when it is absent; fails under `CI`.
 fn data_dir() -> Option<PathBuf> {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/data/davis240");
-    if dir.join("README.md").exists() {
-        Some(dir)
-    } else {
-        eprintln!(
-            "skipping: the real DAVIS240C recording is not at {} (it is not part of the repository)",
-            dir.display()
-        );
-        None
-    }
+    neurotac::core::testing::shared_data("davis240")
 }
 
 /// The CSV as the reference: t µs from 0, top-left x/y, on.
@@ -265,4 +256,27 @@ fn the_driver_streams_the_recorded_usb_bytes_and_keeps_them_all_when_unplugged()
         (events.x, events.y, events.polarity),
         (want.x, want.y, want.polarity)
     );
+}
+
+#[test]
+fn issue_14_pick_aedat_cut_inside_its_header_is_truncated_at_the_cut() {
+    let Some(dir) = data_dir() else { return };
+    let bytes = std::fs::read(dir.join("pick.aedat")).unwrap();
+    for cut in 12..248 {
+        match format::reader_from_bytes(&bytes[..cut]) {
+            Err(e @ neurotac::sensor::FormatError::TruncatedHeader { offset, .. }) => {
+                assert_eq!(offset, cut as u64);
+                let msg = e.to_string();
+                assert!(
+                    msg.contains(&format!("truncated inside the header at byte {cut}")),
+                    "{msg}"
+                );
+            }
+            Err(e) => panic!("cut {cut}: {e}"),
+            Ok(_) => panic!("cut {cut}: read as a recording"),
+        }
+    }
+    // The whole header: an empty recording.
+    let mut reader = format::reader_from_bytes(&bytes[..248]).unwrap();
+    assert_eq!(reader.read_chunk(&mut EventBuffer::new()).unwrap(), 0);
 }

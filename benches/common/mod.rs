@@ -82,10 +82,11 @@ impl ValueFormatter for CpuFormatter {
     }
 }
 
-/// `../shared/data/davis240/<name>` when it exists; otherwise prints why the bench skips it.
+/// `../shared/data/davis240/<name>` (`neurotac_core::testing::data_root`) when it exists;
+/// otherwise prints why the bench skips it.
 pub fn shared_recording(name: &str) -> Option<std::path::PathBuf> {
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../shared/data/davis240")
+    let path = neurotac::core::testing::data_root()
+        .join("davis240")
         .join(name);
     if path.is_file() {
         Some(path)

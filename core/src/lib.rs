@@ -41,6 +41,8 @@ pub mod knn;
 pub mod model;
 pub mod special;
 pub mod spikes;
+#[doc(hidden)]
+pub mod testing;
 pub mod time;
 
 pub use coding::{IntensiveCoding, SpatialCoding, SpatiotemporalCoding, TemporalCoding};

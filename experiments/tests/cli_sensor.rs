@@ -4,7 +4,6 @@
 mod common;
 
 use common::neurotac;
-use std::path::Path;
 
 #[test]
 fn devices_lists_none_without_a_camera() {
@@ -70,25 +69,70 @@ fn convert_reports_backwards_time_and_skipped_events() {
     let csv = dir.path().join("in.csv");
     std::fs::write(&csv, "t,x,y,on\n10,1,2,1\n5,1,2,0\n11,300,2,1\n").unwrap();
     let out = dir.path().join("out.aedat");
-    let (ok, stdout, stderr) = neurotac(&["convert", csv.to_str().unwrap(), out.to_str().unwrap()]);
+    let (ok, _, stderr) = neurotac(&["convert", csv.to_str().unwrap(), out.to_str().unwrap()]);
     assert!(ok, "{stderr}");
     assert!(
-        stdout.contains("skipped 1 events outside the sensor"),
-        "{stdout}"
+        stderr.contains("skipped 1 events outside the sensor"),
+        "{stderr}"
     );
-    assert!(stdout.contains("1 events go back in time"), "{stdout}");
+    assert!(stderr.contains("1 events go back in time"), "{stderr}");
+}
+
+/// The warning lines of a command's stderr.
+fn warnings(stderr: &str) -> Vec<&str> {
+    stderr
+        .lines()
+        .filter(|l| l.starts_with("warning: "))
+        .collect()
+}
+
+#[test]
+fn issue_14_convert_filter_and_transduce_share_one_policy_and_warning() {
+    let dir = tempfile::tempdir().unwrap();
+    let csv = dir.path().join("in.csv");
+    std::fs::write(&csv, "t,x,y,on\n10,1,2,1\n5,1,2,0\n11,300,2,1\n").unwrap();
+    let input = csv.to_str().unwrap();
+    let expected = format!(
+        "warning: {input}: skipped 1 events outside the sensor; 1 events go back in time (kept in file order; the first at byte 18: 5 µs after 10 µs)"
+    );
+    // convert and filter: warn and count, keep the events going back in time.
+    let out = dir.path().join("out.aedat");
+    let (ok, _, stderr) = neurotac(&["convert", input, out.to_str().unwrap()]);
+    assert!(ok, "{stderr}");
+    assert_eq!(warnings(&stderr), [expected.as_str()], "convert: {stderr}");
+    let filtered = dir.path().join("filtered.csv");
+    let (ok, stdout, stderr) = neurotac(&["filter", input, filtered.to_str().unwrap()]);
+    assert!(ok, "{stderr}");
+    assert_eq!(warnings(&stderr), [expected.as_str()], "filter: {stderr}");
+    assert!(stdout.contains("of 2 events"), "{stdout}");
+    // transduce: refuses time going back, warns about the events outside the sensor.
+    let spikes = dir.path().join("s.json");
+    let (ok, _, stderr) = neurotac(&["transduce", input, "--out", spikes.to_str().unwrap()]);
+    assert!(
+        !ok && stderr.contains("earlier than the previous"),
+        "{stderr}"
+    );
+    let ordered = dir.path().join("ordered.csv");
+    std::fs::write(&ordered, "t,x,y,on\n5,1,2,1\n10,1,2,0\n11,300,2,1\n").unwrap();
+    let input = ordered.to_str().unwrap();
+    let expected = format!("warning: {input}: skipped 1 events outside the sensor");
+    for args in [
+        vec!["transduce", input, "--out", spikes.to_str().unwrap()],
+        vec!["filter", input, filtered.to_str().unwrap()],
+        vec!["convert", input, out.to_str().unwrap()],
+    ] {
+        let (ok, _, stderr) = neurotac(&args);
+        assert!(ok, "{args:?}: {stderr}");
+        assert_eq!(warnings(&stderr), [expected.as_str()], "{args:?}: {stderr}");
+    }
 }
 
 #[test]
 fn convert_the_real_recording_aedat2_to_aedat4() {
-    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/data/davis240/pick.aedat");
-    if !data.exists() {
-        eprintln!(
-            "skipping: {} is absent (the recording is not part of the repository)",
-            data.display()
-        );
+    let Some(dir) = neurotac_core::testing::shared_data("davis240") else {
         return;
-    }
+    };
+    let data = dir.join("pick.aedat");
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("pick.aedat4");
     let (ok, stdout, stderr) =

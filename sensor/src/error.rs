@@ -34,11 +34,11 @@ pub enum FormatError {
         found: String,
     },
     /// An AEDAT file of a version this crate does not read (e.g. 3.0, 1.0).
-    #[error("{path}: unsupported AEDAT version `{found}` (supported: 2.0, 3.1, 4.0)")]
+    #[error("{path}: unsupported AEDAT version {found} (supported: 2.0, 3.1, 4.0)")]
     UnsupportedVersion {
         /// The file.
         path: PathBuf,
-        /// The version line found.
+        /// The version found after `#!AER-DAT`, escaped and quoted (`` `3.0` ``).
         found: String,
     },
     /// The output format cannot be inferred from the file name.
@@ -57,6 +57,17 @@ pub enum FormatError {
         /// Byte offset where the data ran out.
         offset: u64,
         /// What was being read.
+        expected: &'static str,
+    },
+    /// The input ends inside its header: an AEDAT 2.0 or 3.1 ASCII header, or the version line
+    /// (magic) of any AEDAT version.
+    #[error("{path}: truncated inside the header at byte {offset}: expected {expected}")]
+    TruncatedHeader {
+        /// The input.
+        path: PathBuf,
+        /// Byte offset where the data ran out (the input's length).
+        offset: u64,
+        /// What the header still needed.
         expected: &'static str,
     },
     /// A field holds a value the format does not allow.

@@ -58,9 +58,6 @@ pub fn run(args: ConvertArgs) -> anyhow::Result<()> {
         seconds,
         stats.events as f64 / seconds / 1e6
     );
-    if stats.out_of_range > 0 {
-        println!("  skipped {} events outside the sensor", stats.out_of_range);
-    }
     if stats.skipped > 0 {
         println!(
             "  skipped {} non-polarity records, packets or streams",
@@ -73,11 +70,8 @@ pub fn run(args: ConvertArgs) -> anyhow::Result<()> {
             stats.timestamp_wraps
         );
     }
-    if let Some(b) = stats.first_backwards {
-        println!(
-            "  warning: {} events go back in time (kept in file order); first at byte {}: {} µs after {} µs",
-            stats.timestamps_backwards, b.offset, b.t_us, b.previous_us
-        );
+    if let Some(warning) = stats.warning(&args.input) {
+        eprintln!("{warning}");
     }
     Ok(())
 }

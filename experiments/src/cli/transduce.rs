@@ -134,6 +134,9 @@ pub fn run_transduce(a: TransduceArgs) -> anyhow::Result<()> {
         transducing += t0.elapsed();
         chunk.clear();
     }
+    if let Some(warning) = reader.stats().warning(&a.input) {
+        eprintln!("{warning}");
+    }
     let t0 = Instant::now();
     transducer.finish();
     transducing += t0.elapsed();
@@ -241,6 +244,9 @@ pub fn run_filter(a: FilterArgs) -> anyhow::Result<()> {
         chunk.clear();
     }
     writer.finish()?;
+    if let Some(warning) = reader.stats().warning(&a.input) {
+        eprintln!("{warning}");
+    }
     let wall = start.elapsed().as_secs_f64();
     let out_count = refractory.as_ref().map_or(ba.kept, |r| r.kept);
     println!(

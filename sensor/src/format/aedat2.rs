@@ -3,17 +3,23 @@
 //! Header: ASCII lines starting with `#` (CRLF), the first one `#!AER-DAT2.0`. Data starts right
 //! after a `#End Of ASCII Header` sentinel line (matched case-insensitively, ignoring `#` and
 //! blanks) when there is one, else at the first line that does not start with `#` (older files).
-//! A data record may itself start with byte `#`, which is why the sentinel wins.
+//! A data record may itself start with byte `#`, which is why the sentinel wins. An input that
+//! ends before either (inside a header line, or after whole `#` lines) is truncated inside the
+//! header ([`FormatError::TruncatedHeader`]); a header with its sentinel and no records is an
+//! empty recording.
 //!
 //! Body: 8-byte big-endian records, `u32 address` then `i32 timestamp` (µs). A DVS polarity event
 //! has bit 31 = 0 and bits 11–10 ≠ `01`: raw y = bits 30–22, raw x = bits 21–12, polarity = bit
 //! 11 (1 = ON). For a DAVIS240, top-left coordinates are **x = 239 − raw x, y = 179 − raw y**.
 //! Other records (external input, APS samples, IMU) are skipped and counted. Timestamps are
-//! 32-bit: a drop of more than 2³¹ µs is a wrap and is unwrapped; a smaller drop is a timestamp
-//! going backwards, reported in [`ReadStats`] and kept in file order. A header whose `AEChip`
+//! 32-bit: each one is unwrapped to the time closest to the one before with the same low 32
+//! bits, so a drop of more than 2³¹ µs is a wrap (counted), and a step back of less than 2³¹ µs
+//! is a timestamp going backwards — across a wrap too — reported in [`ReadStats`] and kept in
+//! file order. A header whose `AEChip`
 //! line names another chip than a DAVIS240 is refused (its layout differs); a header without one
 //! is read as DAVIS240.
 
+use super::header::{HeaderSpec, read_header};
 use super::input::Input;
 use super::{EventReader, EventWriter, READ_BLOCK, ReadStats, ReaderEnd, io_error};
 use crate::error::FormatError;
@@ -35,6 +41,17 @@ const HEADER: &[u8] = b"#!AER-DAT2.0\r\n\
 # Timestamps tick is 1 us\r\n\
 # AEChip: eu.seebetter.ini.chips.davis.DAVIS240C\r\n\
 # End of ASCII Header\r\n";
+
+/// The AEDAT 2.0 header (module docs): ends at the sentinel, or at the first data byte in files
+/// without one.
+const HEADER_SPEC: HeaderSpec = HeaderSpec {
+    version: "#!AER-DAT2.0",
+    end_marker: "# End of ASCII Header",
+    expected_end: "the rest of the header: its end line `# End of ASCII Header` or the first record",
+    is_end: is_sentinel,
+    limit: MAX_HEADER_BYTES,
+    data_ends_header: true,
+};
 
 /// The chip class of an ` AEChip: …` header line (after its `#`).
 fn aechip(line: &[u8]) -> Option<String> {
@@ -61,8 +78,6 @@ pub struct Aedat2Reader<R> {
     filled: usize,
     /// Offset of `block[0]` in the input.
     block_offset: u64,
-    /// Added to the 32-bit timestamps (multiples of 2³²).
-    wrap_offset: i64,
     previous: i64,
     stats: ReadStats,
     end: ReaderEnd,
@@ -77,42 +92,18 @@ impl<R: Read> Aedat2Reader<R> {
     /// Reads the header of an AEDAT 2.0 input named `path` in errors.
     pub fn with_name(reader: R, path: PathBuf) -> Result<Self, FormatError> {
         let mut input = Input::new(reader, path);
-        let mut header = Vec::new();
-        let mut line = Vec::new();
-        let sentinel = "# End of ASCII Header";
-        if !input.read_line(&mut line, 0, MAX_HEADER_BYTES, sentinel)?
-            || !line.starts_with(b"#!AER-DAT2.0")
-        {
-            let found = super::escape(&line[..line.len().min(16)]);
-            return Err(input.invalid(0, "version line", found, "`#!AER-DAT2.0`"));
-        }
-        header.extend_from_slice(&line);
-        // The first byte of the data when a line does not start with `#` (no sentinel).
-        let mut data_start = Vec::new();
-        let mut first = [0u8; 1];
-        loop {
-            if input.read_full(&mut first)? == 0 {
-                break; // header-only file: no events
-            }
-            if first[0] != b'#' {
-                data_start.push(first[0]);
-                break;
-            }
-            let used = header.len() as u64 + 1;
-            let at = input.offset() - 1;
-            input.read_line(&mut line, used, MAX_HEADER_BYTES, sentinel)?;
-            header.push(b'#');
-            header.extend_from_slice(&line);
-            if is_sentinel(&line) {
-                break;
-            }
-            if let Some(chip) = aechip(&line) {
+        let header = read_header(&mut input, &HEADER_SPEC)?;
+        for (at, line) in header.lines() {
+            if let Some(chip) = aechip(&line[1..]) {
                 if !chip.to_ascii_lowercase().contains("davis240") {
                     let expected = "a DAVIS240 chip class (the x/y mirroring of this reader is DAVIS240-specific)";
                     return Err(input.invalid(at, "AEChip", format!("`{chip}`"), expected));
                 }
             }
         }
+        // The first byte of the data when a line that does not start with `#` ended the header.
+        let data_start: Vec<u8> = header.data_start.into_iter().collect();
+        let header = header.bytes;
         let block_offset = input.offset() - data_start.len() as u64;
         let filled = data_start.len();
         let mut block = data_start;
@@ -123,7 +114,6 @@ impl<R: Read> Aedat2Reader<R> {
             block,
             filled,
             block_offset,
-            wrap_offset: 0,
             previous: i64::MIN,
             stats: ReadStats::default(),
             end: ReaderEnd::default(),
@@ -140,7 +130,6 @@ impl<R: Read> Aedat2Reader<R> {
         let whole = self.filled - self.filled % RECORD;
         let mut stats = self.stats;
         let mut previous = self.previous;
-        let mut wrap_offset = self.wrap_offset;
         out.t.reserve(whole / RECORD);
         out.x.reserve(whole / RECORD);
         out.y.reserve(whole / RECORD);
@@ -158,17 +147,21 @@ impl<R: Read> Aedat2Reader<R> {
                 stats.out_of_range += 1;
                 continue;
             }
-            let mut t = wrap_offset + i64::from(ts);
-            if t < previous {
-                if previous - t > 1 << 31 {
-                    wrap_offset += 1 << 32;
-                    t += 1 << 32;
-                    stats.timestamp_wraps += 1;
-                } else {
+            let t = match previous {
+                i64::MIN => i64::from(ts),
+                _ => {
+                    // The time closest to the previous one with these low 32 bits.
+                    let low = previous as i32;
+                    let step = ts.wrapping_sub(low);
+                    if step > 0 && ts < low {
+                        stats.timestamp_wraps += 1;
+                    }
+                    let t = previous + i64::from(step);
                     let offset = self.block_offset + (i * RECORD) as u64;
                     stats.check_order(offset, previous, t);
+                    t
                 }
-            }
+            };
             previous = t;
             out.t.push(t);
             out.x.push((SIZE_X - 1 - raw_x) as u16);
@@ -177,7 +170,6 @@ impl<R: Read> Aedat2Reader<R> {
         }
         self.stats = stats;
         self.previous = previous;
-        self.wrap_offset = wrap_offset;
         whole
     }
 }

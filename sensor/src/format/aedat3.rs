@@ -8,6 +8,7 @@
 //! time = `(eventTSOverflow << 31) | timestamp`. Other packet types are skipped (counted), as are
 //! invalid events (valid bit 0) and the unused capacity past `eventNumber`.
 
+use super::header::{HeaderSpec, read_header};
 use super::input::Input;
 use super::{DAVIS240_SIZE, EventReader, EventWriter, READ_BLOCK, ReadStats, ReaderEnd, io_error};
 use crate::error::FormatError;
@@ -24,6 +25,16 @@ const PACKET_HEADER: usize = 28;
 const POLARITY_TYPE: i16 = 1;
 const EVENT_SIZE: usize = 8;
 const END_HEADER: &str = "#!END-HEADER";
+
+/// The AEDAT 3.1 header: `#` lines from the version line to `#!END-HEADER`.
+const HEADER_SPEC: HeaderSpec = HeaderSpec {
+    version: "#!AER-DAT3.1",
+    end_marker: END_HEADER,
+    expected_end: "the rest of the header through its end line `#!END-HEADER`",
+    is_end: |line| line.trim_ascii_end() == END_HEADER.as_bytes(),
+    limit: MAX_HEADER_BYTES,
+    data_ends_header: false,
+};
 
 /// The packet being read.
 #[derive(Debug, Clone, Copy)]
@@ -58,26 +69,7 @@ impl<R: Read> Aedat3Reader<R> {
     /// are skipped.
     pub fn with_name(reader: R, path: PathBuf) -> Result<Self, FormatError> {
         let mut input = Input::new(reader, path);
-        let mut header = Vec::new();
-        let mut line = Vec::new();
-        loop {
-            let at = input.offset();
-            if !input.read_line(&mut line, header.len() as u64, MAX_HEADER_BYTES, END_HEADER)? {
-                return Err(input.truncated_at(at, "the header end line `#!END-HEADER`"));
-            }
-            if header.is_empty() && !line.starts_with(b"#!AER-DAT3.1") {
-                let found = super::escape(&line[..line.len().min(16)]);
-                return Err(input.invalid(0, "version line", found, "`#!AER-DAT3.1`"));
-            }
-            if !line.starts_with(b"#") {
-                let found = super::escape(&line[..line.len().min(16)]);
-                return Err(input.invalid(at, "header line", found, "a line starting with `#`"));
-            }
-            header.extend_from_slice(&line);
-            if line.trim_ascii_end() == END_HEADER.as_bytes() {
-                break;
-            }
-        }
+        let header = read_header(&mut input, &HEADER_SPEC)?.bytes;
         Ok(Self {
             input,
             header,

@@ -182,8 +182,8 @@ fn truncated_files_deliver_what_precedes_and_then_a_typed_error() {
                 err,
                 Some(
                     FormatError::Truncated { .. }
+                        | FormatError::TruncatedHeader { .. }
                         | FormatError::Invalid { .. }
-                        | FormatError::UnsupportedVersion { .. }
                 )
             ),
             "cut {cut}: {err:?}"
@@ -201,7 +201,7 @@ fn truncated_files_deliver_what_precedes_and_then_a_typed_error() {
     );
     let (_, _, err) = read(&aedat3[..header_end - 5]);
     assert!(
-        matches!(err, Some(FormatError::Truncated { expected, .. }) if expected.contains("END-HEADER"))
+        matches!(err, Some(FormatError::TruncatedHeader { expected, .. }) if expected.contains("END-HEADER"))
     );
 }
 
@@ -291,8 +291,12 @@ fn aedat2_of_another_chip_is_refused_by_name() {
         "{err}"
     );
     assert!(err.to_string().contains("Davis346B"), "{err}");
-    let ok = b"#!AER-DAT2.0\r\n# AEChip: eu.seebetter.ini.chips.davis.DAVIS240B\r\n";
-    assert!(Aedat2Reader::new(&ok[..]).is_ok());
+    // Without a sentinel the header ends at the first byte that does not start a `#` line.
+    let ok =
+        b"#!AER-DAT2.0\r\n# AEChip: eu.seebetter.ini.chips.davis.DAVIS240B\r\n\0\0\0\0\0\0\0\x05";
+    let (got, _, err) = read(&ok[..]);
+    assert!(err.is_none(), "{err:?}");
+    assert_eq!((got.t[0], got.x[0], got.y[0]), (5, 239, 179));
 }
 
 #[test]
@@ -606,5 +610,183 @@ fn text_errors_name_line_field_and_offset() {
             assert_eq!((line, offset, field, found.as_str()), (3, 20, "y", "x"));
         }
         other => panic!("{other:?}"),
+    }
+}
+
+/// Where the header of an encoding ends (the byte after its end line).
+fn header_end(bytes: &[u8], end_line: &[u8]) -> usize {
+    bytes
+        .windows(end_line.len())
+        .position(|w| w == end_line)
+        .unwrap()
+        + end_line.len()
+}
+
+#[test]
+fn issue_14_aedat2_cut_inside_its_header_is_truncated_not_empty() {
+    // The header the writer produces is the one of `pick.aedat` (248 bytes); every cut inside
+    // it, including inside the AEChip line (byte 200), is a typed error at the cut.
+    let bytes = encode(Format::Aedat2, &events(3));
+    let end = header_end(&bytes, b"# End of ASCII Header\r\n");
+    assert_eq!(end, 248);
+    for cut in 1..end {
+        let (got, _, err) = read(&bytes[..cut]);
+        assert!(got.is_empty());
+        match &err {
+            Some(e @ FormatError::TruncatedHeader { offset, .. }) if *offset == cut as u64 => {
+                let msg = e.to_string();
+                let want = format!("truncated inside the header at byte {cut}");
+                assert!(msg.contains(&want), "cut {cut}: {msg}");
+            }
+            other => panic!("cut {cut}: {other:?}"),
+        }
+        if cut >= 12 {
+            let direct = Aedat2Reader::new(&bytes[..cut]).err();
+            assert!(
+                matches!(direct, Some(FormatError::TruncatedHeader { offset, .. }) if offset == cut as u64),
+                "cut {cut}: {direct:?}"
+            );
+        }
+    }
+    // The whole header and no record: an empty recording.
+    let (got, stats, err) = read(&bytes[..end]);
+    assert!(
+        err.is_none() && got.is_empty() && stats.events == 0,
+        "{err:?}"
+    );
+}
+
+#[test]
+fn issue_14_aedat3_and_aedat4_cut_inside_their_header_or_magic_are_truncated() {
+    let bytes = encode(Format::Aedat3, &events(3));
+    let end = header_end(&bytes, b"#!END-HEADER\r\n");
+    for cut in 1..end {
+        let (_, _, err) = read(&bytes[..cut]);
+        assert!(
+            matches!(err, Some(FormatError::TruncatedHeader { offset, .. }) if offset == cut as u64),
+            "cut {cut}: {err:?}"
+        );
+    }
+    let bytes = encode(Format::Aedat4(Compression::None), &events(3));
+    for cut in 1..12 {
+        let (_, _, err) = read(&bytes[..cut]);
+        assert!(
+            matches!(err, Some(FormatError::TruncatedHeader { offset, .. }) if offset == cut as u64),
+            "cut {cut}: {err:?}"
+        );
+    }
+    // A version that is not a prefix of a supported one stays unsupported.
+    assert!(matches!(
+        read(b"#!AER-DAT3").2,
+        Some(FormatError::TruncatedHeader { offset: 10, .. })
+    ));
+    assert!(matches!(
+        read(b"#!AER-DAT1").2,
+        Some(FormatError::UnsupportedVersion { .. })
+    ));
+}
+
+#[test]
+fn issue_14_unsupported_version_is_quoted_once() {
+    for (bytes, version) in [
+        (&b"#!AER-DAT3.0\r\n"[..], "`3.0`"),
+        (b"#!AER-DAT1\r\n", "`1`"),
+        (b"#!AER-DAT3.\x00\r\n", "`3.\\x00`"),
+    ] {
+        let err = read(bytes).2.unwrap();
+        let msg = err.to_string();
+        assert!(
+            matches!(err, FormatError::UnsupportedVersion { .. }),
+            "{msg}"
+        );
+        assert!(
+            msg.contains(&format!("unsupported AEDAT version {version} (")),
+            "{msg}"
+        );
+        assert!(!msg.contains("``"), "{msg}");
+    }
+}
+
+#[test]
+fn issue_14_text_errors_escape_control_bytes() {
+    let cases: [&[u8]; 3] = [
+        b"t,x,y,on\n1,2\x003,1\n",
+        b"0.1 1 2 1\n0.2 1 2\x1b[31m 1\n",
+        b"t,x,y,on\n1,2,3,\x00\n",
+    ];
+    for bytes in cases {
+        let err = read(bytes).2.unwrap();
+        let msg = err.to_string();
+        assert!(matches!(err, FormatError::Text { .. }), "{msg}");
+        assert!(
+            !msg.chars().any(|c| c.is_control()),
+            "raw control character in {msg:?}"
+        );
+        assert!(msg.contains("\\x00") || msg.contains("\\x1b"), "{msg}");
+    }
+    // Printable non-ASCII text is shown as it is; invalid UTF-8 is escaped.
+    let err = read(b"t,x,y,on\n1,2,3,\xc2\xb5\n").2.unwrap();
+    assert!(err.to_string().contains("`µ`"), "{err}");
+    let err = read(b"t,x,y,on\n1,2,3,\xff\n").2.unwrap();
+    assert!(err.to_string().contains("`\\xff`"), "{err}");
+}
+
+#[test]
+fn issue_14_too_many_fields_quotes_the_line_bounded() {
+    let err = read(b"t,x,y,on\n1,2,3,1,5\n").2.unwrap();
+    assert!(
+        matches!(&err, FormatError::Text { field: "line", found, line: 2, .. } if found == "1,2,3,1,5"),
+        "{err}"
+    );
+    let err = read(b"0.1 2 3 1 5\n").2.unwrap();
+    assert!(
+        matches!(&err, FormatError::Text { field: "line", found, .. } if found == "0.1 2 3 1 5"),
+        "{err}"
+    );
+    // A long line is quoted up to a bound, marked as cut.
+    let long = format!("t,x,y,on\n1,2,3,1{}\n", ",7".repeat(1000));
+    let err = read(long.as_bytes()).2.unwrap();
+    match &err {
+        FormatError::Text { found, .. } => {
+            assert!(
+                found.starts_with("1,2,3,1,7,7") && found.ends_with('…'),
+                "{found}"
+            );
+            assert!(found.len() <= 64 + '…'.len_utf8(), "{found}");
+        }
+        other => panic!("{other}"),
+    }
+}
+
+#[test]
+fn issue_14_one_warning_line_for_backwards_time_and_skipped_events() {
+    let (_, stats, err) = read(b"t,x,y,on\n10,1,2,1\n5,1,2,0\n11,300,2,1\n");
+    assert!(err.is_none());
+    let line = stats.warning(Path::new("in.csv")).unwrap();
+    assert_eq!(
+        line,
+        "warning: in.csv: skipped 1 events outside the sensor; 1 events go back in time (kept in file order; the first at byte 18: 5 µs after 10 µs)"
+    );
+    assert!(!line.contains('\n'));
+    let (_, stats, _) = read(b"t,x,y,on\n10,1,2,1\n");
+    assert_eq!(stats.warning(Path::new("in.csv")), None);
+}
+
+#[test]
+fn issue_14_aedat2_round_trips_steps_back_across_a_wrap() {
+    // Every step is below 2^31 µs, so the writer accepts it; the last steps back over the
+    // 32-bit wrap the one before crossed.
+    let mut ev = events(4);
+    ev.t = vec![0, 2_147_483_000, 4_294_966_000, 2_147_483_000];
+    let (got, stats, err) = read(&encode(Format::Aedat2, &ev));
+    assert!(err.is_none(), "{err:?}");
+    assert_eq!(got.t, ev.t);
+    assert_eq!((stats.timestamp_wraps, stats.timestamps_backwards), (1, 1));
+    // A step of 2^31 µs or more, or a first time beyond ±2^31 µs, is refused by the writer.
+    for t in [vec![0, 1 << 31], vec![-(1 << 31) - 1]] {
+        let mut ev = events(t.len());
+        ev.t = t;
+        let err = to_bytes(&ev, Format::Aedat2).unwrap_err();
+        assert!(matches!(err, FormatError::Unrepresentable { .. }), "{err}");
     }
 }

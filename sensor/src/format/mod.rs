@@ -39,6 +39,7 @@ pub mod aedat4;
 #[cfg(test)]
 mod bad_input;
 mod flatbuffer;
+mod header;
 mod input;
 pub mod text;
 
@@ -171,6 +172,31 @@ pub(crate) fn escape(bytes: &[u8]) -> String {
     }
 }
 
+/// Shows text as it is, with control characters (NUL, escape, line ends, …) and invalid UTF-8
+/// escaped and at most `max` bytes of it (then `…`), for error messages about text lines.
+pub(crate) fn escape_text(bytes: &[u8], max: usize) -> String {
+    let shown = &bytes[..bytes.len().min(max)];
+    let mut s = String::with_capacity(shown.len() + 3);
+    for chunk in shown.utf8_chunks() {
+        for c in chunk.valid().chars() {
+            if c.is_ascii_control() {
+                s.extend(std::ascii::escape_default(c as u8).map(char::from));
+            } else if c.is_control() {
+                s.extend(c.escape_default());
+            } else {
+                s.push(c);
+            }
+        }
+        for &b in chunk.invalid() {
+            s.extend(std::ascii::escape_default(b).map(char::from));
+        }
+    }
+    if bytes.len() > max {
+        s.push('…');
+    }
+    s
+}
+
 /// A timestamp that went backwards, as first seen by a reader.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Backwards {
@@ -201,6 +227,27 @@ pub struct ReadStats {
 }
 
 impl ReadStats {
+    /// The one-line warning every command prints (on stderr) when a reader of `input` kept events
+    /// going back in time (in file order) or skipped events outside the sensor; `None` when it
+    /// did neither. The wording lives here alone so that `convert`, `filter` and `transduce`
+    /// say the same thing.
+    pub fn warning(&self, input: &Path) -> Option<String> {
+        let mut parts = Vec::new();
+        if self.out_of_range > 0 {
+            parts.push(format!(
+                "skipped {} events outside the sensor",
+                self.out_of_range
+            ));
+        }
+        if let Some(b) = self.first_backwards {
+            parts.push(format!(
+                "{} events go back in time (kept in file order; the first at byte {}: {} µs after {} µs)",
+                self.timestamps_backwards, b.offset, b.t_us, b.previous_us
+            ));
+        }
+        (!parts.is_empty()).then(|| format!("warning: {}: {}", input.display(), parts.join("; ")))
+    }
+
     /// Records one event at `offset` with time `t` after an event at `previous`.
     #[inline]
     pub(crate) fn check_order(&mut self, offset: u64, previous: i64, t: i64) {
@@ -330,14 +377,29 @@ pub fn open_reader(path: &Path) -> Result<Box<dyn EventReader>, FormatError> {
     let len = file.metadata().ok().map(|m| m.len());
     let mut buffered = BufReader::with_capacity(READ_BLOCK, file);
     let head = buffered.fill_buf().map_err(io_error(path))?;
-    let format = detect_or_error(head, path)?;
+    let format = detect_or_error(head, path, len == Some(head.len() as u64))?;
     open_detected(format, buffered, path.to_path_buf(), len)
 }
 
-/// [`Format::detect`] with the error naming the file.
-fn detect_or_error(head: &[u8], path: &Path) -> Result<Format, FormatError> {
+/// The version lines of the AEDAT versions read.
+const AEDAT_MAGICS: [&[u8]; 3] = [b"#!AER-DAT2.0", b"#!AER-DAT3.1", b"#!AER-DAT4.0"];
+
+/// [`Format::detect`] with the error naming the file. `whole` says that `head` is the entire
+/// input, so that one cut inside an AEDAT version line is reported as truncated.
+fn detect_or_error(head: &[u8], path: &Path, whole: bool) -> Result<Format, FormatError> {
     Format::detect(&head[..head.len().min(4096)]).map_err(|(offset, found)| {
-        if head.starts_with(b"#!AER-DAT") {
+        let cut_magic = whole
+            && !head.is_empty()
+            && AEDAT_MAGICS
+                .iter()
+                .any(|m| m.len() > head.len() && m.starts_with(head));
+        if cut_magic {
+            FormatError::TruncatedHeader {
+                path: path.to_path_buf(),
+                offset: head.len() as u64,
+                expected: "the rest of the version line (`#!AER-DAT2.0`, `#!AER-DAT3.1` or `#!AER-DAT4.0`)",
+            }
+        } else if head.starts_with(b"#!AER-DAT") {
             FormatError::UnsupportedVersion {
                 path: path.to_path_buf(),
                 found,
@@ -371,7 +433,7 @@ fn open_detected<'a, R: Read + 'a>(
 /// errors.
 pub fn reader_from_bytes(bytes: &[u8]) -> Result<Box<dyn EventReader + '_>, FormatError> {
     let path = PathBuf::from("<memory>");
-    let format = detect_or_error(bytes, &path)?;
+    let format = detect_or_error(bytes, &path, true)?;
     open_detected(format, bytes, path, Some(bytes.len() as u64))
 }
 

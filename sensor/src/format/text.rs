@@ -19,6 +19,9 @@ use std::path::PathBuf;
 /// Longest line accepted (bytes).
 pub const MAX_LINE_BYTES: usize = 4096;
 
+/// Most bytes of a line quoted in an error.
+const FOUND_MAX_BYTES: usize = 64;
+
 /// Which text dialect a reader parses.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Dialect {
@@ -36,17 +39,19 @@ fn parse_int(s: &[u8]) -> Option<i64> {
         b'+' => (false, &s[1..]),
         _ => (false, s),
     };
-    if digits.is_empty() || digits.len() > 18 || !digits.iter().all(u8::is_ascii_digit) {
+    // 20 digits cannot overflow i128; the result must fit in i64 (every i64 parses).
+    if digits.is_empty() || digits.len() > 20 || !digits.iter().all(u8::is_ascii_digit) {
         return None;
     }
     let v = digits
         .iter()
-        .fold(0i64, |a, &d| a * 10 + i64::from(d - b'0'));
-    Some(if neg { -v } else { v })
+        .fold(0i128, |a, &d| a * 10 + i128::from(d - b'0'));
+    i64::try_from(if neg { -v } else { v }).ok()
 }
 
 /// Parses decimal seconds (`[-]int[.frac]`) exactly into µs, rounding half away from zero at
-/// the 7th decimal.
+/// the 7th decimal; `None` unless the result fits in i64 (every i64 µs, as the writer prints it,
+/// parses).
 fn parse_seconds_us(s: &[u8]) -> Option<i64> {
     let (neg, body) = match s.first()? {
         b'-' => (true, &s[1..]),
@@ -56,19 +61,23 @@ fn parse_seconds_us(s: &[u8]) -> Option<i64> {
         Some(i) => (&body[..i], &body[i + 1..]),
         None => (body, &[][..]),
     };
-    if int.is_empty() || int.len() > 12 || !int.iter().chain(frac).all(u8::is_ascii_digit) {
+    // 20 integer digits cannot overflow i128.
+    if int.is_empty() || int.len() > 20 || !int.iter().chain(frac).all(u8::is_ascii_digit) {
         return None;
     }
-    let mut us = int.iter().fold(0i64, |a, &d| a * 10 + i64::from(d - b'0')) * 1_000_000;
+    let mut us = int
+        .iter()
+        .fold(0i128, |a, &d| a * 10 + i128::from(d - b'0'))
+        * 1_000_000;
     let mut scale = 100_000;
     for &d in frac.iter().take(6) {
-        us += i64::from(d - b'0') * scale;
+        us += i128::from(d - b'0') * scale;
         scale /= 10;
     }
     if frac.get(6).is_some_and(|&d| d >= b'5') {
         us += 1;
     }
-    Some(if neg { -us } else { us })
+    i64::try_from(if neg { -us } else { us }).ok()
 }
 
 /// Parses one non-empty line into `(t, x, y, on)`.
@@ -92,7 +101,7 @@ fn parse_line(dialect: Dialect, line: &[u8]) -> Result<(i64, i64, i64, bool), Fi
                 continue;
             }
             if count == 4 {
-                return Err(("line", "exactly 4 fields", start, line.len()));
+                return Err(("line", "exactly 4 fields", 0, line.len()));
             }
             fields[count] = (start, i);
             count += 1;
@@ -165,7 +174,7 @@ impl<R: Read> TextReader<R> {
             line: self.line,
             offset,
             field,
-            found: String::from_utf8_lossy(&line[a..b.min(a + 64)]).into_owned(),
+            found: super::escape_text(&line[a..b], FOUND_MAX_BYTES),
             expected,
         }
     }
@@ -228,7 +237,7 @@ impl<R: Read> TextReader<R> {
                 None => {
                     if rest.len() > MAX_LINE_BYTES {
                         let offset = self.block_offset + self.start as u64;
-                        let e = ("line", "a line shorter than 4096 bytes", 0, 16);
+                        let e = ("line", "a line shorter than 4096 bytes", 0, rest.len());
                         return Err(self.text_error(offset, rest, e));
                     }
                     return Ok(());
@@ -401,6 +410,25 @@ mod tests {
         assert_eq!(parse_seconds_us(b"-0.5"), Some(-500_000));
         assert_eq!(parse_seconds_us(b"1e-6"), None);
         assert_eq!(parse_seconds_us(b"."), None);
+    }
+
+    #[test]
+    fn issue_14_every_i64_time_the_writers_print_parses_back() {
+        for t in [
+            i64::MAX,
+            i64::MIN,
+            -1_000_000_000_000_000_000,
+            999_999_999_999_999_999,
+        ] {
+            let abs = t.unsigned_abs();
+            let sign = if t < 0 { "-" } else { "" };
+            let ecd = format!("{sign}{}.{:06}000", abs / 1_000_000, abs % 1_000_000);
+            assert_eq!(parse_seconds_us(ecd.as_bytes()), Some(t), "{ecd}");
+            assert_eq!(parse_int(t.to_string().as_bytes()), Some(t));
+        }
+        assert_eq!(parse_int(b"9223372036854775808"), None);
+        assert_eq!(parse_seconds_us(b"9223372036854.775808"), None);
+        assert_eq!(parse_seconds_us(b"-9223372036854.7758085"), None);
     }
 
     #[test]

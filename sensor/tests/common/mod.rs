@@ -4,18 +4,10 @@
 use neurotac_core::{Event, EventBuffer, Timestamp};
 use std::path::PathBuf;
 
-/// `../shared/data/davis240/`, or `None` (with the reason printed) when it is absent.
+/// `../shared/data/davis240/`, or `None` (with the reason printed) when it is absent; fails
+/// when `CI` is set (`neurotac_core::testing`).
 pub fn shared_data() -> Option<PathBuf> {
-    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../shared/data/davis240");
-    if dir.is_dir() {
-        Some(dir)
-    } else {
-        eprintln!(
-            "skipped: {} is absent (the shared DAVIS240C recording is not in this checkout)",
-            dir.display()
-        );
-        None
-    }
+    neurotac_core::testing::shared_data("davis240")
 }
 
 /// The recording's events from `pick_events.csv` (`t,x,y,on`, t in µs).
