@@ -270,9 +270,10 @@ impl SpikeDataset {
         let version = u32::from_le_bytes(r.take(4, "version")?.try_into().expect("4 bytes"));
         match version {
             VERSION => {
-                let body_len = bytes.len().checked_sub(CHECKSUM_BYTES).ok_or_else(|| {
-                    r.error(bytes.len(), "truncated: the checksum needs 4 bytes")
-                })?;
+                let body_len = bytes
+                    .len()
+                    .checked_sub(CHECKSUM_BYTES)
+                    .ok_or_else(|| r.error(bytes.len(), "truncated: the checksum needs 4 bytes"))?;
                 let (body, stored) = bytes.split_at(body_len);
                 let stored = u32::from_le_bytes(stored.try_into().expect("4 bytes"));
                 let computed = crc32fast::hash(body);

@@ -435,7 +435,10 @@ mod tests {
         let f = AtomicFile::create(dir.path().join("o.aedat4")).unwrap();
         assert!(!dead.exists());
         assert!(live.exists(), "our own temporary is the one being written");
-        assert!(other.exists(), "another target's temporary is not ours to judge");
+        assert!(
+            other.exists(),
+            "another target's temporary is not ours to judge"
+        );
         drop(f);
     }
 
@@ -447,7 +450,11 @@ mod tests {
         std::fs::write(target.join("old.md"), "old").unwrap();
         let new = AtomicDir::create(&target).unwrap();
         std::fs::write(new.path().join("new.md"), "new").unwrap();
-        assert_eq!(names(&target), ["old.md"], "the old folder is intact until the commit");
+        assert_eq!(
+            names(&target),
+            ["old.md"],
+            "the old folder is intact until the commit"
+        );
         new.commit().unwrap();
         assert_eq!(names(&target), ["new.md"]);
         assert_eq!(names(dir.path()), ["report"]);
@@ -472,7 +479,10 @@ mod tests {
         std::fs::create_dir(&old).unwrap();
         let d = AtomicDir::create(&target).unwrap();
         assert!(!partial.exists());
-        assert!(!old.exists(), "the target exists, so a dead run's old folder is stale");
+        assert!(
+            !old.exists(),
+            "the target exists, so a dead run's old folder is stale"
+        );
         d.commit().unwrap();
         assert_eq!(names(dir.path()), ["report"]);
     }
@@ -513,7 +523,10 @@ mod tests {
             assert!(check_distinct(&sym, &input).is_err());
         }
         let other = dir.path().join("o.aedat");
-        assert!(check_distinct(&input, &other).is_ok(), "a new output is fine");
+        assert!(
+            check_distinct(&input, &other).is_ok(),
+            "a new output is fine"
+        );
         std::fs::write(&other, b"x").unwrap();
         assert!(check_distinct(&input, &other).is_ok());
     }

@@ -53,13 +53,13 @@ pub use error::{
     SameFileError, SpikeError, error_chain,
 };
 pub use event::{Event, EventBuffer};
-pub use io::{AtomicDir, AtomicFile};
 pub use graph::{
     Connectivity, CurrentInput, ExpSynapse, Network, NetworkBuilder, NetworkConfig, NodeId,
     PoissonInput, ProjectionId, Readout, ReadoutContext, ReadoutId, ReadoutSource, RunSummary,
     SpikeArrayInput, SpikeRecorder, SpikeSource, StateRecorder, StepView, Synapse,
     SynapticTraceRecorder,
 };
+pub use io::{AtomicDir, AtomicFile};
 pub use knn::Knn;
 pub use model::{NeuronModel, SpikeBuffer};
 pub use spikes::{MultiSpikeTrain, SpikeTrain};
