@@ -46,11 +46,17 @@ const OLD_TAG: &str = "old";
 /// A file written beside its target under a hidden temporary name and renamed onto the target
 /// by [`commit`](Self::commit); dropped uncommitted, it removes the temporary file.
 ///
+/// A target that is a symbolic link to a file is replaced behind the link (the link stays). A
+/// target that exists and is neither a file nor a folder (`/dev/stdout`, a named pipe) is
+/// written directly: it cannot be renamed onto, and holds no content to keep.
+///
 /// Writes are buffered; [`Seek`] flushes the buffer first.
 #[derive(Debug)]
 pub struct AtomicFile {
     out: BufWriter<File>,
-    temp: PathBuf,
+    /// The hidden file written and where it is renamed to (the target, or the file a symbolic
+    /// link target points to); `None` when writing directly to a device or pipe.
+    temp: Option<(PathBuf, PathBuf)>,
     target: PathBuf,
     committed: bool,
 }
@@ -60,7 +66,20 @@ impl AtomicFile {
     /// after removing temporary files of `target` left by processes that no longer run.
     pub fn create(target: impl AsRef<Path>) -> io::Result<Self> {
         let target = target.as_ref().to_path_buf();
-        let (folder, name) = folder_and_name(&target)?;
+        let written = match std::fs::metadata(&target) {
+            Ok(m) if !m.is_file() && !m.is_dir() => {
+                let file = std::fs::OpenOptions::new().write(true).open(&target)?;
+                return Ok(Self {
+                    out: BufWriter::with_capacity(1 << 16, file),
+                    temp: None,
+                    target,
+                    committed: false,
+                });
+            }
+            Ok(m) if m.is_file() && target.is_symlink() => std::fs::canonicalize(&target)?,
+            _ => target.clone(),
+        };
+        let (folder, name) = folder_and_name(&written)?;
         remove_stale(&folder, &name, &[TMP_TAG]);
         let temp = sibling(&folder, &name, TMP_TAG, std::process::id());
         let file = std::fs::OpenOptions::new()
@@ -71,20 +90,15 @@ impl AtomicFile {
             .open(&temp)?;
         Ok(Self {
             out: BufWriter::with_capacity(1 << 16, file),
-            temp,
+            temp: Some((temp, written)),
             target,
             committed: false,
         })
     }
 
-    /// The path the file appears under after [`commit`](Self::commit).
+    /// The path the file appears under after [`commit`](Self::commit), as given.
     pub fn target(&self) -> &Path {
         &self.target
-    }
-
-    /// The hidden temporary file the bytes go to until the commit.
-    pub fn temp_path(&self) -> &Path {
-        &self.temp
     }
 
     /// A second handle to the temporary file, for a writer that must own its output (a boxed
@@ -99,10 +113,14 @@ impl AtomicFile {
     /// after a crash.
     pub fn commit(mut self) -> io::Result<()> {
         self.out.flush()?;
+        let Some((temp, destination)) = &self.temp else {
+            self.committed = true;
+            return Ok(());
+        };
         self.out.get_ref().sync_all()?;
-        std::fs::rename(&self.temp, &self.target)?;
+        std::fs::rename(temp, destination)?;
         self.committed = true;
-        sync_folder(&self.target);
+        sync_folder(destination);
         Ok(())
     }
 }
@@ -129,8 +147,8 @@ impl Seek for AtomicFile {
 
 impl Drop for AtomicFile {
     fn drop(&mut self) {
-        if !self.committed {
-            let _ = std::fs::remove_file(&self.temp);
+        if let (false, Some((temp, _))) = (self.committed, &self.temp) {
+            let _ = std::fs::remove_file(temp);
         }
     }
 }
@@ -363,6 +381,8 @@ pub fn process_alive(pid: u32) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
+    #[cfg(unix)]
+    use std::os::unix::fs::FileTypeExt;
 
     /// The id of a process that has exited.
     fn dead_pid() -> u32 {
@@ -414,6 +434,33 @@ mod tests {
         f.write_all(b"HEAD").unwrap();
         f.commit().unwrap();
         assert_eq!(std::fs::read(&target).unwrap(), b"HEADbody");
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn a_symbolic_link_stays_and_a_pipe_is_written_directly() {
+        let dir = tempfile::tempdir().unwrap();
+        let real = dir.path().join("real.csv");
+        std::fs::write(&real, "old").unwrap();
+        let link = dir.path().join("link.csv");
+        std::os::unix::fs::symlink(&real, &link).unwrap();
+        write(&link, "new").unwrap();
+        assert!(link.is_symlink());
+        assert_eq!(std::fs::read_to_string(&real).unwrap(), "new");
+        assert_eq!(names(dir.path()), ["link.csv", "real.csv"]);
+        // A named pipe (as /dev/stdout may be) is written, not replaced.
+        let fifo = dir.path().join("pipe.csv");
+        let c_path = std::ffi::CString::new(fifo.to_str().unwrap()).unwrap();
+        // SAFETY: a valid NUL-terminated path; mkfifo only creates the pipe.
+        assert_eq!(unsafe { libc::mkfifo(c_path.as_ptr(), 0o600) }, 0);
+        let reader = {
+            let fifo = fifo.clone();
+            std::thread::spawn(move || std::fs::read_to_string(fifo).unwrap())
+        };
+        write(&fifo, "through the pipe").unwrap();
+        assert_eq!(reader.join().unwrap(), "through the pipe");
+        assert!(fifo.metadata().unwrap().file_type().is_fifo());
+        assert_eq!(names(dir.path()), ["link.csv", "pipe.csv", "real.csv"]);
     }
 
     #[test]
