@@ -13,16 +13,22 @@
 //! absent (an unlabelled dataset).
 //!
 //! # Binary form
-//! Little-endian: magic `NTSPIKES`, `u32` version (1), `u64` number of observations, `u64`
+//! Little-endian: magic `NTSPIKES`, `u32` version (2), `u64` number of observations, `u64`
 //! number of class names, each name as `u64` length + UTF-8, the metadata as `u64` length +
-//! JSON text, `u8` 1 if labels follow then one `u64` label per observation, and per
-//! observation a `u64` channel count, one `u64` spike count per channel and the `f64` times.
-//! Every length is checked against the bytes left before anything is allocated.
+//! JSON text, `u8` 1 if labels follow then one `u64` label per observation, per
+//! observation a `u64` channel count, one `u64` spike count per channel and the `f64` times,
+//! and last a `u32` CRC-32 (IEEE, as zlib's `crc32`) of every byte before it. The checksum is
+//! verified before anything else is decoded, so a flipped bit is a
+//! [`DatasetError::Checksum`] naming the file, never a silently different dataset. Version 1
+//! (the same layout without the checksum) still reads. Every length is checked against the
+//! bytes left before anything is allocated.
+//!
+//! Both forms are written through [`crate::io::AtomicFile`]: a failed or interrupted save
+//! leaves the old file (or none), never a truncated one.
 
 use crate::error::DatasetError;
 use crate::spikes::MultiSpikeTrain;
 use serde::{Deserialize, Serialize};
-use std::io::Write;
 use std::path::{Path, PathBuf};
 
 /// Observations (multi-channel spike trains), their class labels, class names and metadata.
@@ -47,7 +53,12 @@ struct JsonDataset {
 }
 
 const MAGIC: &[u8; 8] = b"NTSPIKES";
-const VERSION: u32 = 1;
+/// The version written: the layout of version 1 followed by a CRC-32.
+const VERSION: u32 = 2;
+/// The first version, without a checksum (still read).
+const VERSION_WITHOUT_CHECKSUM: u32 = 1;
+/// Bytes of the trailing CRC-32.
+const CHECKSUM_BYTES: usize = 4;
 
 impl SpikeDataset {
     /// Builds a dataset, checking that labels (if any) match the observations one to one, that
@@ -241,6 +252,8 @@ impl SpikeDataset {
                 out.extend_from_slice(&t.to_le_bytes());
             }
         }
+        let crc = crc32fast::hash(&out);
+        out.extend_from_slice(&crc.to_le_bytes());
         out
     }
 
@@ -255,11 +268,33 @@ impl SpikeDataset {
             return Err(r.error(0, "not a neurotac binary spike dataset (bad magic)"));
         }
         let version = u32::from_le_bytes(r.take(4, "version")?.try_into().expect("4 bytes"));
-        if version != VERSION {
-            return Err(r.error(
-                8,
-                &format!("unsupported version {version} (expected {VERSION})"),
-            ));
+        match version {
+            VERSION => {
+                let body_len = bytes
+                    .len()
+                    .checked_sub(CHECKSUM_BYTES)
+                    .ok_or_else(|| r.error(bytes.len(), "truncated: the checksum needs 4 bytes"))?;
+                let (body, stored) = bytes.split_at(body_len);
+                let stored = u32::from_le_bytes(stored.try_into().expect("4 bytes"));
+                let computed = crc32fast::hash(body);
+                if stored != computed {
+                    return Err(DatasetError::Checksum {
+                        path: path.to_owned(),
+                        stored,
+                        computed,
+                    });
+                }
+                r.bytes = body;
+            }
+            VERSION_WITHOUT_CHECKSUM => {}
+            _ => {
+                return Err(r.error(
+                    8,
+                    &format!(
+                        "unsupported version {version} (expected {VERSION_WITHOUT_CHECKSUM} or {VERSION})"
+                    ),
+                ));
+            }
         }
         let n_obs = r.count(8, "observation count")?;
         let n_classes = r.count(8, "class-name count")?;
@@ -325,14 +360,12 @@ fn put_u64(out: &mut Vec<u8>, v: usize) {
     out.extend_from_slice(&(v as u64).to_le_bytes());
 }
 
+/// Writes `bytes` to `path` atomically (old content or nothing on failure).
 fn write_file(path: &Path, bytes: &[u8]) -> Result<(), DatasetError> {
-    let io = |source| DatasetError::Io {
+    crate::io::write(path, bytes).map_err(|source| DatasetError::Io {
         path: path.to_owned(),
         source,
-    };
-    let mut f = std::fs::File::create(path).map_err(io)?;
-    f.write_all(bytes).map_err(io)?;
-    f.flush().map_err(io)
+    })
 }
 
 /// A bounds-checked little-endian cursor.
@@ -532,9 +565,60 @@ mod tests {
         assert!(big.to_binary().len() < big.to_json_string().len());
     }
 
+    /// The version-1 form of a dataset (no checksum), as files written before issue 14 hold it.
+    fn version_1(d: &SpikeDataset) -> Vec<u8> {
+        let mut bytes = d.to_binary();
+        bytes.truncate(bytes.len() - CHECKSUM_BYTES);
+        bytes[8..12].copy_from_slice(&VERSION_WITHOUT_CHECKSUM.to_le_bytes());
+        bytes
+    }
+
+    #[test]
+    fn issue_14_every_one_bit_flip_is_a_checksum_error_naming_the_file() {
+        let bytes = sample().to_binary();
+        assert_eq!(&bytes[8..12], &VERSION.to_le_bytes());
+        // Past magic and version, every flipped bit is caught by the checksum.
+        for byte in 12..bytes.len() {
+            for bit in 0..8 {
+                let mut flipped = bytes.clone();
+                flipped[byte] ^= 1 << bit;
+                match SpikeDataset::from_binary(&flipped, Path::new("cache/a.bin")) {
+                    Err(e @ DatasetError::Checksum { .. }) => {
+                        assert!(e.to_string().starts_with("cache/a.bin: checksum mismatch"))
+                    }
+                    other => panic!("byte {byte} bit {bit}: {other:?}"),
+                }
+            }
+        }
+        for cut in 0..bytes.len() {
+            assert!(
+                SpikeDataset::from_binary(&bytes[..cut], Path::new("t")).is_err(),
+                "cut {cut}"
+            );
+        }
+        // In the magic or the version it is a typed error too.
+        for byte in 0..12 {
+            let mut flipped = bytes.clone();
+            flipped[byte] ^= 1;
+            assert!(SpikeDataset::from_binary(&flipped, Path::new("a")).is_err());
+        }
+    }
+
+    #[test]
+    fn issue_14_version_1_files_without_a_checksum_still_load() {
+        let d = sample();
+        let old = version_1(&d);
+        assert_eq!(SpikeDataset::from_binary(&old, Path::new("v1")).unwrap(), d);
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("v1.bin");
+        std::fs::write(&path, &old).unwrap();
+        assert_eq!(SpikeDataset::load(&path).unwrap(), d);
+    }
+
     #[test]
     fn corrupt_binary_is_a_typed_error_never_a_huge_allocation() {
-        let bytes = sample().to_binary();
+        // Version 1 has no checksum: its structural checks are what guards it.
+        let bytes = version_1(&sample());
         // Every truncation fails cleanly.
         for cut in 0..bytes.len() {
             assert!(

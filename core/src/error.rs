@@ -127,6 +127,30 @@ pub enum DatasetError {
         /// Channels of this observation.
         got: usize,
     },
+    /// The binary form's CRC-32 does not match its bytes: the file is corrupt or truncated.
+    #[error(
+        "{path}: checksum mismatch (stored CRC-32 {stored:08x}, computed {computed:08x}): the file is corrupt or truncated"
+    )]
+    Checksum {
+        /// The file.
+        path: PathBuf,
+        /// The CRC-32 stored in the file's last 4 bytes.
+        stored: u32,
+        /// The CRC-32 of the bytes before it.
+        computed: u32,
+    },
+}
+
+/// An output that is the same file as an input: writing it would destroy the input.
+#[derive(Debug, Clone, PartialEq, Eq, Error)]
+#[error(
+    "the output {output} is the input {input} (the same file): refusing to overwrite the input; choose another output"
+)]
+pub struct SameFileError {
+    /// The input path as given.
+    pub input: PathBuf,
+    /// The output path as given.
+    pub output: PathBuf,
 }
 
 /// A network that cannot be built as described.
@@ -429,6 +453,9 @@ pub enum CoreError {
     /// See [`KnnError`].
     #[error(transparent)]
     Knn(#[from] KnnError),
+    /// See [`SameFileError`].
+    #[error(transparent)]
+    SameFile(#[from] SameFileError),
 }
 
 /// Formats an error and its chain of sources on one line, `outer: inner: innermost`.

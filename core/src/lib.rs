@@ -16,7 +16,8 @@
 //! | distances and N×N matrices | [`distance`]: Euclidean, exact multi-unit [`VanRossum`], trace-sampled |
 //! | the KNN head | [`knn`]: [`Knn`] (leave-one-out in one pass, documented tie rules) |
 //! | special functions | [`special`]: `erfc` |
-//! | errors | [`SpikeError`], [`DatasetError`], [`GraphError`], [`ModelError`], [`CodingError`], [`DistanceError`], [`KnnError`], [`CoreError`] |
+//! | outputs never half-written | [`io`]: [`AtomicFile`], [`AtomicDir`], [`io::check_distinct`] (input ≠ output) |
+//! | errors | [`SpikeError`], [`DatasetError`], [`GraphError`], [`ModelError`], [`CodingError`], [`DistanceError`], [`KnnError`], [`SameFileError`], [`CoreError`] |
 //!
 //! Data flows one way through neurotac: sensor → core graph → readouts → experiments. Neuron
 //! models (LIF, Izhikevich) live in `neurotac-neurons`; the DAVIS240 and the sensor simulator in
@@ -37,6 +38,7 @@ pub mod distance;
 pub mod error;
 pub mod event;
 pub mod graph;
+pub mod io;
 pub mod knn;
 pub mod model;
 pub mod special;
@@ -50,7 +52,7 @@ pub use dataset::SpikeDataset;
 pub use distance::VanRossum;
 pub use error::{
     CodingError, CoreError, DatasetError, DistanceError, GraphError, KnnError, ModelError,
-    SpikeError, error_chain,
+    SameFileError, SpikeError, error_chain,
 };
 pub use event::{Event, EventBuffer};
 pub use graph::{
@@ -59,6 +61,7 @@ pub use graph::{
     SpikeArrayInput, SpikeRecorder, SpikeSource, StateRecorder, StateSampler, StepView, Synapse,
     SynapticCurrentSampler, SynapticTraceRecorder, TraceRecorder, TraceSampler,
 };
+pub use io::{AtomicDir, AtomicFile};
 pub use knn::Knn;
 pub use model::{NeuronModel, SpikeBuffer};
 pub use spikes::{MultiSpikeTrain, SpikeTrain};

@@ -370,24 +370,27 @@ fn read_cached(
     path: &Path,
     meta: &serde_json::Map<String, serde_json::Value>,
 ) -> Option<SpikeDataset> {
-    let data = SpikeDataset::load(path).ok()?;
+    let data = match SpikeDataset::load(path) {
+        Ok(data) => data,
+        Err(e) if path.exists() => {
+            let e = neurotac_core::error_chain(&e);
+            eprintln!("warning: cached dataset unusable ({e}); simulating it again");
+            return None;
+        }
+        Err(_) => return None,
+    };
     meta.iter()
         .all(|(k, v)| data.meta().get(k) == Some(v))
         .then_some(data)
 }
 
-/// Writes `dataset` to `path` (binary) through a temporary file and a rename.
+/// Writes `dataset` to `path` (binary, checksummed) through a temporary file and a rename.
 pub fn store(dataset: &SpikeDataset, dir: &Path, path: &Path) -> Result<(), DatasetsError> {
     std::fs::create_dir_all(dir).map_err(|source| DatasetsError::Io {
         path: dir.to_owned(),
         source,
     })?;
-    let tmp = path.with_extension(format!("tmp{}", std::process::id()));
-    dataset.save_binary(&tmp)?;
-    std::fs::rename(&tmp, path).map_err(|source| DatasetsError::Io {
-        path: path.to_owned(),
-        source,
-    })
+    Ok(dataset.save_binary(path)?)
 }
 
 /// Writes pixel events as CSV: a header `t,x,y,on` (t in µs, `on` 1/0), one event per line;
@@ -404,8 +407,7 @@ pub fn write_events_csv(
         path: path.to_owned(),
         source,
     };
-    let file = std::fs::File::create(path).map_err(io)?;
-    let mut w = std::io::BufWriter::new(file);
+    let mut w = neurotac_core::io::AtomicFile::create(path).map_err(io)?;
     let header = if labels.is_some() {
         "t,x,y,on,pin\n"
     } else {
@@ -429,7 +431,7 @@ pub fn write_events_csv(
         }
         .map_err(io)?;
     }
-    w.flush().map_err(io)
+    w.commit().map_err(io)
 }
 
 #[cfg(test)]

@@ -28,6 +28,7 @@ pub struct ConvertArgs {
 }
 
 pub fn run(args: ConvertArgs) -> anyhow::Result<()> {
+    neurotac_core::io::check_distinct(&args.input, &args.output)?;
     let out_format = match Format::from_extension(&args.output)? {
         Format::Aedat4(_) => Format::Aedat4(match args.compression {
             Codec::None => Compression::None,

@@ -44,6 +44,7 @@ pub struct DistancesArgs {
 }
 
 pub fn run(args: DistancesArgs) -> anyhow::Result<()> {
+    neurotac_core::io::check_distinct(&args.input, &args.output)?;
     let data = load(&args.input)?;
     let (matrix, timing) = timed(|| match args.metric {
         Metric::VanRossum => van_rossum_distances(&data, args.tau, args.cos),
@@ -55,7 +56,7 @@ pub fn run(args: DistancesArgs) -> anyhow::Result<()> {
     let matrix = matrix?;
     let rows: Vec<Vec<f64>> = matrix.outer_iter().map(|r| r.to_vec()).collect();
     let text = serde_json::to_string(&serde_json::json!({ "matrix": rows }))?;
-    std::fs::write(&args.output, text)
+    neurotac_core::io::write(&args.output, text)
         .with_context(|| format!("writing {}", args.output.display()))?;
     let n = data.len();
     println!(

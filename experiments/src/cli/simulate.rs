@@ -165,7 +165,9 @@ fn generate(a: GenerateArgs) -> anyhow::Result<()> {
     let total = trials * set.textures().len();
     let bar = progress_bar(total, set.name());
     let start = Instant::now();
-    let cached = !a.pixel_events && cache_path(set, trials, a.seed, &params, &cache).exists();
+    let cached = !a.pixel_events
+        && neurotac_core::SpikeDataset::load(cache_path(set, trials, a.seed, &params, &cache))
+            .is_ok();
     let dataset = with_threads(a.threads, || -> anyhow::Result<_> {
         if a.pixel_events {
             let names = set.class_names();
@@ -295,9 +297,9 @@ fn check(a: CheckArgs) -> anyhow::Result<()> {
     );
     if let Some(out) = a.out {
         std::fs::create_dir_all(&out).with_context(|| format!("creating {}", out.display()))?;
-        std::fs::write(out.join("check.md"), markdown)
+        neurotac_core::io::write(out.join("check.md"), markdown)
             .with_context(|| format!("writing {}", out.join("check.md").display()))?;
-        std::fs::write(
+        neurotac_core::io::write(
             out.join("check.json"),
             serde_json::to_string_pretty(&report)?,
         )

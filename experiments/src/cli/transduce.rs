@@ -3,12 +3,14 @@
 
 use anyhow::{Context, bail};
 use clap::Args;
+use neurotac_core::io::{AtomicFile, check_distinct};
 use neurotac_core::{EventBuffer, SpikeDataset};
 use neurotac_experiments::figures::spike_train_figure;
 use neurotac_sensor::filter::{BackgroundActivityFilter, MapStart, RefractoryFilter};
 use neurotac_sensor::format::{create_writer, open_reader};
 use neurotac_sensor::stage::{Filtered, Stage};
 use neurotac_sensor::taxel::{TaxelLayout, Transducer, TransductionConfig};
+use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -45,6 +47,11 @@ fn layout_from(
     };
     layout.validate(radius_px, Some(49), 240, 180)?;
     Ok(layout)
+}
+
+/// An output file, created hidden beside `path` until committed.
+fn create_output(path: &Path) -> anyhow::Result<AtomicFile> {
+    AtomicFile::create(path).with_context(|| format!("creating {}", path.display()))
 }
 
 /// The events of the first `ms` milliseconds of a file.
@@ -104,6 +111,15 @@ pub struct TransduceArgs {
 }
 
 pub fn run_transduce(a: TransduceArgs) -> anyhow::Result<()> {
+    // Every output is checked against the input and created (hidden) before any work, and all
+    // are renamed into place together at the end: a failure leaves none of them.
+    check_distinct(&a.input, &a.out)?;
+    let mut out_file = create_output(&a.out)?;
+    let mut raster_file = None;
+    if let Some(path) = &a.raster {
+        check_distinct(&a.input, path)?;
+        raster_file = Some(create_output(path)?);
+    }
     let layout = layout_from(&a.layout, &a.input, a.calibration_ms, a.rf_radius_px)?;
     if !(a.pool_ms.is_finite() && a.pool_ms > 0.0) {
         bail!("--pool-ms {} must be finite and > 0", a.pool_ms);
@@ -162,18 +178,26 @@ pub fn run_transduce(a: TransduceArgs) -> anyhow::Result<()> {
         None => (Vec::new(), Vec::new()),
     };
     let dataset = SpikeDataset::new(vec![trains.clone()], labels, names, meta)?;
-    if a.out.extension().is_some_and(|e| e == "json") {
-        dataset.save_json(&a.out)?;
+    let bytes = if a.out.extension().is_some_and(|e| e == "json") {
+        dataset.to_json_string().into_bytes()
     } else {
-        dataset.save_binary(&a.out)?;
-    }
-    if let Some(path) = &a.raster {
+        dataset.to_binary()
+    };
+    out_file
+        .write_all(&bytes)
+        .with_context(|| format!("writing {}", a.out.display()))?;
+    if let Some(file) = &mut raster_file {
         let title = format!(
             "{}: {} taxel spikes",
             a.input.display(),
             trains.total_spikes()
         );
-        std::fs::write(path, spike_train_figure(&trains, &title, 0.159))
+        file.write_all(spike_train_figure(&trains, &title, 0.159).as_bytes())
+            .with_context(|| format!("writing {}", file.target().display()))?;
+    }
+    for file in std::iter::once(out_file).chain(raster_file) {
+        let path = file.target().to_path_buf();
+        file.commit()
             .with_context(|| format!("writing {}", path.display()))?;
     }
     println!(
@@ -208,6 +232,7 @@ pub struct FilterArgs {
 }
 
 pub fn run_filter(a: FilterArgs) -> anyhow::Result<()> {
+    check_distinct(&a.input, &a.output)?;
     let start_mode = if a.ba_empty_start {
         MapStart::Empty
     } else {
@@ -276,9 +301,12 @@ pub struct LayoutArgs {
 }
 
 pub fn run_layout(a: LayoutArgs) -> anyhow::Result<()> {
+    if let Some(path) = &a.out {
+        check_distinct(&a.input, path)?;
+    }
     let layout = layout_from("auto", &a.input, a.calibration_ms, a.rf_radius_px)?;
     if let Some(path) = &a.out {
-        std::fs::write(path, layout.to_json())
+        neurotac_core::io::write(path, layout.to_json())
             .with_context(|| format!("writing {}", path.display()))?;
         println!("wrote {}", path.display());
     } else {

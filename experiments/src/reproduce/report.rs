@@ -311,31 +311,11 @@ pub fn check_destination(out: &Path, force: bool) -> Result<(), ReportError> {
 /// only with `force`.
 pub fn write_report(out: &Path, report: &Report, force: bool) -> Result<(), ReportError> {
     check_destination(out, force)?;
-    let name = out
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_else(|| "report".into());
-    let parent = match out.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p.to_owned(),
-        _ => PathBuf::from("."),
-    };
-    std::fs::create_dir_all(&parent).map_err(io(&parent))?;
-    let partial = parent.join(format!(".{name}.partial-{}", std::process::id()));
-    if partial.exists() {
-        std::fs::remove_dir_all(&partial).map_err(io(&partial))?;
-    }
-    std::fs::create_dir_all(&partial).map_err(io(&partial))?;
-    let written = write_files(&partial, report).and_then(|()| {
-        check_destination(out, force)?;
-        if out.exists() {
-            std::fs::remove_dir_all(out).map_err(io(out))?;
-        }
-        std::fs::rename(&partial, out).map_err(io(out))
-    });
-    if written.is_err() {
-        let _ = std::fs::remove_dir_all(&partial);
-    }
-    written
+    // Written into a hidden partial folder, then swapped in (neurotac_core::io::AtomicDir).
+    let partial = neurotac_core::io::AtomicDir::create(out).map_err(io(out))?;
+    write_files(partial.path(), report)?;
+    check_destination(out, force)?;
+    partial.commit().map_err(io(out))
 }
 
 fn write(dir: &Path, file: &str, text: &str) -> Result<(), ReportError> {

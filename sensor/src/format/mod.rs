@@ -51,6 +51,7 @@ pub use text::{CsvReader, CsvWriter, EcdTextReader, EcdTextWriter};
 use crate::error::FormatError;
 use crate::geometry::{DAVIS240_HEIGHT, DAVIS240_WIDTH};
 use neurotac_core::EventBuffer;
+use neurotac_core::io::AtomicFile;
 use std::fs::File;
 use std::io::{BufRead, BufReader, BufWriter, Read, Seek, Write};
 use std::path::{Path, PathBuf};
@@ -463,14 +464,47 @@ pub fn to_bytes(events: &EventBuffer, format: Format) -> Result<Vec<u8>, FormatE
     Ok(cursor.into_inner())
 }
 
-/// Creates an event file in `format`.
+/// Creates an event file in `format`, atomically: the events go to a hidden temporary file
+/// beside `path` ([`AtomicFile`]), and only a successful [`EventWriter::finish`] renames it onto
+/// `path`. A writer dropped before that (a reader or writer error, an early return) removes the
+/// temporary file, so `path` keeps its old content or stays absent.
 pub fn create_writer_as(path: &Path, format: Format) -> Result<Box<dyn EventWriter>, FormatError> {
-    let file = File::create(path).map_err(io_error(path))?;
-    writer_to(
-        BufWriter::with_capacity(READ_BLOCK, file),
+    let file = AtomicFile::create(path).map_err(io_error(path))?;
+    let handle = file.try_clone_file().map_err(io_error(path))?;
+    let inner = writer_to(
+        BufWriter::with_capacity(READ_BLOCK, handle),
         format,
         path.to_path_buf(),
-    )
+    )?;
+    Ok(Box::new(AtomicEventWriter {
+        inner,
+        file: Some(file),
+    }))
+}
+
+/// An event writer into an [`AtomicFile`]: `finish` completes the file, then commits it.
+struct AtomicEventWriter {
+    /// Declared first: dropped (and its buffer flushed) before the temporary file is removed.
+    inner: Box<dyn EventWriter>,
+    /// `None` once committed.
+    file: Option<AtomicFile>,
+}
+
+impl EventWriter for AtomicEventWriter {
+    fn write(&mut self, events: &EventBuffer) -> Result<(), FormatError> {
+        self.inner.write(events)
+    }
+
+    fn finish(&mut self) -> Result<(), FormatError> {
+        self.inner.finish()?;
+        match self.file.take() {
+            Some(file) => {
+                let path = file.target().to_path_buf();
+                file.commit().map_err(io_error(&path))
+            }
+            None => Ok(()),
+        }
+    }
 }
 
 /// Creates an event file whose format is given by its extension ([`Format::from_extension`]).
@@ -487,7 +521,8 @@ pub fn read_file(path: &Path) -> Result<(EventBuffer, ReadStats), FormatError> {
     Ok((out, reader.stats()))
 }
 
-/// Writes `events` to a new file whose format is given by its extension.
+/// Writes `events` to a file whose format is given by its extension, atomically (see
+/// [`create_writer_as`]).
 pub fn write_file(path: &Path, events: &EventBuffer) -> Result<(), FormatError> {
     let mut writer = create_writer(path)?;
     writer.write(events)?;
@@ -557,6 +592,55 @@ mod tests {
         }
         let reader = reader_from_bytes(&patched).unwrap();
         assert_eq!(reader.sensor_size(), Some((346, 260)));
+    }
+
+    /// The names in a folder, sorted.
+    fn names(folder: &Path) -> Vec<String> {
+        let mut v: Vec<String> = std::fs::read_dir(folder)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        v.sort();
+        v
+    }
+
+    #[test]
+    fn issue_14_a_failed_or_unfinished_write_leaves_the_old_file_or_none() {
+        let dir = tempfile::tempdir().unwrap();
+        let mut events = EventBuffer::new();
+        for (i, t) in [10, 20, 1 << 40].into_iter().enumerate() {
+            events.push(neurotac_core::Event {
+                t: neurotac_core::Timestamp(t),
+                x: i as u16,
+                y: 3,
+                polarity: true,
+            });
+        }
+        // A time AEDAT 2.0 cannot hold: the write fails and no file appears.
+        let aedat = dir.path().join("o.aedat");
+        assert!(matches!(
+            write_file(&aedat, &events),
+            Err(FormatError::Unrepresentable { .. })
+        ));
+        assert_eq!(names(dir.path()), Vec::<String>::new());
+        // An existing file keeps its content.
+        std::fs::write(&aedat, b"old").unwrap();
+        assert!(write_file(&aedat, &events).is_err());
+        assert_eq!(std::fs::read(&aedat).unwrap(), b"old");
+        assert_eq!(names(dir.path()), ["o.aedat"]);
+        // Every format: nothing visible until `finish`, nothing left when dropped before it.
+        for format in Format::ALL {
+            let path = dir.path().join("x.out");
+            let mut writer = create_writer_as(&path, format).unwrap();
+            let _ = writer.write(&events);
+            assert!(!path.exists(), "{format:?}");
+            drop(writer);
+            assert_eq!(names(dir.path()), ["o.aedat"], "{format:?}");
+        }
+        let csv = dir.path().join("o.csv");
+        write_file(&csv, &events).unwrap();
+        assert_eq!(read_file(&csv).unwrap().0, events);
+        assert_eq!(names(dir.path()), ["o.aedat", "o.csv"]);
     }
 
     #[test]

@@ -48,6 +48,9 @@ pub struct VrArgs {
 }
 
 pub fn run(args: VrArgs) -> anyhow::Result<()> {
+    if let Some(trace) = &args.trace {
+        neurotac_core::io::check_distinct(&args.input, trace)?;
+    }
     let data = load(&args.input)?;
     if data.labels().is_empty() {
         bail!("{}: the dataset has no labels", args.input.display());
@@ -72,7 +75,7 @@ pub fn run(args: VrArgs) -> anyhow::Result<()> {
         timed(|| bayes_optimise(&config, |i, tau, cos| objective.accuracy(i, tau, cos)));
     let result = result?;
     if let Some(path) = &args.trace {
-        std::fs::write(path, serde_json::to_string(&result.trace)?)
+        neurotac_core::io::write(path, serde_json::to_string(&result.trace)?)
             .with_context(|| format!("writing {}", path.display()))?;
     }
     if args.json {

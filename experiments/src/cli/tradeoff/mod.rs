@@ -51,7 +51,8 @@ fn write_files(dir: &Path, files: &[(&str, String)]) -> anyhow::Result<()> {
     std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
     for (name, text) in files {
         let path = dir.join(name);
-        std::fs::write(&path, text).with_context(|| format!("writing {}", path.display()))?;
+        neurotac_core::io::write(&path, text)
+            .with_context(|| format!("writing {}", path.display()))?;
     }
     Ok(())
 }

@@ -1,0 +1,300 @@
+//! Issue 14, data loss and fake results: outputs are never half-written, an output that is the
+//! input is refused, report folders are swapped in and stale partial folders removed, and a
+//! corrupt dataset is refused (or, for a cache, simulated again).
+
+mod common;
+
+use common::neurotac;
+use neurotac_core::{Event, EventBuffer, Timestamp};
+use neurotac_sensor::format::{read_file, write_file};
+use std::path::Path;
+
+/// A small recording: 2000 events on a diagonal, 100 µs apart.
+fn recording() -> EventBuffer {
+    (0..2000i64)
+        .map(|i| Event {
+            t: Timestamp(1000 + 100 * i),
+            x: (i % 240) as u16,
+            y: (i % 180) as u16,
+            polarity: i % 3 == 0,
+        })
+        .collect()
+}
+
+/// The names in a folder (hidden ones included), sorted.
+fn names(folder: &Path) -> Vec<String> {
+    let mut v: Vec<String> = std::fs::read_dir(folder)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    v.sort();
+    v
+}
+
+fn s(path: &Path) -> &str {
+    path.to_str().unwrap()
+}
+
+/// The id of a process that has exited.
+fn dead_pid() -> u32 {
+    let mut child = std::process::Command::new("true").spawn().unwrap();
+    let pid = child.id();
+    child.wait().unwrap();
+    pid
+}
+
+#[test]
+fn issue_14_a_reader_error_mid_stream_leaves_no_output_and_keeps_an_old_one() {
+    let dir = tempfile::tempdir().unwrap();
+    let whole = dir.path().join("whole.aedat");
+    write_file(&whole, &recording()).unwrap();
+    let bytes = std::fs::read(&whole).unwrap();
+    // Cut inside the last record: every event before it decodes, then the reader fails.
+    let cut = dir.path().join("t.aedat");
+    std::fs::write(&cut, &bytes[..bytes.len() - 3]).unwrap();
+    std::fs::remove_file(&whole).unwrap();
+    for ext in ["aedat4", "aedat", "aedat3", "txt", "csv"] {
+        let out = dir.path().join(format!("o.{ext}"));
+        let (ok, _, stderr) = neurotac(&["convert", s(&cut), s(&out)]);
+        assert!(!ok, "convert to .{ext} must fail");
+        assert!(stderr.contains("truncated"), "{stderr}");
+        let (ok, _, stderr) = neurotac(&["filter", s(&cut), s(&out)]);
+        assert!(!ok, "filter to .{ext} must fail: {stderr}");
+        assert_eq!(names(dir.path()), ["t.aedat"], ".{ext}");
+    }
+    // An existing output keeps its old content.
+    let out = dir.path().join("o.csv");
+    std::fs::write(&out, "old").unwrap();
+    assert!(!neurotac(&["convert", s(&cut), s(&out)]).0);
+    assert!(!neurotac(&["filter", s(&cut), s(&out)]).0);
+    assert_eq!(std::fs::read_to_string(&out).unwrap(), "old");
+    assert_eq!(names(dir.path()), ["o.csv", "t.aedat"]);
+}
+
+#[test]
+fn issue_14_the_shared_recording_cut_at_byte_474357_leaves_no_aedat4() {
+    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/data/davis240/pick.aedat");
+    if !data.exists() {
+        eprintln!(
+            "skipping: {} is absent (the recording is not part of the repository)",
+            data.display()
+        );
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let cut = dir.path().join("t.aedat");
+    std::fs::write(&cut, &std::fs::read(&data).unwrap()[..474_357]).unwrap();
+    let out = dir.path().join("o.aedat4");
+    let (ok, _, stderr) = neurotac(&["convert", s(&cut), s(&out)]);
+    assert!(!ok);
+    assert!(stderr.contains("truncated at byte 474352"), "{stderr}");
+    assert!(!out.exists());
+    assert_eq!(names(dir.path()), ["t.aedat"]);
+}
+
+#[test]
+fn issue_14_a_writer_error_leaves_no_output() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("big.csv");
+    // The second time is beyond what a 32-bit AEDAT 2.0 timestamp holds.
+    std::fs::write(&input, "t,x,y,on\n5,1,2,1\n1099511627776,3,4,0\n").unwrap();
+    let out = dir.path().join("o.aedat");
+    let (ok, _, stderr) = neurotac(&["convert", s(&input), s(&out)]);
+    assert!(!ok);
+    assert!(stderr.contains("32-bit AEDAT 2.0 timestamp"), "{stderr}");
+    assert_eq!(names(dir.path()), ["big.csv"]);
+}
+
+#[test]
+fn issue_14_transduce_with_a_raster_into_a_missing_folder_writes_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("r.csv");
+    write_file(&input, &recording()).unwrap();
+    let (json, raster) = (dir.path().join("o.json"), dir.path().join("missing/r.svg"));
+    let (ok, _, stderr) = neurotac(&[
+        "transduce",
+        s(&input),
+        "--out",
+        s(&json),
+        "--raster",
+        s(&raster),
+    ]);
+    assert!(!ok);
+    assert!(stderr.contains("missing/r.svg"), "{stderr}");
+    assert_eq!(names(dir.path()), ["r.csv"]);
+    // With both folders there, both outputs appear.
+    let raster = dir.path().join("r.svg");
+    let (ok, _, stderr) = neurotac(&[
+        "transduce",
+        s(&input),
+        "--out",
+        s(&json),
+        "--raster",
+        s(&raster),
+    ]);
+    assert!(ok, "{stderr}");
+    assert_eq!(names(dir.path()), ["o.json", "r.csv", "r.svg"]);
+}
+
+#[test]
+fn issue_14_an_output_that_is_the_input_is_refused_and_the_input_kept() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("s.aedat");
+    write_file(&input, &recording()).unwrap();
+    let before = std::fs::read(&input).unwrap();
+    let link = dir.path().join("link.aedat");
+    std::fs::hard_link(&input, &link).unwrap();
+    let dotted = dir.path().join(".").join("s.aedat");
+    for (command, output) in [
+        ("convert", &input),
+        ("convert", &dotted),
+        ("convert", &link),
+        ("filter", &input),
+        ("filter", &link),
+    ] {
+        let (ok, stdout, stderr) = neurotac(&[command, s(&input), s(output)]);
+        assert!(!ok, "{command} {}: {stdout}", output.display());
+        assert!(
+            stderr.contains("is the input") && stderr.contains("refusing"),
+            "{stderr}"
+        );
+        assert_eq!(std::fs::read(&input).unwrap(), before);
+    }
+    let (ok, _, stderr) = neurotac(&["transduce", s(&input), "--out", s(&link)]);
+    assert!(!ok && stderr.contains("is the input"), "{stderr}");
+    assert_eq!(std::fs::read(&input).unwrap(), before);
+    // A spike dataset and its distance matrix.
+    let data = dir.path().join("d.bin");
+    assert!(
+        neurotac(&[
+            "synth",
+            "--output",
+            s(&data),
+            "--samples",
+            "8",
+            "--classes",
+            "2"
+        ])
+        .0
+    );
+    let before = std::fs::read(&data).unwrap();
+    let (ok, _, stderr) = neurotac(&[
+        "distances",
+        "--input",
+        s(&data),
+        "--metric",
+        "euclidean",
+        "--coding",
+        "spatial",
+        "--output",
+        s(&data),
+    ]);
+    assert!(!ok && stderr.contains("is the input"), "{stderr}");
+    assert_eq!(std::fs::read(&data).unwrap(), before);
+    // Another output next to the input is fine.
+    let other = dir.path().join("o.csv");
+    assert!(neurotac(&["convert", s(&input), s(&other)]).0);
+    assert_eq!(read_file(&other).unwrap().0, recording());
+}
+
+#[test]
+fn issue_14_classify_refuses_a_one_bit_flipped_dataset_naming_the_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let data = dir.path().join("d.bin");
+    assert!(
+        neurotac(&[
+            "synth",
+            "--output",
+            s(&data),
+            "--samples",
+            "22",
+            "--classes",
+            "2"
+        ])
+        .0
+    );
+    let classify = |path: &Path| neurotac(&["classify", "--input", s(path), "--coding", "spatial"]);
+    assert!(classify(&data).0);
+    let mut bytes = std::fs::read(&data).unwrap();
+    let middle = bytes.len() / 2;
+    bytes[middle] ^= 0x04;
+    let flipped = dir.path().join("flipped.bin");
+    std::fs::write(&flipped, &bytes).unwrap();
+    let (ok, stdout, stderr) = classify(&flipped);
+    assert!(!ok, "{stdout}");
+    assert!(
+        stderr.contains("flipped.bin") && stderr.contains("checksum mismatch"),
+        "{stderr}"
+    );
+}
+
+#[test]
+fn issue_14_a_corrupt_cache_is_simulated_again_with_a_one_line_warning() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("sim");
+    let simulate = || {
+        neurotac(&[
+            "simulate",
+            "--set",
+            "artificial",
+            "--trials",
+            "1",
+            "--out",
+            s(&out),
+        ])
+    };
+    let (ok, _, stderr) = simulate();
+    assert!(ok, "{stderr}");
+    let first = std::fs::read(out.join("artificial.bin")).unwrap();
+    let cache = out.join("cache");
+    let cached = names(&cache);
+    assert_eq!(cached.len(), 1, "{cached:?}");
+    let cached = cache.join(&cached[0]);
+    let mut bytes = std::fs::read(&cached).unwrap();
+    let near_end = bytes.len() - 100;
+    bytes[near_end] ^= 0x01;
+    std::fs::write(&cached, &bytes).unwrap();
+    let (ok, stdout, stderr) = simulate();
+    assert!(ok, "{stderr}");
+    let warnings: Vec<&str> = stderr.lines().filter(|l| l.contains("warning")).collect();
+    assert_eq!(warnings.len(), 1, "{stderr}");
+    assert!(
+        warnings[0].contains("checksum mismatch") && warnings[0].contains("simulating it again"),
+        "{stderr}"
+    );
+    assert!(!stdout.contains("loaded from the cache"), "{stdout}");
+    // The same dataset again, and a good cache.
+    assert_eq!(std::fs::read(out.join("artificial.bin")).unwrap(), first);
+    assert_eq!(std::fs::read(&cached).unwrap(), first);
+    let (ok, stdout, stderr) = simulate();
+    assert!(ok && !stderr.contains("warning"), "{stderr}");
+    assert!(stdout.contains("loaded from the cache"), "{stdout}");
+}
+
+#[test]
+fn issue_14_reproduce_removes_partial_folders_of_dead_runs() {
+    let dir = tempfile::tempdir().unwrap();
+    let (out, cache) = (dir.path().join("report"), dir.path().join("cache"));
+    let pid = dead_pid();
+    let partial = dir.path().join(format!(".report.partial-{pid}"));
+    std::fs::create_dir(&partial).unwrap();
+    std::fs::write(partial.join("report.md"), "interrupted").unwrap();
+    let (ok, _, stderr) = neurotac(&[
+        "reproduce",
+        "--set",
+        "artificial",
+        "--trials",
+        "3",
+        "--epochs",
+        "12",
+        "--tau-step",
+        "0.03",
+        "--out",
+        s(&out),
+        "--cache",
+        s(&cache),
+    ]);
+    assert!(ok, "{stderr}");
+    assert_eq!(names(dir.path()), ["cache", "report"]);
+    assert!(out.join("report.md").exists());
+}
