@@ -127,6 +127,16 @@ pub enum DatasetError {
         /// Channels of this observation.
         got: usize,
     },
+    /// A typed metadata field (such as `duration_s`) holds a value it cannot take.
+    #[error("meta.{field} = {value}: {expected}")]
+    Meta {
+        /// The field.
+        field: &'static str,
+        /// The value found (JSON text).
+        value: String,
+        /// What it must be.
+        expected: &'static str,
+    },
 }
 
 /// A network that cannot be built as described.

@@ -159,7 +159,7 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
                 seed: a.seed,
                 ..CubaConfig::default()
             };
-            let (r, threads) = neurotac_experiments::bench::with_threads(a.run.threads, || {
+            let (r, threads) = neurotac_experiments::threads::with_threads(a.run.threads, || {
                 (cuba(config), rayon::current_num_threads())
             })?;
             let r = r?;

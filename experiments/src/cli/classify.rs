@@ -1,10 +1,11 @@
 //! `neurotac classify`: KNN classification of a dataset under one coding and protocol.
 
-use super::common::{CodingArg, feature_distances, load, timed, van_rossum_distances};
-use anyhow::bail;
+use super::load_labelled;
 use clap::{Args, ValueEnum};
 use neurotac_core::Knn;
+use neurotac_experiments::coding::{CodingName, coding_distances};
 use neurotac_experiments::protocols::{Protocol, evaluate};
+use neurotac_experiments::timing::timed;
 use std::path::PathBuf;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -24,7 +25,7 @@ pub struct ClassifyArgs {
     input: PathBuf,
     /// Coding.
     #[arg(long, value_enum)]
-    coding: CodingArg,
+    coding: CodingName,
     /// Temporal-coding window Δt (s, whole ms).
     #[arg(long)]
     dt: Option<f64>,
@@ -58,10 +59,7 @@ pub struct ClassifyArgs {
 }
 
 pub fn run(args: ClassifyArgs) -> anyhow::Result<()> {
-    let data = load(&args.input)?;
-    if data.labels().is_empty() {
-        bail!("{}: the dataset has no labels", args.input.display());
-    }
+    let data = load_labelled(&args.input)?;
     let knn = Knn::new(args.k)?;
     let protocol = match args.protocol {
         ProtocolArg::Loo => Protocol::LeaveOneOut,
@@ -74,10 +72,10 @@ pub fn run(args: ClassifyArgs) -> anyhow::Result<()> {
             seed: args.seed,
         },
     };
-    let (distances, distance_time) = timed(|| match args.coding {
-        CodingArg::Spatiotemporal => van_rossum_distances(&data, args.tau, args.cos),
-        c => feature_distances(&data, c, args.dt, args.duration),
-    });
+    let coding =
+        super::distances::coding_parameters(&data, args.dt, args.duration, args.tau, args.cos)?;
+    let (distances, distance_time) =
+        timed(|| coding_distances(data.observations(), args.coding, &coding));
     let distances = distances?;
     let (evaluation, knn_time) = timed(|| {
         evaluate(

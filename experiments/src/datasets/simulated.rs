@@ -7,7 +7,10 @@
 //! from thread order, so the same seed gives a bit-identical dataset at any thread count.
 //! [`load_or_simulate`] caches datasets on disk, keyed by everything that determines them.
 
-use crate::bench::BenchError;
+use super::metadata::write_metadata;
+use crate::coding::class_means;
+use crate::progress::Progress;
+use crate::threads::ThreadPoolError;
 use neurotac_core::{DatasetError, EventBuffer, MultiSpikeTrain, SpikeDataset};
 use neurotac_sensor::sim::{
     Camera, EventLabel, GRID_SIZES_MM, NATURAL_TEXTURES, PreparedTexture, SimParams,
@@ -47,7 +50,7 @@ pub enum DatasetsError {
     },
     /// The thread pool could not start.
     #[error(transparent)]
-    Threads(#[from] BenchError),
+    Threads(#[from] ThreadPoolError),
 }
 
 /// Which texture set.
@@ -282,7 +285,6 @@ fn dataset_meta(
     seed: u64,
     params: &SimParams,
 ) -> serde_json::Map<String, serde_json::Value> {
-    let t = paper_transduction();
     let json = serde_json::json!({
         "generator": "neurotac-sim",
         "version": SIMULATED_DATASET_VERSION,
@@ -290,19 +292,12 @@ fn dataset_meta(
         "trials_per_texture": trials,
         "seed": seed,
         "params": params,
-        "transduction": {
-            "ba_window_us": t.ba_window_us,
-            "rf_radius_px": t.rf_radius_px,
-            "pool_window_us": t.pool_window_us,
-            "recentre_gain": t.recentre_gain,
-            "max_shift_px": t.max_shift_px,
-            "origin_us": t.origin_us,
-        },
     });
-    match json {
-        serde_json::Value::Object(map) => map,
-        _ => unreachable!("a JSON object literal"),
-    }
+    let serde_json::Value::Object(mut meta) = json else {
+        unreachable!("a JSON object literal")
+    };
+    write_metadata(&mut meta, &paper_transduction(), None);
+    meta
 }
 
 /// FNV-1a 64 of the metadata's JSON text: the cache key.
@@ -390,6 +385,129 @@ pub fn store(dataset: &SpikeDataset, dir: &Path, path: &Path) -> Result<(), Data
     })
 }
 
+/// How `generate` writes every trial's pixel events.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum PixelEventFiles {
+    /// One event file per trial in the format of this extension (`aedat4`, `aedat`, `aedat3`,
+    /// `txt`, `csv`).
+    Format(String),
+    /// CSV with a `pin` column (source pin, −1 for noise), see [`write_events_csv`].
+    LabelledCsv,
+}
+
+/// What [`generate`] simulates and writes (`neurotac simulate`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct GenerateConfig {
+    /// The texture set.
+    pub set: TextureSet,
+    /// Slides per texture (≥ 1).
+    pub trials: usize,
+    /// Seed of the dataset.
+    pub seed: u64,
+    /// Simulator parameters.
+    pub params: SimParams,
+    /// Output folder: `<set>.bin`, optionally `<set>.json` and `events/<class>/<trial>.<ext>`.
+    pub out: PathBuf,
+    /// Cache folder of simulated datasets.
+    pub cache: PathBuf,
+    /// Also write the dataset as JSON.
+    pub json: bool,
+    /// Also write every trial's pixel events (the dataset is then always simulated, and cached).
+    pub pixel_events: Option<PixelEventFiles>,
+}
+
+/// What [`generate`] made.
+#[derive(Debug, Clone)]
+pub struct Generated {
+    /// The dataset.
+    pub dataset: SpikeDataset,
+    /// `true` when it was read from the cache rather than simulated.
+    pub from_cache: bool,
+    /// The binary dataset written (`<out>/<set>.bin`).
+    pub binary: PathBuf,
+    /// The JSON dataset written, if asked for.
+    pub json: Option<PathBuf>,
+    /// Mean spikes per taxel of each class (index = label).
+    pub class_means: Vec<f64>,
+}
+
+/// Simulates (or reads from the cache) the dataset of `config` and writes its files; `progress`
+/// sees one stage with one step per simulated trial. Runs on the current rayon pool.
+pub fn generate(
+    config: &GenerateConfig,
+    progress: &dyn Progress,
+) -> Result<Generated, DatasetsError> {
+    let GenerateConfig {
+        set,
+        trials,
+        seed,
+        params,
+        out,
+        cache,
+        ..
+    } = config;
+    let (set, trials, seed) = (*set, *trials, *seed);
+    if trials == 0 {
+        return Err(SimulationError::ZeroTrials.into());
+    }
+    let io = |path: &Path| {
+        let path = path.to_owned();
+        move |source| DatasetsError::Io { path, source }
+    };
+    std::fs::create_dir_all(out).map_err(io(out))?;
+    let cache_file = cache_path(set, trials, seed, params, cache);
+    let from_cache = config.pixel_events.is_none() && cache_file.exists();
+    progress.stage(set.name(), (trials * set.textures().len()) as u64);
+    let advance = || progress.advance(1);
+    let dataset = match &config.pixel_events {
+        None => load_or_simulate_with(set, trials, seed, params, cache, &advance)?,
+        Some(files) => {
+            let names = set.class_names();
+            let dir = out.join("events");
+            let each = |job: &TrialJob, trial: &SimulatedTrial| {
+                let folder = dir.join(format!(
+                    "{:02}-{}",
+                    job.class,
+                    names[job.class].replace(' ', "_")
+                ));
+                std::fs::create_dir_all(&folder).map_err(io(&folder))?;
+                match files {
+                    PixelEventFiles::LabelledCsv => {
+                        let path = folder.join(format!("{:03}.csv", job.trial));
+                        write_events_csv(&path, &trial.events, Some(&trial.labels))
+                    }
+                    PixelEventFiles::Format(ext) => {
+                        let path = folder.join(format!("{:03}.{ext}", job.trial));
+                        Ok(neurotac_sensor::format::write_file(&path, &trial.events)?)
+                    }
+                }
+            };
+            let simulated = simulate_set(set, trials, seed, params, &each, &advance)?;
+            // Cache it too, so experiments find it.
+            store(&simulated.dataset, cache, &cache_file)?;
+            simulated.dataset
+        }
+    };
+    progress.finish();
+    let binary = out.join(format!("{}.bin", set.name()));
+    dataset.save_binary(&binary)?;
+    let json = if config.json {
+        let path = out.join(format!("{}.json", set.name()));
+        dataset.save_json(&path)?;
+        Some(path)
+    } else {
+        None
+    };
+    let class_means = class_means(&dataset).1;
+    Ok(Generated {
+        dataset,
+        from_cache,
+        binary,
+        json,
+        class_means,
+    })
+}
+
 /// Writes pixel events as CSV: a header `t,x,y,on` (t in µs, `on` 1/0), one event per line;
 /// with `labels`, a fifth column `pin` (source pin, −1 for noise).
 ///
@@ -435,7 +553,7 @@ pub fn write_events_csv(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::bench::with_threads;
+    use crate::threads::with_threads;
 
     fn short_params() -> SimParams {
         let mut p = SimParams::default();
