@@ -27,7 +27,7 @@
 //! | [`afferents`] | taxel → afferent networks (the `demo` command, `reproduce --afferents`) |
 //! | [`tradeoff`] | speed ↔ accuracy trade-offs (neurons, Van Rossum, simulator), their shared table and writers, the summary page |
 //! | [`transduce`] | one event file → taxel spike dataset (`neurotac transduce`), layouts (`layout`), event filtering (`filter`) |
-//! | [`bench`] | throughput benchmarks (neuron updates/s, the CUBA network) |
+//! | [`bench`](mod@bench) | throughput benchmarks (neuron updates/s, the CUBA network) |
 //! | [`neuron_setup`] | one neuron population set up by model, integrator and precision (bench, `neurotac neuron`, trade-offs) |
 //! | [`peers`] | same-run comparisons against peer simulators (Brian2), as ratios |
 //! | [`simulator_check`] | the simulator's acceptance statistics and calibration (`neurotac simulate check`, `calibrate`) |

@@ -103,12 +103,12 @@ pub enum ReproduceError {
         name: String,
         /// `set` or `afferents`.
         what: &'static str,
-        /// Why.
-        source: ExperimentError,
+        /// Why (boxed: experiment errors are large).
+        source: Box<ExperimentError>,
     },
     /// The afferent network failed.
     #[error("running the afferent network")]
-    Afferents(#[source] ExperimentError),
+    Afferents(#[source] Box<ExperimentError>),
 }
 
 /// The afferent-network variant of one set.
@@ -257,7 +257,7 @@ fn run_source(
             ReproduceError::Pipeline {
                 name: name.clone(),
                 what,
-                source,
+                source: Box::new(source),
             }
         })
     };
@@ -269,7 +269,7 @@ fn run_source(
             progress.stage(&format!("{name}: afferent network"), data.len() as u64);
             let (spikes, network_time) =
                 timed(|| afferent_dataset(&data, duration_s, a, &|| progress.advance(1)));
-            let spikes = spikes.map_err(ReproduceError::Afferents)?;
+            let spikes = spikes.map_err(|e| ReproduceError::Afferents(Box::new(e)))?;
             progress.finish();
             Some(AfferentRun {
                 model: match a.model {
