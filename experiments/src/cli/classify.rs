@@ -114,15 +114,7 @@ pub fn run(args: ClassifyArgs) -> anyhow::Result<()> {
         100.0 * a.wilson_low,
         100.0 * a.wilson_high
     );
-    if !e.fold_accuracies.is_empty() {
-        let m = e.fold_accuracies.iter().sum::<f64>() / e.fold_accuracies.len() as f64;
-        let s = (e
-            .fold_accuracies
-            .iter()
-            .map(|x| (x - m).powi(2))
-            .sum::<f64>()
-            / e.fold_accuracies.len() as f64)
-            .sqrt();
+    if let Some((m, s)) = e.fold_mean_std() {
         println!(
             "per fold: {:.1} ± {:.1} % over {} folds",
             100.0 * m,
@@ -130,16 +122,16 @@ pub fn run(args: ClassifyArgs) -> anyhow::Result<()> {
             e.fold_accuracies.len()
         );
     }
+    print_confusion(&e.confusion.counts, data.class_names());
+    println!("distances: {distance_time}; KNN: {knn_time}");
+    Ok(())
+}
+
+fn print_confusion(counts: &[Vec<usize>], class_names: &[String]) {
     println!("confusion matrix (rows: true class, columns: predicted):");
-    for (i, row) in e.confusion.counts.iter().enumerate() {
-        let name = data
-            .class_names()
-            .get(i)
-            .cloned()
-            .unwrap_or_else(|| i.to_string());
+    for (i, row) in counts.iter().enumerate() {
+        let name = class_names.get(i).cloned().unwrap_or_else(|| i.to_string());
         let cells: Vec<String> = row.iter().map(|c| format!("{c:4}")).collect();
         println!("  {name:>12} {}", cells.join(""));
     }
-    println!("distances: {distance_time}; KNN: {knn_time}");
-    Ok(())
 }
