@@ -277,8 +277,9 @@ pub fn simulate_set(
     })
 }
 
-/// Everything that determines a simulated dataset, as stored in its metadata (a simulated
-/// dataset's metadata adds `pixel_events_per_trial` and `noise_events_per_trial`).
+/// Everything that determines a simulated dataset, as stored in its metadata, with the typed
+/// fields of [`super::metadata`] (`duration_s`, `transduction`); a simulated dataset's metadata
+/// adds `pixel_events_per_trial` and `noise_events_per_trial`.
 fn dataset_meta(
     set: TextureSet,
     trials: usize,
@@ -296,8 +297,20 @@ fn dataset_meta(
     let serde_json::Value::Object(mut meta) = json else {
         unreachable!("a JSON object literal")
     };
-    write_metadata(&mut meta, &paper_transduction(), None);
+    write_metadata(
+        &mut meta,
+        &paper_transduction(),
+        Some(sample_duration_s(params)),
+    );
     meta
+}
+
+/// The length of every simulated sample (s): the trial's (rest, slide, rest), rounded up to a
+/// whole ms as the temporal coding's bins need; every spike lies before it.
+pub fn sample_duration_s(params: &SimParams) -> f64 {
+    let ms = params.duration_s() * 1e3;
+    // A duration already whole up to rounding (4.55 s = 4550.000000000001 ms) stays as it is.
+    (ms - 1e-6).ceil() / 1e3
 }
 
 /// FNV-1a 64 of the metadata's JSON text: the cache key.
@@ -640,5 +653,24 @@ mod tests {
         assert_eq!(lines.next(), Some("t,x,y,on,pin"));
         assert_eq!(lines.count(), trial.events.len());
         assert!(text.contains(",-1\n"));
+    }
+
+    /// Issue 13: simulated sets state their sample duration, and every spike lies inside it.
+    #[test]
+    fn simulated_sets_state_their_duration() {
+        let p = short_params();
+        let data = simulate_set(TextureSet::Artificial, 1, 2, &p, &|_, _| Ok(()), &|| {})
+            .unwrap()
+            .dataset;
+        let duration_s = data.duration_s().unwrap();
+        assert_eq!(duration_s, sample_duration_s(&p));
+        assert!(duration_s >= p.duration_s() && duration_s < p.duration_s() + 1e-3);
+        let latest = data
+            .observations()
+            .iter()
+            .filter_map(|o| o.time_range())
+            .map(|r| r.1);
+        assert!(latest.fold(0.0, f64::max) < duration_s);
+        assert_eq!(sample_duration_s(&SimParams::default()), 4.55);
     }
 }
