@@ -8,7 +8,9 @@ use clap::{Args, ValueEnum};
 use neurotac_experiments::afferents::AfferentConfig;
 use neurotac_experiments::progress::Progress;
 use neurotac_experiments::report::folder::check_destination;
-use neurotac_experiments::report::tables::{accuracy_table, afferent_table, parameter_table};
+use neurotac_experiments::report::tables::{
+    accuracy_table, afferent_table, intensive_table, parameter_table,
+};
 use neurotac_experiments::report::write_report;
 use neurotac_experiments::reproduce::{
     ReproduceConfig, SetReport, Source, run as run_reproduction,
@@ -147,6 +149,7 @@ fn print_set(set: &SetReport) {
     );
     println!("{}", accuracy_table(set));
     println!("{}", parameter_table(d));
+    println!("{}", intensive_table(d));
     if let Some(why) = d.codings.iter().find_map(|c| c.split_refused.as_ref()) {
         println!("80/20 split refused: {why}\n");
     }

@@ -140,6 +140,7 @@ mod tests {
                 direct: set_result("artificial"),
                 afferent: None,
                 examples: Vec::new(),
+                quick: false,
             }],
             time: Timing::default(),
         }

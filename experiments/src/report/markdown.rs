@@ -1,6 +1,6 @@
 //! `report.md`: how the run was made, then per set its tables, figures and notes.
 
-use super::tables::{accuracy_table, afferent_table, parameter_table};
+use super::tables::{accuracy_table, afferent_table, intensive_table, parameter_table};
 use crate::coding::CodingName;
 use crate::reproduce::{Report, SetReport};
 use std::fmt::Write as _;
@@ -8,6 +8,8 @@ use std::fmt::Write as _;
 /// The whole `report.md`.
 pub fn report_markdown(report: &Report) -> String {
     let mut md = markdown_intro(report);
+    // The "calibration and hold-out" section (issue 12: what the simulator was fitted to, and
+    // that every accuracy is held out) belongs here, between the intro and the sets.
     for set in &report.sets {
         markdown_set(set, &mut md);
     }
@@ -69,6 +71,12 @@ fn markdown_set(set: &SetReport, md: &mut String) {
         set.dataset_time.wall_s,
         d.time.wall_s
     );
+    if set.quick {
+        md.push_str(
+            "A quick run (`--quick`: 10 slides per texture, 60 optimisation epochs, τ on a 10 ms \
+             grid): its accuracies and chosen parameters are not comparable with the paper's.\n\n",
+        );
+    }
     md.push_str(&accuracy_table(set));
     md.push('\n');
     if let Some(c) = d.codings.iter().find_map(|c| c.split_refused.as_ref()) {
@@ -78,6 +86,8 @@ fn markdown_set(set: &SetReport, md: &mut String) {
         );
     }
     md.push_str(&parameter_table(d));
+    md.push('\n');
+    md.push_str(&intensive_table(d));
     md.push('\n');
     if let Some(a) = &set.afferent {
         let _ = write!(
@@ -136,6 +146,7 @@ mod tests {
                 direct: set_result("artificial"),
                 afferent: None,
                 examples: Vec::new(),
+                quick: false,
             }],
             time: Timing::default(),
         };

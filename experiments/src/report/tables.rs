@@ -11,6 +11,9 @@ pub(crate) fn pct(x: f64) -> String {
     format!("{:.1}", 100.0 * x)
 }
 
+/// Appended to the paper's column of a `--quick` run's table.
+pub const QUICK_MARK: &str = " — not comparable: --quick run";
+
 /// The paper's table for this set, if it is one of the paper's sets.
 pub(crate) fn paper_table(set: &SetResult) -> Option<&'static PaperTable> {
     paper::table_for(&set.name)
@@ -25,7 +28,12 @@ pub fn accuracy_table(set: &SetReport) -> String {
         "| coding | parameters | LOO accuracy (%) | Wilson 95 % | 80/20 split (%) |"
     );
     if let Some(p) = paper {
-        let _ = write!(s, " paper, {} (%) |", p.table);
+        let _ = write!(
+            s,
+            " paper, {} (%){} |",
+            p.table,
+            QUICK_MARK.repeat(set.quick as usize)
+        );
     }
     s.push_str("\n|---|---|---|---|---|");
     if paper.is_some() {
@@ -157,26 +165,106 @@ pub fn parameter_rows(set: &SetResult) -> Vec<ParameterRow> {
     rows
 }
 
-/// The chosen parameters, and the intensive means the paper gives, against the paper's, as
-/// Markdown.
+/// Why a chosen parameter is suspect: it sits on a bound of its search (the optimum may lie
+/// beyond it), as `(quantity, note)` for Δt, τ and cos θ; `None` when inside.
+pub fn bound_notes(set: &SetResult) -> [Option<String>; 3] {
+    let space = &set.search_space;
+    let dt = set.dt_sweep.best_window_ms;
+    let dt_note = if dt == space.dt_max_ms {
+        Some(format!("on the search bound (Δt ≤ {} ms)", space.dt_max_ms))
+    } else if dt == 1 {
+        Some("on the search bound (Δt ≥ 1 ms)".to_owned())
+    } else {
+        None
+    };
+    let tau = set.bayes.best_tau_s;
+    let half_tau = space.tau_step_s / 2.0;
+    let tau_note = if tau >= space.tau_max_s - half_tau {
+        Some(format!(
+            "on the search bound (τ ≤ {:.0} ms)",
+            space.tau_max_s * 1e3
+        ))
+    } else if tau <= space.tau_min_s + half_tau {
+        Some(format!(
+            "on the search bound (τ ≥ {:.0} ms)",
+            space.tau_min_s * 1e3
+        ))
+    } else {
+        None
+    };
+    let cos = set.bayes.best_cos;
+    let cos_note = if cos >= 1.0 - space.cos_step / 2.0 {
+        Some("on the search bound (cos θ ≤ 1)".to_owned())
+    } else if cos <= space.cos_step / 2.0 {
+        Some("on the search bound (cos θ ≥ 0)".to_owned())
+    } else {
+        None
+    };
+    [dt_note, tau_note, cos_note]
+}
+
+/// The chosen Δt, τ and cos θ against the paper's, each flagged when it sits on a bound of its
+/// search ([`bound_notes`]), as Markdown.
 pub fn parameter_table(set: &SetResult) -> String {
-    let mut s = String::from("| quantity | this run | paper |\n|---|---|---|\n");
-    for (i, r) in parameter_rows(set).iter().enumerate() {
-        // The three parameters always; class means only where the paper has one.
-        if i >= 3 && r.paper.is_none() {
-            continue;
-        }
-        let value = if i == 0 {
-            format!("{}", r.value)
-        } else if i == 1 {
-            format!("{:.0}", r.value)
-        } else {
-            format!("{:.2}", r.value)
+    let mut s = String::from("| quantity | this run | paper | note |\n|---|---|---|---|\n");
+    let notes = bound_notes(set);
+    for (i, r) in parameter_rows(set).iter().take(3).enumerate() {
+        let value = match i {
+            0 => format!("{}", r.value),
+            1 => format!("{:.0}", r.value),
+            _ => format!("{:.2}", r.value),
         };
         let paper = r.paper.map_or("—".into(), |p| p.to_string());
-        let _ = writeln!(s, "| {} | {value} | {paper} |", r.quantity);
+        let note = notes[i].as_deref().unwrap_or("");
+        let _ = writeln!(s, "| {} | {value} | {paper} | {note} |", r.quantity);
     }
     s
+}
+
+/// The intensive mean (spikes per taxel) of every class in class order, with the paper's where
+/// it gives one, then for bump grids whether the means rise with grid size, as Markdown.
+pub fn intensive_table(set: &SetResult) -> String {
+    let mut s =
+        String::from("| class | intensive mean (spikes per taxel) | paper |\n|---|---|---|\n");
+    for r in parameter_rows(set).iter().skip(3) {
+        let class = r
+            .quantity
+            .trim_start_matches("intensive mean, ")
+            .trim_end_matches(" (spikes per taxel)");
+        let paper = r.paper.map_or("—".into(), |p| p.to_string());
+        let _ = writeln!(s, "| {class} | {:.2} | {paper} |", r.value);
+    }
+    if let Some(line) = monotonicity(set) {
+        let _ = writeln!(s, "\n{line}");
+    }
+    s
+}
+
+/// For a set of bump grids (classes named `grid D mm`, sorted by D): whether the intensive
+/// means rise with grid size, naming every step where they do not.
+pub fn monotonicity(set: &SetResult) -> Option<String> {
+    let sizes: Vec<f64> = set
+        .class_names
+        .iter()
+        .map(|n| n.strip_prefix("grid ")?.strip_suffix(" mm")?.parse().ok())
+        .collect::<Option<_>>()?;
+    if sizes.len() < 2 || sizes.windows(2).any(|w| w[0] >= w[1]) {
+        return None;
+    }
+    let falls: Vec<String> = sizes
+        .windows(2)
+        .zip(set.intensive_class_means.windows(2))
+        .filter(|(_, m)| m[1] <= m[0])
+        .map(|(d, m)| format!("{:.1} → {:.1} mm ({:.2} → {:.2})", d[0], d[1], m[0], m[1]))
+        .collect();
+    Some(if falls.is_empty() {
+        "The intensive mean rises with every grid size.".to_owned()
+    } else {
+        format!(
+            "The intensive mean does not rise with grid size at {}.",
+            falls.join(", ")
+        )
+    })
 }
 
 #[cfg(test)]
@@ -257,6 +345,13 @@ pub(crate) mod tests {
             },
             bayes_time: Timing::default(),
             vr_matrices_computed: 1,
+            search_space: crate::reproduce::SearchSpace {
+                dt_max_ms: 3,
+                tau_min_s: 0.01,
+                tau_max_s: 0.1,
+                tau_step_s: 0.005,
+                cos_step: 0.01,
+            },
             codings,
             time: Timing::default(),
         }
@@ -270,6 +365,7 @@ pub(crate) mod tests {
             direct: set_result(name),
             afferent: None,
             examples: Vec::new(),
+            quick: false,
         };
         let ours = accuracy_table(&set("artificial"));
         let lines: Vec<&str> = ours.lines().collect();
@@ -297,7 +393,82 @@ pub(crate) mod tests {
         let natural = parameter_rows(&set_result("natural"));
         assert_eq!(natural[0].paper, None);
         let table = parameter_table(&set_result("artificial"));
-        assert!(table.contains("| temporal Δt (ms) | 3 | 159 |"), "{table}");
-        assert!(table.contains("| Van Rossum τ (ms) | 20 | 76 |"), "{table}");
+        assert!(
+            table.contains("| temporal Δt (ms) | 3 | 159 | on the search bound (Δt ≤ 3 ms) |"),
+            "{table}"
+        );
+        assert!(
+            table.contains("| Van Rossum τ (ms) | 20 | 76 |  |"),
+            "{table}"
+        );
+    }
+
+    /// Issue 12: a choice on a search bound is flagged, one inside is not.
+    #[test]
+    fn choices_on_a_search_bound_are_flagged() {
+        let mut set = set_result("natural");
+        assert_eq!(
+            bound_notes(&set),
+            [
+                Some("on the search bound (Δt ≤ 3 ms)".to_owned()),
+                None,
+                None
+            ]
+        );
+        set.dt_sweep.best_window_ms = 2;
+        set.bayes.best_tau_s = 0.1;
+        set.bayes.best_cos = 0.0;
+        assert_eq!(
+            bound_notes(&set),
+            [
+                None,
+                Some("on the search bound (τ ≤ 100 ms)".to_owned()),
+                Some("on the search bound (cos θ ≥ 0)".to_owned())
+            ]
+        );
+        set.bayes.best_tau_s = 0.012;
+        assert_eq!(
+            bound_notes(&set)[1].as_deref(),
+            Some("on the search bound (τ ≥ 10 ms)")
+        );
+    }
+
+    /// Issue 12: every class's intensive mean is shown, and a fall with grid size is named.
+    #[test]
+    fn every_intensive_mean_is_shown_and_monotonicity_is_checked() {
+        let mut set = set_result("artificial");
+        let table = intensive_table(&set);
+        assert!(table.contains("| grid 0.0 mm | 4.00 | 4.63 |"), "{table}");
+        assert!(table.contains("| grid 2.5 mm | 10.00 | 9.84 |"), "{table}");
+        assert!(
+            table.ends_with("The intensive mean rises with every grid size.\n"),
+            "{table}"
+        );
+        set.intensive_class_means = vec![10.0, 4.0];
+        assert_eq!(
+            monotonicity(&set).unwrap(),
+            "The intensive mean does not rise with grid size at 0.0 → 2.5 mm (10.00 → 4.00)."
+        );
+        set.class_names = vec!["cotton".into(), "denim".into()];
+        assert_eq!(monotonicity(&set), None);
+        assert!(intensive_table(&set).contains("| cotton | 10.00 | — |"));
+    }
+
+    /// Issue 12: a --quick run's table says it is not comparable with the paper's.
+    #[test]
+    fn a_quick_tables_paper_column_is_marked() {
+        let set = SetReport {
+            source: "test".into(),
+            dataset_time: Timing::default(),
+            direct: set_result("artificial"),
+            afferent: None,
+            examples: Vec::new(),
+            quick: true,
+        };
+        let first = accuracy_table(&set).lines().next().unwrap().to_owned();
+        assert!(
+            first.ends_with("| paper, Table 1 (%) — not comparable: --quick run |"),
+            "{first}"
+        );
     }
 }

@@ -103,6 +103,21 @@ pub struct CodingResult {
     pub time: Timing,
 }
 
+/// Where the pipeline searched its three parameters.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct SearchSpace {
+    /// Δt swept over 1…`dt_max_ms` ms in 1 ms steps.
+    pub dt_max_ms: u32,
+    /// τ searched over [`tau_min_s`, `tau_max_s`] on a grid of `tau_step_s`.
+    pub tau_min_s: f64,
+    /// Largest τ (s).
+    pub tau_max_s: f64,
+    /// τ grid step (s).
+    pub tau_step_s: f64,
+    /// cos θ searched over [0, 1] on a grid of `cos_step`.
+    pub cos_step: f64,
+}
+
 /// One set's results.
 #[derive(Debug, Clone, Serialize)]
 pub struct SetResult {
@@ -128,6 +143,8 @@ pub struct SetResult {
     pub bayes_time: Timing,
     /// Distinct τ visited (Van Rossum matrix pairs computed).
     pub vr_matrices_computed: usize,
+    /// Where Δt, τ and cos θ were searched (to flag a choice on a bound).
+    pub search_space: SearchSpace,
     /// The four codings, in the paper's order.
     pub codings: Vec<CodingResult>,
     /// Time of the whole set.
@@ -295,6 +312,13 @@ pub fn run_set(
             dt_sweep: sweep,
             dt_sweep_time,
             vr_matrices_computed: objective.matrices_computed,
+            search_space: SearchSpace {
+                dt_max_ms: max_window,
+                tau_min_s: config.bayes.tau_min_s,
+                tau_max_s: config.bayes.tau_max_s,
+                tau_step_s: config.bayes.tau_step_s,
+                cos_step: config.bayes.cos_step,
+            },
             bayes,
             bayes_time,
             codings: vec![intensive, spatial, temporal, spatiotemporal],

@@ -139,6 +139,9 @@ pub struct SetReport {
     pub direct: SetResult,
     /// Taxel spikes → afferent neurons → codings.
     pub afferent: Option<AfferentRun>,
+    /// A reduced run ([`ReproduceConfig::quick`]): its tables are not comparable with the
+    /// paper's.
+    pub quick: bool,
     /// One sample of each class shown in the spike-train figure: `(class name, sample)`.
     #[serde(skip)]
     pub examples: Vec<(String, MultiSpikeTrain)>,
@@ -290,6 +293,7 @@ fn run_source(
         examples: example_samples(&data),
         direct,
         afferent,
+        quick: config.quick,
     })
 }
 
