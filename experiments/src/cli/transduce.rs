@@ -84,7 +84,7 @@ pub fn run_transduce(a: TransduceArgs) -> anyhow::Result<()> {
         ba_window_us: (a.ba_window_us > 0).then_some(a.ba_window_us),
         ba_start: ba_start(a.ba_empty_start),
         rf_radius_px: a.rf_radius_px,
-        pool_window_us: (a.pool_ms * 1e3).round() as i64,
+        pool_window_us: neurotac_core::time::s_to_us(a.pool_ms / 1e3),
         recentre_gain: a.gain,
         ..TransductionConfig::default()
     };

@@ -454,7 +454,7 @@ pub fn load_recorded(
     let mut meta = serde_json::Map::new();
     meta.insert("source".into(), dir.display().to_string().into());
     // One ms past the ms bin of the latest event: no spike (a mean event time) lies beyond.
-    let duration_s = (longest_us / 1000 + 1) as f64 / 1e3;
+    let duration_s = neurotac_core::time::us_to_s((longest_us / 1000 + 1) * 1000);
     write_metadata(&mut meta, &config, Some(duration_s));
     let labels = files.iter().map(|f| f.label).collect();
     let names = listed.into_iter().map(|(name, _)| name).collect();

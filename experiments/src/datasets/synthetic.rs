@@ -13,6 +13,7 @@
 //! data for correctness and timing, not for accuracy claims.
 
 use neurotac_core::dataset::DURATION_S_KEY;
+use neurotac_core::time::us_to_s;
 use neurotac_core::{MultiSpikeTrain, SpikeDataset};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -90,7 +91,7 @@ pub fn synthetic_dataset(config: &SyntheticConfig) -> SpikeDataset {
                             * gain
                             * (1.0 + MODULATION * (std::f64::consts::TAU * freq * t + phase).sin());
                         if rng.random::<f64>() * max_rate < rate {
-                            times.push((t * 1e6).floor() / 1e6);
+                            times.push(us_to_s((t * 1e6).floor() as i64));
                         }
                     }
                     times
