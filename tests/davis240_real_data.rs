@@ -16,18 +16,12 @@ const EVENTS: usize = 118_558;
 /// The shift of the USB stream's times relative to the files (README: 2^31 − 700 000 µs).
 const USB_SHIFT_US: i64 = 2_146_783_648;
 
+#[path = "common/shared_data.rs"]
+mod shared_data;
+
 /// The data folder, or `None` (with the reason printed) when it is absent.
 fn data_dir() -> Option<PathBuf> {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/data/davis240");
-    if dir.join("README.md").exists() {
-        Some(dir)
-    } else {
-        eprintln!(
-            "skipping: the real DAVIS240C recording is not at {} (it is not part of the repository)",
-            dir.display()
-        );
-        None
-    }
+    shared_data::davis240_dir()
 }
 
 /// The CSV as the reference: t µs from 0, top-left x/y, on.

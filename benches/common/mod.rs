@@ -82,20 +82,12 @@ impl ValueFormatter for CpuFormatter {
     }
 }
 
+#[path = "../../tests/common/shared_data.rs"]
+mod shared_data;
+
 /// `../shared/data/davis240/<name>` when it exists; otherwise prints why the bench skips it.
 pub fn shared_recording(name: &str) -> Option<std::path::PathBuf> {
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../shared/data/davis240")
-        .join(name);
-    if path.is_file() {
-        Some(path)
-    } else {
-        eprintln!(
-            "skipping {name}: {} is absent (the recording is not part of the repository)",
-            path.display()
-        );
-        None
-    }
+    shared_data::davis240_file(name)
 }
 
 /// Runs `$bench(c, group)` twice — as `$group` in wall-clock time and as `${group}_cpu` in the

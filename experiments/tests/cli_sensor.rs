@@ -3,8 +3,10 @@
 
 mod common;
 
+#[path = "../../tests/common/shared_data.rs"]
+mod shared_data;
+
 use common::neurotac;
-use std::path::Path;
 
 #[test]
 fn devices_lists_none_without_a_camera() {
@@ -81,14 +83,9 @@ fn convert_reports_backwards_time_and_skipped_events() {
 
 #[test]
 fn convert_the_real_recording_aedat2_to_aedat4() {
-    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/data/davis240/pick.aedat");
-    if !data.exists() {
-        eprintln!(
-            "skipping: {} is absent (the recording is not part of the repository)",
-            data.display()
-        );
+    let Some(data) = shared_data::davis240_file("pick.aedat") else {
         return;
-    }
+    };
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("pick.aedat4");
     let (ok, stdout, stderr) =

@@ -4,18 +4,12 @@
 use neurotac_core::{Event, EventBuffer, Timestamp};
 use std::path::PathBuf;
 
+#[path = "../../../tests/common/shared_data.rs"]
+mod shared_data;
+
 /// `../shared/data/davis240/`, or `None` (with the reason printed) when it is absent.
 pub fn shared_data() -> Option<PathBuf> {
-    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../shared/data/davis240");
-    if dir.is_dir() {
-        Some(dir)
-    } else {
-        eprintln!(
-            "skipped: {} is absent (the shared DAVIS240C recording is not in this checkout)",
-            dir.display()
-        );
-        None
-    }
+    shared_data::davis240_dir()
 }
 
 /// The recording's events from `pick_events.csv` (`t,x,y,on`, t in µs).
