@@ -1,6 +1,6 @@
 //! The typed metadata of a taxel spike dataset: its sample duration
-//! ([`SpikeDataset::duration_s`], in `neurotac-core`) and the transduction that made it
-//! ([`TransductionSettings`] under `meta.transduction`), written by [`write_metadata`] and read
+//! ([`SpikeDataset::duration_s`], in `neurotac-core`) and the transduction that made it (every
+//! field of [`TransductionConfig`] under `meta.transduction`), written by [`write_metadata`] and read
 //! by [`transduction_of`] — the one writer and the one reader of these fields for every
 //! dataset (simulated, recorded, `neurotac transduce`).
 //!
@@ -8,91 +8,10 @@
 //! `pool_window_us` or `pool_ms`, `recentre_gain`); [`transduction_of`] still reads them.
 
 use neurotac_core::{DatasetError, SpikeDataset};
-use neurotac_sensor::filter::MapStart;
 use neurotac_sensor::taxel::TransductionConfig;
-use serde::{Deserialize, Serialize};
 
 /// The metadata key of the transduction settings.
 pub const TRANSDUCTION_KEY: &str = "transduction";
-
-/// How the background-activity time surface starts ([`MapStart`], serialisable).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum BaStart {
-    /// Every pixel last fired at t = 0.
-    Zero,
-    /// No pixel has fired yet.
-    Empty,
-}
-
-/// Every setting of a [`TransductionConfig`], serialisable (units as there).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-pub struct TransductionSettings {
-    /// Sensor width (px).
-    pub width: u16,
-    /// Sensor height (px).
-    pub height: u16,
-    /// Background-activity window (µs); `None`: no BA filter.
-    pub ba_window_us: Option<i64>,
-    /// How the BA time surface starts.
-    pub ba_start: BaStart,
-    /// Refractory period (µs); `None`: no refractory filter.
-    pub refractory_us: Option<i64>,
-    /// Receptive-field radius (px).
-    pub rf_radius_px: f64,
-    /// How far a field may move from home (px).
-    pub max_shift_px: f64,
-    /// Pooling window (µs).
-    pub pool_window_us: i64,
-    /// Pixel events needed for a taxel event.
-    pub min_events: u32,
-    /// Re-centring gain in [0, 1].
-    pub recentre_gain: f64,
-    /// Origin of the pooling windows and spike times (µs); `None`: the first event.
-    pub origin_us: Option<i64>,
-}
-
-impl From<TransductionConfig> for TransductionSettings {
-    fn from(c: TransductionConfig) -> Self {
-        Self {
-            width: c.width,
-            height: c.height,
-            ba_window_us: c.ba_window_us,
-            ba_start: match c.ba_start {
-                MapStart::Zero => BaStart::Zero,
-                MapStart::Empty => BaStart::Empty,
-            },
-            refractory_us: c.refractory_us,
-            rf_radius_px: c.rf_radius_px,
-            max_shift_px: c.max_shift_px,
-            pool_window_us: c.pool_window_us,
-            min_events: c.min_events,
-            recentre_gain: c.recentre_gain,
-            origin_us: c.origin_us,
-        }
-    }
-}
-
-impl From<TransductionSettings> for TransductionConfig {
-    fn from(s: TransductionSettings) -> Self {
-        Self {
-            width: s.width,
-            height: s.height,
-            ba_window_us: s.ba_window_us,
-            ba_start: match s.ba_start {
-                BaStart::Zero => MapStart::Zero,
-                BaStart::Empty => MapStart::Empty,
-            },
-            refractory_us: s.refractory_us,
-            rf_radius_px: s.rf_radius_px,
-            max_shift_px: s.max_shift_px,
-            pool_window_us: s.pool_window_us,
-            min_events: s.min_events,
-            recentre_gain: s.recentre_gain,
-            origin_us: s.origin_us,
-        }
-    }
-}
 
 /// Writes the typed metadata into `meta`: the transduction under `meta.transduction` and, when
 /// known, the sample duration under `meta.duration_s` (checked as
@@ -102,10 +21,9 @@ pub fn write_metadata(
     transduction: &TransductionConfig,
     duration_s: Option<f64>,
 ) {
-    let settings = TransductionSettings::from(*transduction);
     meta.insert(
         TRANSDUCTION_KEY.into(),
-        serde_json::to_value(settings).expect("settings serialise"),
+        serde_json::to_value(transduction).expect("settings serialise"),
     );
     if let Some(d) = duration_s {
         meta.insert(neurotac_core::dataset::DURATION_S_KEY.into(), d.into());
@@ -114,7 +32,7 @@ pub fn write_metadata(
 
 /// The transduction that made `data`: `meta.transduction`, else the flat fields of older
 /// files (defaults of [`TransductionConfig`] for what they did not record), else `None`.
-pub fn transduction_of(data: &SpikeDataset) -> Result<Option<TransductionSettings>, DatasetError> {
+pub fn transduction_of(data: &SpikeDataset) -> Result<Option<TransductionConfig>, DatasetError> {
     let meta = data.meta();
     if let Some(value) = meta.get(TRANSDUCTION_KEY) {
         return serde_json::from_value(value.clone())
@@ -122,7 +40,7 @@ pub fn transduction_of(data: &SpikeDataset) -> Result<Option<TransductionSetting
             .map_err(|_| DatasetError::Meta {
                 field: TRANSDUCTION_KEY,
                 value: value.to_string(),
-                expected: "an object of every transduction setting (see TransductionSettings)",
+                expected: "an object of every transduction setting (see TransductionConfig)",
             });
     }
     let number = |key: &str| meta.get(key).and_then(|v| v.as_f64());
@@ -131,7 +49,7 @@ pub fn transduction_of(data: &SpikeDataset) -> Result<Option<TransductionSetting
     else {
         return Ok(None);
     };
-    let mut settings = TransductionSettings::from(TransductionConfig::default());
+    let mut settings = TransductionConfig::default();
     settings.rf_radius_px = rf_radius_px;
     settings.recentre_gain = recentre_gain;
     // `neurotac transduce` wrote 0 for "no filter", the recorded loader null.
@@ -154,6 +72,7 @@ pub fn transduction_of(data: &SpikeDataset) -> Result<Option<TransductionSetting
 mod tests {
     use super::*;
     use neurotac_core::MultiSpikeTrain;
+    use neurotac_sensor::filter::MapStart;
     use std::path::Path;
 
     fn one_sample(meta: serde_json::Value) -> SpikeDataset {
@@ -184,8 +103,8 @@ mod tests {
         data.save_binary(&path).unwrap();
         let back = SpikeDataset::load(&path).unwrap();
         assert_eq!(back.duration_s(), Some(4.5));
-        let settings = transduction_of(&back).unwrap().unwrap();
-        assert_eq!(TransductionConfig::from(settings), config);
+        assert_eq!(transduction_of(&back).unwrap(), Some(config));
+        assert_eq!(back.meta()["transduction"]["ba_start"], "empty");
     }
 
     /// Files written before the settings were typed still load, with their settings.

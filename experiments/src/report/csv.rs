@@ -126,24 +126,10 @@ pub fn bayes_csv(set: &SetResult) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::report::tables::tests::set_result;
-    use crate::timing::Timing;
+    use crate::report::tables::tests::{report_of, set_result};
 
     fn report() -> Report {
-        Report {
-            command: "neurotac reproduce".into(),
-            version: "0".into(),
-            seed: 1,
-            sets: vec![SetReport {
-                source: "test".into(),
-                dataset_time: Timing::default(),
-                direct: set_result("artificial"),
-                afferent: None,
-                examples: Vec::new(),
-                quick: false,
-            }],
-            time: Timing::default(),
-        }
+        report_of(set_result("artificial"), "test")
     }
 
     #[test]

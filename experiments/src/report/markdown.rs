@@ -131,25 +131,13 @@ fn markdown_set(set: &SetReport, md: &mut String) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::report::tables::tests::set_result;
-    use crate::timing::Timing;
+    use crate::report::tables::tests::{report_of, set_result};
 
     #[test]
     fn the_page_names_the_run_and_embeds_every_figure_of_every_set() {
-        let report = Report {
-            command: "neurotac reproduce --quick".into(),
-            version: "9.9".into(),
-            seed: 4,
-            sets: vec![SetReport {
-                source: "simulated, 10 slides per texture".into(),
-                dataset_time: Timing::default(),
-                direct: set_result("artificial"),
-                afferent: None,
-                examples: Vec::new(),
-                quick: false,
-            }],
-            time: Timing::default(),
-        };
+        let mut report = report_of(set_result("artificial"), "simulated, 10 slides per texture");
+        (report.command, report.version, report.seed) =
+            ("neurotac reproduce --quick".into(), "9.9".into(), 4);
         let md = report_markdown(&report);
         assert!(md.starts_with(
             "# NeuroTac reproduction\n\n`neurotac reproduce --quick` (neurotac 9.9, seed 4)"

@@ -357,6 +357,24 @@ pub(crate) mod tests {
         }
     }
 
+    /// A one-set report of `direct`, its source named `source`.
+    pub(crate) fn report_of(direct: SetResult, source: &str) -> crate::reproduce::Report {
+        crate::reproduce::Report {
+            command: "neurotac reproduce".into(),
+            version: "0".into(),
+            seed: 1,
+            sets: vec![SetReport {
+                source: source.into(),
+                dataset_time: Timing::default(),
+                direct,
+                afferent: None,
+                examples: Vec::new(),
+                quick: false,
+            }],
+            time: Timing::default(),
+        }
+    }
+
     #[test]
     fn the_accuracy_table_adds_the_papers_column_for_the_papers_sets() {
         let set = |name| SetReport {

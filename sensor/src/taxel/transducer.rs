@@ -16,8 +16,9 @@ use crate::filter::{BackgroundActivityFilter, MapStart, RefractoryFilter};
 use crate::geometry::{DAVIS240_HEIGHT, DAVIS240_WIDTH};
 use neurotac_core::{EventBuffer, MultiSpikeTrain};
 
-/// Transduction settings; the defaults are the paper's.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// Transduction settings; the defaults are the paper's. Serialisable: datasets record the
+/// settings that made them.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct TransductionConfig {
     /// Sensor width (px). Default 240.
     pub width: u16,
