@@ -257,3 +257,89 @@ pub fn filter_file(
         kept: refractory.as_ref().map_or(ba.kept, |r| r.kept),
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use neurotac_core::{Event, Timestamp};
+
+    /// A 5 × 5 px blob at the sensor's centre, each pixel firing every ms for 100 ms (CSV).
+    fn recording(dir: &Path) -> PathBuf {
+        let mut events = EventBuffer::new();
+        for ms in 0..100i64 {
+            for y in 88..93u16 {
+                for x in 118..123u16 {
+                    events.push(Event {
+                        t: Timestamp(1_000 * ms + 17),
+                        x,
+                        y,
+                        polarity: ms % 2 == 0,
+                    });
+                }
+            }
+        }
+        let path = dir.join("blob.csv");
+        neurotac_sensor::format::write_file(&path, &events).unwrap();
+        path
+    }
+
+    #[test]
+    fn a_file_becomes_a_one_sample_dataset_with_its_settings() {
+        let dir = tempfile::tempdir().unwrap();
+        let input = recording(dir.path());
+        let (layout, detection) = resolve_layout(&LayoutSpec::Default, &input, 6.0).unwrap();
+        assert!(detection.is_none());
+        let config = TransductionConfig::default();
+        let t = transduce_file(&input, &layout, "default", config, Some("blob")).unwrap();
+        assert_eq!(t.counts.events_in, 2500);
+        assert_eq!(t.dataset.len(), 1);
+        assert_eq!(t.dataset.n_channels(), NEUROTAC_TAXELS);
+        assert_eq!(t.dataset.class_names(), ["blob"]);
+        let meta = t.dataset.meta();
+        assert_eq!(meta["layout"], "default");
+        assert_eq!(meta["pixel_events"], 2500);
+        assert_eq!(meta["origin_us"], 17);
+        assert_eq!(
+            crate::datasets::metadata::transduction_of(&t.dataset).unwrap(),
+            Some(config)
+        );
+        assert_eq!(t.trains.total_spikes() as u64, t.counts.taxel_events);
+    }
+
+    #[test]
+    fn filtering_writes_what_it_keeps() {
+        let dir = tempfile::tempdir().unwrap();
+        let input = recording(dir.path());
+        let output = dir.path().join("kept.csv");
+        let c = filter_file(&input, &output, 5000, MapStart::Empty, Some(2000)).unwrap();
+        assert_eq!(c.seen, 2500);
+        assert!(c.kept > 0 && c.kept < c.seen, "{c:?}");
+        let (kept, _) = neurotac_sensor::format::read_file(&output).unwrap();
+        assert_eq!(kept.len() as u64, c.kept);
+    }
+
+    #[test]
+    fn layout_specs_and_a_failed_detection() {
+        assert_eq!(LayoutSpec::parse("default", 1.0), LayoutSpec::Default);
+        assert_eq!(
+            LayoutSpec::parse("auto", 250.0),
+            LayoutSpec::Auto {
+                calibration_ms: 250.0
+            }
+        );
+        assert_eq!(
+            LayoutSpec::parse("pins.json", 1.0),
+            LayoutSpec::File("pins.json".into())
+        );
+        let dir = tempfile::tempdir().unwrap();
+        let input = recording(dir.path());
+        let auto = LayoutSpec::Auto {
+            calibration_ms: 50.0,
+        };
+        // One blob is one taxel, not 49.
+        assert!(matches!(
+            resolve_layout(&auto, &input, 6.0),
+            Err(TransduceError::LayoutNotFound { expected: 49, .. })
+        ));
+    }
+}

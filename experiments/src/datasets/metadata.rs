@@ -49,14 +49,16 @@ pub fn transduction_of(data: &SpikeDataset) -> Result<Option<TransductionConfig>
     else {
         return Ok(None);
     };
-    let mut settings = TransductionConfig::default();
-    settings.rf_radius_px = rf_radius_px;
-    settings.recentre_gain = recentre_gain;
-    // `neurotac transduce` wrote 0 for "no filter", the recorded loader null.
-    settings.ba_window_us = meta
-        .get("ba_window_us")
-        .and_then(|v| v.as_i64())
-        .filter(|&w| w > 0);
+    let mut settings = TransductionConfig {
+        rf_radius_px,
+        recentre_gain,
+        // `neurotac transduce` wrote 0 for "no filter", the recorded loader null.
+        ba_window_us: meta
+            .get("ba_window_us")
+            .and_then(|v| v.as_i64())
+            .filter(|&w| w > 0),
+        ..TransductionConfig::default()
+    };
     if let Some(us) = meta.get("pool_window_us").and_then(|v| v.as_i64()) {
         settings.pool_window_us = us;
     } else if let Some(ms) = number("pool_ms") {

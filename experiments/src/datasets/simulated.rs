@@ -673,4 +673,49 @@ mod tests {
         assert!(latest.fold(0.0, f64::max) < duration_s);
         assert_eq!(sample_duration_s(&SimParams::default()), 4.55);
     }
+    /// Issue 13: `neurotac simulate`'s generation is a library call.
+    #[test]
+    fn generate_writes_the_dataset_then_reads_it_from_the_cache() {
+        use crate::progress::NoProgress;
+        let dir = tempfile::tempdir().unwrap();
+        let config = GenerateConfig {
+            set: TextureSet::Artificial,
+            trials: 1,
+            seed: 4,
+            params: short_params(),
+            out: dir.path().join("out"),
+            cache: dir.path().join("cache"),
+            json: true,
+            pixel_events: None,
+        };
+        let first = generate(&config, &NoProgress).unwrap();
+        assert!(!first.from_cache);
+        assert_eq!(first.binary, dir.path().join("out/artificial.bin"));
+        assert_eq!(SpikeDataset::load(&first.binary).unwrap(), first.dataset);
+        assert!(first.json.as_ref().unwrap().is_file());
+        assert_eq!(first.class_means.len(), 11);
+        let again = generate(&config, &NoProgress).unwrap();
+        assert!(again.from_cache);
+        assert_eq!(again.dataset, first.dataset);
+        let with_events = GenerateConfig {
+            pixel_events: Some(PixelEventFiles::LabelledCsv),
+            ..config.clone()
+        };
+        let made = generate(&with_events, &NoProgress).unwrap();
+        assert!(!made.from_cache);
+        assert!(
+            dir.path()
+                .join("out/events/00-grid_0.0_mm/000.csv")
+                .is_file()
+        );
+        assert_eq!(made.dataset.observations(), first.dataset.observations());
+        let zero = GenerateConfig {
+            trials: 0,
+            ..config
+        };
+        assert!(matches!(
+            generate(&zero, &NoProgress),
+            Err(DatasetsError::Simulation(SimulationError::ZeroTrials))
+        ));
+    }
 }

@@ -3,6 +3,7 @@
 //! them to DIR/tradeoff.md.
 
 use crate::cli::load_dataset;
+use crate::cli::progress::Bars;
 use clap::Args;
 use neurotac_experiments::datasets::synthetic::{SyntheticConfig, synthetic_dataset};
 use neurotac_experiments::tradeoff::{TradeoffAllConfig, run_all};
@@ -33,10 +34,7 @@ pub fn run(args: AllArgs) -> anyhow::Result<()> {
             ..SyntheticConfig::default()
         }),
     };
-    let all = run_all(&config, &data, &args.out)?;
-    for (name, seconds) in ["neurons", "vr", "simulator"].iter().zip(all.seconds) {
-        eprintln!("{name}: {seconds:.1} s");
-    }
+    let all = run_all(&config, &data, &args.out, &Bars::new())?;
     println!("{}", all.summary);
     println!("wrote {}", args.out.join("tradeoff.md").display());
     Ok(())
