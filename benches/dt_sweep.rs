@@ -4,8 +4,8 @@
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use neurotac::core::Knn;
+use neurotac::experiments::datasets::synthetic::{SyntheticConfig, synthetic_dataset};
 use neurotac::experiments::search::dt_sweep::dt_sweep;
-use neurotac::experiments::synthetic::{SyntheticConfig, synthetic_dataset};
 use std::hint::black_box;
 use std::time::Duration;
 

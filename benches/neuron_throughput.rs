@@ -5,8 +5,8 @@
 //! `cargo bench --bench neuron_throughput`; criterion reports "elem/s" = neuron updates/s.
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
-use neurotac::experiments::bench::with_threads;
 use neurotac::experiments::neuron_setup::{NeuronKind, NeuronSetup, Precision};
+use neurotac::experiments::threads::with_threads;
 use std::time::Duration;
 
 const DT: f64 = 1e-4;

@@ -5,7 +5,7 @@
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use neurotac::core::distance::VanRossum;
-use neurotac::experiments::synthetic::{SyntheticConfig, synthetic_dataset};
+use neurotac::experiments::datasets::synthetic::{SyntheticConfig, synthetic_dataset};
 use std::hint::black_box;
 use std::time::Duration;
 

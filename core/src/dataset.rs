@@ -12,6 +12,14 @@
 //! Times are seconds. `observations` is required; `labels`, `class_names` and `meta` may be
 //! absent (an unlabelled dataset).
 //!
+//! # Typed metadata
+//! `meta` is free-form JSON, except for the fields read through typed accessors, which are
+//! checked whenever a dataset is built or read:
+//!
+//! | field | accessor | meaning |
+//! |---|---|---|
+//! | `duration_s` | [`SpikeDataset::duration_s`] | length of every sample (s, > 0); spikes lie in `[0, duration_s)`. Absent in older files: readers then take one ms past the latest spike |
+//!
 //! # Binary form
 //! Little-endian: magic `NTSPIKES`, `u32` version (2), `u64` number of observations, `u64`
 //! number of class names, each name as `u64` length + UTF-8, the metadata as `u64` length +
@@ -53,6 +61,8 @@ struct JsonDataset {
 }
 
 const MAGIC: &[u8; 8] = b"NTSPIKES";
+/// The metadata key of [`SpikeDataset::duration_s`].
+pub const DURATION_S_KEY: &str = "duration_s";
 /// The version written: the layout of version 1 followed by a CRC-32.
 const VERSION: u32 = 2;
 /// The first version, without a checksum (still read).
@@ -103,12 +113,28 @@ impl SpikeDataset {
                 });
             }
         }
+        if let Some(value) = meta.get(DURATION_S_KEY) {
+            duration_from_json(value)?;
+        }
         Ok(Self {
             labels,
             class_names,
             observations,
             meta,
         })
+    }
+
+    /// The length of every sample (s), when the dataset states it (`meta.duration_s`).
+    pub fn duration_s(&self) -> Option<f64> {
+        self.meta.get(DURATION_S_KEY).and_then(|v| v.as_f64())
+    }
+
+    /// States the length of every sample (s): finite and > 0, else [`DatasetError::Meta`].
+    pub fn set_duration_s(&mut self, duration_s: f64) -> Result<(), DatasetError> {
+        let value = serde_json::Value::from(duration_s);
+        duration_from_json(&value)?;
+        self.meta.insert(DURATION_S_KEY.into(), value);
+        Ok(())
     }
 
     /// An unlabelled dataset.
@@ -427,9 +453,44 @@ impl<'a> ByteReader<'a> {
     }
 }
 
+/// A `duration_s` metadata value, checked: a finite number > 0.
+fn duration_from_json(value: &serde_json::Value) -> Result<f64, DatasetError> {
+    match value.as_f64() {
+        Some(d) if d.is_finite() && d > 0.0 => Ok(d),
+        _ => Err(DatasetError::Meta {
+            field: DURATION_S_KEY,
+            value: value.to_string(),
+            expected: "a finite number of seconds > 0",
+        }),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn duration_is_typed_metadata_that_old_files_may_lack() {
+        let mut d = sample();
+        assert_eq!(d.duration_s(), None);
+        d.set_duration_s(4.5).unwrap();
+        assert_eq!(d.duration_s(), Some(4.5));
+        let back = SpikeDataset::from_binary(&d.to_binary(), Path::new("x.bin")).unwrap();
+        assert_eq!(back.duration_s(), Some(4.5));
+        assert!(matches!(
+            d.set_duration_s(f64::NAN),
+            Err(DatasetError::Meta {
+                field: "duration_s",
+                ..
+            })
+        ));
+        let bad = r#"{"observations":[[[0.1]]],"meta":{"duration_s":"long"}}"#;
+        let e = SpikeDataset::from_json_str(bad, Path::new("bad.json")).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            r#"meta.duration_s = "long": a finite number of seconds > 0"#
+        );
+    }
 
     fn sample() -> SpikeDataset {
         let obs = vec![

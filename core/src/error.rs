@@ -139,6 +139,16 @@ pub enum DatasetError {
         /// The CRC-32 of the bytes before it.
         computed: u32,
     },
+    /// A typed metadata field (such as `duration_s`) holds a value it cannot take.
+    #[error("meta.{field} = {value}: {expected}")]
+    Meta {
+        /// The field.
+        field: &'static str,
+        /// The value found (JSON text).
+        value: String,
+        /// What it must be.
+        expected: &'static str,
+    },
 }
 
 /// An output that is the same file as an input: writing it would destroy the input.

@@ -5,6 +5,7 @@
 //! apart.
 
 use crate::neuron_setup::{NeuronKind, NeuronSetup, Precision};
+use crate::threads::{ThreadPoolError, with_threads};
 use neurotac_core::{
     Connectivity, ExpSynapse, GraphError, ModelError, NetworkBuilder, NetworkConfig,
 };
@@ -32,28 +33,8 @@ pub enum BenchError {
         expected: &'static str,
     },
     /// The thread pool could not be created.
-    #[error("cannot start {threads} threads: {message}")]
-    Threads {
-        /// Threads asked for.
-        threads: usize,
-        /// The pool's error.
-        message: String,
-    },
-}
-
-/// Runs `f` on a rayon pool of `threads` threads (0 = one per core).
-pub fn with_threads<T: Send>(
-    threads: usize,
-    f: impl FnOnce() -> T + Send,
-) -> Result<T, BenchError> {
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .map_err(|e| BenchError::Threads {
-            threads,
-            message: e.to_string(),
-        })?;
-    Ok(pool.install(f))
+    #[error(transparent)]
+    Threads(#[from] ThreadPoolError),
 }
 
 /// What a neuron-throughput run measured.

@@ -45,4 +45,22 @@ pub enum ExperimentError {
         /// What is allowed.
         expected: &'static str,
     },
+    /// A coding was asked for without one of its parameters.
+    #[error("the {coding} coding needs {what}")]
+    MissingParameter {
+        /// The coding (`temporal`, `spatiotemporal`).
+        coding: &'static str,
+        /// The missing parameter.
+        what: &'static str,
+    },
+    /// A stated sample duration is shorter than the data it should hold.
+    #[error(
+        "sample duration {stated_ms} ms is shorter than the data, whose latest spike needs {needed_ms} ms"
+    )]
+    DurationShorterThanData {
+        /// The duration given or stated by the dataset (ms).
+        stated_ms: u32,
+        /// One ms past the latest spike (ms).
+        needed_ms: u32,
+    },
 }

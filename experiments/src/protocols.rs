@@ -124,6 +124,21 @@ pub struct Evaluation {
     pub confusion: ConfusionMatrix,
 }
 
+impl Evaluation {
+    /// Mean and (population) standard deviation of the per-fold accuracies; `None` without
+    /// folds (leave-one-out, split).
+    pub fn fold_mean_std(&self) -> Option<(f64, f64)> {
+        let f = &self.fold_accuracies;
+        if f.is_empty() {
+            return None;
+        }
+        let n = f.len() as f64;
+        let mean = f.iter().sum::<f64>() / n;
+        let var = f.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / n;
+        Some((mean, var.sqrt()))
+    }
+}
+
 fn by_class(labels: &[usize], seed: u64) -> Vec<Vec<usize>> {
     let n_classes = labels.iter().map(|&l| l + 1).max().unwrap_or(0);
     let mut classes = vec![Vec::new(); n_classes];
@@ -375,5 +390,19 @@ mod tests {
                 n_train: 19
             }))
         ));
+    }
+
+    #[test]
+    fn fold_summary_is_the_mean_and_population_std_of_the_folds() {
+        let accuracy = Accuracy::of(&[0, 1], &[0, 0]);
+        let e = |folds: Vec<f64>| Evaluation {
+            tested: Vec::new(),
+            predicted: Vec::new(),
+            accuracy,
+            fold_accuracies: folds,
+            confusion: ConfusionMatrix { counts: Vec::new() },
+        };
+        assert_eq!(e(vec![]).fold_mean_std(), None);
+        assert_eq!(e(vec![0.5, 1.0]).fold_mean_std(), Some((0.75, 0.25)));
     }
 }

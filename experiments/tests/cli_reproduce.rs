@@ -50,7 +50,9 @@ fn a_small_run_prints_the_tables_and_writes_the_whole_report() {
         "| Spatiotemporal | τ = ",
         "78.5 ± 41.1",
         "| temporal Δt (ms) |",
-        "intensive mean, grid 2.5 mm",
+        "| grid 2.5 mm | ",
+        "| grid 4.5 mm | ",
+        "The intensive mean ",
         "total: ",
     ] {
         assert!(stdout.contains(needle), "missing {needle:?} in\n{stdout}");

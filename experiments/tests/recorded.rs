@@ -1,8 +1,8 @@
-//! Recorded datasets (`neurotac_experiments::recorded`): tiny folders of synthetic event files
+//! Recorded datasets (`neurotac_experiments::datasets::recorded`): tiny folders of synthetic event files
 //! in every format, and every way a folder can be wrong.
 
 use neurotac_core::{Event, EventBuffer, Timestamp, error_chain};
-use neurotac_experiments::recorded::{RecordedDataset, RecordedError, load_recorded};
+use neurotac_experiments::datasets::recorded::{RecordedDataset, RecordedError, load_recorded};
 use neurotac_sensor::format::{Compression, Format, to_bytes, write_file};
 use neurotac_sensor::taxel::{TaxelLayout, TransductionConfig};
 use std::path::Path;

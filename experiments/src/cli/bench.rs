@@ -110,84 +110,89 @@ fn print(report: &Value, json: bool, line: String) {
 
 pub fn run(args: BenchArgs) -> anyhow::Result<()> {
     match args.what {
-        BenchCommand::Neurons(a) => {
-            let r = neuron_throughput(
-                a.model,
-                a.n,
-                a.duration,
-                a.dt,
-                a.precision,
-                a.integrator,
-                a.run.threads,
-            )?;
-            let mut report = serde_json::to_value(&r)?;
-            if let Some(python) = &a.run.brian2 {
-                let peer_args = ["neurons", r.model.name()].map(String::from).into_iter();
-                let peer_args = peer_args.chain([
-                    a.n.to_string(),
-                    a.duration.to_string(),
-                    a.dt.to_string(),
-                    r.threads.to_string(),
-                ]);
-                compare(
-                    &mut report,
-                    python,
-                    peer_args.collect(),
-                    r.wall_s,
-                    r.updates,
-                )?;
-            }
-            let line = format!(
-                "{} {} {} n={} dt={} s: {:.3e} updates/s ({:.3e} per thread, {} threads), {} spikes, {:.3} s wall",
-                r.model.name(),
-                r.integrator,
-                r.precision.name(),
-                r.n,
-                r.dt_s,
-                r.updates_per_s,
-                r.updates_per_s_per_thread,
-                r.threads,
-                r.spikes,
-                r.wall_s
-            );
-            print(&report, a.run.json, line);
-        }
-        BenchCommand::Cuba(a) => {
-            let config = CubaConfig {
-                duration_s: a.duration,
-                dt_s: a.dt,
-                seed: a.seed,
-                ..CubaConfig::default()
-            };
-            let (r, threads) = neurotac_experiments::bench::with_threads(a.run.threads, || {
-                (cuba(config), rayon::current_num_threads())
-            })?;
-            let r = r?;
-            let mut report = serde_json::to_value(&r)?;
-            report["threads"] = json!(threads);
-            if let Some(python) = &a.run.brian2 {
-                let peer_args = vec![
-                    "cuba".into(),
-                    a.duration.to_string(),
-                    a.dt.to_string(),
-                    threads.to_string(),
-                ];
-                compare(&mut report, python, peer_args, r.run_s, r.duration_s)?;
-            }
-            let line = format!(
-                "CUBA: {} neurons, {} synapses, {} s simulated in {:.4} s ({:.4} s per simulated second, {} threads; build {:.3} s), {} spikes ({:.1} Hz)",
-                r.neurons,
-                r.synapses,
-                r.duration_s,
-                r.run_s,
-                r.wall_s,
-                threads,
-                r.build_s,
-                r.spikes,
-                r.rate_hz
-            );
-            print(&report, a.run.json, line);
-        }
+        BenchCommand::Neurons(a) => neurons(a),
+        BenchCommand::Cuba(a) => cuba_network(a),
     }
+}
+
+fn neurons(a: NeuronsArgs) -> anyhow::Result<()> {
+    let r = neuron_throughput(
+        a.model,
+        a.n,
+        a.duration,
+        a.dt,
+        a.precision,
+        a.integrator,
+        a.run.threads,
+    )?;
+    let mut report = serde_json::to_value(&r)?;
+    if let Some(python) = &a.run.brian2 {
+        let peer_args = ["neurons", r.model.name()].map(String::from).into_iter();
+        let peer_args = peer_args.chain([
+            a.n.to_string(),
+            a.duration.to_string(),
+            a.dt.to_string(),
+            r.threads.to_string(),
+        ]);
+        compare(
+            &mut report,
+            python,
+            peer_args.collect(),
+            r.wall_s,
+            r.updates,
+        )?;
+    }
+    let line = format!(
+        "{} {} {} n={} dt={} s: {:.3e} updates/s ({:.3e} per thread, {} threads), {} spikes, {:.3} s wall",
+        r.model.name(),
+        r.integrator,
+        r.precision.name(),
+        r.n,
+        r.dt_s,
+        r.updates_per_s,
+        r.updates_per_s_per_thread,
+        r.threads,
+        r.spikes,
+        r.wall_s
+    );
+    print(&report, a.run.json, line);
+    Ok(())
+}
+
+fn cuba_network(a: CubaArgs) -> anyhow::Result<()> {
+    let config = CubaConfig {
+        duration_s: a.duration,
+        dt_s: a.dt,
+        seed: a.seed,
+        ..CubaConfig::default()
+    };
+    let (r, threads) = neurotac_experiments::threads::with_threads(a.run.threads, || {
+        (cuba(config), rayon::current_num_threads())
+    })?;
+    let r = r?;
+    let mut report = serde_json::to_value(&r)?;
+    report["threads"] = json!(threads);
+    if let Some(python) = &a.run.brian2 {
+        let peer_args = vec![
+            "cuba".into(),
+            a.duration.to_string(),
+            a.dt.to_string(),
+            threads.to_string(),
+        ];
+        compare(&mut report, python, peer_args, r.run_s, r.duration_s)?;
+    }
+    let line = format!(
+        "CUBA: {} neurons, {} synapses, {} s simulated in {:.4} s ({:.4} s per simulated second, {} threads; build {:.3} s), {} spikes ({:.1} Hz)",
+        r.neurons,
+        r.synapses,
+        r.duration_s,
+        r.run_s,
+        r.wall_s,
+        threads,
+        r.build_s,
+        r.spikes,
+        r.rate_hz
+    );
+    print(&report, a.run.json, line);
     Ok(())
 }

@@ -1,10 +1,11 @@
 //! `neurotac classify`: KNN classification of a dataset under one coding and protocol.
 
-use super::common::{CodingArg, feature_distances, load, timed, van_rossum_distances};
-use anyhow::bail;
+use super::load_labelled;
 use clap::{Args, ValueEnum};
 use neurotac_core::Knn;
+use neurotac_experiments::coding::{CodingName, coding_distances};
 use neurotac_experiments::protocols::{Protocol, evaluate};
+use neurotac_experiments::timing::timed;
 use std::path::PathBuf;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -24,7 +25,7 @@ pub struct ClassifyArgs {
     input: PathBuf,
     /// Coding.
     #[arg(long, value_enum)]
-    coding: CodingArg,
+    coding: CodingName,
     /// Temporal-coding window Δt (s, whole ms).
     #[arg(long)]
     dt: Option<f64>,
@@ -58,10 +59,7 @@ pub struct ClassifyArgs {
 }
 
 pub fn run(args: ClassifyArgs) -> anyhow::Result<()> {
-    let data = load(&args.input)?;
-    if data.labels().is_empty() {
-        bail!("{}: the dataset has no labels", args.input.display());
-    }
+    let data = load_labelled(&args.input)?;
     let knn = Knn::new(args.k)?;
     let protocol = match args.protocol {
         ProtocolArg::Loo => Protocol::LeaveOneOut,
@@ -74,10 +72,10 @@ pub fn run(args: ClassifyArgs) -> anyhow::Result<()> {
             seed: args.seed,
         },
     };
-    let (distances, distance_time) = timed(|| match args.coding {
-        CodingArg::Spatiotemporal => van_rossum_distances(&data, args.tau, args.cos),
-        c => feature_distances(&data, c, args.dt, args.duration),
-    });
+    let coding =
+        super::distances::coding_parameters(&data, args.dt, args.duration, args.tau, args.cos)?;
+    let (distances, distance_time) =
+        timed(|| coding_distances(data.observations(), args.coding, &coding));
     let distances = distances?;
     let (evaluation, knn_time) = timed(|| {
         evaluate(
@@ -116,15 +114,7 @@ pub fn run(args: ClassifyArgs) -> anyhow::Result<()> {
         100.0 * a.wilson_low,
         100.0 * a.wilson_high
     );
-    if !e.fold_accuracies.is_empty() {
-        let m = e.fold_accuracies.iter().sum::<f64>() / e.fold_accuracies.len() as f64;
-        let s = (e
-            .fold_accuracies
-            .iter()
-            .map(|x| (x - m).powi(2))
-            .sum::<f64>()
-            / e.fold_accuracies.len() as f64)
-            .sqrt();
+    if let Some((m, s)) = e.fold_mean_std() {
         println!(
             "per fold: {:.1} ± {:.1} % over {} folds",
             100.0 * m,
@@ -132,16 +122,16 @@ pub fn run(args: ClassifyArgs) -> anyhow::Result<()> {
             e.fold_accuracies.len()
         );
     }
+    print_confusion(&e.confusion.counts, data.class_names());
+    println!("distances: {distance_time}; KNN: {knn_time}");
+    Ok(())
+}
+
+fn print_confusion(counts: &[Vec<usize>], class_names: &[String]) {
     println!("confusion matrix (rows: true class, columns: predicted):");
-    for (i, row) in e.confusion.counts.iter().enumerate() {
-        let name = data
-            .class_names()
-            .get(i)
-            .cloned()
-            .unwrap_or_else(|| i.to_string());
+    for (i, row) in counts.iter().enumerate() {
+        let name = class_names.get(i).cloned().unwrap_or_else(|| i.to_string());
         let cells: Vec<String> = row.iter().map(|c| format!("{c:4}")).collect();
         println!("  {name:>12} {}", cells.join(""));
     }
-    println!("distances: {distance_time}; KNN: {knn_time}");
-    Ok(())
 }

@@ -1,10 +1,14 @@
 //! `neurotac distances`: the N×N distance matrix of a spike dataset, as `{"matrix": [[…]]}`.
 
-use super::common::{
-    CodingArg, feature_distances, load, mean_spikes_per_unit, timed, van_rossum_distances,
-};
+use super::load_dataset;
 use anyhow::{Context, bail};
 use clap::{Args, ValueEnum};
+use neurotac_core::SpikeDataset;
+use neurotac_core::coding::whole_ms;
+use neurotac_experiments::coding::{
+    CodingName, CodingParameters, coding_distances, mean_spikes_per_channel, sample_duration_ms,
+};
+use neurotac_experiments::timing::timed;
 use std::path::PathBuf;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -31,7 +35,7 @@ pub struct DistancesArgs {
     cos: Option<f64>,
     /// Coding whose features the Euclidean distance compares.
     #[arg(long, value_enum)]
-    coding: Option<CodingArg>,
+    coding: Option<CodingName>,
     /// Temporal-coding window Δt (s, whole ms).
     #[arg(long)]
     dt: Option<f64>,
@@ -45,14 +49,16 @@ pub struct DistancesArgs {
 
 pub fn run(args: DistancesArgs) -> anyhow::Result<()> {
     neurotac_core::io::check_distinct(&args.input, &args.output)?;
-    let data = load(&args.input)?;
-    let (matrix, timing) = timed(|| match args.metric {
-        Metric::VanRossum => van_rossum_distances(&data, args.tau, args.cos),
-        Metric::Euclidean => match args.coding {
-            None => bail!("--metric euclidean needs --coding intensive|spatial|temporal"),
-            Some(coding) => feature_distances(&data, coding, args.dt, args.duration),
-        },
-    });
+    let data = load_dataset(&args.input)?;
+    let coding = match (args.metric, args.coding) {
+        (Metric::VanRossum, _) => CodingName::Spatiotemporal,
+        (Metric::Euclidean, None | Some(CodingName::Spatiotemporal)) => {
+            bail!("--metric euclidean needs --coding intensive|spatial|temporal")
+        }
+        (Metric::Euclidean, Some(coding)) => coding,
+    };
+    let parameters = coding_parameters(&data, args.dt, args.duration, args.tau, args.cos)?;
+    let (matrix, timing) = timed(|| coding_distances(data.observations(), coding, &parameters));
     let matrix = matrix?;
     let rows: Vec<Vec<f64>> = matrix.outer_iter().map(|r| r.to_vec()).collect();
     let text = serde_json::to_string(&serde_json::json!({ "matrix": rows }))?;
@@ -63,8 +69,30 @@ pub fn run(args: DistancesArgs) -> anyhow::Result<()> {
         "{n}×{n} {:?} distance matrix of {} channels (mean {:.1} spikes/channel) → {} in {timing}",
         args.metric,
         data.n_channels(),
-        mean_spikes_per_unit(&data),
+        mean_spikes_per_channel(&data),
         args.output.display()
     );
     Ok(())
+}
+
+/// The coding parameters of the flags `--dt`, `--duration` (s), `--tau` and `--cos`; the sample
+/// duration only when a window is given (it is only read then).
+pub fn coding_parameters(
+    data: &SpikeDataset,
+    dt_s: Option<f64>,
+    duration_s: Option<f64>,
+    tau_s: Option<f64>,
+    cos: Option<f64>,
+) -> anyhow::Result<CodingParameters> {
+    let window_ms = dt_s.map(|dt| whole_ms(dt, "--dt")).transpose()?;
+    let duration_ms = match window_ms {
+        Some(_) => Some(sample_duration_ms(data, duration_s)?),
+        None => None,
+    };
+    Ok(CodingParameters {
+        window_ms,
+        duration_ms,
+        tau_s,
+        cos,
+    })
 }

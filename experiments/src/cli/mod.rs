@@ -3,16 +3,19 @@
 //! `run(args) -> anyhow::Result<()>`, one variant in [`Command`] and one arm in [`run`]. To add
 //! a subcommand to a group (`tradeoff`, `search`), do the same inside the group's `mod.rs`.
 
-use clap::{Parser, Subcommand};
+use clap::{Parser, Subcommand, ValueEnum};
+use neurotac_core::SpikeDataset;
+use neurotac_experiments::datasets::simulated::TextureSet;
+use std::path::Path;
 
 mod bench;
 mod classify;
-mod common;
 mod convert;
 mod demo;
 mod devices;
 mod distances;
 mod neuron;
+mod progress;
 mod record;
 mod reproduce;
 mod search;
@@ -88,4 +91,42 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Record(args) => record::run(args),
         Command::Simulate(args) => simulate::run(args),
     }
+}
+
+/// `--set`: which simulated texture set(s).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum SetArg {
+    /// The 11 bump grids (paper: 100 slides each; Table 1).
+    Artificial,
+    /// The 20 natural textures (paper: 50 slides each; Table 2).
+    Natural,
+    /// Both, artificial first.
+    Both,
+}
+
+impl SetArg {
+    /// The sets, in run order.
+    pub fn sets(self) -> Vec<TextureSet> {
+        match self {
+            SetArg::Artificial => vec![TextureSet::Artificial],
+            SetArg::Natural => vec![TextureSet::Natural],
+            SetArg::Both => vec![TextureSet::Artificial, TextureSet::Natural],
+        }
+    }
+}
+
+/// Reads a spike dataset (JSON or binary); the error names the file once.
+pub fn load_dataset(path: &Path) -> anyhow::Result<SpikeDataset> {
+    // The dataset error names file, sample and field; its source chain would repeat it.
+    SpikeDataset::load(path)
+        .map_err(|e| anyhow::anyhow!("reading the spike dataset {}: {e}", path.display()))
+}
+
+/// Reads a labelled spike dataset (classification and searches need labels).
+pub fn load_labelled(path: &Path) -> anyhow::Result<SpikeDataset> {
+    let data = load_dataset(path)?;
+    if data.labels().is_empty() {
+        anyhow::bail!("{}: the dataset has no labels", path.display());
+    }
+    Ok(data)
 }

@@ -1,16 +1,15 @@
 //! `neurotac simulate`: the simulated texture datasets, the acceptance check and the
 //! calibration of the simulator (`shared/specs/simulator.md`).
 
+use super::SetArg;
+use super::progress::{Bars, bar};
 use anyhow::Context;
-use clap::{Args, Subcommand, ValueEnum};
-use indicatif::{ProgressBar, ProgressStyle};
-use neurotac_experiments::bench::with_threads;
-use neurotac_experiments::datasets::{
-    TextureSet, cache_path, load_or_simulate_with, simulate_set, store, write_events_csv,
-};
+use clap::{Args, Subcommand};
+use neurotac_experiments::datasets::simulated::{GenerateConfig, PixelEventFiles};
 use neurotac_experiments::simulator_check::{
     CheckConfig, PAPER_COUNTS, calibrate_lever, check_trial_count, simulator_check, to_markdown,
 };
+use neurotac_experiments::threads::with_threads;
 use neurotac_sensor::sim::SimParams;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -34,15 +33,9 @@ enum SimulateCommand {
     Params,
 }
 
-#[derive(Debug, Clone, Copy, ValueEnum)]
-enum SetArg {
-    Artificial,
-    Natural,
-}
-
 #[derive(Debug, Args)]
 struct GenerateArgs {
-    /// Texture set: 11 bump grids or the 20 natural textures.
+    /// Texture set: 11 bump grids, the 20 natural textures, or both (one file each).
     #[arg(long, value_enum, required = true)]
     set: Option<SetArg>,
     /// Slides per texture (default: the paper's, 100 artificial / 50 natural).
@@ -125,16 +118,8 @@ fn load_params(path: Option<&Path>) -> anyhow::Result<SimParams> {
     })
 }
 
-fn progress_bar(total: usize, what: &str) -> ProgressBar {
-    let bar = ProgressBar::new(total as u64);
-    bar.set_style(
-        ProgressStyle::with_template(
-            "{msg} [{elapsed_precise}] {wide_bar} {pos}/{len} trials ({per_sec}, eta {eta})",
-        )
-        .expect("valid template"),
-    );
-    bar.set_message(what.to_owned());
-    bar
+fn progress_bar(total: usize, what: &str) -> indicatif::ProgressBar {
+    bar(what, total as u64, "trials ")
 }
 
 pub fn run(args: SimulateArgs) -> anyhow::Result<()> {
@@ -150,114 +135,57 @@ pub fn run(args: SimulateArgs) -> anyhow::Result<()> {
 }
 
 fn generate(a: GenerateArgs) -> anyhow::Result<()> {
-    let set = match a.set.context("--set is required")? {
-        SetArg::Artificial => TextureSet::Artificial,
-        SetArg::Natural => TextureSet::Natural,
-    };
     let out = a.out.context("--out is required")?;
     let params = load_params(a.params.as_deref())?;
-    let trials = a.trials.unwrap_or(set.paper_trials());
-    if trials == 0 {
-        anyhow::bail!("--trials 0: at least one trial per texture is needed");
-    }
-    std::fs::create_dir_all(&out).with_context(|| format!("creating {}", out.display()))?;
-    let cache = a.cache.unwrap_or_else(|| out.join("cache"));
-    let total = trials * set.textures().len();
-    let bar = progress_bar(total, set.name());
-    let start = Instant::now();
-    let cached = !a.pixel_events
-        && neurotac_core::SpikeDataset::load(cache_path(set, trials, a.seed, &params, &cache))
-            .is_ok();
-    let dataset = with_threads(a.threads, || -> anyhow::Result<_> {
-        if a.pixel_events {
-            let names = set.class_names();
-            let dir = out.join("events");
-            let each = |job: &neurotac_experiments::datasets::TrialJob,
-                        trial: &neurotac_sensor::sim::SimulatedTrial| {
-                let folder = dir.join(format!(
-                    "{:02}-{}",
-                    job.class,
-                    names[job.class].replace(' ', "_")
-                ));
-                std::fs::create_dir_all(&folder).map_err(|source| {
-                    neurotac_experiments::datasets::DatasetsError::Io {
-                        path: folder.clone(),
-                        source,
-                    }
-                })?;
-                if a.labels {
-                    let path = folder.join(format!("{:03}.csv", job.trial));
-                    write_events_csv(&path, &trial.events, Some(&trial.labels))
-                } else {
-                    let path = folder.join(format!("{:03}.{}", job.trial, a.event_format));
-                    Ok(neurotac_sensor::format::write_file(&path, &trial.events)?)
-                }
-            };
-            let s = simulate_set(set, trials, a.seed, &params, &each, &|| bar.inc(1))?;
-            // Cache it too, so experiments find it.
-            store(
-                &s.dataset,
-                &cache,
-                &cache_path(set, trials, a.seed, &params, &cache),
-            )?;
-            Ok(s.dataset)
-        } else {
-            Ok(load_or_simulate_with(
-                set,
-                trials,
-                a.seed,
-                &params,
-                &cache,
-                &|| bar.inc(1),
-            )?)
+    let pixel_events = a.pixel_events.then(|| match a.labels {
+        true => PixelEventFiles::LabelledCsv,
+        false => PixelEventFiles::Format(a.event_format.clone()),
+    });
+    for set in a.set.context("--set is required")?.sets() {
+        let config = GenerateConfig {
+            set,
+            trials: a.trials.unwrap_or(set.paper_trials()),
+            seed: a.seed,
+            params,
+            out: out.clone(),
+            cache: a.cache.clone().unwrap_or_else(|| out.join("cache")),
+            json: a.json,
+            pixel_events: pixel_events.clone(),
+        };
+        if config.trials == 0 {
+            anyhow::bail!("--trials 0: at least one trial per texture is needed");
         }
-    })??;
-    bar.finish_and_clear();
-    let wall = start.elapsed().as_secs_f64();
-    let bin = out.join(format!("{}.bin", set.name()));
-    dataset
-        .save_binary(&bin)
-        .with_context(|| format!("writing {}", bin.display()))?;
-    if a.json {
-        let json = out.join(format!("{}.json", set.name()));
-        dataset
-            .save_json(&json)
-            .with_context(|| format!("writing {}", json.display()))?;
+        let start = Instant::now();
+        let bars = Bars::new();
+        let made = with_threads(a.threads, || {
+            neurotac_experiments::datasets::simulated::generate(&config, &bars)
+        })??;
+        let wall = start.elapsed().as_secs_f64();
+        let data = &made.dataset;
+        let how = match made.from_cache {
+            true => "loaded from the cache".to_owned(),
+            false => format!("{:.1} trials/s", data.len() as f64 / wall),
+        };
+        println!(
+            "{} set: {} textures × {} slides = {} trials in {wall:.1} s ({how})",
+            set.name(),
+            set.textures().len(),
+            config.trials,
+            data.len(),
+        );
+        let stat = |key: &str| data.meta().get(key).and_then(|v| v.as_f64());
+        if let (Some(pixel), Some(noise)) = (
+            stat("pixel_events_per_trial"),
+            stat("noise_events_per_trial"),
+        ) {
+            println!("pixel events per trial: {pixel:.0} (of which noise {noise:.0})");
+        }
+        println!("  class                   spikes/taxel (mean over slides)");
+        for (name, m) in data.class_names().iter().zip(&made.class_means) {
+            println!("  {name:22}  {m:8.2}");
+        }
+        println!("→ {}", made.binary.display());
     }
-    let how = if cached {
-        "loaded from the cache".to_owned()
-    } else {
-        format!("{:.1} trials/s", dataset.len() as f64 / wall)
-    };
-    println!(
-        "{} set: {} textures × {trials} slides = {} trials in {wall:.1} s ({how})",
-        set.name(),
-        set.textures().len(),
-        dataset.len(),
-    );
-    let stat = |key: &str| dataset.meta().get(key).and_then(|v| v.as_f64());
-    if let (Some(pixel), Some(noise)) = (
-        stat("pixel_events_per_trial"),
-        stat("noise_events_per_trial"),
-    ) {
-        println!("pixel events per trial: {pixel:.0} (of which noise {noise:.0})");
-    }
-    println!("  class                   spikes/taxel (mean over slides)");
-    for (c, name) in dataset.class_names().iter().enumerate() {
-        let obs: Vec<_> = dataset
-            .observations()
-            .iter()
-            .zip(dataset.labels())
-            .filter(|(_, l)| **l == c)
-            .collect();
-        let m = obs
-            .iter()
-            .map(|(o, _)| o.total_spikes() as f64 / o.n_channels() as f64)
-            .sum::<f64>()
-            / obs.len() as f64;
-        println!("  {name:22}  {m:8.2}");
-    }
-    println!("→ {}", bin.display());
     Ok(())
 }
 

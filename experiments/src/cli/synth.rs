@@ -2,7 +2,7 @@
 
 use anyhow::Context;
 use clap::Args;
-use neurotac_experiments::synthetic::{SyntheticConfig, synthetic_dataset};
+use neurotac_experiments::datasets::synthetic::{SyntheticConfig, synthetic_dataset};
 use std::path::PathBuf;
 
 #[derive(Debug, Args)]

@@ -4,48 +4,32 @@
 use anyhow::{Context, bail};
 use clap::Args;
 use neurotac_core::io::{AtomicFile, check_distinct};
-use neurotac_core::{EventBuffer, SpikeDataset};
-use neurotac_experiments::figures::spike_train_figure;
-use neurotac_sensor::filter::{BackgroundActivityFilter, MapStart, RefractoryFilter};
-use neurotac_sensor::format::{create_writer, open_reader};
-use neurotac_sensor::stage::{Filtered, Stage};
-use neurotac_sensor::taxel::{TaxelLayout, Transducer, TransductionConfig};
+use neurotac_experiments::report::figures::spike_train_figure;
+use neurotac_experiments::transduce::{LayoutSpec, filter_file, resolve_layout, transduce_file};
+use neurotac_sensor::filter::MapStart;
+use neurotac_sensor::taxel::{TaxelLayout, TransductionConfig};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-/// Where the taxel centres come from.
+/// The layout of `--layout` for `input`, printing how an automatic one was found.
 fn layout_from(
     spec: &str,
     input: &Path,
     calibration_ms: f64,
     radius_px: f64,
 ) -> anyhow::Result<TaxelLayout> {
-    let layout = match spec {
-        "default" => TaxelLayout::neurotac_default(),
-        "auto" => {
-            let events = read_head(input, calibration_ms)?;
-            let d = TaxelLayout::detect(&events, 49, radius_px);
-            eprintln!(
-                "layout: found {} of {} taxels in the first {calibration_ms} ms (confidence {:.2}, {:.0} % of events inside the fields)",
-                d.found,
-                d.expected,
-                d.confidence,
-                100.0 * d.captured_fraction
-            );
-            if d.found != d.expected {
-                bail!(
-                    "found {} of {} taxels in the first {calibration_ms} ms of {}: record longer (--calibration-ms) or give a layout file",
-                    d.found,
-                    d.expected,
-                    input.display()
-                );
-            }
-            d.layout
-        }
-        file => TaxelLayout::from_json_file(Path::new(file))?,
-    };
-    layout.validate(radius_px, Some(49), 240, 180)?;
+    let spec = LayoutSpec::parse(spec, calibration_ms);
+    let (layout, detection) = resolve_layout(&spec, input, radius_px)?;
+    if let Some(d) = detection {
+        eprintln!(
+            "layout: found {} of {} taxels in the first {calibration_ms} ms (confidence {:.2}, {:.0} % of events inside the fields)",
+            d.found,
+            d.expected,
+            d.confidence,
+            100.0 * d.captured_fraction
+        );
+    }
     Ok(layout)
 }
 
@@ -54,23 +38,11 @@ fn create_output(path: &Path) -> anyhow::Result<AtomicFile> {
     AtomicFile::create(path).with_context(|| format!("creating {}", path.display()))
 }
 
-/// The events of the first `ms` milliseconds of a file.
-fn read_head(path: &Path, ms: f64) -> anyhow::Result<EventBuffer> {
-    let mut reader = open_reader(path)?;
-    let mut all = EventBuffer::new();
-    let mut chunk = EventBuffer::new();
-    let mut end = None;
-    while reader.read_chunk(&mut chunk)? > 0 {
-        let end_us = *end.get_or_insert(chunk.t[0] + (ms * 1e3) as i64);
-        for e in chunk.iter().take_while(|e| e.t.0 < end_us) {
-            all.push(e);
-        }
-        if chunk.t.last().is_some_and(|&t| t >= end_us) {
-            break;
-        }
-        chunk.clear();
+fn ba_start(empty: bool) -> MapStart {
+    match empty {
+        true => MapStart::Empty,
+        false => MapStart::Zero,
     }
-    Ok(all)
 }
 
 #[derive(Debug, Args)]
@@ -126,62 +98,19 @@ pub fn run_transduce(a: TransduceArgs) -> anyhow::Result<()> {
     }
     let config = TransductionConfig {
         ba_window_us: (a.ba_window_us > 0).then_some(a.ba_window_us),
-        ba_start: if a.ba_empty_start {
-            MapStart::Empty
-        } else {
-            MapStart::Zero
-        },
+        ba_start: ba_start(a.ba_empty_start),
         rf_radius_px: a.rf_radius_px,
-        pool_window_us: (a.pool_ms * 1e3).round() as i64,
+        pool_window_us: neurotac_core::time::s_to_us(a.pool_ms / 1e3),
         recentre_gain: a.gain,
         ..TransductionConfig::default()
     };
-    let mut transducer = Transducer::new(&layout, config)?;
-    let start = Instant::now();
-    let mut reader = open_reader(&a.input)?;
-    let mut chunk = EventBuffer::new();
-    // Transduction alone, without reading and decoding the file.
-    let mut transducing = std::time::Duration::ZERO;
-    while reader.read_chunk(&mut chunk)? > 0 {
-        let t0 = Instant::now();
-        transducer
-            .push(&chunk)
-            .with_context(|| format!("transducing {}", a.input.display()))?;
-        transducing += t0.elapsed();
-        chunk.clear();
-    }
-    if let Some(warning) = reader.stats().warning(&a.input) {
+    let t = transduce_file(&a.input, &layout, &a.layout, config, a.label.as_deref())?;
+    if let Some(warning) = t.read.warning(&a.input) {
         eprintln!("{warning}");
     }
-    let t0 = Instant::now();
-    transducer.finish();
-    transducing += t0.elapsed();
-    let wall = start.elapsed().as_secs_f64();
-    let counts = transducer.counts();
-    let trains = transducer.spike_trains();
-    let mut meta = serde_json::Map::new();
-    meta.insert("source".into(), a.input.display().to_string().into());
-    meta.insert("layout".into(), a.layout.clone().into());
-    meta.insert("ba_window_us".into(), a.ba_window_us.into());
-    meta.insert("rf_radius_px".into(), a.rf_radius_px.into());
-    meta.insert("pool_ms".into(), a.pool_ms.into());
-    meta.insert("recentre_gain".into(), a.gain.into());
-    meta.insert(
-        "origin_us".into(),
-        transducer.origin_us().unwrap_or(0).into(),
-    );
-    meta.insert("pixel_events".into(), counts.events_in.into());
-    meta.insert("after_filters".into(), counts.after_filters.into());
-    meta.insert("in_fields".into(), counts.in_fields.into());
-    let (labels, names) = match &a.label {
-        Some(name) => (vec![0], vec![name.clone()]),
-        None => (Vec::new(), Vec::new()),
-    };
-    let dataset = SpikeDataset::new(vec![trains.clone()], labels, names, meta)?;
-    let bytes = if a.out.extension().is_some_and(|e| e == "json") {
-        dataset.to_json_string().into_bytes()
-    } else {
-        dataset.to_binary()
+    let bytes = match a.out.extension().is_some_and(|e| e == "json") {
+        true => t.dataset.to_json_string().into_bytes(),
+        false => t.dataset.to_binary(),
     };
     out_file
         .write_all(&bytes)
@@ -190,9 +119,9 @@ pub fn run_transduce(a: TransduceArgs) -> anyhow::Result<()> {
         let title = format!(
             "{}: {} taxel spikes",
             a.input.display(),
-            trains.total_spikes()
+            t.trains.total_spikes()
         );
-        file.write_all(spike_train_figure(&trains, &title, 0.159).as_bytes())
+        file.write_all(spike_train_figure(&t.trains, &title, 0.159).as_bytes())
             .with_context(|| format!("writing {}", file.target().display()))?;
     }
     for file in std::iter::once(out_file).chain(raster_file) {
@@ -200,15 +129,16 @@ pub fn run_transduce(a: TransduceArgs) -> anyhow::Result<()> {
         file.commit()
             .with_context(|| format!("writing {}", path.display()))?;
     }
+    let c = t.counts;
     println!(
         "{} pixel events → {} after filters → {} in receptive fields → {} taxel spikes ({:.2} per taxel); transduction {:.1} M events/s, with reading the file {:.1} M events/s",
-        counts.events_in,
-        counts.after_filters,
-        counts.in_fields,
-        counts.taxel_events,
-        counts.taxel_events as f64 / 49.0,
-        counts.events_in as f64 / transducing.as_secs_f64() / 1e6,
-        counts.events_in as f64 / wall / 1e6
+        c.events_in,
+        c.after_filters,
+        c.in_fields,
+        c.taxel_events,
+        c.taxel_events as f64 / layout.len() as f64,
+        c.events_in as f64 / t.transducing.as_secs_f64() / 1e6,
+        c.events_in as f64 / t.wall.as_secs_f64() / 1e6
     );
     println!("wrote {}", a.out.display());
     Ok(())
@@ -233,54 +163,26 @@ pub struct FilterArgs {
 
 pub fn run_filter(a: FilterArgs) -> anyhow::Result<()> {
     check_distinct(&a.input, &a.output)?;
-    let start_mode = if a.ba_empty_start {
-        MapStart::Empty
-    } else {
-        MapStart::Zero
-    };
-    let mut ba = Filtered::new(BackgroundActivityFilter::new(
-        240,
-        180,
+    let start = Instant::now();
+    let start_mode = ba_start(a.ba_empty_start);
+    let c = filter_file(
+        &a.input,
+        &a.output,
         a.ba_window_us,
         start_mode,
-    )?);
-    let mut refractory = a
-        .refractory_us
-        .map(|p| RefractoryFilter::new(240, 180, p).map(Filtered::new))
-        .transpose()?;
-    let mut reader = open_reader(&a.input)?;
-    let mut writer = create_writer(&a.output)?;
-    let (mut chunk, mut kept, mut kept2) =
-        (EventBuffer::new(), EventBuffer::new(), EventBuffer::new());
-    let start = Instant::now();
-    while reader.read_chunk(&mut chunk)? > 0 {
-        kept.clear();
-        ba.push(&chunk, &mut kept)
-            .with_context(|| format!("filtering {}", a.input.display()))?;
-        let out = match &mut refractory {
-            Some(r) => {
-                kept2.clear();
-                r.push(&kept, &mut kept2)?;
-                &kept2
-            }
-            None => &kept,
-        };
-        writer.write(out)?;
-        chunk.clear();
-    }
-    writer.finish()?;
-    if let Some(warning) = reader.stats().warning(&a.input) {
+        a.refractory_us,
+    )?;
+    if let Some(warning) = c.read.warning(&a.input) {
         eprintln!("{warning}");
     }
     let wall = start.elapsed().as_secs_f64();
-    let out_count = refractory.as_ref().map_or(ba.kept, |r| r.kept);
     println!(
         "kept {} of {} events ({:.1} %) → {}; {:.1} M events/s",
-        out_count,
-        ba.seen,
-        100.0 * out_count as f64 / ba.seen.max(1) as f64,
+        c.kept,
+        c.seen,
+        100.0 * c.kept as f64 / c.seen.max(1) as f64,
         a.output.display(),
-        ba.seen as f64 / wall / 1e6
+        c.seen as f64 / wall / 1e6
     );
     Ok(())
 }

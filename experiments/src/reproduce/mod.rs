@@ -8,68 +8,42 @@
 //! samples that are then scored, so the temporal and spatiotemporal scores are the best over
 //! the search (optimistic, like the paper's).
 //!
-//! [`run_set`] is one set through the pipeline; [`report`] writes a run's folder (JSON, CSV,
-//! SVG figures, `report.md`); [`paper`] holds the paper's numbers to compare with.
+//! [`run`] is a whole reproduction (datasets from each [`Source`], the pipeline, the afferent
+//! variant) into one [`Report`]; [`run_set`] is one labelled set through the pipeline;
+//! [`paper`] holds the paper's numbers to compare with; [`crate::report`] writes a run's
+//! folder (JSON, CSV, SVG and PNG figures, `report.md`).
+//!
+//! ```no_run
+//! use neurotac_experiments::datasets::simulated::TextureSet;
+//! use neurotac_experiments::progress::NoProgress;
+//! use neurotac_experiments::reproduce::{ReproduceConfig, Source, run};
+//! let config = ReproduceConfig::quick(1, "cache".into());
+//! let report = run(&config, &[Source::Simulated(TextureSet::Artificial)], &NoProgress)?;
+//! println!("{:.2}", report.sets[0].direct.mean_spikes_per_taxel);
+//! # Ok::<(), neurotac_experiments::reproduce::ReproduceError>(())
+//! ```
 
 pub mod paper;
-pub mod report;
+mod run;
 
+pub use run::{
+    AFFERENT_TAIL_S, AfferentRun, Report, ReproduceConfig, ReproduceError, SetReport, Source,
+    example_samples, run,
+};
+
+use crate::coding::{
+    CodingName, CodingParameters, class_means, coding_distances, mean_spikes_per_channel,
+    sample_duration_ms,
+};
 use crate::error::ExperimentError;
+use crate::progress::Progress;
 use crate::protocols::{Evaluation, Protocol, evaluate};
 use crate::search::bayes::{BayesConfig, BayesResult, VanRossumObjective, bayes_optimise};
 use crate::search::dt_sweep::{DtSweep, dt_sweep};
 use crate::timing::{Timing, timed};
 use ndarray::Array2;
-use neurotac_core::coding::{
-    IntensiveCoding, SpatialCoding, TemporalCoding, duration_ms_of, feature_matrix, whole_ms,
-};
-use neurotac_core::distance::euclidean_distance_matrix;
 use neurotac_core::{Knn, KnnError, SpikeDataset};
 use serde::Serialize;
-
-/// The paper's four codings, in its order.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum CodingName {
-    /// Mean spike count per taxel (Euclidean).
-    Intensive,
-    /// Spike count of each taxel (Euclidean).
-    Spatial,
-    /// Rolling Δt-window counts in 1 ms steps (Euclidean).
-    Temporal,
-    /// Multi-unit Van Rossum distance at (τ, cos θ).
-    Spatiotemporal,
-}
-
-impl CodingName {
-    /// All four, in the paper's order (the order of its tables).
-    pub const ALL: [CodingName; 4] = [
-        CodingName::Intensive,
-        CodingName::Spatial,
-        CodingName::Temporal,
-        CodingName::Spatiotemporal,
-    ];
-
-    /// `Intensive`, `Spatial`, …
-    pub fn label(self) -> &'static str {
-        match self {
-            CodingName::Intensive => "Intensive",
-            CodingName::Spatial => "Spatial",
-            CodingName::Temporal => "Temporal",
-            CodingName::Spatiotemporal => "Spatiotemporal",
-        }
-    }
-
-    /// `intensive`, `spatial`, … (file names).
-    pub fn key(self) -> &'static str {
-        match self {
-            CodingName::Intensive => "intensive",
-            CodingName::Spatial => "spatial",
-            CodingName::Temporal => "temporal",
-            CodingName::Spatiotemporal => "spatiotemporal",
-        }
-    }
-}
 
 /// Settings of the pipeline; [`PipelineConfig::paper`] is the paper's protocol.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -112,25 +86,6 @@ impl PipelineConfig {
     }
 }
 
-/// Receives the progress of the long stages (the CLI draws progress bars).
-pub trait Progress: Sync {
-    /// A stage named `name` starts, with `total` steps (0: unknown).
-    fn stage(&self, name: &str, total: u64);
-    /// `n` more steps of the current stage are done.
-    fn advance(&self, n: u64);
-    /// The current stage is over.
-    fn finish(&self);
-}
-
-/// Ignores progress.
-pub struct NoProgress;
-
-impl Progress for NoProgress {
-    fn stage(&self, _: &str, _: u64) {}
-    fn advance(&self, _: u64) {}
-    fn finish(&self) {}
-}
-
 /// One coding's results.
 #[derive(Debug, Clone, Serialize)]
 pub struct CodingResult {
@@ -146,6 +101,21 @@ pub struct CodingResult {
     pub split_refused: Option<String>,
     /// Time of the distances and both protocols (the parameter search not included).
     pub time: Timing,
+}
+
+/// Where the pipeline searched its three parameters.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct SearchSpace {
+    /// Δt swept over 1…`dt_max_ms` ms in 1 ms steps.
+    pub dt_max_ms: u32,
+    /// τ searched over [`tau_min_s`, `tau_max_s`] on a grid of `tau_step_s`.
+    pub tau_min_s: f64,
+    /// Largest τ (s).
+    pub tau_max_s: f64,
+    /// τ grid step (s).
+    pub tau_step_s: f64,
+    /// cos θ searched over [0, 1] on a grid of `cos_step`.
+    pub cos_step: f64,
 }
 
 /// One set's results.
@@ -173,6 +143,8 @@ pub struct SetResult {
     pub bayes_time: Timing,
     /// Distinct τ visited (Van Rossum matrix pairs computed).
     pub vr_matrices_computed: usize,
+    /// Where Δt, τ and cos θ were searched (to flag a choice on a bound).
+    pub search_space: SearchSpace,
     /// The four codings, in the paper's order.
     pub codings: Vec<CodingResult>,
     /// Time of the whole set.
@@ -187,18 +159,6 @@ impl SetResult {
             .find(|c| c.coding == coding)
             .expect("all four codings are run")
     }
-}
-
-/// The sample duration in whole ms: the dataset's `meta.duration_s` when given and long
-/// enough, else one ms past the latest spike.
-fn sample_duration_ms(data: &SpikeDataset) -> Result<u32, ExperimentError> {
-    let needed = duration_ms_of(data.observations())?;
-    Ok(
-        match data.meta().get("duration_s").and_then(|v| v.as_f64()) {
-            Some(d) => whole_ms(d, "meta.duration_s")?.max(needed),
-            None => needed,
-        },
-    )
 }
 
 /// Runs `distances` through leave-one-out and the split.
@@ -269,31 +229,34 @@ pub fn run_set(
     let knn = Knn::new(config.k)?;
     let (result, time) = timed(|| -> Result<SetResult, ExperimentError> {
         let obs = data.observations();
-        let duration_ms = sample_duration_ms(data)?;
-        let mut samples_per_class = vec![0usize; data.n_classes()];
-        let mut intensive_class_means = vec![0.0; data.n_classes()];
-        for (o, &l) in obs.iter().zip(labels) {
-            samples_per_class[l] += 1;
-            intensive_class_means[l] += o.total_spikes() as f64 / o.n_channels().max(1) as f64;
-        }
-        for (m, &n) in intensive_class_means.iter_mut().zip(&samples_per_class) {
-            *m /= n.max(1) as f64;
-        }
-        let mean_spikes_per_taxel = obs.iter().map(|o| o.total_spikes() as f64).sum::<f64>()
-            / (obs.len() * data.n_channels()).max(1) as f64;
+        let duration_ms = sample_duration_ms(data, None)?;
+        let (samples_per_class, intensive_class_means) = class_means(data);
+        let mean_spikes_per_taxel = mean_spikes_per_channel(data);
+        let euclidean = |coding, window_ms| {
+            let parameters = CodingParameters {
+                window_ms,
+                duration_ms: Some(duration_ms),
+                ..CodingParameters::default()
+            };
+            move || coding_distances(obs, coding, &parameters)
+        };
 
         progress.stage("intensive and spatial codings", 2);
-        let intensive = score(CodingName::Intensive, String::new(), data, config, || {
-            Ok(euclidean_distance_matrix(
-                feature_matrix(&IntensiveCoding::new(), obs)?.view(),
-            )?)
-        })?;
+        let intensive = score(
+            CodingName::Intensive,
+            String::new(),
+            data,
+            config,
+            euclidean(CodingName::Intensive, None),
+        )?;
         progress.advance(1);
-        let spatial = score(CodingName::Spatial, String::new(), data, config, || {
-            Ok(euclidean_distance_matrix(
-                feature_matrix(&SpatialCoding::new(), obs)?.view(),
-            )?)
-        })?;
+        let spatial = score(
+            CodingName::Spatial,
+            String::new(),
+            data,
+            config,
+            euclidean(CodingName::Spatial, None),
+        )?;
         progress.finish();
 
         progress.stage("Δt sweep 1…200 ms", 0);
@@ -307,12 +270,7 @@ pub fn run_set(
             format!("Δt = {dt} ms"),
             data,
             config,
-            || {
-                let coding = TemporalCoding::from_ms(dt, duration_ms)?;
-                Ok(euclidean_distance_matrix(
-                    feature_matrix(&coding, obs)?.view(),
-                )?)
-            },
+            euclidean(CodingName::Temporal, Some(dt)),
         )?;
 
         progress.stage(
@@ -354,6 +312,13 @@ pub fn run_set(
             dt_sweep: sweep,
             dt_sweep_time,
             vr_matrices_computed: objective.matrices_computed,
+            search_space: SearchSpace {
+                dt_max_ms: max_window,
+                tau_min_s: config.bayes.tau_min_s,
+                tau_max_s: config.bayes.tau_max_s,
+                tau_step_s: config.bayes.tau_step_s,
+                cos_step: config.bayes.cos_step,
+            },
             bayes,
             bayes_time,
             codings: vec![intensive, spatial, temporal, spatiotemporal],
@@ -368,6 +333,7 @@ pub fn run_set(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::progress::NoProgress;
     use neurotac_core::MultiSpikeTrain;
 
     /// Three classes told apart by rate (intensive), place (spatial) and timing (temporal).

@@ -2,7 +2,7 @@
 //! print next to a reproduction.
 
 /// One of the paper's tables: leave-one-out accuracy (%) of the four codings, in the order of
-/// [`super::CodingName::ALL`].
+/// [`crate::coding::CodingName::ALL`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PaperTable {
     /// `Table 1` or `Table 2`.
@@ -49,4 +49,10 @@ pub fn table_for(set: &str) -> Option<&'static PaperTable> {
         "natural" => Some(&NATURAL),
         _ => None,
     }
+}
+
+/// The class name of the simulated bump grid of `mm` (`grid 2.5 mm`), as the intensive means
+/// above are looked up.
+pub fn grid_name(mm: f64) -> String {
+    format!("grid {mm:.1} mm")
 }

@@ -17,7 +17,8 @@ use crate::stage::EventFilter;
 use neurotac_core::Event;
 
 /// How the time surface starts.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
 pub enum MapStart {
     /// Every pixel last fired at t = 0 (dv-processing; reproduces its keep masks).
     #[default]

@@ -13,8 +13,9 @@ use neurotac_core::{EventBuffer, MultiSpikeTrain};
 use std::path::Path;
 use std::time::{Duration, Instant};
 
-/// Transduction settings; the defaults are the paper's.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// Transduction settings; the defaults are the paper's. Serialisable: datasets record the
+/// settings that made them.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct TransductionConfig {
     /// Sensor width (px). Default 240.
     pub width: u16,

@@ -1,10 +1,11 @@
 //! `neurotac search dt`: the temporal coding's Δt brute force.
 
-use crate::cli::common::{duration_ms, load, timed};
-use anyhow::bail;
+use crate::cli::load_labelled;
 use clap::Args;
 use neurotac_core::Knn;
+use neurotac_experiments::coding::sample_duration_ms;
 use neurotac_experiments::search::dt_sweep::dt_sweep;
+use neurotac_experiments::timing::timed;
 use std::path::PathBuf;
 
 /// CPU seconds of the NumPy + scikit-learn sweep (1…200 ms, LOO, 1100 samples × 49 taxels,
@@ -31,11 +32,8 @@ pub struct DtArgs {
 }
 
 pub fn run(args: DtArgs) -> anyhow::Result<()> {
-    let data = load(&args.input)?;
-    if data.labels().is_empty() {
-        bail!("{}: the dataset has no labels", args.input.display());
-    }
-    let t = duration_ms(&data, args.duration)?;
+    let data = load_labelled(&args.input)?;
+    let t = sample_duration_ms(&data, args.duration)?;
     let knn = Knn::new(args.k)?;
     let (sweep, timing) = timed(|| {
         dt_sweep(

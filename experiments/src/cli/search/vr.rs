@@ -1,10 +1,11 @@
 //! `neurotac search vr`: Bayesian optimisation of the spatiotemporal coding's (τ, cos θ).
 
-use crate::cli::common::{load, timed};
-use anyhow::{Context, bail};
+use crate::cli::load_labelled;
+use anyhow::Context;
 use clap::Args;
 use neurotac_core::Knn;
 use neurotac_experiments::search::bayes::{BayesConfig, VanRossumObjective, bayes_optimise};
+use neurotac_experiments::timing::timed;
 use std::path::PathBuf;
 
 #[derive(Debug, Args)]
@@ -51,10 +52,7 @@ pub fn run(args: VrArgs) -> anyhow::Result<()> {
     if let Some(trace) = &args.trace {
         neurotac_core::io::check_distinct(&args.input, trace)?;
     }
-    let data = load(&args.input)?;
-    if data.labels().is_empty() {
-        bail!("{}: the dataset has no labels", args.input.display());
-    }
+    let data = load_labelled(&args.input)?;
     let config = BayesConfig {
         epochs: args.epochs,
         initial: args.initial,

@@ -1,14 +1,13 @@
 //! `neurotac tradeoff …`: speed ↔ accuracy reports, one subcommand per trade; without a
-//! subcommand, every trade and one summary page (`tradeoff.md`, see [`all`]).
+//! subcommand, every trade and one summary page (`tradeoff.md`, see [`all`]). The trades
+//! themselves live in `neurotac_experiments::tradeoff`; each handler maps its flags to the
+//! trade's config and prints.
 //!
-//! To add a trade-off: a module with an `Args` struct (clap derive), a `report` function that
-//! measures and writes the trade's files (called by both paths) and a
-//! `run(args) -> anyhow::Result<()>`, one variant in [`TradeoffCommand`], one arm in [`run`], and
-//! a section in `neurotac_experiments::tradeoff_summary`.
+//! To add a trade-off: the trade in `neurotac_experiments::tradeoff`, then here a module with an
+//! `Args` struct (clap derive) and a `run(args) -> anyhow::Result<()>`, one variant in
+//! [`TradeoffCommand`] and one arm in [`run`].
 
-use anyhow::Context;
 use clap::{Args, Subcommand};
-use std::path::Path;
 
 mod all;
 mod neurons;
@@ -44,15 +43,4 @@ pub fn run(args: TradeoffArgs) -> anyhow::Result<()> {
         Some(TradeoffCommand::Vr(args)) => vr::run(args),
         Some(TradeoffCommand::Simulator(args)) => simulator::run(args),
     }
-}
-
-/// Creates `dir` and writes each `(file name, text)` into it.
-fn write_files(dir: &Path, files: &[(&str, String)]) -> anyhow::Result<()> {
-    std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
-    for (name, text) in files {
-        let path = dir.join(name);
-        neurotac_core::io::write(&path, text)
-            .with_context(|| format!("writing {}", path.display()))?;
-    }
-    Ok(())
 }

@@ -1,12 +1,11 @@
 //! `neurotac tradeoff simulator`: writes simulator.csv, simulator.md and simulator.svg.
 
-use super::write_files;
 use clap::Args;
-use neurotac_experiments::simulator_tradeoff::{
-    SimulatorTradeoffConfig, SimulatorTradeoffRow, simulator_tradeoff, to_csv, to_markdown, to_svg,
+use neurotac_experiments::tradeoff::simulator::{
+    SimulatorTradeoffConfig, quick, report, to_markdown,
 };
 use neurotac_sensor::sim::SimParams;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 #[derive(Debug, Args)]
 pub struct SimulatorArgs {
@@ -27,38 +26,8 @@ pub struct SimulatorArgs {
     quick: bool,
 }
 
-/// The sweep's settings: `config` as given, or its quick version.
-pub fn config(base: SimulatorTradeoffConfig, quick: bool) -> SimulatorTradeoffConfig {
-    if quick {
-        SimulatorTradeoffConfig {
-            trials: 1,
-            tolerances: vec![0.02, 0.067, 0.2],
-            ..base
-        }
-    } else {
-        base
-    }
-}
-
-/// Measures the sweep and writes `simulator.{csv,md,svg}` to `out`.
-pub fn report(
-    config: &SimulatorTradeoffConfig,
-    out: &Path,
-) -> anyhow::Result<Vec<SimulatorTradeoffRow>> {
-    let rows = simulator_tradeoff(config)?;
-    write_files(
-        out,
-        &[
-            ("simulator.csv", to_csv(&rows)),
-            ("simulator.md", to_markdown(&rows, config)),
-            ("simulator.svg", to_svg(&rows)),
-        ],
-    )?;
-    Ok(rows)
-}
-
 pub fn run(args: SimulatorArgs) -> anyhow::Result<()> {
-    let base = SimulatorTradeoffConfig {
+    let mut config = SimulatorTradeoffConfig {
         trials: args.trials,
         seed: args.seed,
         params: match &args.params {
@@ -67,7 +36,9 @@ pub fn run(args: SimulatorArgs) -> anyhow::Result<()> {
         },
         ..SimulatorTradeoffConfig::default()
     };
-    let config = config(base, args.quick);
+    if args.quick {
+        quick(&mut config);
+    }
     let start = std::time::Instant::now();
     let rows = report(&config, &args.out)?;
     println!("{}", to_markdown(&rows, &config));

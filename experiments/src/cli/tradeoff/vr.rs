@@ -1,14 +1,10 @@
 //! `neurotac tradeoff vr`: the trace-sampled Van Rossum distance (traces advanced at step dt by
 //! the graph's synapse filter) against the exact one, as dt shrinks.
 
-use super::write_files;
-use crate::cli::common::{duration_ms, load};
+use crate::cli::load_dataset;
 use clap::Args;
-use neurotac_core::SpikeDataset;
-use neurotac_experiments::vr_tradeoff::{
-    VrTradeoff, VrTradeoffConfig, to_csv, to_markdown, to_svg, vr_tradeoff,
-};
-use std::path::{Path, PathBuf};
+use neurotac_experiments::tradeoff::vr::{VrTradeoffConfig, measure};
+use std::path::PathBuf;
 
 #[derive(Debug, Args)]
 pub struct VrArgs {
@@ -39,30 +35,8 @@ pub struct VrArgs {
     json: bool,
 }
 
-/// Measures the sweep on `data` (sample duration: `duration_s`, else as [`duration_ms`]).
-pub fn measure(
-    data: &SpikeDataset,
-    duration_s: Option<f64>,
-    config: &VrTradeoffConfig,
-) -> anyhow::Result<VrTradeoff> {
-    let duration_s = duration_ms(data, duration_s)? as f64 / 1e3;
-    Ok(vr_tradeoff(data.observations(), duration_s, config)?)
-}
-
-/// Writes `vr.{csv,md,svg}` to `out`.
-pub fn write_report(sweep: &VrTradeoff, out: &Path) -> anyhow::Result<()> {
-    write_files(
-        out,
-        &[
-            ("vr.csv", to_csv(sweep)),
-            ("vr.md", to_markdown(sweep)),
-            ("vr.svg", to_svg(sweep)),
-        ],
-    )
-}
-
 pub fn run(args: VrArgs) -> anyhow::Result<()> {
-    let data = load(&args.input)?;
+    let data = load_dataset(&args.input)?;
     let config = VrTradeoffConfig {
         tau_s: args.tau,
         cos: args.cos,

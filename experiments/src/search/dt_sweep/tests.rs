@@ -1,5 +1,5 @@
 use super::*;
-use crate::synthetic::{SyntheticConfig, synthetic_dataset};
+use crate::datasets::synthetic::{SyntheticConfig, synthetic_dataset};
 use ndarray::Array2;
 use neurotac_core::coding::{Coding, FeatureCoding, TemporalCoding};
 

@@ -5,13 +5,14 @@
 //! Error: the relative difference `|D_dt − D| / D` over every pair of distinct samples with
 //! `D > 0` (mean and max). Time: wall and CPU time of the whole N × N matrix.
 
+use super::{Table, TradeoffError, error_series, mark_front, write_trade};
+use crate::coding::sample_duration_ms;
 use crate::error::ExperimentError;
-use crate::pareto::pareto_front;
-use crate::svg::{Axis, Chart, Marker, PALETTE, Series, panels};
+use crate::report::svg::{Axis, Chart, Marker, panels};
 use crate::timing::{Timing, timed};
-use neurotac_core::MultiSpikeTrain;
 use neurotac_core::distance::{VanRossum, check_cos, trace_sampled_matrices};
-use std::fmt::Write;
+use neurotac_core::{MultiSpikeTrain, SpikeDataset};
+use std::path::Path;
 
 /// What to sweep.
 #[derive(Debug, Clone, PartialEq)]
@@ -118,13 +119,11 @@ pub fn vr_tradeoff(
             pareto: false,
         });
     }
-    let points: Vec<_> = rows
-        .iter()
-        .map(|r| Some((1.0 / r.timing.wall_s, r.mean_relative_error)))
-        .collect();
-    for (row, on_front) in rows.iter_mut().zip(pareto_front(&points)) {
-        row.pareto = on_front;
-    }
+    mark_front(
+        &mut rows,
+        |r| Some((1.0 / r.timing.wall_s, r.mean_relative_error)),
+        |r, on_front| r.pareto = on_front,
+    );
     Ok(VrTradeoff {
         samples: n,
         tau_s: config.tau_s,
@@ -134,44 +133,99 @@ pub fn vr_tradeoff(
     })
 }
 
-/// CSV: one line per time step, then the exact matrix (`dt_s` empty, errors 0).
-pub fn to_csv(sweep: &VrTradeoff) -> String {
-    let mut out = String::from("dt_s,wall_s,cpu_s,mean_relative_error,max_relative_error,pareto\n");
-    let cpu = |t: &Timing| t.cpu_s.map_or(String::new(), |c| format!("{c}"));
-    for r in &sweep.rows {
-        let _ = writeln!(
-            out,
-            "{:e},{:e},{},{:e},{:e},{}",
-            r.dt_s,
-            r.timing.wall_s,
-            cpu(&r.timing),
-            r.mean_relative_error,
-            r.max_relative_error,
-            r.pareto
-        );
-    }
-    let _ = writeln!(out, ",{:e},{},0,0,", sweep.exact.wall_s, cpu(&sweep.exact));
-    out
+/// The quick settings: 30 samples, three time steps.
+pub fn quick(config: &mut VrTradeoffConfig) {
+    config.samples = 30;
+    config.dts_s = vec![0.01, 0.005, 0.002];
 }
 
-const TABLE_HEADER: &str =
-    "| method | dt (s) | mean rel. error | max rel. error | time |\n|---|---|---|---|---|\n";
+/// Measures the sweep on `data` (sample duration: `duration_s`, else as
+/// [`sample_duration_ms`]).
+pub fn measure(
+    data: &SpikeDataset,
+    duration_s: Option<f64>,
+    config: &VrTradeoffConfig,
+) -> Result<VrTradeoff, ExperimentError> {
+    let duration_s = sample_duration_ms(data, duration_s)? as f64 / 1e3;
+    vr_tradeoff(data.observations(), duration_s, config)
+}
 
-fn table_line(r: &VrTradeoffRow) -> String {
-    format!(
-        "| trace-sampled | {} | {:.3e} | {:.3e} | {} |\n",
-        r.dt_s, r.mean_relative_error, r.max_relative_error, r.timing
-    )
+/// [`measure`]s the sweep and writes `vr.{csv,md,svg}` to `out`.
+pub fn report(
+    data: &SpikeDataset,
+    duration_s: Option<f64>,
+    config: &VrTradeoffConfig,
+    out: &Path,
+) -> Result<VrTradeoff, TradeoffError> {
+    let sweep = measure(data, duration_s, config)?;
+    write_trade(
+        out,
+        "vr",
+        &to_csv(&sweep),
+        &to_markdown(&sweep),
+        &to_svg(&sweep),
+    )?;
+    Ok(sweep)
+}
+
+/// CSV: one line per time step, then the exact matrix (`dt_s` empty, errors 0).
+pub fn to_csv(sweep: &VrTradeoff) -> String {
+    let mut table = Table::new(&[
+        "dt_s",
+        "wall_s",
+        "cpu_s",
+        "mean_relative_error",
+        "max_relative_error",
+        "pareto",
+    ]);
+    let cpu = |t: &Timing| t.cpu_s.map_or(String::new(), |c| format!("{c}"));
+    for r in &sweep.rows {
+        table.push(vec![
+            format!("{:e}", r.dt_s),
+            format!("{:e}", r.timing.wall_s),
+            cpu(&r.timing),
+            format!("{:e}", r.mean_relative_error),
+            format!("{:e}", r.max_relative_error),
+            r.pareto.to_string(),
+        ]);
+    }
+    let exact = [
+        String::new(),
+        format!("{:e}", sweep.exact.wall_s),
+        cpu(&sweep.exact),
+    ];
+    table.push([&exact[..], &["0".into(), "0".into(), String::new()]].concat());
+    table.to_csv()
+}
+
+/// The exact distance, then `rows`, as a Markdown table.
+fn table<'a>(sweep: &VrTradeoff, rows: impl IntoIterator<Item = &'a VrTradeoffRow>) -> String {
+    let mut table = Table::new(&[
+        "method",
+        "dt (s)",
+        "mean rel. error",
+        "max rel. error",
+        "time",
+    ]);
+    let exact = ["exact (Markage)", "—", "0", "0"].map(String::from);
+    table.push([&exact[..], &[sweep.exact.to_string()]].concat());
+    for r in rows {
+        table.push(vec![
+            "trace-sampled".into(),
+            r.dt_s.to_string(),
+            format!("{:.3e}", r.mean_relative_error),
+            format!("{:.3e}", r.max_relative_error),
+            r.timing.to_string(),
+        ]);
+    }
+    table.to_markdown()
 }
 
 /// The exact distance and the Pareto front of the time steps as a Markdown table.
 pub fn pareto_table(sweep: &VrTradeoff) -> String {
-    let mut out = String::from(TABLE_HEADER);
-    let _ = writeln!(out, "| exact (Markage) | — | 0 | 0 | {} |", sweep.exact);
     let mut front: Vec<&VrTradeoffRow> = sweep.rows.iter().filter(|r| r.pareto).collect();
     front.sort_by(|a, b| a.timing.wall_s.total_cmp(&b.timing.wall_s));
-    front.into_iter().for_each(|r| out.push_str(&table_line(r)));
-    out
+    table(sweep, front)
 }
 
 /// A Markdown report: every time step against the exact distance.
@@ -180,25 +234,15 @@ pub fn to_markdown(sweep: &VrTradeoff) -> String {
         "# Van Rossum distance: trace-sampled vs exact\n\n{} samples, τ = {} s, cos θ = {}.\n\n",
         sweep.samples, sweep.tau_s, sweep.cos
     );
-    out.push_str(TABLE_HEADER);
-    let _ = writeln!(out, "| exact (Markage) | — | 0 | 0 | {} |", sweep.exact);
-    sweep.rows.iter().for_each(|r| out.push_str(&table_line(r)));
+    out.push_str(&table(sweep, &sweep.rows));
     out
 }
 
 /// Mean and max relative error against wall time, one point per time step.
 pub fn to_svg(sweep: &VrTradeoff) -> String {
-    let series = |label: &str, c: usize, marker, error: fn(&VrTradeoffRow) -> f64| Series {
-        label: label.to_owned(),
-        points: sweep
-            .rows
-            .iter()
-            .map(|r| (r.timing.wall_s, error(r)))
-            .collect(),
-        color: PALETTE[c].to_owned(),
-        marker,
-        filled: true,
-        line: true,
+    let series = |label: &str, c: usize, marker, error: fn(&VrTradeoffRow) -> f64| {
+        let points = sweep.rows.iter().map(|r| (r.timing.wall_s, error(r)));
+        error_series(label, c, marker, points.collect())
     };
     let chart = Chart {
         title: format!(
@@ -218,7 +262,7 @@ pub fn to_svg(sweep: &VrTradeoff) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::synthetic::{SyntheticConfig, synthetic_dataset};
+    use crate::datasets::synthetic::{SyntheticConfig, synthetic_dataset};
 
     #[test]
     fn error_shrinks_with_dt_and_the_front_is_marked() {

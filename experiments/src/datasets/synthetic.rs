@@ -12,6 +12,8 @@
 //! Classes that differ this strongly are easy (near-100 % accuracy for most codings): use these
 //! data for correctness and timing, not for accuracy claims.
 
+use neurotac_core::dataset::DURATION_S_KEY;
+use neurotac_core::time::us_to_s;
 use neurotac_core::{MultiSpikeTrain, SpikeDataset};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -89,7 +91,7 @@ pub fn synthetic_dataset(config: &SyntheticConfig) -> SpikeDataset {
                             * gain
                             * (1.0 + MODULATION * (std::f64::consts::TAU * freq * t + phase).sin());
                         if rng.random::<f64>() * max_rate < rate {
-                            times.push((t * 1e6).floor() / 1e6);
+                            times.push(us_to_s((t * 1e6).floor() as i64));
                         }
                     }
                     times
@@ -102,7 +104,7 @@ pub fn synthetic_dataset(config: &SyntheticConfig) -> SpikeDataset {
     let names = (0..classes).map(|k| format!("texture {k}")).collect();
     let mut meta = serde_json::Map::new();
     meta.insert("source".into(), "neurotac synthetic".into());
-    meta.insert("duration_s".into(), config.duration_s.into());
+    meta.insert(DURATION_S_KEY.into(), config.duration_s.into());
     meta.insert("seed".into(), config.seed.into());
     SpikeDataset::new(observations, labels, names, meta).expect("consistent by construction")
 }

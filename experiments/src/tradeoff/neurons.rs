@@ -6,13 +6,15 @@
 //! Accuracy: spike-count error and the mean / max |t − t_true| over the spikes both runs have
 //! (k-th to k-th). Speed: updates per second of 100 000 such neurons on one thread.
 
-use crate::bench::{BenchError, with_threads};
+use super::{Table, TradeoffError, mark_front, write_trade};
+use crate::bench::BenchError;
 use crate::neuron_setup::{NeuronKind, NeuronSetup, Precision};
-use crate::pareto::pareto_front;
-use crate::svg::{Axis, Chart, Marker, PALETTE, Series, panels};
+use crate::report::svg::{Axis, Chart, Marker, PALETTE, Series, panels};
+use crate::threads::with_threads;
 use neurotac_neurons::Integrator;
 use serde::Serialize;
 use std::fmt::Write;
+use std::path::Path;
 
 /// What to sweep.
 #[derive(Debug, Clone, PartialEq)]
@@ -160,20 +162,49 @@ pub fn neuron_tradeoff(
 /// Marks, per model, the points no other correct-count point beats on both speed and error.
 fn mark_pareto(rows: &mut [NeuronTradeoffRow]) {
     for model in [NeuronKind::Lif, NeuronKind::Izhikevich] {
-        let points: Vec<Option<(f64, f64)>> = rows
-            .iter()
-            .map(|r| {
+        mark_front(
+            rows,
+            |r| {
                 (r.model == model && r.count_error == 0)
                     .then_some(r.mean_time_error_s.map(|e| (r.updates_per_s, e)))
                     .flatten()
-            })
-            .collect();
-        for (row, on_front) in rows.iter_mut().zip(pareto_front(&points)) {
-            if row.model == model {
-                row.pareto = on_front;
-            }
-        }
+            },
+            |row, on_front| {
+                if row.model == model {
+                    row.pareto = on_front;
+                }
+            },
+        );
     }
+}
+
+/// The quick settings: three time steps and smaller speed runs (a few seconds).
+pub fn quick(config: &mut NeuronTradeoffConfig) {
+    config.dts_s = vec![1e-5, 1e-4, 1e-3];
+    config.speed_neurons = 20_000;
+}
+
+/// Measures the sweep of `config` and writes `neurons.{csv,md,svg}` to `out`.
+pub fn report(
+    config: &NeuronTradeoffConfig,
+    out: &Path,
+) -> Result<Vec<NeuronTradeoffRow>, TradeoffError> {
+    if !(config.duration_s.is_finite() && config.duration_s > 0.0) {
+        return Err(TradeoffError::InvalidParameter {
+            what: "--duration",
+            value: config.duration_s,
+            expected: "finite and > 0",
+        });
+    }
+    let rows = neuron_tradeoff(config)?;
+    write_trade(
+        out,
+        "neurons",
+        &to_csv(&rows),
+        &to_markdown(&rows, config.speed_neurons),
+        &to_svg(&rows),
+    )?;
+    Ok(rows)
 }
 
 fn stamp(r: &NeuronTradeoffRow) -> &'static str {
@@ -190,47 +221,67 @@ fn fmt_opt(x: Option<f64>) -> String {
 
 /// CSV with one line per point.
 pub fn to_csv(rows: &[NeuronTradeoffRow]) -> String {
-    let mut out = String::from(
-        "model,integrator,precision,spike_times,dt_s,spikes,true_spikes,count_error,mean_time_error_s,max_time_error_s,updates_per_s,pareto\n",
-    );
+    let mut table = Table::new(&[
+        "model",
+        "integrator",
+        "precision",
+        "spike_times",
+        "dt_s",
+        "spikes",
+        "true_spikes",
+        "count_error",
+        "mean_time_error_s",
+        "max_time_error_s",
+        "updates_per_s",
+        "pareto",
+    ]);
+    let opt = |x: Option<f64>| x.map_or(String::new(), |v| format!("{v:e}"));
     for r in rows {
-        let opt = |x: Option<f64>| x.map_or(String::new(), |v| format!("{v:e}"));
-        let _ = writeln!(
-            out,
-            "{},{},{},{},{:e},{},{},{},{},{},{:e},{}",
-            r.model.name(),
-            r.integrator,
-            r.precision.name(),
-            stamp(r),
-            r.dt_s,
-            r.spikes,
-            r.true_spikes,
-            r.count_error,
+        table.push(vec![
+            r.model.name().to_owned(),
+            r.integrator.to_owned(),
+            r.precision.name().to_owned(),
+            stamp(r).to_owned(),
+            format!("{:e}", r.dt_s),
+            r.spikes.to_string(),
+            r.true_spikes.to_string(),
+            r.count_error.to_string(),
             opt(r.mean_time_error_s),
             opt(r.max_time_error_s),
-            r.updates_per_s,
-            r.pareto
-        );
+            format!("{:e}", r.updates_per_s),
+            r.pareto.to_string(),
+        ]);
     }
-    out
+    table.to_csv()
 }
 
-const TABLE_HEADER: &str = "| model | integrator | precision | spike times | dt (s) | spikes (truth) | mean error (s) | max error (s) | updates/s |\n|---|---|---|---|---|---|---|---|---|\n";
-
-fn table_line(r: &NeuronTradeoffRow) -> String {
-    format!(
-        "| {} | {} | {} | {} | {:e} | {} ({}) | {} | {} | {:.2e} |\n",
-        r.model.name(),
-        r.integrator,
-        r.precision.name(),
-        stamp(r),
-        r.dt_s,
-        r.spikes,
-        r.true_spikes,
-        fmt_opt(r.mean_time_error_s),
-        fmt_opt(r.max_time_error_s),
-        r.updates_per_s
-    )
+/// The Markdown table of `rows`, in the order given.
+fn table<'a>(rows: impl IntoIterator<Item = &'a NeuronTradeoffRow>) -> String {
+    let mut table = Table::new(&[
+        "model",
+        "integrator",
+        "precision",
+        "spike times",
+        "dt (s)",
+        "spikes (truth)",
+        "mean error (s)",
+        "max error (s)",
+        "updates/s",
+    ]);
+    for r in rows {
+        table.push(vec![
+            r.model.name().to_owned(),
+            r.integrator.to_owned(),
+            r.precision.name().to_owned(),
+            stamp(r).to_owned(),
+            format!("{:e}", r.dt_s),
+            format!("{} ({})", r.spikes, r.true_spikes),
+            fmt_opt(r.mean_time_error_s),
+            fmt_opt(r.max_time_error_s),
+            format!("{:.2e}", r.updates_per_s),
+        ]);
+    }
+    table.to_markdown()
 }
 
 /// The Pareto front of each model as a Markdown table, fastest first within a model.
@@ -242,9 +293,7 @@ pub fn pareto_table(rows: &[NeuronTradeoffRow]) -> String {
             .cmp(b.model.name())
             .then(b.updates_per_s.total_cmp(&a.updates_per_s))
     });
-    let mut out = String::from(TABLE_HEADER);
-    front.into_iter().for_each(|r| out.push_str(&table_line(r)));
-    out
+    table(front)
 }
 
 /// A Markdown report: the Pareto front of each model, then every point (`speed_neurons`: the
@@ -258,8 +307,7 @@ pub fn to_markdown(rows: &[NeuronTradeoffRow], speed_neurons: usize) -> String {
     out.push_str("## Pareto front (no other point with the right spike count is both faster and more accurate)\n\n");
     out.push_str(&pareto_table(rows));
     out.push_str("\n## Every point\n\n");
-    out.push_str(TABLE_HEADER);
-    rows.iter().for_each(|r| out.push_str(&table_line(r)));
+    out.push_str(&table(rows));
     out
 }
 

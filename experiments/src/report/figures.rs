@@ -2,7 +2,8 @@
 //! its spatial (spikes per taxel) and temporal (rolling-window) distributions, and confusion
 //! matrices as heat maps.
 
-use crate::svg::{Axis, Chart, Marker, PALETTE, Series, escape, panels};
+use super::svg::{Axis, Chart, Marker, PALETTE, Series, escape, panels};
+use crate::reproduce::{SetReport, SetResult};
 use neurotac_core::MultiSpikeTrain;
 
 /// A raster: one row of ticks per taxel (y = taxel index, x = time in s).
@@ -180,6 +181,109 @@ pub fn confusion_figure(counts: &[Vec<usize>], class_names: &[String], title: &s
     );
     svg.push('\n');
     svg
+}
+
+/// The chart of the Δt sweep (accuracy against Δt, the chosen window marked).
+pub fn dt_chart(set: &SetResult) -> Chart {
+    let sweep = &set.dt_sweep;
+    let points = sweep
+        .windows_ms
+        .iter()
+        .zip(&sweep.accuracy)
+        .map(|(&w, &a)| (w as f64, 100.0 * a))
+        .collect();
+    let best = (
+        sweep.best_window_ms as f64,
+        100.0 * sweep.accuracy[sweep.best_window_ms as usize - 1],
+    );
+    Chart {
+        title: format!("{}: Δt sweep (leave-one-out, k = 4)", set.name),
+        x: Axis::linear("Δt (ms)"),
+        y: Axis::linear("accuracy (%)"),
+        series: vec![
+            Series {
+                label: "accuracy".into(),
+                points,
+                color: PALETTE[0].into(),
+                marker: Marker::None,
+                filled: false,
+                line: true,
+            },
+            Series {
+                label: format!("best: {} ms", sweep.best_window_ms),
+                points: vec![best],
+                color: PALETTE[2].into(),
+                marker: Marker::Circle,
+                filled: true,
+                line: false,
+            },
+        ],
+    }
+}
+
+/// The optimisation's convergence: τ and cos θ evaluated at every epoch, and the best so far
+/// (the paper's convergence figure), with the best accuracy.
+pub fn bayes_charts(set: &SetResult) -> Vec<Chart> {
+    let trace = &set.bayes.trace;
+    let series =
+        |label: &str, f: &dyn Fn(&crate::search::bayes::BayesStep) -> f64, c: usize| Series {
+            label: label.into(),
+            points: trace.iter().map(|s| (s.epoch as f64, f(s))).collect(),
+            color: PALETTE[c].into(),
+            marker: Marker::None,
+            filled: false,
+            line: true,
+        };
+    let evaluated = |label: &str, f: &dyn Fn(&crate::search::bayes::BayesStep) -> f64| Series {
+        label: label.into(),
+        points: trace.iter().map(|s| (s.epoch as f64, f(s))).collect(),
+        color: "#bbb".into(),
+        marker: Marker::Circle,
+        filled: true,
+        line: false,
+    };
+    vec![
+        Chart {
+            title: format!("{}: convergence of τ", set.name),
+            x: Axis::linear("epoch"),
+            y: Axis::linear("τ (ms)"),
+            series: vec![
+                evaluated("evaluated", &|s| s.tau_s * 1e3),
+                series("best so far", &|s| s.best_tau_s * 1e3, 0),
+            ],
+        },
+        Chart {
+            title: format!("{}: convergence of cos θ", set.name),
+            x: Axis::linear("epoch"),
+            y: Axis::linear("cos θ"),
+            series: vec![
+                evaluated("evaluated", &|s| s.cos),
+                series("best so far", &|s| s.best_cos, 1),
+            ],
+        },
+        Chart {
+            title: format!("{}: best accuracy", set.name),
+            x: Axis::linear("epoch"),
+            y: Axis::linear("LOO accuracy (%)"),
+            series: vec![series("best so far", &|s| 100.0 * s.best_value, 2)],
+        },
+    ]
+}
+
+/// The paper's spike-train figure: one column per example, raster / spatial / temporal rows.
+pub fn set_spike_train_figure(set: &SetReport) -> String {
+    let dt_s = set.direct.dt_sweep.best_window_ms as f64 * 1e-3;
+    let ex = &set.examples;
+    let mut charts: Vec<Chart> = ex.iter().map(|(n, t)| raster_chart(t, n)).collect();
+    charts.extend(
+        ex.iter()
+            .map(|(n, t)| spatial_chart(t, &format!("{n}: spatial"))),
+    );
+    charts.extend(
+        ex.iter()
+            .map(|(n, t)| temporal_chart(t, dt_s, &format!("{n}: temporal"))),
+    );
+    panels(&charts, ex.len().max(1))
 }
 
 #[cfg(test)]

@@ -7,14 +7,14 @@
 //! the nearest signal event of the same pixel and polarity in the reference run (tolerance
 //! 0.002); the difference in event counts is reported apart.
 
-use crate::bench::{BenchError, with_threads};
+use super::{Table, TradeoffError, error_series, mark_front, write_trade};
 use crate::datasets::{DatasetsError, TextureSet, camera_seed, trial_seed};
-use crate::pareto::pareto_front;
-use crate::svg::{Axis, Chart, Marker, PALETTE, Series, panels};
+use crate::report::svg::{Axis, Chart, Marker, panels};
+use crate::threads::{ThreadPoolError, with_threads};
 use neurotac_sensor::sim::{Camera, SimParams, SimulatedTrial, Simulator, Texture, taxel_spikes};
 use serde::Serialize;
 use std::collections::HashMap;
-use std::fmt::Write;
+use std::path::Path;
 use std::time::Instant;
 
 /// What to sweep.
@@ -121,7 +121,7 @@ pub fn simulator_tradeoff(
         Ok((trials, wall))
     };
     let one_thread = |tolerance| -> Result<_, DatasetsError> {
-        with_threads(1, || run_all(tolerance)).map_err(|e: BenchError| e)?
+        with_threads(1, || run_all(tolerance)).map_err(|e: ThreadPoolError| e)?
     };
     let (reference, _) = one_thread(config.reference_tolerance)?;
     let reference_times: Vec<_> = reference.iter().map(signal_times).collect();
@@ -169,13 +169,11 @@ pub fn simulator_tradeoff(
             pareto: false,
         });
     }
-    let points: Vec<_> = rows
-        .iter()
-        .map(|r| Some((r.trials_per_s, r.mean_timing_error_us)))
-        .collect();
-    for (row, on_front) in rows.iter_mut().zip(pareto_front(&points)) {
-        row.pareto = on_front;
-    }
+    mark_front(
+        &mut rows,
+        |r| Some((r.trials_per_s, r.mean_timing_error_us)),
+        |r, on_front| r.pareto = on_front,
+    );
     Ok(rows)
 }
 
@@ -208,23 +206,18 @@ fn cells(r: &SimulatorTradeoffRow) -> [String; 10] {
     ]
 }
 
-/// The rows as CSV.
-pub fn to_csv(rows: &[SimulatorTradeoffRow]) -> String {
-    let mut s = COLUMNS.join(",") + "\n";
+/// The table of `rows`, in the order given (the same cells in CSV and Markdown).
+fn table<'a>(rows: impl IntoIterator<Item = &'a SimulatorTradeoffRow>) -> Table {
+    let mut table = Table::new(&COLUMNS);
     for r in rows {
-        s += &(cells(r).join(",") + "\n");
+        table.push(cells(r).to_vec());
     }
-    s
+    table
 }
 
-fn table(rows: &[&SimulatorTradeoffRow]) -> String {
-    let mut s = String::new();
-    let _ = writeln!(s, "| {} |", COLUMNS.join(" | "));
-    let _ = writeln!(s, "|{}", "---|".repeat(COLUMNS.len()));
-    for r in rows {
-        let _ = writeln!(s, "| {} |", cells(r).join(" | "));
-    }
-    s
+/// The rows as CSV.
+pub fn to_csv(rows: &[SimulatorTradeoffRow]) -> String {
+    table(rows).to_csv()
 }
 
 /// The Pareto front (no other tolerance both faster and more accurate) as a Markdown table,
@@ -232,7 +225,7 @@ fn table(rows: &[&SimulatorTradeoffRow]) -> String {
 pub fn pareto_table(rows: &[SimulatorTradeoffRow]) -> String {
     let mut front: Vec<&SimulatorTradeoffRow> = rows.iter().filter(|r| r.pareto).collect();
     front.sort_by(|a, b| b.trials_per_s.total_cmp(&a.trials_per_s));
-    table(&front)
+    table(front).to_markdown()
 }
 
 /// The rows as a Markdown table.
@@ -241,20 +234,37 @@ pub fn to_markdown(rows: &[SimulatorTradeoffRow], config: &SimulatorTradeoffConf
         "# Simulator step tolerance: speed ↔ event timing\n\nFlat plate and 5 mm grid, {} slides each, one thread; reference: tolerance {}. Timing error: distance (µs) of each pin event to the nearest reference event of the same pixel and polarity; count error: relative difference of the pin-event count.\n\n",
         config.trials, config.reference_tolerance
     );
-    s += &table(&rows.iter().collect::<Vec<_>>());
+    s += &table(rows).to_markdown();
     s
+}
+
+/// The quick settings: one slide per texture and three tolerances (a few seconds).
+pub fn quick(config: &mut SimulatorTradeoffConfig) {
+    config.trials = 1;
+    config.tolerances = vec![0.02, 0.067, 0.2];
+}
+
+/// Measures the sweep and writes `simulator.{csv,md,svg}` to `out`.
+pub fn report(
+    config: &SimulatorTradeoffConfig,
+    out: &Path,
+) -> Result<Vec<SimulatorTradeoffRow>, TradeoffError> {
+    let rows = simulator_tradeoff(config)?;
+    let markdown = to_markdown(&rows, config);
+    write_trade(out, "simulator", &to_csv(&rows), &markdown, &to_svg(&rows))?;
+    Ok(rows)
 }
 
 /// Mean and 95th-percentile event-timing error against trials per second, one point per
 /// tolerance.
 pub fn to_svg(rows: &[SimulatorTradeoffRow]) -> String {
-    let series = |label: &str, c: usize, marker, error: fn(&SimulatorTradeoffRow) -> f64| Series {
-        label: label.to_owned(),
-        points: rows.iter().map(|r| (r.trials_per_s, error(r))).collect(),
-        color: PALETTE[c].to_owned(),
-        marker,
-        filled: true,
-        line: true,
+    let series = |label: &str, c: usize, marker, error: fn(&SimulatorTradeoffRow) -> f64| {
+        error_series(
+            label,
+            c,
+            marker,
+            rows.iter().map(|r| (r.trials_per_s, error(r))).collect(),
+        )
     };
     let chart = Chart {
         title: "simulator step tolerance: event-timing error vs speed (points: tolerance)"

@@ -28,7 +28,7 @@
 //! their events must lie inside the transduction's sensor.
 //!
 //! ```no_run
-//! use neurotac_experiments::recorded::load_recorded;
+//! use neurotac_experiments::datasets::recorded::load_recorded;
 //! use neurotac_sensor::taxel::{TaxelLayout, TransductionConfig};
 //! let recorded = load_recorded(
 //!     "textures".as_ref(),
@@ -37,9 +37,10 @@
 //!     |done, total| eprintln!("{done}/{total}"),
 //! )?;
 //! println!("{} trials of {} classes", recorded.dataset.len(), recorded.dataset.n_classes());
-//! # Ok::<(), neurotac_experiments::recorded::RecordedError>(())
+//! # Ok::<(), neurotac_experiments::datasets::recorded::RecordedError>(())
 //! ```
 
+use super::metadata::write_metadata;
 use neurotac_core::{DatasetError, EventBuffer, MultiSpikeTrain, SpikeDataset};
 use neurotac_sensor::format::{EventReader, Format, open_reader};
 use neurotac_sensor::taxel::{TaxelLayout, Transducer, TransductionConfig, TransductionCounts};
@@ -47,6 +48,7 @@ use neurotac_sensor::{FormatError, TransductionError};
 use rayon::prelude::*;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
+use std::time::{Duration, Instant};
 
 /// Why a recorded dataset could not be loaded.
 #[derive(Debug, thiserror::Error)]
@@ -198,7 +200,7 @@ pub struct RecordedFile {
 pub struct RecordedDataset {
     /// One observation per file (49 taxel spike trains with the default layout), labels and
     /// class names; `meta` holds `source`, the transduction settings and `duration_s` (whole
-    /// ms: one ms past the last event of the longest recording).
+    /// ms: one ms past the last event of the longest recording), see [`super::metadata`].
     pub dataset: SpikeDataset,
     /// Per file, in dataset order.
     pub files: Vec<RecordedFile>,
@@ -307,9 +309,8 @@ fn transduce_file(
         return Ok((file, None));
     }
     let mut transducer = Transducer::new(layout, config).map_err(RecordedError::Config)?;
-    let mut chunk = EventBuffer::new();
     let (mut first_t, mut last_t) = (None, 0i64);
-    while reader.read_chunk(&mut chunk).map_err(read_error)? > 0 {
+    let pushed = push_all(reader.as_mut(), &mut transducer, |chunk, reader| {
         let max_x = chunk.x.iter().copied().max().unwrap_or(0);
         let max_y = chunk.y.iter().copied().max().unwrap_or(0);
         file.extent = (
@@ -321,13 +322,18 @@ fn transduce_file(
         }
         first_t.get_or_insert(chunk.t[0]);
         last_t = *chunk.t.last().unwrap_or(&last_t);
-        transducer
-            .push(&chunk)
-            .map_err(|source| RecordedError::Transduction {
+        Ok(())
+    });
+    match pushed {
+        Ok(_) => {}
+        Err(PushError::Read(source)) => return Err(read_error(source)),
+        Err(PushError::Transduction(source)) => {
+            return Err(RecordedError::Transduction {
                 path: path.to_path_buf(),
                 source,
-            })?;
-        chunk.clear();
+            });
+        }
+        Err(PushError::Stopped(e)) => return Err(e),
     }
     let stats = reader.stats();
     if sensor_size.is_none() && stats.out_of_range > 0 {
@@ -340,9 +346,42 @@ fn transduce_file(
         });
     }
     file.span_us = first_t.map_or(0, |t0| last_t - t0);
-    transducer.finish();
     file.counts = transducer.counts();
     Ok((file, Some(transducer.spike_trains())))
+}
+
+/// Why [`push_all`] stopped.
+#[derive(Debug)]
+pub enum PushError<E> {
+    /// The reader failed.
+    Read(FormatError),
+    /// The transducer refused a chunk.
+    Transduction(TransductionError),
+    /// `inspect` stopped the loop.
+    Stopped(E),
+}
+
+/// The read → push loop of a transduction: reads `reader` chunk by chunk, shows each chunk to
+/// `inspect` (which may stop the loop with its own error), pushes it through `transducer`, and
+/// finishes the transducer at the end of the file. Returns the time spent inside the transducer
+/// alone (reading and decoding excluded).
+pub fn push_all<E>(
+    reader: &mut dyn EventReader,
+    transducer: &mut Transducer,
+    mut inspect: impl FnMut(&EventBuffer, &dyn EventReader) -> Result<(), E>,
+) -> Result<Duration, PushError<E>> {
+    let mut chunk = EventBuffer::new();
+    let mut transducing = Duration::ZERO;
+    while reader.read_chunk(&mut chunk).map_err(PushError::Read)? > 0 {
+        inspect(&chunk, &*reader).map_err(PushError::Stopped)?;
+        let start = Instant::now();
+        transducer.push(&chunk).map_err(PushError::Transduction)?;
+        transducing += start.elapsed();
+        chunk.clear();
+    }
+    let start = Instant::now();
+    transducer.finish();
+    Ok(transducing + start.elapsed())
 }
 
 fn outside(file: &RecordedFile, dropped: u64, sensor: (u16, u16)) -> RecordedError {
@@ -414,20 +453,9 @@ pub fn load_recorded(
     let longest_us = files.iter().map(|f| f.span_us).max().unwrap_or(0);
     let mut meta = serde_json::Map::new();
     meta.insert("source".into(), dir.display().to_string().into());
-    meta.insert(
-        "ba_window_us".into(),
-        config
-            .ba_window_us
-            .map_or(serde_json::Value::Null, Into::into),
-    );
-    meta.insert("rf_radius_px".into(), config.rf_radius_px.into());
-    meta.insert("pool_window_us".into(), config.pool_window_us.into());
-    meta.insert("recentre_gain".into(), config.recentre_gain.into());
     // One ms past the ms bin of the latest event: no spike (a mean event time) lies beyond.
-    meta.insert(
-        "duration_s".into(),
-        ((longest_us / 1000 + 1) as f64 / 1e3).into(),
-    );
+    let duration_s = neurotac_core::time::us_to_s((longest_us / 1000 + 1) * 1000);
+    write_metadata(&mut meta, &config, Some(duration_s));
     let labels = files.iter().map(|f| f.label).collect();
     let names = listed.into_iter().map(|(name, _)| name).collect();
     let dataset = SpikeDataset::new(observations, labels, names, meta)?;

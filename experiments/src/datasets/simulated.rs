@@ -7,7 +7,10 @@
 //! from thread order, so the same seed gives a bit-identical dataset at any thread count.
 //! [`load_or_simulate`] caches datasets on disk, keyed by everything that determines them.
 
-use crate::bench::BenchError;
+use super::metadata::write_metadata;
+use crate::coding::class_means;
+use crate::progress::Progress;
+use crate::threads::ThreadPoolError;
 use neurotac_core::{DatasetError, EventBuffer, MultiSpikeTrain, SpikeDataset};
 use neurotac_sensor::sim::{
     Camera, EventLabel, GRID_SIZES_MM, NATURAL_TEXTURES, PreparedTexture, SimParams,
@@ -47,7 +50,7 @@ pub enum DatasetsError {
     },
     /// The thread pool could not start.
     #[error(transparent)]
-    Threads(#[from] BenchError),
+    Threads(#[from] ThreadPoolError),
 }
 
 /// Which texture set.
@@ -274,15 +277,15 @@ pub fn simulate_set(
     })
 }
 
-/// Everything that determines a simulated dataset, as stored in its metadata (a simulated
-/// dataset's metadata adds `pixel_events_per_trial` and `noise_events_per_trial`).
+/// Everything that determines a simulated dataset, as stored in its metadata, with the typed
+/// fields of [`super::metadata`] (`duration_s`, `transduction`); a simulated dataset's metadata
+/// adds `pixel_events_per_trial` and `noise_events_per_trial`.
 fn dataset_meta(
     set: TextureSet,
     trials: usize,
     seed: u64,
     params: &SimParams,
 ) -> serde_json::Map<String, serde_json::Value> {
-    let t = paper_transduction();
     let json = serde_json::json!({
         "generator": "neurotac-sim",
         "version": SIMULATED_DATASET_VERSION,
@@ -290,19 +293,24 @@ fn dataset_meta(
         "trials_per_texture": trials,
         "seed": seed,
         "params": params,
-        "transduction": {
-            "ba_window_us": t.ba_window_us,
-            "rf_radius_px": t.rf_radius_px,
-            "pool_window_us": t.pool_window_us,
-            "recentre_gain": t.recentre_gain,
-            "max_shift_px": t.max_shift_px,
-            "origin_us": t.origin_us,
-        },
     });
-    match json {
-        serde_json::Value::Object(map) => map,
-        _ => unreachable!("a JSON object literal"),
-    }
+    let serde_json::Value::Object(mut meta) = json else {
+        unreachable!("a JSON object literal")
+    };
+    write_metadata(
+        &mut meta,
+        &paper_transduction(),
+        Some(sample_duration_s(params)),
+    );
+    meta
+}
+
+/// The length of every simulated sample (s): the trial's (rest, slide, rest), rounded up to a
+/// whole ms as the temporal coding's bins need; every spike lies before it.
+pub fn sample_duration_s(params: &SimParams) -> f64 {
+    let ms = params.duration_s() * 1e3;
+    // A duration already whole up to rounding (4.55 s = 4550.000000000001 ms) stays as it is.
+    (ms - 1e-6).ceil() / 1e3
 }
 
 /// FNV-1a 64 of the metadata's JSON text: the cache key.
@@ -393,6 +401,129 @@ pub fn store(dataset: &SpikeDataset, dir: &Path, path: &Path) -> Result<(), Data
     Ok(dataset.save_binary(path)?)
 }
 
+/// How `generate` writes every trial's pixel events.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum PixelEventFiles {
+    /// One event file per trial in the format of this extension (`aedat4`, `aedat`, `aedat3`,
+    /// `txt`, `csv`).
+    Format(String),
+    /// CSV with a `pin` column (source pin, −1 for noise), see [`write_events_csv`].
+    LabelledCsv,
+}
+
+/// What [`generate`] simulates and writes (`neurotac simulate`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct GenerateConfig {
+    /// The texture set.
+    pub set: TextureSet,
+    /// Slides per texture (≥ 1).
+    pub trials: usize,
+    /// Seed of the dataset.
+    pub seed: u64,
+    /// Simulator parameters.
+    pub params: SimParams,
+    /// Output folder: `<set>.bin`, optionally `<set>.json` and `events/<class>/<trial>.<ext>`.
+    pub out: PathBuf,
+    /// Cache folder of simulated datasets.
+    pub cache: PathBuf,
+    /// Also write the dataset as JSON.
+    pub json: bool,
+    /// Also write every trial's pixel events (the dataset is then always simulated, and cached).
+    pub pixel_events: Option<PixelEventFiles>,
+}
+
+/// What [`generate`] made.
+#[derive(Debug, Clone)]
+pub struct Generated {
+    /// The dataset.
+    pub dataset: SpikeDataset,
+    /// `true` when it was read from the cache rather than simulated.
+    pub from_cache: bool,
+    /// The binary dataset written (`<out>/<set>.bin`).
+    pub binary: PathBuf,
+    /// The JSON dataset written, if asked for.
+    pub json: Option<PathBuf>,
+    /// Mean spikes per taxel of each class (index = label).
+    pub class_means: Vec<f64>,
+}
+
+/// Simulates (or reads from the cache) the dataset of `config` and writes its files; `progress`
+/// sees one stage with one step per simulated trial. Runs on the current rayon pool.
+pub fn generate(
+    config: &GenerateConfig,
+    progress: &dyn Progress,
+) -> Result<Generated, DatasetsError> {
+    let GenerateConfig {
+        set,
+        trials,
+        seed,
+        params,
+        out,
+        cache,
+        ..
+    } = config;
+    let (set, trials, seed) = (*set, *trials, *seed);
+    if trials == 0 {
+        return Err(SimulationError::ZeroTrials.into());
+    }
+    let io = |path: &Path| {
+        let path = path.to_owned();
+        move |source| DatasetsError::Io { path, source }
+    };
+    std::fs::create_dir_all(out).map_err(io(out))?;
+    let cache_file = cache_path(set, trials, seed, params, cache);
+    let from_cache = config.pixel_events.is_none() && SpikeDataset::load(&cache_file).is_ok();
+    progress.stage(set.name(), (trials * set.textures().len()) as u64);
+    let advance = || progress.advance(1);
+    let dataset = match &config.pixel_events {
+        None => load_or_simulate_with(set, trials, seed, params, cache, &advance)?,
+        Some(files) => {
+            let names = set.class_names();
+            let dir = out.join("events");
+            let each = |job: &TrialJob, trial: &SimulatedTrial| {
+                let folder = dir.join(format!(
+                    "{:02}-{}",
+                    job.class,
+                    names[job.class].replace(' ', "_")
+                ));
+                std::fs::create_dir_all(&folder).map_err(io(&folder))?;
+                match files {
+                    PixelEventFiles::LabelledCsv => {
+                        let path = folder.join(format!("{:03}.csv", job.trial));
+                        write_events_csv(&path, &trial.events, Some(&trial.labels))
+                    }
+                    PixelEventFiles::Format(ext) => {
+                        let path = folder.join(format!("{:03}.{ext}", job.trial));
+                        Ok(neurotac_sensor::format::write_file(&path, &trial.events)?)
+                    }
+                }
+            };
+            let simulated = simulate_set(set, trials, seed, params, &each, &advance)?;
+            // Cache it too, so experiments find it.
+            store(&simulated.dataset, cache, &cache_file)?;
+            simulated.dataset
+        }
+    };
+    progress.finish();
+    let binary = out.join(format!("{}.bin", set.name()));
+    dataset.save_binary(&binary)?;
+    let json = if config.json {
+        let path = out.join(format!("{}.json", set.name()));
+        dataset.save_json(&path)?;
+        Some(path)
+    } else {
+        None
+    };
+    let class_means = class_means(&dataset).1;
+    Ok(Generated {
+        dataset,
+        from_cache,
+        binary,
+        json,
+        class_means,
+    })
+}
+
 /// Writes pixel events as CSV: a header `t,x,y,on` (t in µs, `on` 1/0), one event per line;
 /// with `labels`, a fifth column `pin` (source pin, −1 for noise).
 ///
@@ -437,7 +568,7 @@ pub fn write_events_csv(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::bench::with_threads;
+    use crate::threads::with_threads;
 
     fn short_params() -> SimParams {
         let mut p = SimParams::default();
@@ -524,5 +655,69 @@ mod tests {
         assert_eq!(lines.next(), Some("t,x,y,on,pin"));
         assert_eq!(lines.count(), trial.events.len());
         assert!(text.contains(",-1\n"));
+    }
+
+    /// Issue 13: simulated sets state their sample duration, and every spike lies inside it.
+    #[test]
+    fn simulated_sets_state_their_duration() {
+        let p = short_params();
+        let data = simulate_set(TextureSet::Artificial, 1, 2, &p, &|_, _| Ok(()), &|| {})
+            .unwrap()
+            .dataset;
+        let duration_s = data.duration_s().unwrap();
+        assert_eq!(duration_s, sample_duration_s(&p));
+        assert!(duration_s >= p.duration_s() && duration_s < p.duration_s() + 1e-3);
+        let latest = data
+            .observations()
+            .iter()
+            .filter_map(|o| o.time_range())
+            .map(|r| r.1);
+        assert!(latest.fold(0.0, f64::max) < duration_s);
+        assert_eq!(sample_duration_s(&SimParams::default()), 4.55);
+    }
+    /// Issue 13: `neurotac simulate`'s generation is a library call.
+    #[test]
+    fn generate_writes_the_dataset_then_reads_it_from_the_cache() {
+        use crate::progress::NoProgress;
+        let dir = tempfile::tempdir().unwrap();
+        let config = GenerateConfig {
+            set: TextureSet::Artificial,
+            trials: 1,
+            seed: 4,
+            params: short_params(),
+            out: dir.path().join("out"),
+            cache: dir.path().join("cache"),
+            json: true,
+            pixel_events: None,
+        };
+        let first = generate(&config, &NoProgress).unwrap();
+        assert!(!first.from_cache);
+        assert_eq!(first.binary, dir.path().join("out/artificial.bin"));
+        assert_eq!(SpikeDataset::load(&first.binary).unwrap(), first.dataset);
+        assert!(first.json.as_ref().unwrap().is_file());
+        assert_eq!(first.class_means.len(), 11);
+        let again = generate(&config, &NoProgress).unwrap();
+        assert!(again.from_cache);
+        assert_eq!(again.dataset, first.dataset);
+        let with_events = GenerateConfig {
+            pixel_events: Some(PixelEventFiles::LabelledCsv),
+            ..config.clone()
+        };
+        let made = generate(&with_events, &NoProgress).unwrap();
+        assert!(!made.from_cache);
+        assert!(
+            dir.path()
+                .join("out/events/00-grid_0.0_mm/000.csv")
+                .is_file()
+        );
+        assert_eq!(made.dataset.observations(), first.dataset.observations());
+        let zero = GenerateConfig {
+            trials: 0,
+            ..config
+        };
+        assert!(matches!(
+            generate(&zero, &NoProgress),
+            Err(DatasetsError::Simulation(SimulationError::ZeroTrials))
+        ));
     }
 }

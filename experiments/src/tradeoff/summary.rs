@@ -2,9 +2,9 @@
 //! subcommand): per trade, what is traded, the Pareto front, links to the trade's own files and
 //! how to choose.
 
-use crate::neuron_tradeoff::{self, NeuronTradeoffRow};
-use crate::simulator_tradeoff::{self, SimulatorTradeoffConfig, SimulatorTradeoffRow};
-use crate::vr_tradeoff::{self, VrTradeoff};
+use super::neurons::{self, NeuronTradeoffRow};
+use super::simulator::{self, SimulatorTradeoffConfig, SimulatorTradeoffRow};
+use super::vr::{self, VrTradeoff};
 use std::fmt::Write;
 
 /// Sub-folder (relative to the summary) holding the neuron trade's `neurons.{csv,md,svg}`.
@@ -34,7 +34,7 @@ pub fn summary_markdown(
 
     s.push_str("## Neuron simulation\n\n");
     s.push_str("Traded: model × integrator × time step dt × precision (f32/f64) × spike-time stamping (grid or interpolated), for neuron updates per second (one thread) against the mean spike-time error to a known truth (LIF closed form; Izhikevich by RK4 at 1 µs). Only points with the right spike count compete.\n\n");
-    s.push_str(&neuron_tradeoff::pareto_table(neurons));
+    s.push_str(&neurons::pareto_table(neurons));
     s.push('\n');
     s.push_str(&links(NEURONS_DIR, "neurons"));
     s.push_str("How to choose: read the front of your model from the top and stop at the first row whose mean error is below your timing budget (e.g. well under the 1 ms bins of the codings); interpolated stamping is nearly free and usually buys more accuracy than a smaller dt.\n\n");
@@ -47,7 +47,7 @@ pub fn summary_markdown(
         tau = vr.tau_s,
         cos = vr.cos
     );
-    s.push_str(&vr_tradeoff::pareto_table(vr));
+    s.push_str(&vr::pareto_table(vr));
     s.push('\n');
     s.push_str(&links(VR_DIR, "vr"));
     s.push_str("How to choose: to classify, use the exact distance (no error, and in this measurement faster than any sampled one); the trace-sampled distance is what an on-line network computes, so pick the largest dt whose error is below the differences between classes you need to resolve.\n\n");
@@ -58,7 +58,7 @@ pub fn summary_markdown(
         "Traded: the pixel model's step tolerance (largest change of log intensity per step), for simulated trials per second (one thread) against the timing error of pin events relative to a fine-step run (tolerance {}; flat plate and 5 mm grid, {} slides each).\n\n",
         simulator_config.reference_tolerance, simulator_config.trials
     );
-    s.push_str(&simulator_tradeoff::pareto_table(simulator));
+    s.push_str(&simulator::pareto_table(simulator));
     s.push('\n');
     s.push_str(&links(SIMULATOR_DIR, "simulator"));
     s.push_str("How to choose: taxel spikes pool events over 20 ms windows, so a mean timing error of a few hundred µs is invisible downstream: take the fastest tolerance on the front whose mean error stays well below the pooling window and whose count error is small.\n");

@@ -1,0 +1,256 @@
+//! The paper's four codings by name ([`CodingName`]), the distance matrix of a coding
+//! ([`coding_distances`]) and the sample duration the temporal coding windows
+//! ([`sample_duration_ms`]). The CLI's `--coding` is [`CodingName`] itself.
+//!
+//! | coding | features / distance | parameters |
+//! |---|---|---|
+//! | intensive | mean spike count per taxel, Euclidean | — |
+//! | spatial | spike count of each taxel, Euclidean | — |
+//! | temporal | rolling Δt-window pooled counts in 1 ms steps over the sample, Euclidean | Δt, sample duration |
+//! | spatiotemporal | multi-unit Van Rossum distance | τ, cos θ |
+
+use crate::error::ExperimentError;
+use ndarray::Array2;
+use neurotac_core::coding::{
+    IntensiveCoding, SpatialCoding, TemporalCoding, duration_ms_of, feature_matrix, whole_ms,
+};
+use neurotac_core::distance::{VanRossum, check_cos, euclidean_distance_matrix};
+use neurotac_core::{MultiSpikeTrain, SpikeDataset};
+use serde::Serialize;
+
+/// The paper's four codings, in its order.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, clap::ValueEnum)]
+#[serde(rename_all = "snake_case")]
+pub enum CodingName {
+    /// Mean spike count per taxel (Euclidean).
+    Intensive,
+    /// Spike count of each taxel (Euclidean).
+    Spatial,
+    /// Rolling Δt-window pooled counts in 1 ms steps (Euclidean).
+    Temporal,
+    /// Multi-unit Van Rossum distance at (τ, cos θ).
+    Spatiotemporal,
+}
+
+impl CodingName {
+    /// All four, in the paper's order (the order of its tables).
+    pub const ALL: [CodingName; 4] = [
+        CodingName::Intensive,
+        CodingName::Spatial,
+        CodingName::Temporal,
+        CodingName::Spatiotemporal,
+    ];
+
+    /// `Intensive`, `Spatial`, …
+    pub fn label(self) -> &'static str {
+        match self {
+            CodingName::Intensive => "Intensive",
+            CodingName::Spatial => "Spatial",
+            CodingName::Temporal => "Temporal",
+            CodingName::Spatiotemporal => "Spatiotemporal",
+        }
+    }
+
+    /// `intensive`, `spatial`, … (file names, CLI values).
+    pub fn key(self) -> &'static str {
+        match self {
+            CodingName::Intensive => "intensive",
+            CodingName::Spatial => "spatial",
+            CodingName::Temporal => "temporal",
+            CodingName::Spatiotemporal => "spatiotemporal",
+        }
+    }
+}
+
+/// The parameters of a coding; each coding reads only its own (see the module table).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct CodingParameters {
+    /// Temporal: the window Δt (ms).
+    pub window_ms: Option<u32>,
+    /// Temporal: the sample duration (ms), e.g. from [`sample_duration_ms`].
+    pub duration_ms: Option<u32>,
+    /// Spatiotemporal: the Van Rossum kernel time constant τ (s).
+    pub tau_s: Option<f64>,
+    /// Spatiotemporal: cos θ in [0, 1].
+    pub cos: Option<f64>,
+}
+
+fn missing(coding: CodingName, what: &'static str) -> ExperimentError {
+    ExperimentError::MissingParameter {
+        coding: coding.key(),
+        what,
+    }
+}
+
+/// The N × N distance matrix of `observations` under `coding`: Euclidean distances of its
+/// features, or the exact multi-unit Van Rossum distance for the spatiotemporal coding.
+pub fn coding_distances(
+    observations: &[MultiSpikeTrain],
+    coding: CodingName,
+    parameters: &CodingParameters,
+) -> Result<Array2<f64>, ExperimentError> {
+    let features = match coding {
+        CodingName::Intensive => feature_matrix(&IntensiveCoding::new(), observations)?,
+        CodingName::Spatial => feature_matrix(&SpatialCoding::new(), observations)?,
+        CodingName::Temporal => {
+            let window_ms = parameters
+                .window_ms
+                .ok_or_else(|| missing(coding, "the window Δt (--dt SECONDS)"))?;
+            let duration_ms = parameters
+                .duration_ms
+                .ok_or_else(|| missing(coding, "the sample duration"))?;
+            feature_matrix(
+                &TemporalCoding::from_ms(window_ms, duration_ms)?,
+                observations,
+            )?
+        }
+        CodingName::Spatiotemporal => {
+            let tau_s = parameters
+                .tau_s
+                .ok_or_else(|| missing(coding, "the Van Rossum τ (--tau SECONDS)"))?;
+            let cos = parameters
+                .cos
+                .ok_or_else(|| missing(coding, "cos θ in [0, 1] (--cos C)"))?;
+            check_cos(cos)?;
+            return Ok(VanRossum::new(tau_s)?
+                .matrices(observations)?
+                .distances(cos)?);
+        }
+    };
+    Ok(euclidean_distance_matrix(features.view())?)
+}
+
+/// The sample duration in whole ms that the temporal coding windows: `given_s` if given, else
+/// the dataset's [`SpikeDataset::duration_s`], else one ms past the latest spike.
+///
+/// A stated duration (given or in the dataset) shorter than the data is an error
+/// ([`ExperimentError::DurationShorterThanData`]): a spike past the end of its sample means
+/// the duration or the data are wrong, and silently taking the longer one would change the
+/// coding's windows without saying so.
+pub fn sample_duration_ms(
+    data: &SpikeDataset,
+    given_s: Option<f64>,
+) -> Result<u32, ExperimentError> {
+    let needed_ms = duration_ms_of(data.observations())?;
+    let stated_ms = match (given_s, data.duration_s()) {
+        (Some(d), _) => Some(whole_ms(d, "--duration")?),
+        (None, Some(d)) => Some(whole_ms(d, "meta.duration_s")?),
+        (None, None) => None,
+    };
+    match stated_ms {
+        Some(stated_ms) if stated_ms < needed_ms => Err(ExperimentError::DurationShorterThanData {
+            stated_ms,
+            needed_ms,
+        }),
+        Some(stated_ms) => Ok(stated_ms),
+        None => Ok(needed_ms),
+    }
+}
+
+/// Mean spikes per channel over every sample of `data` (0 without samples).
+pub fn mean_spikes_per_channel(data: &SpikeDataset) -> f64 {
+    let spikes: usize = data.observations().iter().map(|o| o.total_spikes()).sum();
+    spikes as f64 / (data.len() * data.n_channels()).max(1) as f64
+}
+
+/// Samples per class and the mean of the intensive coding (spikes per channel) over each
+/// class's samples (index = label; 0 for a class without samples).
+pub fn class_means(data: &SpikeDataset) -> (Vec<usize>, Vec<f64>) {
+    let mut samples_per_class = vec![0usize; data.n_classes()];
+    let mut means = vec![0.0; data.n_classes()];
+    for (o, &l) in data.observations().iter().zip(data.labels()) {
+        samples_per_class[l] += 1;
+        means[l] += o.total_spikes() as f64 / o.n_channels().max(1) as f64;
+    }
+    for (m, &n) in means.iter_mut().zip(&samples_per_class) {
+        *m /= n.max(1) as f64;
+    }
+    (samples_per_class, means)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn two_samples(duration_s: Option<f64>) -> SpikeDataset {
+        let a = MultiSpikeTrain::from_channels(vec![vec![0.010, 0.0205], vec![]]).unwrap();
+        let b = MultiSpikeTrain::from_channels(vec![vec![0.001], vec![0.004, 0.0309]]).unwrap();
+        let mut d = SpikeDataset::new(
+            vec![a, b],
+            vec![0, 1],
+            vec!["a".into(), "b".into()],
+            Default::default(),
+        )
+        .unwrap();
+        if let Some(s) = duration_s {
+            d.set_duration_s(s).unwrap();
+        }
+        d
+    }
+
+    #[test]
+    fn duration_is_given_else_stated_else_one_ms_past_the_latest_spike() {
+        // Latest spike 30.9 ms → bin 30 → 31 ms.
+        assert_eq!(sample_duration_ms(&two_samples(None), None).unwrap(), 31);
+        assert_eq!(
+            sample_duration_ms(&two_samples(Some(0.05)), None).unwrap(),
+            50
+        );
+        assert_eq!(
+            sample_duration_ms(&two_samples(Some(0.05)), Some(0.04)).unwrap(),
+            40
+        );
+    }
+
+    #[test]
+    fn a_duration_shorter_than_the_data_is_an_error_whoever_states_it() {
+        for (stated, given) in [(None, Some(0.02)), (Some(0.02), None)] {
+            let e = sample_duration_ms(&two_samples(stated), given).unwrap_err();
+            assert!(
+                matches!(
+                    e,
+                    ExperimentError::DurationShorterThanData {
+                        stated_ms: 20,
+                        needed_ms: 31
+                    }
+                ),
+                "{e}"
+            );
+        }
+        assert!(sample_duration_ms(&two_samples(None), Some(0.0305)).is_err());
+    }
+
+    #[test]
+    fn distances_follow_the_coding_and_name_a_missing_parameter() {
+        let d = two_samples(None);
+        let obs = d.observations();
+        // Intensive: mean counts 1.0 and 1.5 → distance 0.5.
+        let m = coding_distances(obs, CodingName::Intensive, &Default::default()).unwrap();
+        assert_eq!(m[[0, 1]], 0.5);
+        // Spatial: counts (2, 0) vs (1, 2) → √5.
+        let m = coding_distances(obs, CodingName::Spatial, &Default::default()).unwrap();
+        assert!((m[[1, 0]] - 5f64.sqrt()).abs() < 1e-12);
+        let e = coding_distances(obs, CodingName::Temporal, &Default::default()).unwrap_err();
+        assert!(e.to_string().contains("--dt"), "{e}");
+        let p = CodingParameters {
+            window_ms: Some(10),
+            duration_ms: Some(31),
+            tau_s: Some(0.01),
+            cos: Some(0.5),
+        };
+        let m = coding_distances(obs, CodingName::Temporal, &p).unwrap();
+        assert!(m[[0, 1]] > 0.0 && m[[0, 0]] == 0.0);
+        let m = coding_distances(obs, CodingName::Spatiotemporal, &p).unwrap();
+        assert!(m[[0, 1]] > 0.0 && (m[[0, 1]] - m[[1, 0]]).abs() < 1e-12);
+        let no_cos = CodingParameters { cos: None, ..p };
+        let e = coding_distances(obs, CodingName::Spatiotemporal, &no_cos).unwrap_err();
+        assert!(e.to_string().contains("cos θ"), "{e}");
+    }
+
+    #[test]
+    fn means_count_every_sample_and_every_class() {
+        let d = two_samples(None);
+        assert_eq!(mean_spikes_per_channel(&d), 1.25);
+        assert_eq!(class_means(&d), (vec![1, 1], vec![1.0, 1.5]));
+    }
+}

@@ -1,0 +1,186 @@
+//! The report's CSV tables: accuracy of every pipeline and coding, chosen parameters, the Δt
+//! sweep, the optimisation trace and confusion matrices.
+
+use super::tables::{coding_seconds, paper_table, parameter_rows};
+use crate::reproduce::{Report, SetReport, SetResult};
+use std::fmt::Write as _;
+
+/// A CSV field, quoted when it holds a comma, a quote or a line break.
+pub fn csv_field(s: &str) -> String {
+    if s.contains([',', '"', '\n']) {
+        format!("\"{}\"", s.replace('"', "\"\""))
+    } else {
+        s.to_owned()
+    }
+}
+
+/// The runs of a set: `("direct", result)` and, if run, `("afferents", result)`.
+pub(crate) fn runs(set: &SetReport) -> Vec<(&'static str, &SetResult)> {
+    let mut runs = vec![("direct", &set.direct)];
+    if let Some(a) = &set.afferent {
+        runs.push(("afferents", &a.result));
+    }
+    runs
+}
+
+/// `accuracy.csv`: one row per set, pipeline and coding.
+pub fn accuracy_csv(report: &Report) -> String {
+    let mut out = String::from(
+        "set,pipeline,coding,parameters,loo_accuracy,loo_std,wilson_low,wilson_high,split_accuracy,paper_accuracy,wall_s\n",
+    );
+    for set in &report.sets {
+        accuracy_rows(set, &mut out);
+    }
+    out
+}
+
+/// `parameters.csv`: the chosen parameters and intensive class means of every set.
+pub fn parameters_csv(report: &Report) -> String {
+    let mut parameters = String::from("set,quantity,value,paper\n");
+    for set in &report.sets {
+        for r in parameter_rows(&set.direct) {
+            let _ = writeln!(
+                parameters,
+                "{},{},{},{}",
+                csv_field(&set.direct.name),
+                csv_field(&r.quantity),
+                r.value,
+                r.paper.map(|p| p.to_string()).unwrap_or_default()
+            );
+        }
+    }
+    parameters
+}
+
+/// One CSV row per pipeline and coding.
+fn accuracy_rows(set: &SetReport, out: &mut String) {
+    let paper = paper_table(&set.direct);
+    for (pipeline, r) in runs(set) {
+        for (i, c) in r.codings.iter().enumerate() {
+            let a = c.loo.accuracy;
+            let _ = writeln!(
+                out,
+                "{},{pipeline},{},{},{},{},{},{},{},{},{:.3}",
+                csv_field(&r.name),
+                c.coding.key(),
+                csv_field(&c.parameters),
+                a.mean,
+                a.std,
+                a.wilson_low,
+                a.wilson_high,
+                c.split
+                    .as_ref()
+                    .map(|e| e.accuracy.mean.to_string())
+                    .unwrap_or_default(),
+                paper
+                    .filter(|_| pipeline == "direct")
+                    .map(|p| (p.accuracy_percent[i] / 100.0).to_string())
+                    .unwrap_or_default(),
+                coding_seconds(r, c.coding)
+            );
+        }
+    }
+}
+
+/// A confusion matrix as CSV (rows: true class, columns: predicted).
+pub fn confusion_csv(counts: &[Vec<usize>], class_names: &[String]) -> String {
+    let mut csv = String::from("true\\predicted");
+    for n in class_names {
+        let _ = write!(csv, ",{}", csv_field(n));
+    }
+    csv.push('\n');
+    for (i, row) in counts.iter().enumerate() {
+        csv.push_str(&csv_field(
+            class_names.get(i).map(String::as_str).unwrap_or(""),
+        ));
+        for v in row {
+            let _ = write!(csv, ",{v}");
+        }
+        csv.push('\n');
+    }
+    csv
+}
+
+/// `dt_sweep_<set>.csv`: leave-one-out accuracy at every Δt.
+pub fn dt_sweep_csv(set: &SetResult) -> String {
+    let mut dt_csv = String::from("dt_ms,loo_accuracy\n");
+    for (w, a) in set.dt_sweep.windows_ms.iter().zip(&set.dt_sweep.accuracy) {
+        let _ = writeln!(dt_csv, "{w},{a}");
+    }
+    dt_csv
+}
+
+/// `bo_convergence_<set>.csv`: every epoch of the Bayesian optimisation.
+pub fn bayes_csv(set: &SetResult) -> String {
+    let mut bo_csv = String::from("epoch,tau_s,cos,accuracy,best_accuracy,best_tau_s,best_cos\n");
+    for s in &set.bayes.trace {
+        let _ = writeln!(
+            bo_csv,
+            "{},{},{},{},{},{},{}",
+            s.epoch, s.tau_s, s.cos, s.value, s.best_value, s.best_tau_s, s.best_cos
+        );
+    }
+    bo_csv
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::report::tables::tests::{report_of, set_result};
+
+    fn report() -> Report {
+        report_of(set_result("artificial"), "test")
+    }
+
+    #[test]
+    fn fields_with_commas_or_quotes_are_quoted() {
+        assert_eq!(csv_field("plain"), "plain");
+        assert_eq!(csv_field("a, b"), "\"a, b\"");
+        assert_eq!(csv_field("say \"hi\""), "\"say \"\"hi\"\"\"");
+    }
+
+    #[test]
+    fn accuracy_and_parameter_tables_have_one_row_per_item() {
+        let r = report();
+        let acc = accuracy_csv(&r);
+        let lines: Vec<&str> = acc.lines().collect();
+        assert_eq!(lines.len(), 1 + 4);
+        assert!(
+            lines[1].starts_with("artificial,direct,intensive,,0.5,0.1,"),
+            "{}",
+            lines[1]
+        );
+        // The paper's intensive accuracy as a fraction; no split for the refused coding.
+        assert!(lines[1].contains(",0.785,"), "{}", lines[1]);
+        assert!(lines[2].contains(",0.7,,0.955,"), "{}", lines[2]);
+        let params = parameters_csv(&r);
+        assert_eq!(params.lines().count(), 1 + 3 + 2);
+        assert!(
+            params.contains("artificial,temporal Δt (ms),3,159\n"),
+            "{params}"
+        );
+        assert!(
+            params
+                .contains("artificial,\"intensive mean, grid 0.0 mm (spikes per taxel)\",4,4.63\n"),
+            "{params}"
+        );
+    }
+
+    #[test]
+    fn sweep_trace_and_confusion_tables() {
+        let s = set_result("x");
+        assert_eq!(
+            dt_sweep_csv(&s),
+            "dt_ms,loo_accuracy\n1,0.5\n2,0.6\n3,0.7\n"
+        );
+        assert_eq!(
+            bayes_csv(&s).lines().nth(1),
+            Some("1,0.02,0.5,0.8,0.8,0.02,0.5")
+        );
+        let names = ["a,b".to_string(), "c".to_string()];
+        assert_eq!(
+            confusion_csv(&[vec![1, 2], vec![3, 4]], &names),
+            "true\\predicted,\"a,b\",c\n\"a,b\",1,2\nc,3,4\n"
+        );
+    }
+}

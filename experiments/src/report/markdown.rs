@@ -1,0 +1,158 @@
+//! `report.md`: how the run was made, then per set its tables, figures and notes.
+
+use super::tables::{accuracy_table, afferent_table, intensive_table, parameter_table};
+use crate::coding::CodingName;
+use crate::reproduce::{Report, SetReport};
+use std::fmt::Write as _;
+
+/// The whole `report.md`.
+pub fn report_markdown(report: &Report) -> String {
+    let mut md = markdown_intro(report);
+    // The "calibration and hold-out" section (issue 12: what the simulator was fitted to, and
+    // that every accuracy is held out) belongs here, between the intro and the sets.
+    for set in &report.sets {
+        markdown_set(set, &mut md);
+    }
+    md.push_str(
+        "Files: `report.json` (every number), `accuracy.csv`, `parameters.csv`, \
+         `dt_sweep_<set>.csv`, `bo_convergence_<set>.csv`, `confusion_<set>_<coding>.csv`; every \
+         figure as SVG and PNG.\n",
+    );
+    md
+}
+
+/// The head of `report.md`: how the run was made and what the numbers mean.
+fn markdown_intro(report: &Report) -> String {
+    format!(
+        "# NeuroTac reproduction\n\n`{}` (neurotac {}, seed {}): {:.1} s wall{}.\n\n\
+         Pipeline (the paper's Methods): pixel events → background-activity filter (5 ms) → 49 \
+         receptive fields → 20 ms pooling with re-centring → taxel spikes → four codings → KNN \
+         (k = 4). Accuracies: leave-one-out (the paper's Tables 1 and 2), ± the standard \
+         deviation of the per-sample hits as in the paper, with Wilson 95 % intervals; \
+         confusion matrices: the seeded stratified 80/20 split. Δt and (τ, cos θ) are chosen \
+         by leave-one-out accuracy on the same samples, as in the paper.\n\n{}",
+        report.command,
+        report.version,
+        report.seed,
+        report.time.wall_s,
+        report
+            .time
+            .cpu_s
+            .map(|c| format!(", {c:.1} s CPU on {} threads", report.time.threads))
+            .unwrap_or_default(),
+        if report
+            .sets
+            .iter()
+            .any(|s| s.source.starts_with("simulated"))
+        {
+            "The texture sets are simulated (the paper's recordings are not public) by the \
+             NeuroTac simulator, whose one calibrated parameter was set on the 5 mm grid's spikes \
+             per taxel and never on accuracies: the comparison with the paper measures how close \
+             the simulated sensor is to the real one.\n\n"
+        } else {
+            ""
+        }
+    )
+}
+
+/// A set's section of `report.md`.
+fn markdown_set(set: &SetReport, md: &mut String) {
+    let d = &set.direct;
+    let name = &d.name;
+    let samples: usize = d.samples_per_class.iter().sum();
+    let _ = write!(
+        md,
+        "## {} set\n\n{} classes, {samples} samples ({}); {:.2} spikes per taxel on average; \
+         dataset {:.1} s, pipeline {:.1} s wall.\n\n",
+        name,
+        d.class_names.len(),
+        set.source,
+        d.mean_spikes_per_taxel,
+        set.dataset_time.wall_s,
+        d.time.wall_s
+    );
+    if set.quick {
+        md.push_str(
+            "A quick run (`--quick`: 10 slides per texture, 60 optimisation epochs, τ on a 10 ms \
+             grid): its accuracies and chosen parameters are not comparable with the paper's.\n\n",
+        );
+    }
+    md.push_str(&accuracy_table(set));
+    md.push('\n');
+    if let Some(c) = d.codings.iter().find_map(|c| c.split_refused.as_ref()) {
+        let _ = write!(
+            md,
+            "The 80/20 split was refused: {c}. The confusion matrices show leave-one-out.\n\n"
+        );
+    }
+    md.push_str(&parameter_table(d));
+    md.push('\n');
+    md.push_str(&intensive_table(d));
+    md.push('\n');
+    if let Some(a) = &set.afferent {
+        let _ = write!(
+            md,
+            "Afferent variant: taxel spikes → exponential synapses (τ = {:.0} ms, weight {}) \
+             → one {} neuron per taxel (dt = {:.2} ms), then the same pipeline (its own Δt \
+             sweep and optimisation). Times include each coding's parameter search.\n\n",
+            a.tau_syn_s * 1e3,
+            a.weight,
+            a.model,
+            a.dt_s * 1e3,
+        );
+        md.push_str(&afferent_table(set));
+        md.push('\n');
+    }
+    let _ = write!(
+        md,
+        "![spike trains](spike_trains_{name}.svg)\n\n*Spike trains of one sample per \
+         texture (rows: raster, spikes per taxel, spikes per taxel in the chosen Δt \
+         window).*\n\n"
+    );
+    md.push_str(if d.codings.iter().any(|c| c.split.is_none()) {
+        "Confusion matrices (leave-one-out; the split was refused):\n\n"
+    } else {
+        "Confusion matrices (80/20 split):\n\n"
+    });
+    for c in CodingName::ALL {
+        let _ = write!(
+            md,
+            "![{} confusion](confusion_{name}_{}.svg) ",
+            c.label(),
+            c.key()
+        );
+    }
+    let _ = write!(
+        md,
+        "\n\n![Δt sweep](dt_sweep_{name}.svg)\n\n![BO convergence](bo_convergence_{name}.svg)\n\n"
+    );
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::report::tables::tests::{report_of, set_result};
+
+    #[test]
+    fn the_page_names_the_run_and_embeds_every_figure_of_every_set() {
+        let mut report = report_of(set_result("artificial"), "simulated, 10 slides per texture");
+        (report.command, report.version, report.seed) =
+            ("neurotac reproduce --quick".into(), "9.9".into(), 4);
+        let md = report_markdown(&report);
+        assert!(md.starts_with(
+            "# NeuroTac reproduction\n\n`neurotac reproduce --quick` (neurotac 9.9, seed 4)"
+        ));
+        assert!(md.contains("The texture sets are simulated"));
+        assert!(md.contains("## artificial set"));
+        assert!(md.contains("The 80/20 split was refused: class 1 has 1 sample(s)."));
+        for stem in [
+            "spike_trains_artificial",
+            "confusion_artificial_spatial",
+            "dt_sweep_artificial",
+            "bo_convergence_artificial",
+        ] {
+            assert!(md.contains(&format!("({stem}.svg)")), "no {stem}");
+        }
+        assert!(md.ends_with("every figure as SVG and PNG.\n"));
+    }
+}

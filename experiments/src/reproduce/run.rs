@@ -1,0 +1,372 @@
+//! A whole reproduction ([`run`]): each [`Source`] → taxel spike dataset → [`run_set`] (and the
+//! afferent variant when asked) → one [`Report`], ready for [`crate::report::write_report`].
+
+use super::paper;
+use super::{PipelineConfig, SetResult, run_set};
+use crate::afferents::{AfferentConfig, AfferentModel, afferent_dataset};
+use crate::datasets::recorded::{RecordedError, list_recorded, load_recorded};
+use crate::datasets::simulated::{DatasetsError, TextureSet, load_or_simulate_with};
+use crate::error::ExperimentError;
+use crate::progress::Progress;
+use crate::timing::{Timing, timed};
+use neurotac_core::{MultiSpikeTrain, SpikeDataset};
+use neurotac_sensor::filter::MapStart;
+use neurotac_sensor::sim::SimParams;
+use neurotac_sensor::taxel::{TaxelLayout, TransductionConfig};
+use serde::Serialize;
+use std::path::PathBuf;
+
+/// How long the afferent network keeps running after a sample's duration (s), so the
+/// responses to the last taxel spikes (synapse τ 5 ms plus the neuron's latency) are recorded.
+pub const AFFERENT_TAIL_S: f64 = 0.05;
+
+/// A set to run: the bundled simulated texture set, or a recorded dataset folder (one
+/// sub-folder of event files per class, see [`crate::datasets::recorded`]).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Source {
+    /// A simulated set ([`crate::datasets::simulated`]), read from the cache when there.
+    Simulated(TextureSet),
+    /// A recorded dataset folder.
+    Recorded(PathBuf),
+}
+
+/// Everything a reproduction needs besides its sources.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ReproduceConfig {
+    /// The pipeline (KNN, Δt sweep, Bayesian optimisation, split).
+    pub pipeline: PipelineConfig,
+    /// Seed of the simulated datasets (the pipeline's seeds are in `pipeline`).
+    pub seed: u64,
+    /// Slides per texture of the simulated sets; `None`: the paper's (100 / 50).
+    pub trials: Option<usize>,
+    /// Simulator parameters.
+    pub params: SimParams,
+    /// Cache folder of simulated datasets.
+    pub cache: PathBuf,
+    /// Also run every set through afferent neurons.
+    pub afferents: Option<AfferentConfig>,
+    /// `true` for a reduced run ([`ReproduceConfig::quick`]): its tables are not comparable
+    /// with the paper's.
+    pub quick: bool,
+    /// The command line recorded in the report (e.g. `neurotac reproduce --quick`).
+    pub command: String,
+}
+
+impl ReproduceConfig {
+    /// The paper's protocol ([`PipelineConfig::paper`]) on the paper's slide counts, simulated
+    /// datasets cached in `cache`.
+    pub fn paper(seed: u64, cache: PathBuf) -> Self {
+        Self {
+            pipeline: PipelineConfig::paper(seed),
+            seed,
+            trials: None,
+            params: SimParams::default(),
+            cache,
+            afferents: None,
+            quick: false,
+            command: String::new(),
+        }
+    }
+
+    /// A first look in under a minute: 10 slides per texture, 60 epochs, τ on a 10 ms grid.
+    pub fn quick(seed: u64, cache: PathBuf) -> Self {
+        let mut c = Self::paper(seed, cache);
+        c.pipeline.bayes.epochs = 60;
+        c.pipeline.bayes.tau_step_s = 0.01;
+        c.trials = Some(10);
+        c.quick = true;
+        c
+    }
+}
+
+/// Why a reproduction stopped.
+#[derive(Debug, thiserror::Error)]
+pub enum ReproduceError {
+    /// Zero slides per texture.
+    #[error("--trials 0: at least one slide per texture is needed")]
+    ZeroTrials,
+    /// A simulated dataset could not be built.
+    #[error("building the {set} dataset")]
+    Simulated {
+        /// The set.
+        set: &'static str,
+        /// Why.
+        source: DatasetsError,
+    },
+    /// A recorded dataset could not be loaded.
+    #[error(transparent)]
+    Recorded(#[from] RecordedError),
+    /// The pipeline failed on a set.
+    #[error("running the pipeline on the {name} {what}")]
+    Pipeline {
+        /// The set.
+        name: String,
+        /// `set` or `afferents`.
+        what: &'static str,
+        /// Why (boxed: experiment errors are large).
+        source: Box<ExperimentError>,
+    },
+    /// The afferent network failed.
+    #[error("running the afferent network")]
+    Afferents(#[source] Box<ExperimentError>),
+}
+
+/// The afferent-network variant of one set.
+#[derive(Debug, Clone, Serialize)]
+pub struct AfferentRun {
+    /// `lif` or `izhikevich`.
+    pub model: String,
+    /// Synaptic weight, synaptic τ (s) and step (s) used.
+    pub weight: f64,
+    /// Synaptic time constant (s).
+    pub tau_syn_s: f64,
+    /// Network time step (s).
+    pub dt_s: f64,
+    /// Time to run every sample through the afferent network.
+    pub network_time: Timing,
+    /// The pipeline on the afferents' spikes.
+    pub result: SetResult,
+}
+
+/// One set: where its data came from, the direct pipeline, and the afferent variant if run.
+#[derive(Debug, Clone, Serialize)]
+pub struct SetReport {
+    /// `simulated (…)` or the recorded dataset's folder.
+    pub source: String,
+    /// Time to build or load the taxel spike dataset.
+    pub dataset_time: Timing,
+    /// Taxel spikes → codings (the paper's pipeline).
+    pub direct: SetResult,
+    /// Taxel spikes → afferent neurons → codings.
+    pub afferent: Option<AfferentRun>,
+    /// A reduced run ([`ReproduceConfig::quick`]): its tables are not comparable with the
+    /// paper's.
+    pub quick: bool,
+    /// One sample of each class shown in the spike-train figure: `(class name, sample)`.
+    #[serde(skip)]
+    pub examples: Vec<(String, MultiSpikeTrain)>,
+}
+
+/// A whole run.
+#[derive(Debug, Clone, Serialize)]
+pub struct Report {
+    /// The command line.
+    pub command: String,
+    /// neurotac's version.
+    pub version: String,
+    /// Seed of the datasets, the split and the search.
+    pub seed: u64,
+    /// The sets, in run order.
+    pub sets: Vec<SetReport>,
+    /// Wall and CPU time of the datasets and pipelines (writing the report not included).
+    pub time: Timing,
+}
+
+/// Runs the paper's pipeline on every source in order (on the current rayon pool) and gathers
+/// the report. `progress` sees every long stage, and one note per dataset ready.
+pub fn run(
+    config: &ReproduceConfig,
+    sources: &[Source],
+    progress: &dyn Progress,
+) -> Result<Report, ReproduceError> {
+    if config.trials == Some(0) {
+        return Err(ReproduceError::ZeroTrials);
+    }
+    let (sets, time) = timed(|| {
+        sources
+            .iter()
+            .map(|source| run_source(source, config, progress))
+            .collect::<Result<Vec<_>, _>>()
+    });
+    Ok(Report {
+        command: config.command.clone(),
+        version: env!("CARGO_PKG_VERSION").to_owned(),
+        seed: config.seed,
+        sets: sets?,
+        time,
+    })
+}
+
+/// The taxel spike dataset of `source`, its name and how it was made.
+fn load_source(
+    source: &Source,
+    config: &ReproduceConfig,
+    progress: &dyn Progress,
+) -> Result<(String, String, SpikeDataset), ReproduceError> {
+    match source {
+        Source::Simulated(set) => {
+            let trials = config.trials.unwrap_or(set.paper_trials());
+            progress.stage(
+                &format!("{} set: simulating or loading", set.name()),
+                (trials * set.textures().len()) as u64,
+            );
+            let (seed, cache) = (config.seed, &config.cache);
+            let data = load_or_simulate_with(*set, trials, seed, &config.params, cache, &|| {
+                progress.advance(1)
+            })
+            .map_err(|source| ReproduceError::Simulated {
+                set: set.name(),
+                source,
+            })?;
+            progress.finish();
+            let how = format!(
+                "simulated, {trials} slides per texture, seed {seed}, cache {}",
+                cache.display()
+            );
+            Ok((set.name().to_owned(), how, data))
+        }
+        Source::Recorded(dir) => {
+            let name = dir
+                .canonicalize()
+                .ok()
+                .and_then(|d| d.file_name().map(|n| n.to_string_lossy().into_owned()))
+                .unwrap_or_else(|| "recorded".into());
+            let files: usize = list_recorded(dir)?.iter().map(|(_, f)| f.len()).sum();
+            progress.stage(&format!("{name}: transducing event files"), files as u64);
+            // The paper's transduction; the BA map starts empty, so a recording's first
+            // events are judged like any others whatever its time origin.
+            let transduction = TransductionConfig {
+                ba_start: MapStart::Empty,
+                ..TransductionConfig::default()
+            };
+            let layout = TaxelLayout::neurotac_default();
+            let recorded = load_recorded(dir, &layout, transduction, |_, _| progress.advance(1))?;
+            progress.finish();
+            Ok((
+                name,
+                format!("recorded, {}", dir.display()),
+                recorded.dataset,
+            ))
+        }
+    }
+}
+
+/// One source through the pipeline (and the afferent variant when asked).
+fn run_source(
+    source: &Source,
+    config: &ReproduceConfig,
+    progress: &dyn Progress,
+) -> Result<SetReport, ReproduceError> {
+    let (loaded, dataset_time) = timed(|| load_source(source, config, progress));
+    let (name, source_text, data) = loaded?;
+    progress.note(&format!(
+        "{name}: {} samples, {} classes, dataset ready in {:.1} s",
+        data.len(),
+        data.n_classes(),
+        dataset_time.wall_s
+    ));
+    let pipeline = |data: &SpikeDataset, what| {
+        run_set(&name, data, &config.pipeline, progress).map_err(|source| {
+            ReproduceError::Pipeline {
+                name: name.clone(),
+                what,
+                source: Box::new(source),
+            }
+        })
+    };
+    let direct = pipeline(&data, "set")?;
+    let afferent = match config.afferents {
+        None => None,
+        Some(a) => {
+            let duration_s = direct.duration_ms as f64 * 1e-3 + AFFERENT_TAIL_S;
+            progress.stage(&format!("{name}: afferent network"), data.len() as u64);
+            let (spikes, network_time) =
+                timed(|| afferent_dataset(&data, duration_s, a, &|| progress.advance(1)));
+            let spikes = spikes.map_err(|e| ReproduceError::Afferents(Box::new(e)))?;
+            progress.finish();
+            Some(AfferentRun {
+                model: match a.model {
+                    AfferentModel::Lif => "lif".into(),
+                    AfferentModel::Izhikevich => "izhikevich".into(),
+                },
+                weight: a.weight,
+                tau_syn_s: a.tau_syn_s,
+                dt_s: a.dt_s,
+                network_time,
+                result: pipeline(&spikes, "afferents")?,
+            })
+        }
+    };
+    Ok(SetReport {
+        source: source_text,
+        dataset_time,
+        examples: example_samples(&data),
+        direct,
+        afferent,
+        quick: config.quick,
+    })
+}
+
+/// The samples to draw in the spike-train figure: the first sample of the 0, 2.5 and 5 mm
+/// grids when the set has them (the paper's figure), else of the first, middle and last class.
+pub fn example_samples(data: &SpikeDataset) -> Vec<(String, MultiSpikeTrain)> {
+    let names = data.class_names();
+    let wanted: Vec<usize> = {
+        let grids: Vec<usize> = paper::INTENSIVE_MEANS
+            .iter()
+            .filter_map(|&(mm, _)| names.iter().position(|n| *n == paper::grid_name(mm)))
+            .collect();
+        if grids.len() == 3 {
+            grids
+        } else {
+            let n = data.n_classes();
+            let mut v = vec![0, n / 2, n.saturating_sub(1)];
+            v.dedup();
+            v
+        }
+    };
+    wanted
+        .into_iter()
+        .filter_map(|c| {
+            let i = data.labels().iter().position(|&l| l == c)?;
+            Some((names[c].clone(), data.observations()[i].clone()))
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::datasets::synthetic::{SyntheticConfig, synthetic_dataset};
+    use crate::progress::NoProgress;
+
+    /// A recorded-style folder is not needed to test the assembly: a missing folder is a
+    /// typed error, and zero trials is refused before any work.
+    #[test]
+    fn bad_sources_and_zero_trials_are_typed_errors() {
+        let dir = tempfile::tempdir().unwrap();
+        let mut config = ReproduceConfig::quick(1, dir.path().join("cache"));
+        let missing = Source::Recorded(dir.path().join("nope"));
+        assert!(matches!(
+            run(&config, &[missing], &NoProgress),
+            Err(ReproduceError::Recorded(RecordedError::Missing { .. }))
+        ));
+        config.trials = Some(0);
+        assert!(matches!(
+            run(&config, &[], &NoProgress),
+            Err(ReproduceError::ZeroTrials)
+        ));
+    }
+
+    #[test]
+    fn quick_is_the_paper_protocol_reduced() {
+        let paper = ReproduceConfig::paper(3, "c".into());
+        let quick = ReproduceConfig::quick(3, "c".into());
+        assert_eq!((paper.trials, paper.pipeline.bayes.epochs), (None, 1000));
+        assert_eq!((quick.trials, quick.pipeline.bayes.epochs), (Some(10), 60));
+        assert!(quick.quick && !paper.quick);
+        assert_eq!(quick.pipeline.k, paper.pipeline.k);
+    }
+
+    #[test]
+    fn examples_are_the_papers_grids_or_first_middle_last() {
+        let data = synthetic_dataset(&SyntheticConfig {
+            samples: 10,
+            classes: 5,
+            channels: 2,
+            ..SyntheticConfig::default()
+        });
+        let names: Vec<String> = example_samples(&data).into_iter().map(|e| e.0).collect();
+        assert_eq!(names, ["texture 0", "texture 2", "texture 4"]);
+    }
+}
