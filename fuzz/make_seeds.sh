@@ -58,5 +58,6 @@ printf 't,x,y,on\n0,1,2,1\n4294967296,3,4,0\n9223372036854775,5,6,1\n-9223372036
 printf 't,x,y,on\n10,1,2,1\n5,1,2,0\n11,300,2,1\n12,2,180,0\n' > "$c/text/backwards_outside.csv"
 printf '999999999999.999999 1 2 1\n-999999999999.9999995 3 4 0\n' > "$c/text/far_seconds.txt"
 
-cp "$c"/aedat2/* "$c"/aedat3/* "$c"/aedat4/* "$c"/text/* "$c/any_format/"
+# The named seeds (fuzzer finds are named by their hash, without an extension) for detection too.
+cp "$c"/aedat2/*.* "$c"/aedat3/*.* "$c"/aedat4/*.* "$c"/text/*.* "$c/any_format/"
 echo "seeds written to $c/"

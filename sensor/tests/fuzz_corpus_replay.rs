@@ -239,6 +239,7 @@ fn issue_14_every_corpus_file_through_every_reader_and_writer() {
     let mut files = 0;
     let mut total_bytes = 0;
     let mut largest_peak = 0;
+    let mut seen = std::collections::HashSet::new();
     for target in TARGETS {
         let dir = root.join(target);
         let mut entries: Vec<PathBuf> = std::fs::read_dir(&dir)
@@ -250,6 +251,11 @@ fn issue_14_every_corpus_file_through_every_reader_and_writer() {
         assert!(!entries.is_empty(), "{}: empty corpus", dir.display());
         for path in entries {
             let bytes = std::fs::read(&path).unwrap();
+            // A file several targets share (cmin names finds by their hash) is replayed once,
+            // and git stores it once.
+            if !seen.insert(bytes.clone()) {
+                continue;
+            }
             let name = format!("{target}/{}", path.file_name().unwrap().to_string_lossy());
             let before = LIVE.load(Ordering::Relaxed);
             PEAK.store(before, Ordering::Relaxed);
@@ -265,9 +271,9 @@ fn issue_14_every_corpus_file_through_every_reader_and_writer() {
             largest_peak = largest_peak.max(used);
         }
     }
-    // The committed corpus stays small (issue 14: at most 2 MB in all).
+    // The committed corpus stays small (issue 14: at most 2 MB of distinct files in all).
     assert!(total_bytes <= 2_000_000, "corpus of {total_bytes} bytes");
     eprintln!(
-        "replayed {files} corpus files ({total_bytes} bytes); largest allocation peak {largest_peak} bytes"
+        "replayed {files} distinct corpus files ({total_bytes} bytes); largest allocation peak {largest_peak} bytes"
     );
 }
