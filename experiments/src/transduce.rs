@@ -4,7 +4,6 @@
 //! detected from the head of the recording) and [`filter_file`] (event file → event file).
 
 use crate::datasets::metadata::write_metadata;
-use crate::datasets::recorded::{PushError, push_all};
 use neurotac_core::{DatasetError, EventBuffer, MultiSpikeTrain, SpikeDataset};
 use neurotac_sensor::filter::{BackgroundActivityFilter, MapStart, RefractoryFilter};
 use neurotac_sensor::format::{ReadStats, create_writer, open_reader};
@@ -13,7 +12,7 @@ use neurotac_sensor::stage::{Filtered, Stage};
 use neurotac_sensor::taxel::{
     LayoutDetection, TaxelLayout, Transducer, TransductionConfig, TransductionCounts,
 };
-use neurotac_sensor::{FormatError, TransductionError};
+use neurotac_sensor::{FormatError, ReaderTransductionError, TransductionError};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
@@ -172,16 +171,15 @@ pub fn transduce_file(
     let mut transducer = Transducer::new(layout, config).map_err(transduction)?;
     let start = Instant::now();
     let mut reader = open_reader(input)?;
-    let transducing = match push_all(reader.as_mut(), &mut transducer, |_, _| Ok::<_, ()>(())) {
-        Ok(t) => t,
-        Err(PushError::Read(e)) => return Err(e.into()),
-        Err(PushError::Transduction(e)) => return Err(transduction(e)),
-        Err(PushError::Stopped(())) => unreachable!("the inspection never stops"),
-    };
+    let t = transducer
+        .transduce_reader(reader.as_mut(), input)
+        .map_err(|e| match e {
+            ReaderTransductionError::Read(e) => TransduceError::Format(e),
+            ReaderTransductionError::Transduction { source, .. } => transduction(source),
+        })?;
+    let (transducing, read) = (t.transduce_time, t.read);
     let wall = start.elapsed();
-    let read = reader.stats();
-    let counts = transducer.counts();
-    let trains = transducer.spike_trains();
+    let (counts, trains) = (t.counts, t.spike_trains);
     let mut meta = serde_json::Map::new();
     meta.insert("source".into(), input.display().to_string().into());
     meta.insert("layout".into(), layout_name.into());
