@@ -73,7 +73,7 @@ fn noise_is_labelled_and_at_the_background_activity_rate() {
     let camera = Camera::new(&moving, 11);
     let mut sim = Simulator::new(moving, &camera).unwrap();
     let grid = sim.prepare(Texture::grid(5.0).unwrap());
-    let clean = sim.simulate_with(&grid, 5, false);
+    let clean = sim.simulate_with(&grid, 0, 5, false);
     assert!(!clean.events.is_empty());
     assert_eq!(clean.noise_count(), 0);
     let noisy = sim.simulate(&grid, 5);
