@@ -334,8 +334,7 @@ fn calibrate_command(a: CalibrateArgs) -> anyhow::Result<()> {
         Some(path) => {
             let tmp = path.with_extension("json.tmp");
             std::fs::write(&tmp, text).with_context(|| format!("writing {}", tmp.display()))?;
-            std::fs::rename(&tmp, &path)
-                .with_context(|| format!("writing {}", path.display()))?;
+            std::fs::rename(&tmp, &path).with_context(|| format!("writing {}", path.display()))?;
             println!("→ {}", path.display());
         }
         None => println!("{text}"),

@@ -112,7 +112,9 @@ pub fn calibrate(
     let mut p = *params;
     let mut slides = 0usize;
     let count_of = |size_mm: f64| {
-        move |q: &SimParams| -> Result<f64, DatasetsError> { grid_count(q, size_mm, trials, seed, progress) }
+        move |q: &SimParams| -> Result<f64, DatasetsError> {
+            grid_count(q, size_mm, trials, seed, progress)
+        }
     };
     let flat_count = count_of(flat.0);
     let (_, flat_achieved) = bisect(

@@ -530,7 +530,10 @@ pub fn simulator_check(
     let signal_kept = (0..11)
         .map(|c| {
             let runs = of(&grids, c, n);
-            (GRID_SIZES_MM[c], mean(runs.iter().map(|s| s.signal_kept_fraction)))
+            (
+                GRID_SIZES_MM[c],
+                mean(runs.iter().map(|s| s.signal_kept_fraction)),
+            )
         })
         .collect();
     Ok(CheckReport {

@@ -56,13 +56,19 @@ pub struct Mounting {
 }
 
 impl Mounting {
-    /// The mounting of the texture named `texture` on the rig `rig_seed` (a pure function of
-    /// both: the same texture is mounted once per recording).
-    pub fn new(params: &SimParams, rig_seed: u64, texture: &str) -> Self {
-        let k = &params.kinematics;
-        let name_hash = texture.bytes().fold(0xcbf2_9ce4_8422_2325u64, |h, b| {
+    /// A texture's key for [`new`](Self::new): FNV-1a of its name.
+    pub fn texture_key(name: &str) -> u64 {
+        name.bytes().fold(0xcbf2_9ce4_8422_2325u64, |h, b| {
             (h ^ b as u64).wrapping_mul(0x0000_0100_0000_01b3)
-        });
+        })
+    }
+
+    /// The mounting of the texture with key `texture_key` ([`texture_key`](Self::texture_key))
+    /// on the rig `rig_seed` (a pure function of both: the same texture is mounted once per
+    /// recording).
+    pub fn new(params: &SimParams, rig_seed: u64, texture_key: u64) -> Self {
+        let k = &params.kinematics;
+        let name_hash = texture_key;
         let mut day = ChaCha8Rng::seed_from_u64(mix64(rig_seed ^ 0x6461_7900));
         let day_friction = (1.0 + params.contact.friction_day_sd * gaussian(&mut day)).max(0.5);
         let mut rng = ChaCha8Rng::seed_from_u64(mix64(rig_seed ^ mix64(name_hash)));
@@ -504,9 +510,15 @@ mod tests {
         let p = SimParams::default();
         let texture = Texture::grid(2.5).unwrap();
         let (_, surface) = texture.prepare(&p, p.nominal_pressure_mpa(20.0));
-        let mounting = Mounting::new(&p, 11, &texture.name());
-        assert_eq!(mounting, Mounting::new(&p, 11, &texture.name()));
-        assert_ne!(mounting, Mounting::new(&p, 12, &texture.name()));
+        let mounting = Mounting::new(&p, 11, Mounting::texture_key(&texture.name()));
+        assert_eq!(
+            mounting,
+            Mounting::new(&p, 11, Mounting::texture_key(&texture.name()))
+        );
+        assert_ne!(
+            mounting,
+            Mounting::new(&p, 12, Mounting::texture_key(&texture.name()))
+        );
         let draws: Vec<TrialDraw> = (0..200)
             .map(|i| {
                 let mut rng = ChaCha8Rng::seed_from_u64(i);
@@ -515,17 +527,41 @@ mod tests {
             .collect();
         let rp = p.kinematics.position_repeatability_mm;
         // Offsets within 5 repeatabilities of the mounting; depth and onset jitter bounded.
-        assert!(draws.iter().all(|d| (d.lateral_offset_mm - mounting.lateral_offset_mm).abs() < 5.0 * rp));
-        assert!(draws.iter().all(|d| (d.start_phase_mm - mounting.start_phase_mm).abs() < 5.0 * rp));
-        assert!(draws.iter().all(|d| (d.press_depth_mm - 2.0).abs() < 5.0 * p.kinematics.press_depth_sd_mm));
-        assert!(draws.iter().all(|d| d.onset_delay_s.abs() < 5.0 * p.kinematics.onset_jitter_s));
+        assert!(
+            draws
+                .iter()
+                .all(|d| (d.lateral_offset_mm - mounting.lateral_offset_mm).abs() < 5.0 * rp)
+        );
+        assert!(
+            draws
+                .iter()
+                .all(|d| (d.start_phase_mm - mounting.start_phase_mm).abs() < 5.0 * rp)
+        );
+        assert!(
+            draws
+                .iter()
+                .all(|d| (d.press_depth_mm - 2.0).abs() < 5.0 * p.kinematics.press_depth_sd_mm)
+        );
+        assert!(
+            draws
+                .iter()
+                .all(|d| d.onset_delay_s.abs() < 5.0 * p.kinematics.onset_jitter_s)
+        );
         // Friction: μ_s/μ_k fixed by the texture; the factor drifts slowly (neighbouring slides
         // differ far less than the drift's range).
         let ratio = surface.mu_static / surface.mu_kinetic;
-        assert!(draws.iter().all(|d| (d.mu_static / d.mu_kinetic - ratio).abs() < 1e-12));
+        assert!(
+            draws
+                .iter()
+                .all(|d| (d.mu_static / d.mu_kinetic - ratio).abs() < 1e-12)
+        );
         let f: Vec<f64> = (0..200).map(|n| mounting.friction_factor(n)).collect();
-        let step = f.windows(2).map(|w| (w[1] - w[0]).abs()).fold(0.0, f64::max);
-        let range = f.iter().copied().fold(f64::MIN, f64::max) - f.iter().copied().fold(f64::MAX, f64::min);
+        let step = f
+            .windows(2)
+            .map(|w| (w[1] - w[0]).abs())
+            .fold(0.0, f64::max);
+        let range =
+            f.iter().copied().fold(f64::MIN, f64::max) - f.iter().copied().fold(f64::MAX, f64::min);
         assert!(step < 0.2 * range, "{step} vs {range}");
         // The switch restores independent per-slide offsets.
         let mut q = p;
@@ -536,7 +572,9 @@ mod tests {
                 TrialDraw::draw(&q, &surface, &mounting, 0, &mut rng).lateral_offset_mm
             })
             .collect();
-        let (lo, hi) = spread.iter().fold((f64::MAX, f64::MIN), |(a, b), &x| (a.min(x), b.max(x)));
+        let (lo, hi) = spread
+            .iter()
+            .fold((f64::MAX, f64::MIN), |(a, b), &x| (a.min(x), b.max(x)));
         assert!(hi - lo > 3.0, "{lo} {hi}");
     }
 }

@@ -44,9 +44,9 @@ pub mod pixel;
 pub mod texture;
 
 pub use camera::Camera;
+pub use contact::SkinContact;
 pub use diagnostics::{EdgePass, PixelSanity, edge_pass, pixel_sanity};
 pub use error::SimulationError;
-pub use contact::SkinContact;
 pub use mechanics::{Mounting, PinTrajectories, TrialDraw};
 pub use params::{CalibratedParameter, PAPER_INTENSIVE_MEANS, PeriodRule, SimParams};
 pub use pixel::{EventLabel, PixelModel, PixelRunStats};
@@ -71,6 +71,8 @@ pub struct PreparedTexture {
     pub field: TextureField,
     /// Its friction, micro-slips and contact facts.
     pub surface: Surface,
+    /// Its mounting key ([`Mounting::texture_key`] of its name).
+    pub mounting_key: u64,
 }
 
 impl PreparedTexture {
@@ -83,6 +85,7 @@ impl PreparedTexture {
     pub fn for_dome(texture: Texture, params: &SimParams, dome_radius_mm: f64) -> Self {
         let (field, surface) = texture.prepare(params, params.nominal_pressure_mpa(dome_radius_mm));
         Self {
+            mounting_key: Mounting::texture_key(&texture.name()),
             texture,
             field,
             surface,
@@ -240,7 +243,7 @@ impl Simulator {
     ) -> SimulatedTrial {
         let params = self.params;
         let mut rng = ChaCha8Rng::seed_from_u64(mix64(seed ^ 0x6d65_6368));
-        let mounting = Mounting::new(&params, self.camera.rig_seed, &texture.texture.name());
+        let mounting = Mounting::new(&params, self.camera.rig_seed, texture.mounting_key);
         let draw = TrialDraw::draw(&params, &texture.surface, &mounting, slide, &mut rng);
         self.mechanics.run(
             &params,

@@ -358,33 +358,99 @@ pub struct CalibratedParameter {
 pub const PARAMETER_SOURCES: &[(&str, &str)] = &[
     ("kinematics.speed_mm_s", "paper: 15 mm/s"),
     ("kinematics.distance_mm", "paper: 60 mm per sample"),
-    ("kinematics.acceleration_mm_s2", "[A] spec 2.1: 100-500 mm/s^2"),
+    (
+        "kinematics.acceleration_mm_s2",
+        "[A] spec 2.1: 100-500 mm/s^2",
+    ),
     ("kinematics.press_depth_mm", "[A] spec 2.1: 1.5-3 mm"),
     ("kinematics.normal_force_n", "[A] spec 2.1: 1-3 N"),
-    ("kinematics.lateral_offset_range_mm", "[A] mounting of a texture under the arm, drawn once per texture"),
-    ("kinematics.start_phase_range_mm", "[A] one period of the coarsest grid, drawn once per texture"),
-    ("kinematics.position_repeatability_mm", "ABB IRB120 product specification: position repeatability RP = 0.01 mm"),
-    ("kinematics.press_depth_sd_mm", "same order as the arm's repeatability (ABB IRB120, RP = 0.01 mm)"),
-    ("kinematics.onset_jitter_s", "[A] host-commanded motion start: non-real-time host loop plus the IRC5 4 ms interpolation cycle"),
-    ("contact.skin_depth_mm", "spec 6: curve shape brackets z to 1-1.5 mm"),
-    ("contact.gap_conformity_mm", "CALIBRATED on the 2.5 mm grid (9.84 spikes/taxel)"),
-    ("contact.foundation_stiffness_n_mm3", "RTV27905 gel E ~ 0.03 MPa [K] over ~15 mm of gel"),
-    ("contact.lever_mm", "CALIBRATED on the 5 mm grid (34.73 spikes/taxel)"),
+    (
+        "kinematics.lateral_offset_range_mm",
+        "[A] mounting of a texture under the arm, drawn once per texture",
+    ),
+    (
+        "kinematics.start_phase_range_mm",
+        "[A] one period of the coarsest grid, drawn once per texture",
+    ),
+    (
+        "kinematics.position_repeatability_mm",
+        "ABB IRB120 product specification: position repeatability RP = 0.01 mm",
+    ),
+    (
+        "kinematics.press_depth_sd_mm",
+        "same order as the arm's repeatability (ABB IRB120, RP = 0.01 mm)",
+    ),
+    (
+        "kinematics.onset_jitter_s",
+        "[A] host-commanded motion start: non-real-time host loop plus the IRC5 4 ms interpolation cycle",
+    ),
+    (
+        "contact.skin_depth_mm",
+        "spec 6: curve shape brackets z to 1-1.5 mm",
+    ),
+    (
+        "contact.gap_conformity_mm",
+        "CALIBRATED on the 2.5 mm grid (9.84 spikes/taxel)",
+    ),
+    (
+        "contact.foundation_stiffness_n_mm3",
+        "RTV27905 gel E ~ 0.03 MPa [K] over ~15 mm of gel",
+    ),
+    (
+        "contact.lever_mm",
+        "CALIBRATED on the 5 mm grid (34.73 spikes/taxel)",
+    ),
     ("contact.pin_shear_gain", "[A] spec 2.2: g_pin ~ 0.5"),
-    ("contact.skin_shear_stiffness_n_mm3", "Gent (1958) Shore A 28 -> E ~ 1.05 MPa, G = E/3, 1 mm skin (lab manufacturing note)"),
+    (
+        "contact.skin_shear_stiffness_n_mm3",
+        "Gent (1958) Shore A 28 -> E ~ 1.05 MPa, G = E/3, 1 mm skin (lab manufacturing note)",
+    ),
     ("contact.bump_height_mm", "paper: cylinders 1 mm high"),
-    ("contact.tangential_stiffness_n_mm", "[A] spec 2.2: 1-3 N/mm"),
+    (
+        "contact.tangential_stiffness_n_mm",
+        "[A] spec 2.2: 1-3 N/mm",
+    ),
     ("contact.slip_time_s", "[A] spec 2.2: 5-20 ms"),
-    ("contact.adhesion_mu_kinetic", "spec 6 prototype; rubber on smooth polymer 0.5-1 (Persson 2001)"),
-    ("contact.static_excess", "CALIBRATED on the flat plate (4.63 spikes/taxel)"),
-    ("contact.loss_tangent", "[K] photopolymer rubbers (Tango/Agilus) tan delta 0.2-0.4; hysteresis friction after Greenwood & Tabor 1958"),
-    ("contact.micro_slope_rms", "[A] 3D-printed polymer micro-roughness; real contact area after Persson 2001"),
-    ("contact.skin_modulus_mpa", "Gent (1958) Shore A 28, nu = 0.5"),
-    ("contact.friction_day_sd", "[A] elastomer friction varies 5-20 % with humidity and surface state"),
-    ("contact.friction_drift_sd", "[A] slow drift over a texture's session, periods of 50-400 slides"),
-    ("optics", "spec 1.2 and 3.1 (disc radius, blur, contrast), v2e lin-log"),
-    ("pixel", "spec 3.3: v2e defaults (thresholds 0.2, sigma 0.03, refractory 0.5 ms, 300 Hz)"),
-    ("noise", "spec 3.3: total background activity 0.1-0.3 Hz per pixel"),
+    (
+        "contact.adhesion_mu_kinetic",
+        "spec 6 prototype; rubber on smooth polymer 0.5-1 (Persson 2001)",
+    ),
+    (
+        "contact.static_excess",
+        "CALIBRATED on the flat plate (4.63 spikes/taxel)",
+    ),
+    (
+        "contact.loss_tangent",
+        "[K] photopolymer rubbers (Tango/Agilus) tan delta 0.2-0.4; hysteresis friction after Greenwood & Tabor 1958",
+    ),
+    (
+        "contact.micro_slope_rms",
+        "[A] 3D-printed polymer micro-roughness; real contact area after Persson 2001",
+    ),
+    (
+        "contact.skin_modulus_mpa",
+        "Gent (1958) Shore A 28, nu = 0.5",
+    ),
+    (
+        "contact.friction_day_sd",
+        "[A] elastomer friction varies 5-20 % with humidity and surface state",
+    ),
+    (
+        "contact.friction_drift_sd",
+        "[A] slow drift over a texture's session, periods of 50-400 slides",
+    ),
+    (
+        "optics",
+        "spec 1.2 and 3.1 (disc radius, blur, contrast), v2e lin-log",
+    ),
+    (
+        "pixel",
+        "spec 3.3: v2e defaults (thresholds 0.2, sigma 0.03, refractory 0.5 ms, 300 Hz)",
+    ),
+    (
+        "noise",
+        "spec 3.3: total background activity 0.1-0.3 Hz per pixel",
+    ),
     ("solver", "numerical settings (neurotac tradeoff simulator)"),
 ];
 
@@ -460,7 +526,11 @@ impl SimParams {
                 k.press_depth_sd_mm,
                 Between(0.0, 0.5),
             ),
-            ("kinematics.onset_jitter_s", k.onset_jitter_s, Between(0.0, 0.1)),
+            (
+                "kinematics.onset_jitter_s",
+                k.onset_jitter_s,
+                Between(0.0, 0.1),
+            ),
             ("contact.skin_depth_mm", c.skin_depth_mm, Positive),
             ("contact.gap_conformity_mm", c.gap_conformity_mm, Positive),
             (
@@ -486,7 +556,11 @@ impl SimParams {
             ),
             ("contact.slip_time_s", c.slip_time_s, Positive),
             ("contact.slip_inertia_s", c.slip_inertia_s, Positive),
-            ("contact.adhesion_mu_kinetic", c.adhesion_mu_kinetic, Positive),
+            (
+                "contact.adhesion_mu_kinetic",
+                c.adhesion_mu_kinetic,
+                Positive,
+            ),
             ("contact.static_excess", c.static_excess, Between(0.0, 5.0)),
             ("contact.loss_tangent", c.loss_tangent, Between(0.0, 2.0)),
             ("contact.micro_slope_rms", c.micro_slope_rms, Positive),
@@ -494,7 +568,11 @@ impl SimParams {
             ("contact.microslip_min_mm", c.microslip_min_mm, NonNegative),
             ("contact.microslip_max_mm", c.microslip_max_mm, NonNegative),
             ("contact.microslip_time_s", c.microslip_time_s, Positive),
-            ("contact.friction_day_sd", c.friction_day_sd, Between(0.0, 0.3)),
+            (
+                "contact.friction_day_sd",
+                c.friction_day_sd,
+                Between(0.0, 0.3),
+            ),
             (
                 "contact.friction_drift_sd",
                 c.friction_drift_sd,

@@ -29,9 +29,9 @@
 //! never fitted to classification results.** The random parts are drawn from a seed derived from
 //! the texture's name only, so a texture is the same sample in every dataset.
 
+use super::contact::{ContactLaw, SkinContact, solve};
 use super::error::SimulationError;
 use super::fft::{Complex, fft2, frequency_index};
-use super::contact::{ContactLaw, SkinContact, solve};
 use super::params::{ContactParams, PeriodRule, SimParams};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -728,7 +728,11 @@ mod tests {
             .collect();
         assert!(all[0].0 < 1e-3, "{all:?}");
         assert!(all[9].0 > 0.2 && (all[9].1 - 1.0).abs() < 1e-6, "{all:?}");
-        assert!(all.windows(2).all(|w| w[1].0 >= w[0].0 && w[1].1 >= w[0].1 - 1e-9), "{all:?}");
+        assert!(
+            all.windows(2)
+                .all(|w| w[1].0 >= w[0].0 && w[1].1 >= w[0].1 - 1e-9),
+            "{all:?}"
+        );
     }
 
     #[test]
@@ -740,9 +744,19 @@ mod tests {
             .map(|&d| prepared(&format!("grid {d} mm")).1)
             .collect();
         let snap = |s: &Surface| s.mu_static - s.mu_kinetic;
-        assert!((snap(&surfaces[0]) - snap(&surfaces[1])).abs() > 0.01, "{surfaces:?}");
-        assert!(surfaces[10].mu_static > surfaces[5].mu_static, "{surfaces:?}");
-        assert!(surfaces.iter().all(|s| s.mu_static >= s.mu_kinetic && s.mu_kinetic > 0.0));
+        assert!(
+            (snap(&surfaces[0]) - snap(&surfaces[1])).abs() > 0.01,
+            "{surfaces:?}"
+        );
+        assert!(
+            surfaces[10].mu_static > surfaces[5].mu_static,
+            "{surfaces:?}"
+        );
+        assert!(
+            surfaces
+                .iter()
+                .all(|s| s.mu_static >= s.mu_kinetic && s.mu_kinetic > 0.0)
+        );
         // More contact once the skin reaches the floor of the coarse gaps.
         assert!(surfaces[10].contact_fraction > surfaces[2].contact_fraction);
     }
@@ -761,7 +775,11 @@ mod tests {
         let t = (1.0 + k * c.skin_depth_mm) * (-k * c.skin_depth_mm).exp();
         let s = f.sample(0.0, 1.0);
         assert!((s.w - t).abs() < 1e-5, "{} vs {t}", s.w);
-        assert!((s.traction_mpa - t).abs() < 1e-5, "{} vs {t}", s.traction_mpa);
+        assert!(
+            (s.traction_mpa - t).abs() < 1e-5,
+            "{} vs {t}",
+            s.traction_mpa
+        );
         let q = f.sample(lambda / 4.0, 0.0);
         assert!((q.dw_dx + t * k).abs() < 1e-4, "{} vs {}", q.dw_dx, -t * k);
     }
