@@ -73,7 +73,7 @@ fn noise_is_labelled_and_at_the_background_activity_rate() {
     let camera = Camera::new(&moving, 11);
     let mut sim = Simulator::new(moving, &camera).unwrap();
     let grid = sim.prepare(Texture::grid(5.0).unwrap());
-    let clean = sim.simulate_with(&grid, 5, false);
+    let clean = sim.simulate_with(&grid, 0, 5, false);
     assert!(!clean.events.is_empty());
     assert_eq!(clean.noise_count(), 0);
     let noisy = sim.simulate(&grid, 5);
@@ -168,4 +168,44 @@ fn bad_parameters_and_names_are_typed_errors() {
         Texture::from_name("corduroy velvet"),
         Err(SimulationError::UnknownTexture { .. })
     ));
+}
+
+#[test]
+fn issue_12_onset_snap_and_friction_depend_on_the_texture() {
+    // Friction follows each texture's contact, so the peak shear at the end of the stick (the
+    // onset snap) differs between the flat plate and a grid whose skin drapes into the gaps.
+    let mut p = short();
+    p.kinematics.distance_mm = 5.0;
+    let camera = Camera::new(&p, 3);
+    let mut sim = Simulator::new(p, &camera).unwrap();
+    let peak = |sim: &mut Simulator, name: &str| {
+        let t = sim.prepare(Texture::from_name(name).unwrap());
+        let trial = sim.simulate(&t, 1);
+        let shear = &sim.trajectories().shear_mm;
+        (
+            trial.info.draw.mu_static,
+            shear.iter().copied().fold(0.0f32, f32::max),
+        )
+    };
+    let (mu_flat, s_flat) = peak(&mut sim, "grid 0 mm");
+    let (mu_grid, s_grid) = peak(&mut sim, "grid 2.5 mm");
+    assert!((mu_flat - mu_grid).abs() > 0.02, "{mu_flat} {mu_grid}");
+    assert!((s_flat - s_grid).abs() > 0.02, "{s_flat} {s_grid}");
+}
+
+#[test]
+fn issue_12_slides_of_one_texture_share_their_mounting() {
+    // Offsets belong to the mounting: two slides of one texture differ by the arm's
+    // repeatability only; the per-slide switch restores independent offsets.
+    let p = short();
+    let a = run(p, "grid 2.5 mm", 1).info.draw;
+    let b = run(p, "grid 2.5 mm", 2).info.draw;
+    let rp = p.kinematics.position_repeatability_mm;
+    assert!((a.lateral_offset_mm - b.lateral_offset_mm).abs() < 10.0 * rp);
+    assert!((a.start_phase_mm - b.start_phase_mm).abs() < 10.0 * rp);
+    let mut q = p;
+    q.kinematics.per_slide_offsets = true;
+    let c = run(q, "grid 2.5 mm", 1).info.draw;
+    let d = run(q, "grid 2.5 mm", 2).info.draw;
+    assert!((c.lateral_offset_mm - d.lateral_offset_mm).abs() > 10.0 * rp);
 }

@@ -241,10 +241,15 @@ fn transduce(events: &EventBuffer, chunk: usize, config: TransductionConfig) -> 
 #[test]
 fn transduction_does_not_depend_on_how_the_stream_is_chunked() {
     let events = synthetic_stream(50_000, 3);
-    let whole = transduce(&events, usize::MAX, TransductionConfig::default());
+    // Fields wide enough for the synthetic stream's spread (the default is the paper's 3 px).
+    let config = TransductionConfig {
+        rf_radius_px: 6.0,
+        ..TransductionConfig::default()
+    };
+    let whole = transduce(&events, usize::MAX, config);
     assert!(whole.counts().taxel_events > 1000);
     for chunk in [1, 13, 4096] {
-        let t = transduce(&events, chunk, TransductionConfig::default());
+        let t = transduce(&events, chunk, config);
         assert_eq!(t.taxel_events(), whole.taxel_events(), "chunk {chunk}");
         assert_eq!(t.fields().centres(), whole.fields().centres());
     }

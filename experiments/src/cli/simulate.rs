@@ -7,7 +7,7 @@ use anyhow::Context;
 use clap::{Args, Subcommand};
 use neurotac_experiments::datasets::simulated::{GenerateConfig, PixelEventFiles};
 use neurotac_experiments::simulator_check::{
-    CheckConfig, PAPER_COUNTS, calibrate_lever, check_trial_count, simulator_check, to_markdown,
+    CheckConfig, calibrate, check_trial_count, simulator_check, to_markdown,
 };
 use neurotac_experiments::threads::with_threads;
 use neurotac_sensor::sim::SimParams;
@@ -27,7 +27,8 @@ pub struct SimulateArgs {
 enum SimulateCommand {
     /// Compute the spec's 10 acceptance statistics and print each with its bound and PASS/FAIL.
     Check(CheckArgs),
-    /// Calibrate G_lever (contact.lever_mm) against the 5 mm grid's 34.73 spikes per taxel.
+    /// Calibrate the three global parameters on the paper's three intensive means (onset snap ←
+    /// 0 mm 4.63, conformity gap ← 2.5 mm 9.84, lever ← 5 mm 34.73) and write the parameter file.
     Calibrate(CalibrateArgs),
     /// Print the default parameter file (JSON; every field required when read back).
     Params,
@@ -94,18 +95,21 @@ struct CheckArgs {
 
 #[derive(Debug, Args)]
 struct CalibrateArgs {
-    /// Slides of the 5 mm grid per bisection step.
+    /// Slides of the anchor grid per bisection step.
     #[arg(long, default_value_t = 10)]
     trials: usize,
     /// Seed.
     #[arg(long, default_value_t = 1)]
     seed: u64,
-    /// Target spikes per taxel (the paper's 5 mm intensive mean).
-    #[arg(long, default_value_t = PAPER_COUNTS[2].1)]
-    target: f64,
-    /// Simulator parameter file (JSON).
+    /// Alternations of the lever and conformity-gap fits.
+    #[arg(long, default_value_t = 3)]
+    rounds: usize,
+    /// Simulator parameter file to start from (JSON).
     #[arg(long)]
     params: Option<PathBuf>,
+    /// Write the calibrated parameter file here (default: print it).
+    #[arg(long)]
+    out: Option<PathBuf>,
     /// Worker threads (0 = one per core).
     #[arg(long, default_value_t = 0)]
     threads: usize,
@@ -125,7 +129,7 @@ fn progress_bar(total: usize, what: &str) -> indicatif::ProgressBar {
 pub fn run(args: SimulateArgs) -> anyhow::Result<()> {
     match args.command {
         Some(SimulateCommand::Check(a)) => check(a),
-        Some(SimulateCommand::Calibrate(a)) => calibrate(a),
+        Some(SimulateCommand::Calibrate(a)) => calibrate_command(a),
         Some(SimulateCommand::Params) => {
             println!("{}", SimParams::default().to_json_string());
             Ok(())
@@ -212,9 +216,13 @@ fn check(a: CheckArgs) -> anyhow::Result<()> {
             s.bound
         );
     }
-    println!("spikes per taxel by grid:");
-    for (d, m, sd) in &report.grid_counts {
-        println!("  {d:3.1} mm  {m:6.2} ± {sd:5.2}");
+    println!("spikes per taxel by grid (CV; signal events kept by the BA filter):");
+    for ((d, m, sd), (_, kept)) in report.grid_counts.iter().zip(&report.signal_kept) {
+        println!(
+            "  {d:3.1} mm  {m:6.2} ± {sd:5.2}  ({:4.1} %; {:3.0} %)",
+            100.0 * sd / m,
+            100.0 * kept
+        );
     }
     let passed = report.statistics.iter().filter(|s| s.pass).count();
     println!(
@@ -236,19 +244,30 @@ fn check(a: CheckArgs) -> anyhow::Result<()> {
     Ok(())
 }
 
-fn calibrate(a: CalibrateArgs) -> anyhow::Result<()> {
-    if !(a.target.is_finite() && a.target > 0.0) {
-        anyhow::bail!("--target {} must be finite and > 0", a.target);
-    }
+fn calibrate_command(a: CalibrateArgs) -> anyhow::Result<()> {
     let params = load_params(a.params.as_deref())?;
-    let bar = progress_bar(12 * a.trials.max(1), "calibrate");
+    let bar = ProgressBar::new_spinner();
     let c = with_threads(a.threads, || {
-        calibrate_lever(&params, a.trials, a.seed, a.target, &|| bar.inc(1))
+        calibrate(&params, a.trials, a.seed, a.rounds, &|| bar.inc(1))
     })??;
     bar.finish_and_clear();
-    println!(
-        "contact.lever_mm = {:.4} mm → {:.2} spikes/taxel on the 5 mm grid (target {:.2}; {} bisection steps × {} slides)",
-        c.lever_mm, c.spikes_per_taxel, c.target, c.iterations, a.trials
-    );
+    for e in &c.entries {
+        let p = e.parameter;
+        println!(
+            "{} = {:.4} → {:.2} spikes/taxel on the {} mm grid (target {:.2})",
+            p.name, p.value, e.achieved, p.anchor_grid_mm, p.target_spikes_per_taxel
+        );
+    }
+    println!("({} slides)", c.slides);
+    let text = c.params.to_json_string();
+    match a.out {
+        Some(path) => {
+            let tmp = path.with_extension("json.tmp");
+            std::fs::write(&tmp, text).with_context(|| format!("writing {}", tmp.display()))?;
+            std::fs::rename(&tmp, &path).with_context(|| format!("writing {}", path.display()))?;
+            println!("→ {}", path.display());
+        }
+        None => println!("{text}"),
+    }
     Ok(())
 }

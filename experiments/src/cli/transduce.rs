@@ -59,8 +59,8 @@ pub struct TransduceArgs {
     /// Start the BA time surface empty instead of at t = 0 (dv-processing's choice).
     #[arg(long)]
     ba_empty_start: bool,
-    /// Receptive-field radius (px).
-    #[arg(long, default_value_t = 6.0)]
+    /// Receptive-field radius (px); the paper's fields are 6 px in diameter.
+    #[arg(long, default_value_t = 3.0)]
     rf_radius_px: f64,
     /// Pooling window (ms).
     #[arg(long, default_value_t = 20.0)]
@@ -194,8 +194,8 @@ pub struct LayoutArgs {
     /// Use the first this many milliseconds.
     #[arg(long, default_value_t = 500.0)]
     calibration_ms: f64,
-    /// Receptive-field radius (px).
-    #[arg(long, default_value_t = 6.0)]
+    /// Receptive-field radius (px); the paper's fields are 6 px in diameter.
+    #[arg(long, default_value_t = 3.0)]
     rf_radius_px: f64,
     /// Write the 49 centres as a JSON list of [x, y] (px).
     #[arg(long)]

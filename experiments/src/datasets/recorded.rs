@@ -18,7 +18,7 @@
 //! nested folders are skipped, and so are loose files next to the class folders.
 //!
 //! Each file runs through its own [`Transducer`] (the paper's settings with
-//! [`TransductionConfig::default`]: BA filter 5 ms, receptive fields of 6 px, 20 ms pooling,
+//! [`TransductionConfig::default`]: BA filter 5 ms, receptive fields of 6 px diameter (radius 3 px), 20 ms pooling,
 //! re-centring), files in parallel (rayon); the result is in file order whatever the thread
 //! count. Spike times are seconds since each recording's first event.
 //!

@@ -23,7 +23,7 @@ use std::path::{Path, PathBuf};
 
 /// Version of the simulated-dataset format and generator; bump it whenever the simulator's
 /// output for given parameters changes, so stale caches are not reused.
-pub const SIMULATED_DATASET_VERSION: u32 = 1;
+pub const SIMULATED_DATASET_VERSION: u32 = 2;
 
 /// Dataset generation that cannot proceed.
 #[derive(Debug, thiserror::Error)]
@@ -161,7 +161,7 @@ pub fn map_trials<T: Send>(
         .map_init(
             || base.clone(),
             |sim, job| {
-                let trial = sim.simulate(&textures[job.class], job.seed);
+                let trial = sim.simulate_slide(&textures[job.class], job.trial, job.seed);
                 let out = f(job, &trial)?;
                 progress();
                 Ok(out)
@@ -223,11 +223,7 @@ pub fn prepare_textures(params: &SimParams, set: TextureSet) -> Vec<PreparedText
     let textures = set.textures();
     textures
         .par_iter()
-        .map(|&t| PreparedTexture {
-            field: t.field(&params.contact),
-            surface: t.surface(&params.contact),
-            texture: t,
-        })
+        .map(|&t| PreparedTexture::new(t, params))
         .collect()
 }
 

@@ -1,34 +1,61 @@
-//! Calibration of the simulator's one free parameter, G_lever, on the 5 mm grid (spec §5).
+//! Calibration of the simulator's three global parameters, each on one of the paper's three
+//! intensive means and nothing else (spec §5 calibration rule; issue 12):
+//!
+//! | parameter | anchor | target (spikes/taxel) |
+//! |---|---|---|
+//! | `contact.static_excess` (onset snap) | flat plate | 4.63 |
+//! | `contact.gap_conformity_mm` (sag/conformity law) | 2.5 mm grid | 9.84 |
+//! | `contact.lever_mm` (lever gain) | 5 mm grid | 34.73 |
+//!
+//! The flat plate has no texture term, so its count depends on the snap alone and is fitted
+//! first. The lever and the conformity gap both move the 2.5 and 5 mm counts, so they are fitted
+//! by alternating bisections (lever on 5 mm, then the gap on 2.5 mm) until both are within
+//! 1 % or `rounds` are spent. Every other parameter, and every accuracy, confusion matrix and
+//! chosen Δt / τ / cos θ, is a held-out prediction.
 
 use super::mean;
 use crate::datasets::{
     DatasetsError, TextureSet, camera_seed, jobs_for, map_trials, prepare_textures,
 };
-use neurotac_sensor::sim::{Camera, SimParams, taxel_spikes};
+use neurotac_sensor::sim::{
+    CalibratedParameter, GRID_SIZES_MM, PAPER_INTENSIVE_MEANS, SimParams, taxel_spikes,
+};
 use serde::Serialize;
 
-/// The result of [`calibrate_lever`].
+/// One fitted parameter with what it achieved.
 #[derive(Debug, Clone, Copy, Serialize)]
-pub struct Calibration {
-    /// The calibrated `contact.lever_mm` (mm).
-    pub lever_mm: f64,
-    /// Mean spikes per taxel of the 5 mm grid with it.
-    pub spikes_per_taxel: f64,
-    /// The target (the paper's 34.73).
-    pub target: f64,
-    /// Bisection steps taken.
-    pub iterations: usize,
+pub struct CalibrationEntry {
+    /// The parameter, its value, anchor grid and target.
+    pub parameter: CalibratedParameter,
+    /// Mean spikes per taxel of the anchor grid with the final parameters.
+    pub achieved: f64,
 }
 
-/// Mean spikes per taxel of the 5 mm grid over `trials` slides (seeded as a dataset).
-pub fn coarse_grid_count(
+/// The result of [`calibrate`].
+#[derive(Debug, Clone, Serialize)]
+pub struct Calibration {
+    /// The parameters with the three calibrated fields set.
+    pub params: SimParams,
+    /// The three fits.
+    pub entries: Vec<CalibrationEntry>,
+    /// Slides simulated.
+    pub slides: usize,
+}
+
+/// Mean spikes per taxel of grid `size_mm` over `trials` slides (seeded as a dataset).
+pub fn grid_count(
     params: &SimParams,
+    size_mm: f64,
     trials: usize,
     seed: u64,
     progress: &(dyn Fn() + Sync),
 ) -> Result<f64, DatasetsError> {
-    let camera = Camera::new(params, camera_seed(seed));
-    let jobs = jobs_for(TextureSet::Artificial, seed, &[10], 0, trials.max(1));
+    let class = GRID_SIZES_MM
+        .iter()
+        .position(|&d| d == size_mm)
+        .expect("one of the paper's grid sizes");
+    let camera = neurotac_sensor::sim::Camera::new(params, camera_seed(seed));
+    let jobs = jobs_for(TextureSet::Artificial, seed, &[class], 0, trials.max(1));
     let textures = prepare_textures(params, TextureSet::Artificial);
     let counts = map_trials(
         params,
@@ -41,39 +68,113 @@ pub fn coarse_grid_count(
     Ok(mean(counts))
 }
 
-/// Calibrates the one free parameter, G_lever (`contact.lever_mm`), against the 5 mm grid's
-/// intensive count alone (spec §5: "calibrate only G_lever"): bisection on [0.1, 1.5] mm
-/// until the mean over `trials` slides is within 1 % of `target` (at most 12 steps).
-pub fn calibrate_lever(
+/// Bisection of `set` on `[lo, hi]` until `count` is within 1 % of `target` (at most 12
+/// steps); `rising` says whether the count grows with the parameter. Returns the last value
+/// and its count.
+fn bisect(
+    params: &mut SimParams,
+    set: fn(&mut SimParams, f64),
+    (mut lo, mut hi): (f64, f64),
+    rising: bool,
+    target: f64,
+    count: &mut dyn FnMut(&SimParams) -> Result<f64, DatasetsError>,
+) -> Result<(f64, f64), DatasetsError> {
+    let mut best = (f64::NAN, f64::NAN);
+    for _ in 0..12 {
+        let value = 0.5 * (lo + hi);
+        set(params, value);
+        let c = count(params)?;
+        best = (value, c);
+        if (c / target - 1.0).abs() <= 0.01 {
+            break;
+        }
+        if (c < target) == rising {
+            lo = value;
+        } else {
+            hi = value;
+        }
+    }
+    set(params, best.0);
+    Ok(best)
+}
+
+/// Calibrates the three parameters of `params` (see the module docs) with `trials` slides per
+/// evaluation; `rounds` alternations of lever and conformity gap (≥ 1).
+pub fn calibrate(
     params: &SimParams,
     trials: usize,
     seed: u64,
-    target: f64,
+    rounds: usize,
     progress: &(dyn Fn() + Sync),
 ) -> Result<Calibration, DatasetsError> {
-    let (mut lo, mut hi) = (0.1, 1.5);
-    let mut best = (params.contact.lever_mm, f64::NAN);
-    let mut iterations = 0;
-    while iterations < 12 {
-        iterations += 1;
-        let lever = 0.5 * (lo + hi);
-        let mut p = *params;
-        p.contact.lever_mm = lever;
-        let count = coarse_grid_count(&p, trials, seed, progress)?;
-        best = (lever, count);
-        if (count / target - 1.0).abs() <= 0.01 {
+    params.validate()?;
+    let [flat, mid, coarse] = PAPER_INTENSIVE_MEANS;
+    let mut p = *params;
+    let mut slides = 0usize;
+    let count_of = |size_mm: f64| {
+        move |q: &SimParams| -> Result<f64, DatasetsError> {
+            grid_count(q, size_mm, trials, seed, progress)
+        }
+    };
+    let flat_count = count_of(flat.0);
+    let (_, flat_achieved) = bisect(
+        &mut p,
+        |q, v| q.contact.static_excess = v,
+        (0.0, 2.0),
+        true,
+        flat.1,
+        &mut |q| {
+            slides += trials;
+            flat_count(q)
+        },
+    )?;
+    let (mut mid_achieved, mut coarse_achieved) = (f64::NAN, f64::NAN);
+    // Lever on the 5 mm grid, then the conformity gap on the 2.5 mm grid, then re-check 5 mm.
+    let coarse_count = count_of(coarse.0);
+    let mid_count = count_of(mid.0);
+    for _ in 0..rounds.max(1) {
+        bisect(
+            &mut p,
+            |q, v| q.contact.lever_mm = v,
+            (0.05, 3.0),
+            true,
+            coarse.1,
+            &mut |q| {
+                slides += trials;
+                coarse_count(q)
+            },
+        )?;
+        mid_achieved = bisect(
+            &mut p,
+            |q, v| q.contact.gap_conformity_mm = v,
+            (1.0, 20.0),
+            false,
+            mid.1,
+            &mut |q| {
+                slides += trials;
+                mid_count(q)
+            },
+        )?
+        .1;
+        slides += trials;
+        coarse_achieved = coarse_count(&p)?;
+        if (coarse_achieved / coarse.1 - 1.0).abs() <= 0.01 {
             break;
         }
-        if count < target {
-            lo = lever;
-        } else {
-            hi = lever;
-        }
     }
+    let achieved = [flat_achieved, mid_achieved, coarse_achieved];
+    let entries = p
+        .calibrated_parameters()
+        .into_iter()
+        .zip(achieved)
+        .map(|(parameter, achieved)| CalibrationEntry {
+            parameter,
+            achieved,
+        })
+        .collect();
     Ok(Calibration {
-        lever_mm: best.0,
-        spikes_per_taxel: best.1,
-        target,
-        iterations,
+        params: p,
+        entries,
+        slides,
     })
 }

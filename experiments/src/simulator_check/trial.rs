@@ -34,6 +34,11 @@ pub(super) struct Summary {
     pub(super) burst_taxels: f64,
     pub(super) burst_latency_s: Option<f64>,
     pub(super) burst_duration_s: Option<f64>,
+    /// The burst duration predicted from the kinematics: stick time on the actual ramp plus
+    /// the slip's settling (3τ).
+    pub(super) predicted_burst_s: f64,
+    /// Share of signal events the BA filter keeps.
+    pub(super) signal_kept_fraction: f64,
     pub(super) pixel_events: usize,
     pub(super) raw_noise_hz: f64,
     pub(super) kept_noise_fraction: f64,
@@ -131,7 +136,8 @@ pub(super) fn analyse(
     let taxels = taxel_spikes(trial)?;
     let spikes = &taxels.spikes;
     let pooled = spikes.pooled();
-    let signal = transduce(&trial.signal_events())?.spikes.pooled();
+    let signal_taxels = transduce(&trial.signal_events())?;
+    let signal = signal_taxels.spikes.pooled();
     let signal_burst =
         (count_in(&signal, onset, onset + 0.3) + count_in(&signal, stop, stop + 0.3)) as f64 / 49.0;
     let signal_total = signal.len() as f64 / 49.0;
@@ -221,6 +227,10 @@ pub(super) fn analyse(
         burst_taxels,
         burst_latency_s,
         burst_duration_s,
+        predicted_burst_s: params.stick_time_s(info.draw.mu_static, info.draw.press_depth_mm)
+            + 3.0 * params.contact.slip_time_s,
+        signal_kept_fraction: signal_taxels.counts.after_filters as f64
+            / signal_taxels.counts.events_in.max(1) as f64,
         pixel_events: trial.events.len(),
         raw_noise_hz: trial.noise_count() as f64 / (240.0 * 180.0 * info.duration_s),
         kept_noise_fraction: if kept == 0 {
@@ -231,7 +241,7 @@ pub(super) fn analyse(
         min_interval_us: sanity.min_interval_us,
         monotone: sanity.monotone && sanity.monotone_per_pixel,
         signal_on_off: signal_sanity.on_off_ratio,
-        drift_px: taxels.max_centre_drift_px,
+        drift_px: signal_taxels.max_centre_drift_px,
         acf_lag_s,
         comb_fraction,
         comb_spacing_hz,

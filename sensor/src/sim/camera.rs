@@ -16,6 +16,9 @@ pub struct Camera {
     pub(crate) threshold_on: Vec<f32>,
     pub(crate) threshold_off: Vec<f32>,
     pub(crate) leak_rate_hz: Vec<f32>,
+    /// The seed the camera was drawn from; it also names the rig (texture mountings, the
+    /// recording's friction factor, [`super::Mounting`]).
+    pub(crate) rig_seed: u64,
 }
 
 impl Camera {
@@ -43,6 +46,7 @@ impl Camera {
             threshold_on,
             threshold_off,
             leak_rate_hz,
+            rig_seed: seed,
         }
     }
 

@@ -13,22 +13,94 @@
 //!   the stop s recoils to s_k within about τ (the offset burst).
 //! - micro-slips (natural textures): Poisson at rate `λ_ms·v_p/(15 mm/s)` while slipping, each
 //!   releasing δ ~ U(δ_min, δ_max) that reloads with time constant τ_ms.
-//! - texture term: `(N/k_t)·⟨∂h_s/∂X⟩_χ`, the contact-weighted mean slope of the skin-smoothed
-//!   height under the patch, added to the shear the pins see.
+//! - friction: the texture's μ_s, μ_k ([`Surface`], from its contact) times one factor per
+//!   slide, shared by μ_s and μ_k so their ratio (the snap) is a texture property:
+//!   `f = (1 + σ_day·Z_day)·(1 + δ(n))`, a recording-wide factor times a slow drift over the
+//!   slide index n ([`Mounting`]).
+//!
+//! **Local traction (pin-scale tangential channel).** Each pin also sees the traction under
+//! itself, not averaged over the patch: `δu_i = g_pin·χ_i·τ̃(X_i)/κ`, the local traction
+//! fluctuation of the texture field (μ_k·p through the elastic layer, [`super::texture`]) over
+//! the skin's shear stiffness per area κ = G_skin/t_skin. It changes at v/p as bump edges pass
+//! under the pin.
 //!
 //! **Pins** (sensor plane, mm; χ(r) = 1/(1 + e^((r − a)/w_c)), a = √(2Rδ), φ(r) = e^(−(r/(1.5a))²)):
-//! `u_i = G_lever·∇w(x_i) + g_pin·φ(r_i)·s_pins·x̂ + β·w(x_i)·r̂_i`, with `w = χ·w₀(X, Y)` sampled
+//! `u_i = G_lever·∇w(x_i) + g_pin·(φ(r_i)·s_pins + χ_i·τ̃/κ)·x̂ + β·w(x_i)·r̂_i`, with `w = χ·w₀(X, Y)` sampled
 //! at the world point under the pin. The world point follows the contact patch, not the base:
 //! `X = x + x_b − s + x_phase`, `Y = y + y₀` — while the skin sticks, the texture does not move
 //! under it (a refinement of the spec's `X = x + x_b`). Image displacement = k·u_i (px).
 //! Press and release are not simulated (spec §7: include_indentation off).
+//!
+//! **Variability** (issue 12 item 4, [`TrialDraw`]): offset and phase come from the texture's
+//! [`Mounting`] plus the arm's repeatability; press depth and motion onset jitter per slide.
 
 use super::params::SimParams;
+use super::pixel::mix64;
 use super::texture::{Surface, TextureField, gaussian};
-use rand::RngExt;
+use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
-/// The per-trial physical draws (spec §2.1: offset, phase, and the variabilities).
+/// What is fixed for every slide of one texture on one rig (recording): where the texture is
+/// mounted under the arm, the recording-wide friction factor, and the shape of the slow
+/// friction drift over the texture's slides.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Mounting {
+    /// Lateral offset y₀ of the texture (mm).
+    pub lateral_offset_mm: f64,
+    /// Start phase: texture offset along the slide (mm).
+    pub start_phase_mm: f64,
+    /// Recording-wide friction factor 1 + σ_day·Z (shared by every texture of the rig).
+    pub day_friction: f64,
+    /// Drift components: (amplitude, period in slides, phase in rad).
+    pub drift: [(f64, f64, f64); 3],
+}
+
+impl Mounting {
+    /// A texture's key for [`new`](Self::new): FNV-1a of its name.
+    pub fn texture_key(name: &str) -> u64 {
+        name.bytes().fold(0xcbf2_9ce4_8422_2325u64, |h, b| {
+            (h ^ b as u64).wrapping_mul(0x0000_0100_0000_01b3)
+        })
+    }
+
+    /// The mounting of the texture with key `texture_key` ([`texture_key`](Self::texture_key))
+    /// on the rig `rig_seed` (a pure function of both: the same texture is mounted once per
+    /// recording).
+    pub fn new(params: &SimParams, rig_seed: u64, texture_key: u64) -> Self {
+        let k = &params.kinematics;
+        let name_hash = texture_key;
+        let mut day = ChaCha8Rng::seed_from_u64(mix64(rig_seed ^ 0x6461_7900));
+        let day_friction = (1.0 + params.contact.friction_day_sd * gaussian(&mut day)).max(0.5);
+        let mut rng = ChaCha8Rng::seed_from_u64(mix64(rig_seed ^ mix64(name_hash)));
+        let lateral_offset_mm = (rng.random::<f64>() - 0.5) * k.lateral_offset_range_mm;
+        let start_phase_mm = rng.random::<f64>() * k.start_phase_range_mm;
+        // Three sinusoids of equal amplitude: variance 3a²/2 = σ².
+        let a = params.contact.friction_drift_sd * (2.0f64 / 3.0).sqrt();
+        let drift = std::array::from_fn(|_| {
+            let period = 50.0 + 350.0 * rng.random::<f64>();
+            (a, period, std::f64::consts::TAU * rng.random::<f64>())
+        });
+        Self {
+            lateral_offset_mm,
+            start_phase_mm,
+            day_friction,
+            drift,
+        }
+    }
+
+    /// The friction factor of slide `slide` (recording-wide factor × slow drift).
+    pub fn friction_factor(&self, slide: usize) -> f64 {
+        let n = slide as f64;
+        let drift: f64 = self
+            .drift
+            .iter()
+            .map(|&(a, period, phase)| a * (std::f64::consts::TAU * n / period + phase).sin())
+            .sum();
+        (self.day_friction * (1.0 + drift)).max(0.2)
+    }
+}
+
+/// The per-slide physical draws (spec §2.1; issue 12 item 4).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct TrialDraw {
     /// Lateral offset y₀ of the texture (mm).
@@ -37,30 +109,50 @@ pub struct TrialDraw {
     pub start_phase_mm: f64,
     /// Press depth δ (mm).
     pub press_depth_mm: f64,
-    /// Static friction of this trial.
+    /// Static friction of this slide.
     pub mu_static: f64,
-    /// Kinetic friction of this trial.
+    /// Kinetic friction of this slide.
     pub mu_kinetic: f64,
+    /// Delay of the motion onset from its nominal time (s).
+    pub onset_delay_s: f64,
 }
 
 impl TrialDraw {
-    /// Draws a trial's offset, phase, press depth and friction.
-    pub fn draw(params: &SimParams, surface: &Surface, rng: &mut ChaCha8Rng) -> Self {
+    /// Draws slide `slide` of a texture with `surface` on `mounting`: the mounting's offset and
+    /// phase plus the arm's repeatability (or, with `per_slide_offsets`, fresh uniform
+    /// ones), press-depth and onset jitter, friction scaled by the mounting's factor.
+    pub fn draw(
+        params: &SimParams,
+        surface: &Surface,
+        mounting: &Mounting,
+        slide: usize,
+        rng: &mut ChaCha8Rng,
+    ) -> Self {
         let k = &params.kinematics;
-        let lateral_offset_mm = (rng.random::<f64>() - 0.5) * k.lateral_offset_range_mm;
-        let start_phase_mm = rng.random::<f64>() * k.start_phase_range_mm;
+        let rp = k.position_repeatability_mm;
+        let (lateral_offset_mm, start_phase_mm) = if k.per_slide_offsets {
+            (
+                (rng.random::<f64>() - 0.5) * k.lateral_offset_range_mm,
+                rng.random::<f64>() * k.start_phase_range_mm,
+            )
+        } else {
+            (
+                mounting.lateral_offset_mm + rp * gaussian(rng),
+                mounting.start_phase_mm + rp * gaussian(rng),
+            )
+        };
         let press_depth_mm =
             (k.press_depth_mm + k.press_depth_sd_mm * gaussian(rng)).max(0.25 * k.press_depth_mm);
-        let f_s = (1.0 + k.friction_sd * gaussian(rng)).max(0.2);
-        let f_k = (1.0 + k.friction_sd * gaussian(rng)).max(0.2);
-        let mu_static = surface.mu_static * f_s;
-        let mu_kinetic = (surface.mu_kinetic * f_k).min(mu_static);
+        let limit = 0.5 * k.rest_before_s;
+        let onset_delay_s = (k.onset_jitter_s * gaussian(rng)).clamp(-limit, limit);
+        let f = mounting.friction_factor(slide);
         Self {
             lateral_offset_mm,
             start_phase_mm,
             press_depth_mm,
-            mu_static,
-            mu_kinetic,
+            mu_static: surface.mu_static * f,
+            mu_kinetic: surface.mu_kinetic * f,
+            onset_delay_s,
         }
     }
 }
@@ -207,14 +299,7 @@ pub struct Mechanics {
     pin_constants: Vec<PinConstants>,
     dome_radius_mm: f64,
     scale_px_per_mm: f64,
-    /// Contact sample points (mm) for the texture term, on a 0.5 mm grid.
-    contact_points: Vec<(f64, f64)>,
-    contact_weights: Vec<f64>,
-    contact_slope: Vec<f64>,
 }
-
-/// Base-position spacing of the tabulated texture term (mm).
-const SLOPE_TABLE_MM: f64 = 0.25;
 
 impl Mechanics {
     /// Mechanics for pins at `pins_mm` (sensor plane) on a dome of radius `dome_radius_mm`,
@@ -225,9 +310,6 @@ impl Mechanics {
             pins_mm,
             dome_radius_mm,
             scale_px_per_mm,
-            contact_points: Vec::new(),
-            contact_weights: Vec::new(),
-            contact_slope: Vec::new(),
         }
     }
 
@@ -242,6 +324,8 @@ impl Mechanics {
         out: &mut PinTrajectories,
     ) {
         let c = &params.contact;
+        let onset_delay = draw.onset_delay_s;
+        let local_gain = c.pin_shear_gain / c.skin_shear_stiffness_n_mm3;
         let k = &params.kinematics;
         let duration = params.duration_s();
         let dt = params.solver.mechanics_dt_s;
@@ -253,7 +337,6 @@ impl Mechanics {
         let n_over_kt = normal / c.tangential_stiffness_n_mm;
         let chi = |r: f64| 1.0 / (1.0 + ((r - a) / c.contact_edge_mm).exp());
 
-        self.tabulate_contact_slope(params, field, draw, a, chi);
         self.pin_constants.clear();
         for &(x, y) in &self.pins_mm {
             let r = (x * x + y * y).sqrt();
@@ -310,7 +393,7 @@ impl Mechanics {
         for n in 0..n_samples {
             if n > 0 {
                 for _ in 0..sub {
-                    let (_, vb) = base_motion(params, t + 0.5 * h);
+                    let (_, vb) = base_motion(params, t + 0.5 * h - onset_delay);
                     if stuck {
                         s += vb * h;
                         if s >= s_static && vb > 0.0 {
@@ -337,10 +420,9 @@ impl Mechanics {
                     t += h;
                 }
             }
-            let (xb, _) = base_motion(params, t);
+            let (xb, _) = base_motion(params, t - onset_delay);
             let patch_x = xb - s + draw.start_phase_mm;
-            let texture_term = n_over_kt * self.contact_slope_at(patch_x - draw.start_phase_mm);
-            let s_pins = s + micro + texture_term;
+            let s_pins = s + micro;
             out.shear_mm[n] = s_pins as f32;
             for (i, pin) in self.pin_constants.iter().enumerate() {
                 let mut ux = c.pin_shear_gain * pin.phi * s_pins;
@@ -350,7 +432,8 @@ impl Mechanics {
                     let w = pin.chi * f.w;
                     // ∇(χ·w₀) = χ∇w₀ + w₀·χ'(r)·r̂, χ' = −χ(1 − χ)/w_c.
                     ux += c.lever_mm * (pin.chi * f.dw_dx + f.w * pin.dchi * pin.rx)
-                        + c.bulge * w * pin.rx;
+                        + c.bulge * w * pin.rx
+                        + local_gain * pin.chi * f.traction_mpa;
                     uy += c.lever_mm * (pin.chi * f.dw_dy + f.w * pin.dchi * pin.ry)
                         + c.bulge * w * pin.ry;
                 }
@@ -366,67 +449,6 @@ impl Mechanics {
                 }
             }
         }
-    }
-
-    /// Tabulates ⟨∂h_s/∂X⟩_χ against the patch's travel (0.25 mm steps).
-    fn tabulate_contact_slope(
-        &mut self,
-        params: &SimParams,
-        field: &TextureField,
-        draw: &TrialDraw,
-        a: f64,
-        chi: impl Fn(f64) -> f64,
-    ) {
-        self.contact_slope.clear();
-        if field.is_flat() {
-            return;
-        }
-        let reach = a + 4.0 * params.contact.contact_edge_mm;
-        let step = 0.5;
-        let n = (reach / step).ceil() as i64;
-        self.contact_points.clear();
-        let mut weights = std::mem::take(&mut self.contact_weights);
-        weights.clear();
-        for j in -n..=n {
-            for i in -n..=n {
-                let (x, y) = (i as f64 * step, j as f64 * step);
-                let r = (x * x + y * y).sqrt();
-                if r <= reach {
-                    self.contact_points.push((x, y));
-                    weights.push(chi(r));
-                }
-            }
-        }
-        let total: f64 = weights.iter().sum();
-        // The patch travels at most the slide distance back and forth by the shear (< 5 mm).
-        let span = params.kinematics.distance_mm + 10.0;
-        let m = (span / SLOPE_TABLE_MM).ceil() as usize + 1;
-        for q in 0..m {
-            let travel = q as f64 * SLOPE_TABLE_MM - 5.0;
-            let sum: f64 = self
-                .contact_points
-                .iter()
-                .zip(&weights)
-                .map(|(&(x, y), &w)| {
-                    w * field
-                        .sample(x + travel + draw.start_phase_mm, y + draw.lateral_offset_mm)
-                        .dhs_dx
-                })
-                .sum();
-            self.contact_slope.push(sum / total);
-        }
-        self.contact_weights = weights;
-    }
-
-    fn contact_slope_at(&self, travel_mm: f64) -> f64 {
-        if self.contact_slope.is_empty() {
-            return 0.0;
-        }
-        let x = ((travel_mm + 5.0) / SLOPE_TABLE_MM).max(0.0);
-        let k = (x as usize).min(self.contact_slope.len() - 1);
-        let next = (k + 1).min(self.contact_slope.len() - 1);
-        let f = x - k as f64;
-        self.contact_slope[k] + f.min(1.0) * (self.contact_slope[next] - self.contact_slope[k])
     }
 }
 
@@ -456,14 +478,14 @@ mod tests {
         let p = SimParams::default();
         let g = PinGeometry::default();
         let texture = Texture::grid(0.0).unwrap();
-        let surface = texture.surface(&p.contact);
-        let field = texture.field(&p.contact);
+        let (field, surface) = texture.prepare(&p, p.nominal_pressure_mpa(g.dome_radius_mm));
         let draw = TrialDraw {
             lateral_offset_mm: 0.0,
             start_phase_mm: 0.0,
             press_depth_mm: 2.0,
             mu_static: 1.0,
             mu_kinetic: 0.7,
+            onset_delay_s: 0.0,
         };
         let mut m = Mechanics::new(g.pin_positions_mm(), g.dome_radius_mm, g.scale_px_per_mm);
         let mut out = PinTrajectories::default();
@@ -481,5 +503,78 @@ mod tests {
         // Nothing moves before the slide.
         assert_eq!(out.arc(0, 0.2), 0.0);
         assert!(out.in_contact[0] && !out.in_contact[48]);
+    }
+
+    #[test]
+    fn issue_12_mounting_is_shared_by_slides_and_jitter_is_bounded_by_the_repeatability() {
+        let p = SimParams::default();
+        let texture = Texture::grid(2.5).unwrap();
+        let (_, surface) = texture.prepare(&p, p.nominal_pressure_mpa(20.0));
+        let mounting = Mounting::new(&p, 11, Mounting::texture_key(&texture.name()));
+        assert_eq!(
+            mounting,
+            Mounting::new(&p, 11, Mounting::texture_key(&texture.name()))
+        );
+        assert_ne!(
+            mounting,
+            Mounting::new(&p, 12, Mounting::texture_key(&texture.name()))
+        );
+        let draws: Vec<TrialDraw> = (0..200)
+            .map(|i| {
+                let mut rng = ChaCha8Rng::seed_from_u64(i);
+                TrialDraw::draw(&p, &surface, &mounting, i as usize, &mut rng)
+            })
+            .collect();
+        let rp = p.kinematics.position_repeatability_mm;
+        // Offsets within 5 repeatabilities of the mounting; depth and onset jitter bounded.
+        assert!(
+            draws
+                .iter()
+                .all(|d| (d.lateral_offset_mm - mounting.lateral_offset_mm).abs() < 5.0 * rp)
+        );
+        assert!(
+            draws
+                .iter()
+                .all(|d| (d.start_phase_mm - mounting.start_phase_mm).abs() < 5.0 * rp)
+        );
+        assert!(
+            draws
+                .iter()
+                .all(|d| (d.press_depth_mm - 2.0).abs() < 5.0 * p.kinematics.press_depth_sd_mm)
+        );
+        assert!(
+            draws
+                .iter()
+                .all(|d| d.onset_delay_s.abs() < 5.0 * p.kinematics.onset_jitter_s)
+        );
+        // Friction: μ_s/μ_k fixed by the texture; the factor drifts slowly (neighbouring slides
+        // differ far less than the drift's range).
+        let ratio = surface.mu_static / surface.mu_kinetic;
+        assert!(
+            draws
+                .iter()
+                .all(|d| (d.mu_static / d.mu_kinetic - ratio).abs() < 1e-12)
+        );
+        let f: Vec<f64> = (0..200).map(|n| mounting.friction_factor(n)).collect();
+        let step = f
+            .windows(2)
+            .map(|w| (w[1] - w[0]).abs())
+            .fold(0.0, f64::max);
+        let range =
+            f.iter().copied().fold(f64::MIN, f64::max) - f.iter().copied().fold(f64::MAX, f64::min);
+        assert!(step < 0.2 * range, "{step} vs {range}");
+        // The switch restores independent per-slide offsets.
+        let mut q = p;
+        q.kinematics.per_slide_offsets = true;
+        let spread: Vec<f64> = (0..50)
+            .map(|i| {
+                let mut rng = ChaCha8Rng::seed_from_u64(i);
+                TrialDraw::draw(&q, &surface, &mounting, 0, &mut rng).lateral_offset_mm
+            })
+            .collect();
+        let (lo, hi) = spread
+            .iter()
+            .fold((f64::MAX, f64::MIN), |(a, b), &x| (a.min(x), b.max(x)));
+        assert!(hi - lo > 3.0, "{lo} {hi}");
     }
 }

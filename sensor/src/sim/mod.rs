@@ -6,15 +6,18 @@
 //! | stage (spec §) | module | main types |
 //! |---|---|---|
 //! | parameters (§1–3, §7) | [`params`] | [`SimParams`] |
-//! | textures (§2.1, §2.4) | [`texture`] | [`Texture`], [`TextureField`], [`NATURAL_TEXTURES`] |
-//! | kinematics, stick-slip, pins (§2.1–2.2) | [`mechanics`] | [`PinTrajectories`], [`TrialDraw`] |
+//! | skin-on-texture contact (issue 12) | [`contact`] | [`SkinContact`] |
+//! | textures, friction (§2.1, §2.4) | [`texture`] | [`Texture`], [`TextureField`], [`Surface`], [`NATURAL_TEXTURES`] |
+//! | kinematics, stick-slip, pins, variability (§2.1–2.2) | [`mechanics`] | [`PinTrajectories`], [`Mounting`], [`TrialDraw`] |
 //! | camera fixed-pattern noise (§3.2) | [`camera`] | [`Camera`] |
 //! | rendering, DVS pixels, noise (§3.1–3.2) | [`pixel`] | [`PixelModel`], [`EventLabel`] |
 //! | pixel-level diagnostics (§5.7) | [`diagnostics`] | [`edge_pass`], [`pixel_sanity`] |
 //! | one trial, transduction | here | [`Simulator`], [`SimulatedTrial`], [`taxel_spikes`] |
 //!
 //! Seeds: a [`Camera`] (fixed-pattern noise) is drawn once from a camera seed and records every
-//! trial; each trial is a pure function of (parameters, camera, texture, trial seed).
+//! trial; the same seed names the rig, which fixes each texture's [`Mounting`] (offset, phase,
+//! friction drift). Each slide is a pure function of (parameters, camera, texture, slide
+//! index, trial seed).
 //!
 //! ```
 //! use neurotac_sensor::sim::{Camera, SimParams, Simulator, Texture, taxel_spikes};
@@ -31,6 +34,7 @@
 //! ```
 
 pub mod camera;
+pub mod contact;
 pub mod diagnostics;
 pub mod error;
 mod fft;
@@ -40,10 +44,11 @@ pub mod pixel;
 pub mod texture;
 
 pub use camera::Camera;
+pub use contact::SkinContact;
 pub use diagnostics::{EdgePass, PixelSanity, edge_pass, pixel_sanity};
 pub use error::SimulationError;
-pub use mechanics::{PinTrajectories, TrialDraw};
-pub use params::{PeriodRule, SimParams};
+pub use mechanics::{Mounting, PinTrajectories, TrialDraw};
+pub use params::{CalibratedParameter, PAPER_INTENSIVE_MEANS, PeriodRule, SimParams};
 pub use pixel::{EventLabel, PixelModel, PixelRunStats};
 pub use texture::{GRID_SIZES_MM, NATURAL_TEXTURES, Surface, Texture, TextureField};
 
@@ -56,15 +61,36 @@ use pixel::{RawEvent, mix64};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
-/// A texture with its skin-filtered field and surface, built once and shared by its trials.
+/// A texture with its solved contact, skin-filtered field and surface, built once and shared
+/// by its trials (the expensive part of a texture: [`contact::solve`]).
 #[derive(Debug, Clone)]
 pub struct PreparedTexture {
     /// The texture.
     pub texture: Texture,
     /// Its skin-filtered field.
     pub field: TextureField,
-    /// Its friction and micro-slips.
+    /// Its friction, micro-slips and contact facts.
     pub surface: Surface,
+    /// Its mounting key ([`Mounting::texture_key`] of its name).
+    pub mounting_key: u64,
+}
+
+impl PreparedTexture {
+    /// Prepares `texture` for a sensor of the default geometry ([`PinGeometry::default`]).
+    pub fn new(texture: Texture, params: &SimParams) -> Self {
+        Self::for_dome(texture, params, PinGeometry::default().dome_radius_mm)
+    }
+
+    /// Prepares `texture` for a dome of radius `dome_radius_mm` (sets the nominal pressure).
+    pub fn for_dome(texture: Texture, params: &SimParams, dome_radius_mm: f64) -> Self {
+        let (field, surface) = texture.prepare(params, params.nominal_pressure_mpa(dome_radius_mm));
+        Self {
+            mounting_key: Mounting::texture_key(&texture.name()),
+            texture,
+            field,
+            surface,
+        }
+    }
 }
 
 /// What happened in one trial besides the events.
@@ -74,6 +100,8 @@ pub struct TrialInfo {
     pub texture: String,
     /// The trial seed.
     pub seed: u64,
+    /// Index of the slide among its texture's slides (drives the friction drift).
+    pub slide: usize,
     /// The per-trial draws.
     pub draw: TrialDraw,
     /// Recording length (s); events lie in `[0, duration)`.
@@ -130,6 +158,7 @@ pub struct Simulator {
     pixels: PixelModel,
     trajectories: PinTrajectories,
     raw: Vec<RawEvent>,
+    dome_radius_mm: f64,
 }
 
 impl Simulator {
@@ -162,6 +191,7 @@ impl Simulator {
             pins_px,
             trajectories: PinTrajectories::default(),
             raw: Vec::new(),
+            dome_radius_mm: geometry.dome_radius_mm,
         })
     }
 
@@ -175,13 +205,9 @@ impl Simulator {
         &self.pins_px
     }
 
-    /// Builds `texture`'s field and surface for these parameters.
+    /// Solves `texture`'s contact and builds its field and surface for these parameters.
     pub fn prepare(&self, texture: Texture) -> PreparedTexture {
-        PreparedTexture {
-            field: texture.field(&self.params.contact),
-            surface: texture.surface(&self.params.contact),
-            texture,
-        }
+        PreparedTexture::for_dome(texture, &self.params, self.dome_radius_mm)
     }
 
     /// The pin trajectories of the last simulated trial.
@@ -189,22 +215,36 @@ impl Simulator {
         &self.trajectories
     }
 
-    /// Simulates one slide over `texture`; the result is a pure function of the parameters,
-    /// the camera, the texture and `seed`.
+    /// Simulates the first slide over `texture` ([`simulate_slide`](Self::simulate_slide)
+    /// with slide index 0).
     pub fn simulate(&mut self, texture: &PreparedTexture, seed: u64) -> SimulatedTrial {
-        self.simulate_with(texture, seed, true)
+        self.simulate_slide(texture, 0, seed)
     }
 
-    /// [`simulate`](Self::simulate), optionally without noise (signal only).
+    /// Simulates slide `slide` (its index among the texture's slides, which places it on the
+    /// friction drift) over `texture`; the result is a pure function of the parameters, the
+    /// camera (and rig), the texture, `slide` and `seed`.
+    pub fn simulate_slide(
+        &mut self,
+        texture: &PreparedTexture,
+        slide: usize,
+        seed: u64,
+    ) -> SimulatedTrial {
+        self.simulate_with(texture, slide, seed, true)
+    }
+
+    /// [`simulate_slide`](Self::simulate_slide), optionally without noise (signal only).
     pub fn simulate_with(
         &mut self,
         texture: &PreparedTexture,
+        slide: usize,
         seed: u64,
         with_noise: bool,
     ) -> SimulatedTrial {
         let params = self.params;
         let mut rng = ChaCha8Rng::seed_from_u64(mix64(seed ^ 0x6d65_6368));
-        let draw = TrialDraw::draw(&params, &texture.surface, &mut rng);
+        let mounting = Mounting::new(&params, self.camera.rig_seed, texture.mounting_key);
+        let draw = TrialDraw::draw(&params, &texture.surface, &mounting, slide, &mut rng);
         self.mechanics.run(
             &params,
             &texture.field,
@@ -236,13 +276,14 @@ impl Simulator {
             events.polarity.push(e.on);
             labels.push(EventLabel(e.label));
         }
-        let motion_start_s = params.kinematics.rest_before_s;
+        let motion_start_s = params.kinematics.rest_before_s + draw.onset_delay_s;
         SimulatedTrial {
             events,
             labels,
             info: TrialInfo {
                 texture: texture.texture.name(),
                 seed,
+                slide,
                 draw,
                 duration_s,
                 motion_start_s,
@@ -267,8 +308,9 @@ pub struct TaxelSpikes {
     pub max_centre_drift_px: f64,
 }
 
-/// The transduction with the paper's settings (BA filter 5 ms, receptive fields of radius 6 px
-/// on the default layout, 20 ms pooling, re-centring), windows aligned to the recording start.
+/// The transduction with the paper's settings (BA filter 5 ms, receptive fields of 6 px
+/// diameter — radius 3 px — on the default layout, 20 ms pooling, re-centring), windows aligned
+/// to the recording start.
 ///
 /// Simulated recordings start at t = 0 µs, so the BA time surface starts empty
 /// ([`MapStart::Empty`]): that is how dv-processing's zero-initialised map behaves on a real

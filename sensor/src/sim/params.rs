@@ -10,7 +10,14 @@ use super::error::SimulationError;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
-/// Robot kinematics and the per-trial variability of a slide (spec §2.1).
+/// Robot kinematics and the variability a robot arm has (spec §2.1; issue 12 item 4).
+///
+/// Variability is hierarchical, as in a real recording: the texture's **mounting** (lateral
+/// offset y₀ and start phase) is drawn once per texture and rig (dataset) and is the same for
+/// all its slides; each **slide** adds only what the arm does not repeat — positioning jitter at
+/// the arm's stated repeatability, a press-depth jitter of the same order and an onset-timing
+/// jitter. [`per_slide_offsets`](Self::per_slide_offsets) restores independent per-slide offsets
+/// (the first implementation's behaviour) to study that confound.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct KinematicsParams {
@@ -30,18 +37,27 @@ pub struct KinematicsParams {
     /// Normal force at the mean press depth (N); it scales as δ^{3/2} (Hertz). Default 2
     /// (spec: 1–3).
     pub normal_force_n: f64,
-    /// Width of the uniform random lateral offset y₀ of the texture (mm), centred on 0.
+    /// Width of the uniform lateral offset y₀ of a texture's mounting (mm), centred on 0.
     /// Default 10.
     pub lateral_offset_range_mm: f64,
-    /// Width of the uniform random start phase (texture offset along the slide, mm).
-    /// Default 10 (one period of the coarsest grid).
+    /// Width of the uniform start phase of a texture's mounting (texture offset along the
+    /// slide, mm). Default 10 (one period of the coarsest grid).
     pub start_phase_range_mm: f64,
-    /// Trial-to-trial standard deviation of the press depth (mm): texture thickness, robot
-    /// repeatability. Default 0.1 \[A\].
+    /// Draw offset and phase independently for every slide instead of once per mounting.
+    /// Default `false` (a robot repeats its path; issue 12 item 4).
+    pub per_slide_offsets: bool,
+    /// Per-slide positioning jitter (standard deviation, mm) of the offset and the phase: the
+    /// arm's position repeatability. Default 0.01 (ABB IRB120 product specification: position
+    /// repeatability RP = 0.01 mm).
+    pub position_repeatability_mm: f64,
+    /// Per-slide standard deviation of the press depth (mm): of the order of the arm's
+    /// repeatability. Default 0.01 (ABB IRB120 product specification, RP = 0.01 mm).
     pub press_depth_sd_mm: f64,
-    /// Trial-to-trial relative standard deviation of both friction coefficients (surface
-    /// state, humidity). Default 0.05 \[A\].
-    pub friction_sd: f64,
+    /// Per-slide standard deviation of the motion onset relative to the recording start (s):
+    /// the host starts the camera recording and then commands the arm over the network, so
+    /// the delay varies by a few milliseconds. Default 0.004 \[A\]: a few cycles of a
+    /// non-real-time host loop and the IRC5 controller's interpolation cycle (4 ms).
+    pub onset_jitter_s: f64,
 }
 
 impl Default for KinematicsParams {
@@ -56,8 +72,10 @@ impl Default for KinematicsParams {
             normal_force_n: 2.0,
             lateral_offset_range_mm: 10.0,
             start_phase_range_mm: 10.0,
-            press_depth_sd_mm: 0.1,
-            friction_sd: 0.05,
+            per_slide_offsets: false,
+            position_repeatability_mm: 0.01,
+            press_depth_sd_mm: 0.01,
+            onset_jitter_s: 0.004,
         }
     }
 }
@@ -72,31 +90,38 @@ pub enum PeriodRule {
     CentreToCentre,
 }
 
-/// Contact mechanics: skin → pin transfer and stick-slip shear (spec §2.2).
+/// Contact mechanics: skin-on-texture contact, skin → pin transfer, friction and stick-slip
+/// shear (spec §2.2; issue 12 items 1–3). Three fields are calibrated
+/// ([`SimParams::calibrated_parameters`]); every other default is a prior with its source.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ContactParams {
     /// Depth z of the elastic-layer low-pass T(k) = (1 + kz)·e^(−kz) (mm). Default 1.25 (§6).
     pub skin_depth_mm: f64,
-    /// Gap width g₀ above which the skin fully enters a gap: c(g) = min(1, (g/g₀)²) (mm).
-    /// Default 3.75 (spec: 3.5–4).
+    /// **Calibrated** (2.5 mm grid → 9.84): the sag/conformity law. Default 6.548, from
+    /// `neurotac simulate calibrate --trials 6 --rounds 3 --seed 1` (9.89 spikes per taxel). The gap g₀ (mm) over which
+    /// the free skin, as a membrane under the nominal contact pressure q, sags by 1 mm; it sets
+    /// the skin tension T = q·g₀²/(8 · 1 mm) of the contact solve ([`super::contact`]).
     pub gap_conformity_mm: f64,
+    /// Winkler stiffness of the gel behind the skin (N/mm³): E_gel / gel thickness. Default
+    /// 0.002 (RTV27905 gel E ≈ 0.03 MPa \[K\], spec §1.1; ≈ 15 mm of gel under the skin).
+    pub foundation_stiffness_n_mm3: f64,
     /// Width of the contact edge in χ(r) = 1/(1 + e^((r − a)/w)) (mm). Default 0.8.
     pub contact_edge_mm: f64,
-    /// Effective lever G_lever turning skin slope into pin-tip displacement (mm). The one
-    /// calibrated parameter (spec §5): default 0.439, from `neurotac simulate calibrate
-    /// --trials 10 --seed 1` (34.94 spikes per taxel on the 5 mm grid against the paper's
-    /// 34.73; spec range 0.4–0.6).
+    /// **Calibrated** (5 mm grid → 34.73): effective lever G_lever turning skin slope into
+    /// pin-tip displacement (mm; spec range 0.4–0.6). Default 0.5974, from `neurotac simulate
+    /// calibrate --trials 6 --rounds 3 --seed 1` (34.21 spikes per taxel).
     pub lever_mm: f64,
-    /// Fraction g_pin of the surface shear seen at the pin tips. Default 0.5.
+    /// Fraction g_pin of the surface shear seen at the pin tips. Default 0.5 (spec §2.2).
     pub pin_shear_gain: f64,
     /// Radial bulge β: pin displacement β·w·r̂ per mm of skin deflection. Default 0.1 (0–0.3).
     pub bulge: f64,
-    /// Shear spread: φ(r) = exp(−(r / (spread·a))²). Default 1.5.
+    /// Shear spread: φ(r) = exp(−(r / (spread·a))²). Default 1.5 (spec §2.2).
     pub shear_spread: f64,
-    /// Skin-only smoothing σ of the height used by the tangential texture term (mm).
-    /// Default 0.3.
-    pub texture_smoothing_mm: f64,
+    /// Shear stiffness per area of the skin layer under a pin, κ = G_skin / t_skin (N/mm³): turns
+    /// the local traction into local shear. Default 0.35 (Shore A 28 print → E ≈ 1.05 MPa by
+    /// Gent's relation, G = E/3; t = 1 mm, spec §1.1).
+    pub skin_shear_stiffness_n_mm3: f64,
     /// Height of the grid cylinders (mm). Default 1 (paper).
     pub bump_height_mm: f64,
     /// What a grid's size d means. Default [`PeriodRule::Gap`].
@@ -108,39 +133,66 @@ pub struct ContactParams {
     /// Lag of the slip velocity behind its quasi-static value (s): the patch's inertia; it
     /// lets velocity weakening produce periodic stick-slip. Default 0.001 \[A\].
     pub slip_inertia_s: f64,
-    /// Static friction of the 3D-printed grids against the skin. Default 1.0 (prototype, §6).
-    pub grid_mu_static: f64,
-    /// Kinetic friction of the 3D-printed grids. Default 0.7 (prototype, §6).
-    pub grid_mu_kinetic: f64,
+    /// Kinetic adhesive friction μ_k of the skin on a flat printed plate. Default 0.7
+    /// (spec §6 prototype; rubber on smooth polymer 0.5–1, Persson 2001).
+    pub adhesion_mu_kinetic: f64,
+    /// **Calibrated** (flat plate → 4.63): the onset snap. Static adhesive friction exceeds the
+    /// kinetic by this fraction: μ_s,adh = μ_k,adh·(1 + excess). Default 0.4453, from
+    /// `neurotac simulate calibrate --trials 6 --rounds 3 --seed 1` (4.66 spikes per taxel).
+    pub static_excess: f64,
+    /// Loss tangent tan δ of the skin rubber: hysteresis friction μ_hys = tan δ·⟨|∂z_s/∂X|⟩
+    /// over the conformed skin (Greenwood & Tabor 1958). Default 0.25 (photopolymer rubbers
+    /// Tango/Agilus at room temperature and Hz frequencies: 0.2–0.4 \[K\]).
+    pub loss_tangent: f64,
+    /// RMS slope h'_rms of the printed surface's micro-roughness, for the real contact area
+    /// A/A₀ = erf(√2·p/(E*·h'_rms)) (Persson 2001). Default 0.2 (3D-printed polymer
+    /// surfaces, R_a ≈ 2–10 µm over ≈ 20–50 µm \[A\]).
+    pub micro_slope_rms: f64,
+    /// Plane-strain modulus E* of the skin (MPa) for the real contact area. Default 1.4
+    /// (E ≈ 1.05 MPa, ν = 0.5: E* = E/(1 − ν²)).
+    pub skin_modulus_mpa: f64,
     /// Smallest micro-slip amplitude δ_ms (mm). Default 0.005 (spec: 5–50 µm).
     pub microslip_min_mm: f64,
     /// Largest micro-slip amplitude δ_ms (mm). Default 0.05.
     pub microslip_max_mm: f64,
     /// Reload time constant τ_ms of a micro-slip (s). Default 0.003 (spec: 2–5 ms).
     pub microslip_time_s: f64,
+    /// Standard deviation of the friction factor shared by every texture of one recording
+    /// (rig and day: humidity, skin wear). Default 0.05 \[A\] (elastomer friction changes by
+    /// 5–20 % with humidity and surface state).
+    pub friction_day_sd: f64,
+    /// Standard deviation of the slow friction drift over the slides of one texture: a smooth
+    /// random function of the slide index with periods of 50–400 slides. Default 0.03 \[A\].
+    pub friction_drift_sd: f64,
 }
 
 impl Default for ContactParams {
     fn default() -> Self {
         Self {
             skin_depth_mm: 1.25,
-            gap_conformity_mm: 3.75,
+            gap_conformity_mm: 6.548,
+            foundation_stiffness_n_mm3: 0.002,
             contact_edge_mm: 0.8,
-            lever_mm: 0.439,
+            lever_mm: 0.5974,
             pin_shear_gain: 0.5,
             bulge: 0.1,
             shear_spread: 1.5,
-            texture_smoothing_mm: 0.3,
+            skin_shear_stiffness_n_mm3: 0.35,
             bump_height_mm: 1.0,
             period_rule: PeriodRule::Gap,
             tangential_stiffness_n_mm: 2.0,
             slip_time_s: 0.01,
             slip_inertia_s: 0.001,
-            grid_mu_static: 1.0,
-            grid_mu_kinetic: 0.7,
+            adhesion_mu_kinetic: 0.7,
+            static_excess: 0.4453,
+            loss_tangent: 0.25,
+            micro_slope_rms: 0.2,
+            skin_modulus_mpa: 1.4,
             microslip_min_mm: 0.005,
             microslip_max_mm: 0.05,
             microslip_time_s: 0.003,
+            friction_day_sd: 0.05,
+            friction_drift_sd: 0.03,
         }
     }
 }
@@ -283,6 +335,125 @@ pub struct SimParams {
     pub solver: SolverParams,
 }
 
+/// The paper's intensive-code means (spikes per taxel) of the 0, 2.5 and 5 mm grids: the only
+/// numbers the simulator is calibrated on (spec §5).
+pub const PAPER_INTENSIVE_MEANS: [(f64, f64); 3] = [(0.0, 4.63), (2.5, 9.84), (5.0, 34.73)];
+
+/// One calibrated parameter: what was fitted, to which anchor (spec §5 calibration rule).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct CalibratedParameter {
+    /// The parameter as spelled in the parameter file (`group.field`).
+    pub name: &'static str,
+    /// Its value.
+    pub value: f64,
+    /// The grid whose intensive mean it is fitted to (mm).
+    pub anchor_grid_mm: f64,
+    /// The paper's intensive mean of that grid (spikes per taxel).
+    pub target_spikes_per_taxel: f64,
+}
+
+/// Where each prior comes from, as written into a parameter file's `sources` section.
+/// Calibrated fields say so; everything else names its source or is marked \[A\]
+/// (an engineering assumption with its basis).
+pub const PARAMETER_SOURCES: &[(&str, &str)] = &[
+    ("kinematics.speed_mm_s", "paper: 15 mm/s"),
+    ("kinematics.distance_mm", "paper: 60 mm per sample"),
+    (
+        "kinematics.acceleration_mm_s2",
+        "[A] spec 2.1: 100-500 mm/s^2",
+    ),
+    ("kinematics.press_depth_mm", "[A] spec 2.1: 1.5-3 mm"),
+    ("kinematics.normal_force_n", "[A] spec 2.1: 1-3 N"),
+    (
+        "kinematics.lateral_offset_range_mm",
+        "[A] mounting of a texture under the arm, drawn once per texture",
+    ),
+    (
+        "kinematics.start_phase_range_mm",
+        "[A] one period of the coarsest grid, drawn once per texture",
+    ),
+    (
+        "kinematics.position_repeatability_mm",
+        "ABB IRB120 product specification: position repeatability RP = 0.01 mm",
+    ),
+    (
+        "kinematics.press_depth_sd_mm",
+        "same order as the arm's repeatability (ABB IRB120, RP = 0.01 mm)",
+    ),
+    (
+        "kinematics.onset_jitter_s",
+        "[A] host-commanded motion start: non-real-time host loop plus the IRC5 4 ms interpolation cycle",
+    ),
+    (
+        "contact.skin_depth_mm",
+        "spec 6: curve shape brackets z to 1-1.5 mm",
+    ),
+    (
+        "contact.gap_conformity_mm",
+        "CALIBRATED on the 2.5 mm grid (9.84 spikes/taxel)",
+    ),
+    (
+        "contact.foundation_stiffness_n_mm3",
+        "RTV27905 gel E ~ 0.03 MPa [K] over ~15 mm of gel",
+    ),
+    (
+        "contact.lever_mm",
+        "CALIBRATED on the 5 mm grid (34.73 spikes/taxel)",
+    ),
+    ("contact.pin_shear_gain", "[A] spec 2.2: g_pin ~ 0.5"),
+    (
+        "contact.skin_shear_stiffness_n_mm3",
+        "Gent (1958) Shore A 28 -> E ~ 1.05 MPa, G = E/3, 1 mm skin (lab manufacturing note)",
+    ),
+    ("contact.bump_height_mm", "paper: cylinders 1 mm high"),
+    (
+        "contact.tangential_stiffness_n_mm",
+        "[A] spec 2.2: 1-3 N/mm",
+    ),
+    ("contact.slip_time_s", "[A] spec 2.2: 5-20 ms"),
+    (
+        "contact.adhesion_mu_kinetic",
+        "spec 6 prototype; rubber on smooth polymer 0.5-1 (Persson 2001)",
+    ),
+    (
+        "contact.static_excess",
+        "CALIBRATED on the flat plate (4.63 spikes/taxel)",
+    ),
+    (
+        "contact.loss_tangent",
+        "[K] photopolymer rubbers (Tango/Agilus) tan delta 0.2-0.4; hysteresis friction after Greenwood & Tabor 1958",
+    ),
+    (
+        "contact.micro_slope_rms",
+        "[A] 3D-printed polymer micro-roughness; real contact area after Persson 2001",
+    ),
+    (
+        "contact.skin_modulus_mpa",
+        "Gent (1958) Shore A 28, nu = 0.5",
+    ),
+    (
+        "contact.friction_day_sd",
+        "[A] elastomer friction varies 5-20 % with humidity and surface state",
+    ),
+    (
+        "contact.friction_drift_sd",
+        "[A] slow drift over a texture's session, periods of 50-400 slides",
+    ),
+    (
+        "optics",
+        "spec 1.2 and 3.1 (disc radius, blur, contrast), v2e lin-log",
+    ),
+    (
+        "pixel",
+        "spec 3.3: v2e defaults (thresholds 0.2, sigma 0.03, refractory 0.5 ms, 300 Hz)",
+    ),
+    (
+        "noise",
+        "spec 3.3: total background activity 0.1-0.3 Hz per pixel",
+    ),
+    ("solver", "numerical settings (neurotac tradeoff simulator)"),
+];
+
 /// What a value must satisfy.
 #[derive(Clone, Copy)]
 enum Domain {
@@ -346,24 +517,38 @@ impl SimParams {
                 NonNegative,
             ),
             (
+                "kinematics.position_repeatability_mm",
+                k.position_repeatability_mm,
+                Between(0.0, 5.0),
+            ),
+            (
                 "kinematics.press_depth_sd_mm",
                 k.press_depth_sd_mm,
-                NonNegative,
+                Between(0.0, 0.5),
             ),
-            ("kinematics.friction_sd", k.friction_sd, Between(0.0, 0.5)),
+            (
+                "kinematics.onset_jitter_s",
+                k.onset_jitter_s,
+                Between(0.0, 0.1),
+            ),
             ("contact.skin_depth_mm", c.skin_depth_mm, Positive),
             ("contact.gap_conformity_mm", c.gap_conformity_mm, Positive),
+            (
+                "contact.foundation_stiffness_n_mm3",
+                c.foundation_stiffness_n_mm3,
+                NonNegative,
+            ),
             ("contact.contact_edge_mm", c.contact_edge_mm, Positive),
             ("contact.lever_mm", c.lever_mm, NonNegative),
             ("contact.pin_shear_gain", c.pin_shear_gain, NonNegative),
             ("contact.bulge", c.bulge, NonNegative),
             ("contact.shear_spread", c.shear_spread, Positive),
             (
-                "contact.texture_smoothing_mm",
-                c.texture_smoothing_mm,
-                NonNegative,
+                "contact.skin_shear_stiffness_n_mm3",
+                c.skin_shear_stiffness_n_mm3,
+                Positive,
             ),
-            ("contact.bump_height_mm", c.bump_height_mm, NonNegative),
+            ("contact.bump_height_mm", c.bump_height_mm, Positive),
             (
                 "contact.tangential_stiffness_n_mm",
                 c.tangential_stiffness_n_mm,
@@ -371,11 +556,28 @@ impl SimParams {
             ),
             ("contact.slip_time_s", c.slip_time_s, Positive),
             ("contact.slip_inertia_s", c.slip_inertia_s, Positive),
-            ("contact.grid_mu_static", c.grid_mu_static, Positive),
-            ("contact.grid_mu_kinetic", c.grid_mu_kinetic, Positive),
+            (
+                "contact.adhesion_mu_kinetic",
+                c.adhesion_mu_kinetic,
+                Positive,
+            ),
+            ("contact.static_excess", c.static_excess, Between(0.0, 5.0)),
+            ("contact.loss_tangent", c.loss_tangent, Between(0.0, 2.0)),
+            ("contact.micro_slope_rms", c.micro_slope_rms, Positive),
+            ("contact.skin_modulus_mpa", c.skin_modulus_mpa, Positive),
             ("contact.microslip_min_mm", c.microslip_min_mm, NonNegative),
             ("contact.microslip_max_mm", c.microslip_max_mm, NonNegative),
             ("contact.microslip_time_s", c.microslip_time_s, Positive),
+            (
+                "contact.friction_day_sd",
+                c.friction_day_sd,
+                Between(0.0, 0.3),
+            ),
+            (
+                "contact.friction_drift_sd",
+                c.friction_drift_sd,
+                Between(0.0, 0.3),
+            ),
             ("optics.pin_radius_px", o.pin_radius_px, Positive),
             ("optics.edge_blur_px", o.edge_blur_px, Positive),
             ("optics.background_dn", o.background_dn, Positive),
@@ -417,12 +619,6 @@ impl SimParams {
                 "a slide (with its rests) of at most 600 s",
             ),
             (
-                "contact.grid_mu_kinetic",
-                c.grid_mu_kinetic,
-                c.grid_mu_kinetic <= c.grid_mu_static,
-                "≤ contact.grid_mu_static",
-            ),
-            (
                 "contact.microslip_max_mm",
                 c.microslip_max_mm,
                 c.microslip_max_mm >= c.microslip_min_mm,
@@ -454,20 +650,99 @@ impl SimParams {
         Self::from_json_str(&text, path)
     }
 
-    /// Parses and validates the JSON form; `path` only names the source in errors.
+    /// Parses and validates the JSON form; `path` only names the source in errors. The
+    /// documentary sections `sources` and `calibrated` written by
+    /// [`to_json_string`](Self::to_json_string) are skipped.
     pub fn from_json_str(text: &str, path: &Path) -> Result<Self, SimulationError> {
-        let params: SimParams =
-            serde_json::from_str(text).map_err(|source| SimulationError::ParamsJson {
-                path: path.to_owned(),
-                source,
-            })?;
+        let json_error = |source| SimulationError::ParamsJson {
+            path: path.to_owned(),
+            source,
+        };
+        let mut value: serde_json::Value = serde_json::from_str(text).map_err(json_error)?;
+        if let Some(map) = value.as_object_mut() {
+            map.remove("sources");
+            map.remove("calibrated");
+        }
+        let params: SimParams = serde_json::from_value(value).map_err(json_error)?;
         params.validate()?;
         Ok(params)
     }
 
-    /// The JSON form (complete: every field).
+    /// The JSON form: a `sources` section naming where each prior comes from
+    /// ([`PARAMETER_SOURCES`]), a `calibrated` section ([`calibrated_parameters`](Self::calibrated_parameters)),
+    /// then every field.
     pub fn to_json_string(&self) -> String {
-        serde_json::to_string_pretty(self).expect("finite parameters serialise")
+        let mut map = serde_json::Map::new();
+        let sources: serde_json::Map<String, serde_json::Value> = PARAMETER_SOURCES
+            .iter()
+            .map(|(k, v)| ((*k).to_owned(), (*v).into()))
+            .collect();
+        map.insert("sources".into(), sources.into());
+        map.insert(
+            "calibrated".into(),
+            serde_json::to_value(self.calibrated_parameters()).expect("finite values serialise"),
+        );
+        if let serde_json::Value::Object(fields) =
+            serde_json::to_value(self).expect("finite parameters serialise")
+        {
+            map.extend(fields);
+        }
+        serde_json::to_string_pretty(&serde_json::Value::Object(map))
+            .expect("finite parameters serialise")
+    }
+
+    /// The (at most three) calibrated parameters, each with the one intensive mean it is
+    /// fitted to (spec §5): `contact.static_excess` ← flat plate 4.63,
+    /// `contact.gap_conformity_mm` ← 2.5 mm grid 9.84, `contact.lever_mm` ← 5 mm grid 34.73.
+    /// Everything else is a prior; every accuracy is a held-out prediction.
+    pub fn calibrated_parameters(&self) -> [CalibratedParameter; 3] {
+        let c = &self.contact;
+        let [flat, mid, coarse] = PAPER_INTENSIVE_MEANS;
+        [
+            CalibratedParameter {
+                name: "contact.static_excess",
+                value: c.static_excess,
+                anchor_grid_mm: flat.0,
+                target_spikes_per_taxel: flat.1,
+            },
+            CalibratedParameter {
+                name: "contact.gap_conformity_mm",
+                value: c.gap_conformity_mm,
+                anchor_grid_mm: mid.0,
+                target_spikes_per_taxel: mid.1,
+            },
+            CalibratedParameter {
+                name: "contact.lever_mm",
+                value: c.lever_mm,
+                anchor_grid_mm: coarse.0,
+                target_spikes_per_taxel: coarse.1,
+            },
+        ]
+    }
+
+    /// Nominal contact pressure q = N / (π·a²) at the mean press depth on a dome of radius
+    /// `dome_radius_mm` (N/mm² = MPa), a = √(2Rδ).
+    pub fn nominal_pressure_mpa(&self, dome_radius_mm: f64) -> f64 {
+        let k = &self.kinematics;
+        let a2 = 2.0 * dome_radius_mm * k.press_depth_mm;
+        k.normal_force_n / (std::f64::consts::PI * a2)
+    }
+
+    /// Time from motion onset until the skin's shear reaches its stick limit
+    /// s_s = μ_s·N/k_t (s), on the actual trapezoidal ramp: while sticking the shear follows the
+    /// base, so this is when x_b(t) = s_s — `√(2·s_s/a)` if the stick ends during the
+    /// acceleration, `v/(2a) + s_s/v` after it (≈ s_s/v, i.e. ∝ 1/v, only in the second case).
+    /// N at press depth δ is N₀·(δ/δ₀)^{3/2}.
+    pub fn stick_time_s(&self, mu_static: f64, press_depth_mm: f64) -> f64 {
+        let k = &self.kinematics;
+        let normal = k.normal_force_n * (press_depth_mm / k.press_depth_mm).powf(1.5);
+        let s_s = mu_static * normal / self.contact.tangential_stiffness_n_mm;
+        let (v, a) = (k.speed_mm_s, k.acceleration_mm_s2);
+        if s_s <= v * v / (2.0 * a) {
+            (2.0 * s_s / a).sqrt()
+        } else {
+            v / (2.0 * a) + s_s / v
+        }
     }
 
     /// Duration of the motion alone (s): trapezoidal profile over the slide distance.
@@ -534,6 +809,7 @@ mod tests {
             p
         );
         let missing = text.replace("\"refractory_s\": 0.0005,", "");
+        assert!(text.contains("\"sources\"") && text.contains("ABB IRB120"));
         let err = SimParams::from_json_str(&missing, Path::new("p.json")).unwrap_err();
         let SimulationError::ParamsJson { source, .. } = &err else {
             panic!("{err:?}")

@@ -1,12 +1,27 @@
-//! Textures: the 11 bump grids and the 20 natural textures as height fields, filtered once by
-//! the skin into the fields the pins feel (spec §2.1, §2.2 steps 1–3, §2.4).
+//! Textures: the 11 bump grids and the 20 natural textures as height fields, put in contact
+//! with the skin once per texture and filtered into the fields the pins feel (spec §2.1,
+//! §2.2 steps 1–3, §2.4; issue 12 items 1–3, 7).
 //!
-//! A texture becomes a [`TextureField`]: a periodic grid holding, at every point, the skin
-//! deflection `w₀ = c · F⁻¹[T(k)·F[h]]` (zero mean; `T(k) = (1 + kz)·e^(−kz)`, c the gap
-//! conformity), its gradient (spectral derivative), and the slope `∂h_s/∂X` of the height
-//! smoothed only by the skin (Gaussian σ) for the tangential texture term. The contact weight
-//! χ(r) is applied later, in the sensor frame ([`super::mechanics`]). Fields are built once per
-//! texture and shared by all its trials: the physical sample is the same object every slide.
+//! A texture becomes a [`TextureField`] and a [`Surface`] through [`Texture::prepare`]:
+//! 1. the skin-on-texture contact is solved ([`super::contact`]): the conformed skin surface
+//!    z_s (sag into the gaps growing with the gap until it meets the floor) and the contact
+//!    pressure p;
+//! 2. the field holds, at every point, the deflection `w₀ = F⁻¹[T(k)·F[z_s]]` (zero mean;
+//!    `T(k) = (1 + kz)·e^(−kz)`), its gradient (spectral derivative), and the **local
+//!    traction** fluctuation `τ̃ = F⁻¹[T(k)·F[μ_k·p]]` (zero mean): the tangential load under
+//!    one pin as bump edges pass, transmitted through the same elastic layer — not averaged
+//!    over the contact patch. The contact weight χ(r) is applied later, in the sensor frame
+//!    ([`super::mechanics`]);
+//! 3. the friction of a grid follows from the contact: adhesion scales with the real contact
+//!    area (Persson 2001); the deformation term grows with the slope of the draped skin: at
+//!    rest the skin must be lifted out of the gaps over the bump edges (geometric
+//!    interlocking, μ = tan θ, Tabor's asperity-angle model), while sliding only the hysteretic
+//!    fraction tan δ of that work is lost (Greenwood & Tabor 1958). So μ_s, μ_k and the onset
+//!    snap μ_s − μ_k differ between textures:
+//!    `μ_k = μ_k,adh·A/A_flat + tan δ·⟨|∂z_s/∂X|⟩`, `μ_s = μ_k,adh·(1 + e)·A/A_flat + ⟨|∂z_s/∂X|⟩`.
+//!
+//! Fields are built once per texture and shared by all its trials: the physical sample is the
+//! same object every slide.
 //!
 //! Natural textures follow the spec's §2.4 table: a periodic weave, self-affine roughness
 //! (spectrum ∝ (1 + (kξ)²)^−(1+H)), sparse discrete features, the compliance κ_m scaling every
@@ -14,9 +29,10 @@
 //! never fitted to classification results.** The random parts are drawn from a seed derived from
 //! the texture's name only, so a texture is the same sample in every dataset.
 
+use super::contact::{ContactLaw, SkinContact, solve};
 use super::error::SimulationError;
 use super::fft::{Complex, fft2, frequency_index};
-use super::params::{ContactParams, PeriodRule};
+use super::params::{ContactParams, PeriodRule, SimParams};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::f64::consts::{PI, TAU};
@@ -170,10 +186,11 @@ pub enum Texture {
     Natural(&'static NaturalTexture),
 }
 
-/// Friction and micro-slip of a texture against the skin (spec §2.2 step 5, §2.4).
+/// Friction, micro-slip and contact facts of a texture against the skin (spec §2.2 step 5,
+/// §2.4; issue 12 item 1).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Surface {
-    /// Static friction μ_s.
+    /// Static friction μ_s (before the recording's shared factor and drift).
     pub mu_static: f64,
     /// Kinetic friction μ_k.
     pub mu_kinetic: f64,
@@ -181,6 +198,14 @@ pub struct Surface {
     pub microslip_rate_hz: f64,
     /// Velocity-weakening speed (mm/s); 0 = none.
     pub weakening_speed_mm_s: f64,
+    /// Real contact area relative to a flat plate (1 for the plate).
+    pub real_area_ratio: f64,
+    /// Mean slope ⟨|∂z_s/∂X|⟩ of the draped skin.
+    pub mean_abs_slope: f64,
+    /// Deepest sag of the skin into the texture (mm).
+    pub max_sag_mm: f64,
+    /// Fraction of the skin in contact.
+    pub contact_fraction: f64,
 }
 
 impl Texture {
@@ -227,24 +252,6 @@ impl Texture {
         }
     }
 
-    /// Friction and micro-slips.
-    pub fn surface(&self, contact: &ContactParams) -> Surface {
-        match self {
-            Texture::Grid { .. } => Surface {
-                mu_static: contact.grid_mu_static,
-                mu_kinetic: contact.grid_mu_kinetic,
-                microslip_rate_hz: 0.0,
-                weakening_speed_mm_s: 0.0,
-            },
-            Texture::Natural(t) => Surface {
-                mu_static: t.mu_static,
-                mu_kinetic: t.mu_kinetic,
-                microslip_rate_hz: t.microslip_rate_hz,
-                weakening_speed_mm_s: t.weakening_speed_mm_s,
-            },
-        }
-    }
-
     /// The spatial period along the slide of a grid (mm): 2d or d by the period rule; `None` for
     /// the flat plate and natural textures.
     pub fn grid_period_mm(&self, rule: PeriodRule) -> Option<f64> {
@@ -257,12 +264,73 @@ impl Texture {
         }
     }
 
-    /// Builds the skin-filtered field (spec §2.2 steps 2–3).
-    pub fn field(&self, contact: &ContactParams) -> TextureField {
+    /// Solves the skin's contact on this texture under the nominal pressure `pressure_mpa`
+    /// and builds its field and surface (see the module docs). Deterministic; once per
+    /// texture.
+    pub fn prepare(&self, params: &SimParams, pressure_mpa: f64) -> (TextureField, Surface) {
+        let c = &params.contact;
+        let law = ContactLaw::new(c, pressure_mpa);
         match *self {
-            Texture::Grid { size_mm } => grid_field(size_mm, contact),
-            Texture::Natural(t) => natural_field(t, contact),
+            Texture::Grid { size_mm } if size_mm > 0.0 => {
+                let (h, n, dx) = grid_heights(size_mm, c);
+                let contact = solve(&h, (n, n), (dx, dx), &law);
+                let adhesion = c.adhesion_mu_kinetic * contact.real_area_ratio;
+                let hysteresis = c.loss_tangent * contact.mean_abs_slope;
+                let interlocking = contact.mean_abs_slope;
+                let mu_kinetic = adhesion + hysteresis;
+                let surface = Surface {
+                    mu_static: adhesion * (1.0 + c.static_excess) + interlocking,
+                    mu_kinetic,
+                    microslip_rate_hz: 0.0,
+                    weakening_speed_mm_s: 0.0,
+                    ..contact_facts(&contact)
+                };
+                let field = TextureField::from_contact(&contact, mu_kinetic, (n, n), (dx, dx), c);
+                (field, surface)
+            }
+            Texture::Grid { .. } => (
+                TextureField::flat(),
+                Surface {
+                    mu_static: c.adhesion_mu_kinetic * (1.0 + c.static_excess),
+                    mu_kinetic: c.adhesion_mu_kinetic,
+                    microslip_rate_hz: 0.0,
+                    weakening_speed_mm_s: 0.0,
+                    real_area_ratio: 1.0,
+                    mean_abs_slope: 0.0,
+                    max_sag_mm: 0.0,
+                    contact_fraction: 1.0,
+                },
+            ),
+            Texture::Natural(t) => {
+                let h = natural_heights(t);
+                let (nx, ny, dx) = (NATURAL_NX, NATURAL_NY, NATURAL_DX_MM);
+                let contact = solve(&h, (nx, ny), (dx, dx), &law);
+                let surface = Surface {
+                    mu_static: t.mu_static,
+                    mu_kinetic: t.mu_kinetic,
+                    microslip_rate_hz: t.microslip_rate_hz,
+                    weakening_speed_mm_s: t.weakening_speed_mm_s,
+                    ..contact_facts(&contact)
+                };
+                let field =
+                    TextureField::from_contact(&contact, t.mu_kinetic, (nx, ny), (dx, dx), c);
+                (field, surface)
+            }
         }
+    }
+}
+
+/// The contact facts of a [`Surface`] (friction left at zero).
+fn contact_facts(contact: &SkinContact) -> Surface {
+    Surface {
+        mu_static: 0.0,
+        mu_kinetic: 0.0,
+        microslip_rate_hz: 0.0,
+        weakening_speed_mm_s: 0.0,
+        real_area_ratio: contact.real_area_ratio,
+        mean_abs_slope: contact.mean_abs_slope,
+        max_sag_mm: contact.max_sag_mm,
+        contact_fraction: contact.contact_fraction,
     }
 }
 
@@ -280,7 +348,7 @@ pub struct TextureField {
     ny: usize,
     dx_mm: f64,
     dy_mm: f64,
-    /// Per point: `[w₀, ∂w₀/∂X, ∂w₀/∂Y, ∂h_s/∂X]`.
+    /// Per point: `[w₀, ∂w₀/∂X, ∂w₀/∂Y, τ̃]`.
     values: Vec<[f32; 4]>,
     flat: bool,
 }
@@ -294,8 +362,8 @@ pub struct FieldSample {
     pub dw_dx: f64,
     /// ∂w₀/∂Y.
     pub dw_dy: f64,
-    /// Slope of the skin-smoothed height, ∂h_s/∂X.
-    pub dhs_dx: f64,
+    /// Local traction fluctuation τ̃ under the point (MPa = N/mm²), zero mean.
+    pub traction_mpa: f64,
 }
 
 impl TextureField {
@@ -328,7 +396,7 @@ impl TextureField {
             w: out[0] as f64,
             dw_dx: out[1] as f64,
             dw_dy: out[2] as f64,
-            dhs_dx: out[3] as f64,
+            traction_mpa: out[3] as f64,
         }
     }
 
@@ -351,21 +419,40 @@ impl TextureField {
         }
     }
 
-    /// Filters heights `h` (row-major `nx × ny`, spacing `dx × dy` mm, periodic) by the skin:
-    /// removes the mean, applies `scale · T(k)` for the deflection, spectral derivatives for its
-    /// gradient, and a Gaussian of σ for the tangential slope.
-    fn from_heights(
-        h: &[f64],
+    /// The field of a solved contact: the conformed surface and the local traction
+    /// `mu_kinetic·p`, both passed through T(k) with their means removed.
+    fn from_contact(
+        contact: &SkinContact,
+        mu_kinetic: f64,
+        dims: (usize, usize),
+        spacing: (f64, f64),
+        params: &ContactParams,
+    ) -> Self {
+        let traction: Vec<f64> = contact
+            .pressure_mpa
+            .iter()
+            .map(|p| mu_kinetic * p)
+            .collect();
+        Self::from_surface(&contact.surface_mm, &traction, dims, spacing, params)
+    }
+
+    /// Filters the skin surface `z` and the traction `tau` (row-major `nx × ny`, spacing
+    /// `dx × dy` mm, periodic) by the elastic layer: removes the means, applies T(k) to both,
+    /// and spectral derivatives for the deflection's gradient.
+    fn from_surface(
+        z: &[f64],
+        tau: &[f64],
         (nx, ny): (usize, usize),
         (dx_mm, dy_mm): (f64, f64),
-        scale: f64,
         contact: &ContactParams,
     ) -> Self {
-        let mut spectrum: Vec<Complex> = h.iter().map(|&v| (v, 0.0)).collect();
+        let mut spectrum: Vec<Complex> = z.iter().map(|&v| (v, 0.0)).collect();
         fft2(&mut spectrum, nx, ny, false);
         spectrum[0] = (0.0, 0.0);
-        let z = contact.skin_depth_mm;
-        let sigma = contact.texture_smoothing_mm;
+        let mut traction: Vec<Complex> = tau.iter().map(|&v| (v, 0.0)).collect();
+        fft2(&mut traction, nx, ny, false);
+        traction[0] = (0.0, 0.0);
+        let z_depth = contact.skin_depth_mm;
         let (lx, ly) = (nx as f64 * dx_mm, ny as f64 * dy_mm);
         let mut channels: [Vec<Complex>; 4] = std::array::from_fn(|_| vec![(0.0, 0.0); nx * ny]);
         for j in 0..ny {
@@ -373,21 +460,20 @@ impl TextureField {
             for i in 0..nx {
                 let kx = TAU * frequency_index(i, nx) / lx;
                 let k = (kx * kx + ky * ky).sqrt();
-                let t = (1.0 + k * z) * (-k * z).exp() * scale;
-                let g = (-0.5 * k * k * sigma * sigma).exp();
-                let (re, im) = spectrum[j * nx + i];
+                let t = (1.0 + k * z_depth) * (-k * z_depth).exp();
                 let n = j * nx + i;
+                let (re, im) = spectrum[n];
                 channels[0][n] = (t * re, t * im);
                 // ∂/∂X multiplies by i·kx: (re + i·im)·i·kx = (−im·kx) + i·(re·kx).
                 channels[1][n] = (-t * im * kx, t * re * kx);
                 channels[2][n] = (-t * im * ky, t * re * ky);
-                channels[3][n] = (-g * im * kx, g * re * kx);
+                let (tr, ti) = traction[n];
+                channels[3][n] = (t * tr, t * ti);
             }
         }
         // Nyquist bins of odd derivatives have no consistent sign: drop them.
         for j in 0..ny {
             channels[1][j * nx + nx / 2] = (0.0, 0.0);
-            channels[3][j * nx + nx / 2] = (0.0, 0.0);
         }
         for i in 0..nx {
             channels[2][(ny / 2) * nx + i] = (0.0, 0.0);
@@ -409,22 +495,16 @@ impl TextureField {
     }
 }
 
-/// Gap conformity c(g) = min(1, (g/g₀)²) (spec §2.2 step 2).
-pub fn gap_conformity(gap_mm: f64, g0_mm: f64) -> f64 {
-    (gap_mm / g0_mm).powi(2).min(1.0)
-}
-
-fn grid_field(size_mm: f64, contact: &ContactParams) -> TextureField {
-    if size_mm <= 0.0 || contact.bump_height_mm <= 0.0 {
-        return TextureField::flat();
-    }
+/// The height field of one period of the grid of size `size_mm` (d > 0): cylinder
+/// coverage of each of `GRID_CELLS²` cells (4 × 4 supersampling) times the bump height.
+/// Returns (heights, cells per side, cell size in mm).
+fn grid_heights(size_mm: f64, contact: &ContactParams) -> (Vec<f64>, usize, f64) {
     let (period, diameter) = match contact.period_rule {
         PeriodRule::Gap => (2.0 * size_mm, size_mm),
         PeriodRule::CentreToCentre => (size_mm, 0.5 * size_mm),
     };
     let n = GRID_CELLS;
     let dx = period / n as f64;
-    // Cylinder coverage of each cell by 4 × 4 supersampling; the cylinder sits mid-cell.
     let sub = 4;
     let r2 = (0.5 * diameter).powi(2);
     let mut h = vec![0.0; n * n];
@@ -441,8 +521,7 @@ fn grid_field(size_mm: f64, contact: &ContactParams) -> TextureField {
             h[j * n + i] = contact.bump_height_mm * inside as f64 / (sub * sub) as f64;
         }
     }
-    let c = gap_conformity(period - diameter, contact.gap_conformity_mm);
-    TextureField::from_heights(&h, (n, n), (dx, dx), c, contact)
+    (h, n, dx)
 }
 
 /// A seed from a texture name (FNV-1a), so each natural texture is one fixed sample.
@@ -500,7 +579,9 @@ fn weave_height(t: &NaturalTexture, x: f64, y: f64, grain: &[f64]) -> f64 {
     }
 }
 
-fn natural_field(t: &NaturalTexture, contact: &ContactParams) -> TextureField {
+/// The height field of a natural texture (`NATURAL_NX × NATURAL_NY` at `NATURAL_DX_MM`),
+/// every height scaled by its compliance κ_m.
+fn natural_heights(t: &NaturalTexture) -> Vec<f64> {
     let (nx, ny, dx) = (NATURAL_NX, NATURAL_NY, NATURAL_DX_MM);
     let (lx, ly) = (nx as f64 * dx, ny as f64 * dx);
     let mut rng = ChaCha8Rng::seed_from_u64(name_seed(t.name));
@@ -565,7 +646,8 @@ fn natural_field(t: &NaturalTexture, contact: &ContactParams) -> TextureField {
             }
         }
     }
-    TextureField::from_heights(&h, (nx, ny), (dx, dx), t.compliance, contact)
+    h.iter_mut().for_each(|v| *v *= t.compliance);
+    h
 }
 
 /// A standard normal draw (Box–Muller).
@@ -627,16 +709,56 @@ mod tests {
         ));
     }
 
+    fn prepared(name: &str) -> (TextureField, Surface) {
+        let p = SimParams::default();
+        let q = p.nominal_pressure_mpa(20.0);
+        Texture::from_name(name).unwrap().prepare(&p, q)
+    }
+
     #[test]
-    fn skin_low_pass_makes_fine_grids_nearly_flat_and_coarse_grids_deep() {
-        let c = ContactParams::default();
-        let amp = |d: f64| Texture::grid(d).unwrap().field(&c).max_deflection_mm();
-        assert_eq!(amp(0.0), 0.0);
-        assert!(amp(0.5) < 1e-3, "{}", amp(0.5));
-        assert!(amp(1.5) < 0.05, "{}", amp(1.5));
-        assert!(amp(5.0) > 0.3, "{}", amp(5.0));
-        let sizes: Vec<f64> = GRID_SIZES_MM.iter().map(|&d| amp(d)).collect();
-        assert!(sizes.windows(2).all(|w| w[1] >= w[0]), "{sizes:?}");
+    fn conformed_skin_makes_fine_grids_nearly_flat_and_coarse_grids_deep_monotonically() {
+        let (flat, _) = prepared("grid 0 mm");
+        assert_eq!(flat.max_deflection_mm(), 0.0);
+        let all: Vec<(f64, f64)> = GRID_SIZES_MM[1..]
+            .iter()
+            .map(|&d| {
+                let (f, s) = prepared(&format!("grid {d} mm"));
+                (f.max_deflection_mm(), s.max_sag_mm)
+            })
+            .collect();
+        assert!(all[0].0 < 1e-3, "{all:?}");
+        assert!(all[9].0 > 0.2 && (all[9].1 - 1.0).abs() < 1e-6, "{all:?}");
+        assert!(
+            all.windows(2)
+                .all(|w| w[1].0 >= w[0].0 && w[1].1 >= w[0].1 - 1e-9),
+            "{all:?}"
+        );
+    }
+
+    #[test]
+    fn friction_and_the_onset_snap_differ_between_grids() {
+        // Issue 12 item 1: friction follows the contact, so the snap (μ_s − μ_k) and the stick
+        // distance (μ_s) are texture-dependent.
+        let surfaces: Vec<Surface> = GRID_SIZES_MM
+            .iter()
+            .map(|&d| prepared(&format!("grid {d} mm")).1)
+            .collect();
+        let snap = |s: &Surface| s.mu_static - s.mu_kinetic;
+        assert!(
+            (snap(&surfaces[0]) - snap(&surfaces[1])).abs() > 0.01,
+            "{surfaces:?}"
+        );
+        assert!(
+            surfaces[10].mu_static > surfaces[5].mu_static,
+            "{surfaces:?}"
+        );
+        assert!(
+            surfaces
+                .iter()
+                .all(|s| s.mu_static >= s.mu_kinetic && s.mu_kinetic > 0.0)
+        );
+        // More contact once the skin reaches the floor of the coarse gaps.
+        assert!(surfaces[10].contact_fraction > surfaces[2].contact_fraction);
     }
 
     #[test]
@@ -648,23 +770,26 @@ mod tests {
         let h: Vec<f64> = (0..n * n)
             .map(|i| (TAU * (i % n) as f64 / n as f64).cos())
             .collect();
-        let f = TextureField::from_heights(&h, (n, n), (dx, dx), 1.0, &c);
+        let f = TextureField::from_surface(&h, &h, (n, n), (dx, dx), &c);
         let k = TAU / lambda;
         let t = (1.0 + k * c.skin_depth_mm) * (-k * c.skin_depth_mm).exp();
         let s = f.sample(0.0, 1.0);
         assert!((s.w - t).abs() < 1e-5, "{} vs {t}", s.w);
+        assert!(
+            (s.traction_mpa - t).abs() < 1e-5,
+            "{} vs {t}",
+            s.traction_mpa
+        );
         let q = f.sample(lambda / 4.0, 0.0);
         assert!((q.dw_dx + t * k).abs() < 1e-4, "{} vs {}", q.dw_dx, -t * k);
     }
 
     #[test]
     fn natural_fields_are_deterministic_and_scaled_by_compliance() {
-        let c = ContactParams::default();
-        let wool = Texture::from_name("wool").unwrap();
-        let a = wool.field(&c);
-        let b = wool.field(&c);
+        let (a, _) = prepared("wool");
+        let (b, _) = prepared("wool");
         assert_eq!(a.sample(12.3, 4.5), b.sample(12.3, 4.5));
-        let acrylic = Texture::from_name("acrylic").unwrap().field(&c);
+        let (acrylic, _) = prepared("acrylic");
         assert!(acrylic.max_deflection_mm() < 0.01);
         assert!(a.max_deflection_mm() > 0.01);
     }

@@ -27,7 +27,7 @@ pub struct TransductionConfig {
     pub ba_start: MapStart,
     /// Refractory period (µs); `None` (default) disables the refractory filter.
     pub refractory_us: Option<i64>,
-    /// Receptive-field radius (px). Default 6 (the paper's "6 px"; radius, not diameter).
+    /// Receptive-field radius (px). Default 3: the paper's receptive field is 6 px in diameter.
     pub rf_radius_px: f64,
     /// How far a field may move from home (px). Default 10 (pins move 2–9 px).
     pub max_shift_px: f64,
@@ -50,7 +50,7 @@ impl Default for TransductionConfig {
             ba_window_us: Some(5000),
             ba_start: MapStart::Zero,
             refractory_us: None,
-            rf_radius_px: 6.0,
+            rf_radius_px: 3.0,
             max_shift_px: 10.0,
             pool_window_us: 20_000,
             min_events: 1,

@@ -1,0 +1,235 @@
+//! The DVS pixel (spec §3.2): per patch step, the lin-log input, the photoreceptor low-pass
+//! integrated exactly for a linearly ramping input, threshold crossings at ESIM's interpolated
+//! times, the hardware-like refractory reset, noise events resetting the pixel (v2e), and the
+//! output time with latency and jitter (see the parent module's docs for the equations).
+
+use super::{NOISE_LABEL, PixelModel, RawEvent, mix64};
+
+/// e^(−x) for x ≥ 0 in f32, inlined (absolute error < 3·10⁻⁷; flushes to ≈ 2⁻¹²⁵ beyond
+/// x ≈ 86): 2^(−x·log₂e) split into an exponent and a degree-6 polynomial of the fraction.
+#[inline(always)]
+fn exp_neg(x: f32) -> f32 {
+    let y = (-x * std::f32::consts::LOG2_E).max(-125.0);
+    let n = (y + 0.5).floor();
+    let f = y - n;
+    // 2^f on [−½, ½]: Taylor series of e^(f·ln 2), degree 6 (remainder < 1.3·10⁻⁷).
+    let l = std::f32::consts::LN_2 * f;
+    let p = 1.0
+        + l * (1.0
+            + l * (0.5
+                + l * (1.0 / 6.0 + l * (1.0 / 24.0 + l * (1.0 / 120.0 + l * (1.0 / 720.0))))));
+    p * f32::from_bits((((n as i32) + 127) as u32) << 23)
+}
+
+impl PixelModel {
+    pub(super) fn init_patch(&mut self, patch: usize) {
+        let (start, end) = self.patches.ranges[patch];
+        for j in start..end {
+            let (l, rate) = self.render(j, patch);
+            self.l_in[j] = l;
+            self.l_filt[j] = l;
+            self.l_ref[j] = l;
+            self.rate_old[j] = rate;
+            self.reset_until[j] = f64::NEG_INFINITY;
+            self.last_out_us[j] = i64::MIN;
+            self.n_events[j] = 0;
+        }
+    }
+
+    pub(super) fn patch_owner(&self, j: usize) -> usize {
+        self.patches.ranges.partition_point(|&(_, end)| end <= j)
+    }
+
+    /// One step of the pixels of `patch` (= its owner pin) from `t0` to `t1`; returns the largest filter rate
+    /// |L − L̃|/τ_p at `t1`.
+    pub(super) fn step(
+        &mut self,
+        patch: usize,
+        t0: f64,
+        t1: f64,
+        seed: u64,
+        out: &mut Vec<RawEvent>,
+    ) -> f32 {
+        let (start, end) = self.patches.ranges[patch];
+        let dt = (t1 - t0) as f32;
+        let mut max_rate = 0.0f32;
+        for j in start..end {
+            let (l_new, rate) = self.render(j, patch);
+            let l_old = self.l_in[j];
+            let f_old = self.l_filt[j];
+            let x = dt * 0.5 * (rate + self.rate_old[j]);
+            let a = exp_neg(x);
+            // g = (1 − e^(−x))/x; its series below x = 0.1 (both computed: a select, not a
+            // branch, which mispredicts on mixed bright and dark pixels).
+            let series = 1.0 - x * (0.5 - x * (1.0 / 6.0 - x * (1.0 / 24.0 - x / 120.0)));
+            let direct = (1.0 - a) / x.max(0.1);
+            let g = if x > 0.1 { direct } else { series };
+            // Exact first-order response to an input ramping from l_old to l_new.
+            let f_new = l_new - (l_new - l_old) * g + (f_old - l_old) * a;
+            max_rate = max_rate.max((l_new - f_new).abs() * rate);
+            let r = self.l_ref[j];
+            if f_new - r >= self.c_on[j]
+                || r - f_new >= self.c_off[j]
+                || self.reset_until[j] > t0
+                || self.next_noise[j] < t1
+            {
+                self.events(j, t0, t1, f_old, f_new, seed, out);
+            }
+            self.l_in[j] = l_new;
+            self.l_filt[j] = f_new;
+            self.rate_old[j] = rate;
+        }
+        max_rate
+    }
+
+    /// The slow path of one pixel over one step: threshold crossings, refractory resets and
+    /// noise events, in time order. L̃ is linear from `f0` at `t0` to `f1` at `t1`.
+    #[allow(clippy::too_many_arguments)]
+    #[cold]
+    pub(super) fn events(
+        &mut self,
+        j: usize,
+        t0: f64,
+        t1: f64,
+        f0: f32,
+        f1: f32,
+        seed: u64,
+        out: &mut Vec<RawEvent>,
+    ) {
+        let t_ref = self.params.pixel.refractory_s;
+        let dt = t1 - t0;
+        let slope = (f1 - f0) as f64 / dt;
+        let at = |t: f64| (f0 as f64 + slope * (t - t0)) as f32;
+        let mut ta = t0;
+        loop {
+            if self.reset_until[j] > ta {
+                // Held in reset: no events, noise included.
+                let until = self.reset_until[j];
+                while self.next_noise[j] < until.min(t1) {
+                    self.advance_noise(j);
+                }
+                if until >= t1 {
+                    self.l_ref[j] = f1;
+                    return;
+                }
+                ta = until;
+                self.l_ref[j] = at(ta);
+                self.reset_until[j] = f64::NEG_INFINITY;
+            }
+            let tn = self.next_noise[j];
+            let tb = tn.min(t1);
+            let r = self.l_ref[j];
+            let fb = at(tb);
+            let crossing = if fb - r >= self.c_on[j] && slope > 0.0 {
+                Some((true, r + self.c_on[j]))
+            } else if r - fb >= self.c_off[j] && slope < 0.0 {
+                Some((false, r - self.c_off[j]))
+            } else {
+                None
+            };
+            if let Some((on, level)) = crossing {
+                let te = (t0 + (level - f0) as f64 / slope).clamp(ta, tb);
+                let t_out = self.emit(j, te, on, seed, out);
+                self.l_ref[j] = level;
+                self.hold_reset(j, t_out, t_ref);
+                ta = te;
+                continue;
+            }
+            if tn < t1 {
+                let idx = self.noise_cursor[j] as usize;
+                let on = self.noise_on[idx];
+                let t_out = self.push(j, tn, on, NOISE_LABEL, out);
+                self.n_events[j] += 1;
+                self.advance_noise(j);
+                self.l_ref[j] = at(tn);
+                self.hold_reset(j, t_out, t_ref);
+                ta = tn;
+                continue;
+            }
+            return;
+        }
+    }
+
+    /// Holds pixel `j` in reset until `t_ref` after its event's readout at `t_out`.
+    pub(super) fn hold_reset(&mut self, j: usize, t_out: f64, t_ref: f64) {
+        self.reset_until[j] = if t_ref > 0.0 {
+            t_out + t_ref
+        } else {
+            f64::NEG_INFINITY
+        };
+    }
+
+    /// Emits a signal event crossing at `te`; returns its output time (s).
+    pub(super) fn emit(
+        &mut self,
+        j: usize,
+        te: f64,
+        on: bool,
+        seed: u64,
+        out: &mut Vec<RawEvent>,
+    ) -> f64 {
+        let p = &self.params.pixel;
+        let k = self.n_events[j];
+        self.n_events[j] = k + 1;
+        let h = mix64(seed ^ mix64(((j as u64) << 32) | k as u64));
+        let u = ((h >> 11) as f64 + 0.5) / (1u64 << 53) as f64;
+        let t = te + p.latency_s - p.latency_jitter_s * u.ln();
+        let owner = self.patch_owner(j) as u8;
+        let label = self.signal_source(j, owner);
+        self.push(j, t, on, label, out)
+    }
+
+    /// The pin an event of pixel `j` is attributed to: the one contributing more light now.
+    pub(super) fn signal_source(&self, j: usize, owner: u8) -> u8 {
+        let p = &self.patches;
+        let other = p.other[j];
+        if other == NOISE_LABEL {
+            return owner;
+        }
+        let (o, w) = (other as usize, owner as usize);
+        let d_own = (p.own_dx[j] - self.pin_dx[w]).powi(2) + (p.own_dy[j] - self.pin_dy[w]).powi(2);
+        let d_other =
+            (p.other_dx[j] - self.pin_dx[o]).powi(2) + (p.other_dy[j] - self.pin_dy[o]).powi(2);
+        if d_other < d_own { other } else { owner }
+    }
+
+    /// Outputs an event of pixel `j` at `t` (whole µs, after the pixel's previous event);
+    /// returns the output time (s).
+    pub(super) fn push(
+        &mut self,
+        j: usize,
+        t: f64,
+        on: bool,
+        label: u8,
+        out: &mut Vec<RawEvent>,
+    ) -> f64 {
+        let t_us = ((t * 1e6).round() as i64).max(self.last_out_us[j].saturating_add(1));
+        self.last_out_us[j] = t_us;
+        out.push(RawEvent {
+            t_us,
+            y: self.patches.y[j],
+            x: self.patches.x[j],
+            on,
+            label,
+        });
+        t_us as f64 / 1e6
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn fast_exponential_matches_the_library() {
+        for i in 0..20_000 {
+            let x = i as f32 * 0.005;
+            let (a, b) = (exp_neg(x), (-x).exp());
+            // Absolute error (what the low-pass sees) and relative error (f32 rounding of
+            // x·log₂e grows with x).
+            assert!((a - b).abs() <= 3e-7, "{x}: {a} vs {b}");
+            assert!(x > 80.0 || (a - b).abs() <= 1e-5 * b, "{x}: {a} vs {b}");
+        }
+        assert!(exp_neg(1e6) < 1e-37);
+    }
+}
