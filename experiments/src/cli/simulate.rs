@@ -246,7 +246,7 @@ fn check(a: CheckArgs) -> anyhow::Result<()> {
 
 fn calibrate_command(a: CalibrateArgs) -> anyhow::Result<()> {
     let params = load_params(a.params.as_deref())?;
-    let bar = ProgressBar::new_spinner();
+    let bar = super::progress::bar("calibrating", 0, "slides");
     let c = with_threads(a.threads, || {
         calibrate(&params, a.trials, a.seed, a.rounds, &|| bar.inc(1))
     })??;
@@ -262,9 +262,8 @@ fn calibrate_command(a: CalibrateArgs) -> anyhow::Result<()> {
     let text = c.params.to_json_string();
     match a.out {
         Some(path) => {
-            let tmp = path.with_extension("json.tmp");
-            std::fs::write(&tmp, text).with_context(|| format!("writing {}", tmp.display()))?;
-            std::fs::rename(&tmp, &path).with_context(|| format!("writing {}", path.display()))?;
+            neurotac_core::io::write(&path, text)
+                .with_context(|| format!("writing {}", path.display()))?;
             println!("→ {}", path.display());
         }
         None => println!("{text}"),
