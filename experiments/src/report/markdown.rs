@@ -8,8 +8,7 @@ use std::fmt::Write as _;
 /// The whole `report.md`.
 pub fn report_markdown(report: &Report) -> String {
     let mut md = markdown_intro(report);
-    // The "calibration and hold-out" section (issue 12: what the simulator was fitted to, and
-    // that every accuracy is held out) belongs here, between the intro and the sets.
+    md.push_str(&calibration_section(report));
     for set in &report.sets {
         markdown_set(set, &mut md);
     }
@@ -46,13 +45,40 @@ fn markdown_intro(report: &Report) -> String {
             .any(|s| s.source.starts_with("simulated"))
         {
             "The texture sets are simulated (the paper's recordings are not public) by the \
-             NeuroTac simulator, whose one calibrated parameter was set on the 5 mm grid's spikes \
-             per taxel and never on accuracies: the comparison with the paper measures how close \
-             the simulated sensor is to the real one.\n\n"
+             NeuroTac simulator, calibrated on the paper's three intensive means only (see \
+             \"Calibration and hold-out\"): the comparison with the paper measures how close the \
+             simulated sensor is to the real one.\n\n"
         } else {
             ""
         }
     )
+}
+
+/// The "Calibration and hold-out" section: exactly what the simulator was fitted to (empty
+/// when no set is simulated).
+fn calibration_section(report: &Report) -> String {
+    if report.calibration.is_empty() {
+        return String::new();
+    }
+    let mut md = String::from(
+        "## Calibration and hold-out\n\nFitted (by `neurotac simulate calibrate`, each parameter \
+         to one of the paper's intensive means, nothing else):\n\n\
+         | parameter | value | fitted to |\n|---|---|---|\n",
+    );
+    for c in &report.calibration {
+        let _ = writeln!(
+            md,
+            "| `{}` | {} | spikes per taxel on the {} mm grid = {} (paper) |",
+            c.name, c.value, c.anchor_grid_mm, c.target_spikes_per_taxel
+        );
+    }
+    md.push_str(
+        "\nEvery other simulator value is a prior with its source in the parameter file \
+         (`neurotac simulate params`). Held out — predictions, never fitted: every accuracy, \
+         every confusion matrix, the chosen Δt, τ and cos θ, the other grids' intensive means \
+         and the whole natural set.\n\n",
+    );
+    md
 }
 
 /// A set's section of `report.md`.
@@ -154,5 +180,26 @@ mod tests {
             assert!(md.contains(&format!("({stem}.svg)")), "no {stem}");
         }
         assert!(md.ends_with("every figure as SVG and PNG.\n"));
+    }
+
+    #[test]
+    fn issue_12_the_page_lists_exactly_what_the_simulator_was_fitted_to() {
+        let mut report = report_of(set_result("artificial"), "simulated, 10 slides per texture");
+        assert!(!report_markdown(&report).contains("## Calibration and hold-out"));
+        report.calibration = neurotac_sensor::sim::SimParams::default()
+            .calibrated_parameters()
+            .to_vec();
+        let md = report_markdown(&report);
+        let section = &md[md.find("## Calibration and hold-out").expect("section")..];
+        for (name, grid, paper) in [
+            ("contact.static_excess", "0 mm", "4.63"),
+            ("contact.gap_conformity_mm", "2.5 mm", "9.84"),
+            ("contact.lever_mm", "5 mm", "34.73"),
+        ] {
+            let row = section.lines().find(|l| l.contains(name)).expect(name);
+            assert!(row.contains(grid) && row.contains(paper), "{row}");
+        }
+        assert!(section.contains("every accuracy"));
+        assert!(section.find("## Calibration").unwrap() < section.find("## artificial").unwrap());
     }
 }

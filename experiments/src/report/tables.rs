@@ -371,6 +371,7 @@ pub(crate) mod tests {
                 examples: Vec::new(),
                 quick: false,
             }],
+            calibration: Vec::new(),
             time: Timing::default(),
         }
     }

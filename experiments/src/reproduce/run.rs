@@ -11,7 +11,7 @@ use crate::progress::Progress;
 use crate::timing::{Timing, timed};
 use neurotac_core::{MultiSpikeTrain, SpikeDataset};
 use neurotac_sensor::filter::MapStart;
-use neurotac_sensor::sim::SimParams;
+use neurotac_sensor::sim::{CalibratedParameter, SimParams};
 use neurotac_sensor::taxel::{TaxelLayout, TransductionConfig};
 use serde::Serialize;
 use std::path::PathBuf;
@@ -158,6 +158,11 @@ pub struct Report {
     pub seed: u64,
     /// The sets, in run order.
     pub sets: Vec<SetReport>,
+    /// The simulator's calibrated parameters ([`SimParams::calibrated_parameters`]) when a set
+    /// is simulated, else empty: the only numbers fitted to the paper, each to one of its
+    /// three intensive means. Every accuracy, confusion matrix and chosen Δt / τ / cos θ is a
+    /// held-out prediction.
+    pub calibration: Vec<CalibratedParameter>,
     /// Wall and CPU time of the datasets and pipelines (writing the report not included).
     pub time: Timing,
 }
@@ -183,6 +188,10 @@ pub fn run(
         version: env!("CARGO_PKG_VERSION").to_owned(),
         seed: config.seed,
         sets: sets?,
+        calibration: match sources.iter().any(|s| matches!(s, Source::Simulated(_))) {
+            true => config.params.calibrated_parameters().to_vec(),
+            false => Vec::new(),
+        },
         time,
     })
 }
