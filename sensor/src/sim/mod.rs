@@ -266,7 +266,7 @@ impl Simulator {
         // Time order, ties by row and column: a total order, since a pixel never emits twice in
         // one microsecond, so the unstable (in-place) sort is deterministic.
         self.raw.sort_unstable_by_key(|e| (e.t_us, e.y, e.x));
-        let end_us = (duration_s * 1e6).round() as i64;
+        let end_us = neurotac_core::time::s_to_us(duration_s);
         let mut events = EventBuffer::with_capacity(self.raw.len());
         let mut labels = Vec::with_capacity(self.raw.len());
         for e in self.raw.iter().filter(|e| e.t_us < end_us) {

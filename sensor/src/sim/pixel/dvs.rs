@@ -4,6 +4,7 @@
 //! output time with latency and jitter (see the parent module's docs for the equations).
 
 use super::{NOISE_LABEL, PixelModel, RawEvent, mix64};
+use neurotac_core::time::{s_to_us, us_to_s};
 
 /// e^(−x) for x ≥ 0 in f32, inlined (absolute error < 3·10⁻⁷; flushes to ≈ 2⁻¹²⁵ beyond
 /// x ≈ 86): 2^(−x·log₂e) split into an exponent and a degree-6 polynomial of the fraction.
@@ -203,7 +204,7 @@ impl PixelModel {
         label: u8,
         out: &mut Vec<RawEvent>,
     ) -> f64 {
-        let t_us = ((t * 1e6).round() as i64).max(self.last_out_us[j].saturating_add(1));
+        let t_us = s_to_us(t).max(self.last_out_us[j].saturating_add(1));
         self.last_out_us[j] = t_us;
         out.push(RawEvent {
             t_us,
@@ -212,7 +213,7 @@ impl PixelModel {
             on,
             label,
         });
-        t_us as f64 / 1e6
+        us_to_s(t_us)
     }
 }
 

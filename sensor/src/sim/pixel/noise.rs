@@ -7,6 +7,7 @@
 
 use super::{NOISE_LABEL, PixelModel, RawEvent};
 use crate::sim::camera::Camera;
+use neurotac_core::time::{s_to_us, us_to_s};
 use rand::RngExt;
 use rand_chacha::ChaCha8Rng;
 
@@ -44,7 +45,7 @@ impl PixelModel {
                 let u = rng.random::<f64>() * rate;
                 let on = u < leak as f64 + 0.5 * shot;
                 // Whole µs; a pixel in reset after its previous event cannot fire.
-                let t = (t * 1e6).round() / 1e6;
+                let t = us_to_s(s_to_us(t));
                 if times
                     .last()
                     .is_none_or(|&(last, _)| t - last >= t_ref - 1e-9)
@@ -59,7 +60,7 @@ impl PixelModel {
             if patch_index == u32::MAX {
                 let (x, y) = ((pixel % width) as u16, (pixel / width) as u16);
                 out.extend(times.iter().map(|&(t, on)| RawEvent {
-                    t_us: (t * 1e6).round() as i64,
+                    t_us: s_to_us(t),
                     y,
                     x,
                     on,
