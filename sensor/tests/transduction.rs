@@ -402,6 +402,8 @@ fn issue_13_stage_chain_and_transducer_give_the_same_taxel_events() {
                 recentre_gain: 0.0,
                 refractory_us,
                 ba_start,
+                // The synthetic stream's pins move by a few pixels: 6 px fields hold them.
+                rf_radius_px: 6.0,
                 ..TransductionConfig::default()
             };
             let fused = transduce(&events, 4096, config);
