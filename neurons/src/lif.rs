@@ -493,3 +493,33 @@ fn finish_interpolated_spikes<F: Real>(
         };
     });
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_closed_form_solves_the_sub_threshold_equation() {
+        // v(t) = v∞ + (v_reset − v∞)·e^(−t/τ) reaches v_th at T; spikes repeat every T + t_ref.
+        let p = LifParams {
+            tau_m_s: 0.02,
+            v_rest: -0.5,
+            v_th: 1.0,
+            v_reset: -0.2,
+            t_ref_s: 3e-3,
+            v_min: f64::NEG_INFINITY,
+        };
+        let current = 2.0;
+        let v_inf = p.v_rest + current;
+        let t = p.closed_form_period_s(current).unwrap();
+        let v_at = v_inf + (p.v_reset - v_inf) * (-t / p.tau_m_s).exp();
+        assert!((v_at - p.v_th).abs() < 1e-12, "{v_at}");
+        let times = p.closed_form_spike_times(current, 0.1);
+        assert!(times.len() > 2 && times.iter().all(|&s| s <= 0.1));
+        assert!((times[0] - t).abs() < 1e-15);
+        assert!((times[2] - times[1] - (t + p.t_ref_s)).abs() < 1e-12);
+        // v∞ at or below threshold never fires.
+        assert_eq!(p.closed_form_period_s(1.5), None);
+        assert!(p.closed_form_spike_times(1.5, 10.0).is_empty());
+    }
+}
