@@ -36,6 +36,7 @@ pub mod izhikevich;
 pub mod lif;
 pub mod population;
 pub mod real;
+pub mod run;
 
 pub use integrate::{Integrator, UnknownIntegrator};
 pub use izhikevich::{Izhikevich, IzhikevichModel, IzhikevichParams, IzhikevichState};
@@ -45,3 +46,4 @@ pub use population::{
     Population,
 };
 pub use real::Real;
+pub use run::{DEFAULT_MAX_STEPS, RunError, stream_spike_times, whole_steps};
