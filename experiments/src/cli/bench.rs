@@ -111,6 +111,9 @@ fn print(report: &Value, json: bool, line: String) {
 pub fn run(args: BenchArgs) -> anyhow::Result<()> {
     match args.what {
         BenchCommand::Neurons(a) => {
+            for (flag, value) in [("duration", a.duration), ("dt", a.dt)] {
+                super::neuron::check_precision(flag, value, a.precision)?;
+            }
             let r = neuron_throughput(
                 a.model,
                 a.n,
