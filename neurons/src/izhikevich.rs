@@ -347,7 +347,7 @@ fn step_block_with<F: Real, const INTERPOLATE: bool>(
         let trapped = (q <= zero) & ((v_old < m) | (g_old < zero));
         let too_far = v_peak - v_old > two_h * g_max;
         let unreachable = spike & (v_old <= c) & (trapped | too_far);
-        let non_finite = !(v_raw.abs() <= u_max) | !(u_raw.abs() <= u_max);
+        let non_finite = !v_raw.is_finite() | !u_raw.is_finite();
         diverged += (unreachable | non_finite) as u32;
         if INTERPOLATE {
             let f = (v_peak - v_old) / (v_raw - v_old);

@@ -253,7 +253,6 @@ fn step_block_with<F: Real, const REFRACTORY: bool, const INTERPOLATE: bool>(
         ..
     } = *k;
     let tiny = F::min_positive_value();
-    let largest = F::max_value();
     let mut count = 0u32;
     let mut diverged = 0u32;
     for i in 0..n {
@@ -280,7 +279,7 @@ fn step_block_with<F: Real, const REFRACTORY: bool, const INTERPOLATE: bool>(
         // Divergence: a spike from below threshold under a drive that cannot reach it, or an
         // update that left the finite range.
         let unreachable = spike & (v_target < v_th) & (v_old < v_th);
-        let non_finite = !(v_raw.abs() <= largest);
+        let non_finite = !v_raw.is_finite();
         diverged += (unreachable | non_finite) as u32;
         if INTERPOLATE {
             phi[i] = if spike {
