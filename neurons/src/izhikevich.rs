@@ -53,15 +53,17 @@
 //! - or `v_peak − v_old > 2h·max(g(v_old), g(v_peak))`: `g` is convex, so its larger end value
 //!   bounds `dv/dt` on the way up, and even at that rate the rise takes more than two steps.
 //!
-//! A non-finite update of `v` or `u` is flagged too. The flags are a few compares per neuron in
-//! the fused loop; [`NeuronModel::check_divergence`] reports the first flagged step as
+//! A non-finite update of `v` or `u` is flagged too. The fused loop stays as lean as the step
+//! itself: it marks a spike from `v_old ≤ c` (rare in a healthy run) in the spike mask, keeps
+//! the step's start state and an integer maximum of `|v|`, `|u|` bits; the criterion above runs
+//! after the loop, for the marked neurons only. [`NeuronModel::check_divergence`] reports the first flagged step as
 //! [`ModelError::Diverged`] (`neurotac neuron --model izhikevich --current=-1e5` at 0.1 ms, or
 //! `--current 0 --dt 1e-2`, are such runs).
 
 use crate::integrate::{self, Integrator};
 use crate::population::{
-    BlockModel, BlockPopulation, BlockStep, Drive, InitialPotential, check_param,
-    check_representable, for_each_spike, unit_fraction,
+    BlockModel, BlockPopulation, BlockStep, DIVERGED_BIT, Drive, InitialPotential, check_param,
+    check_representable, for_each_spike, has_flags, unit_fraction,
 };
 use crate::real::Real;
 use neurotac_core::ModelError;
@@ -201,6 +203,10 @@ pub struct IzhikevichState<F> {
     u_at_spike: Vec<F>,
     /// 1 where the neuron spiked in the last step.
     spiked: Vec<u8>,
+    /// `v` and `u` at the start of the last step, for the divergence check of its rare
+    /// suspicious spikes (module docs, Divergence).
+    v_prev: Vec<F>,
+    u_prev: Vec<F>,
 }
 
 /// Per-step constants, computed once by `prepare` in the population's precision.
@@ -301,8 +307,11 @@ fn step_block_with<F: Real, const INTERPOLATE: bool>(
         phi,
         u_at_spike,
         spiked,
+        v_prev,
+        u_prev,
     } = s;
     let (v, u, spiked) = (&mut v[..n], &mut u[..n], &mut spiked[..n]);
+    let (v_prev, u_prev) = (&mut v_prev[..n], &mut u_prev[..n]);
     let (phi, u_at_spike) = if INTERPOLATE {
         (&mut phi[..n], &mut u_at_spike[..n])
     } else {
@@ -324,7 +333,8 @@ fn step_block_with<F: Real, const INTERPOLATE: bool>(
     let two_h = h + h;
     let zero = F::zero();
     let mut count = 0u32;
-    let mut diverged = 0u32;
+    // Largest |v_raw|, |u_raw| seen, as bits: non-finite updates without a test per neuron.
+    let mut worst = F::Bits::default();
     for j in 0..n {
         let (v_old, u_old) = (v[j], u[j]);
         let i = input(j);
@@ -336,19 +346,16 @@ fn step_block_with<F: Real, const INTERPOLATE: bool>(
         let u_new = if u_raw < u_max { u_raw } else { u_max };
         let u_new = if u_new > u_min { u_new } else { u_min };
         let spike = v_new >= v_peak;
-        // Divergence (module docs): a spike from at or below the reset that g(v) cannot carry
-        // to the peak within the step, or a non-finite update.
-        let u_lo = if u_new < u_old { u_new } else { u_old };
-        let q = i - u_lo + g_offset;
-        let dv = v_old - m;
-        let g_old = quad * dv * dv + q;
-        let g_peak = peak_rate + q;
-        let g_max = if g_old > g_peak { g_old } else { g_peak };
-        let trapped = (q <= zero) & ((v_old < m) | (g_old < zero));
-        let too_far = v_peak - v_old > two_h * g_max;
-        let unreachable = spike & (v_old <= c) & (trapped | too_far);
-        let non_finite = !v_raw.is_finite() | !u_raw.is_finite();
-        diverged += (unreachable | non_finite) as u32;
+        // Divergence (module docs): a spike from at or below the reset is suspicious (rare: a
+        // healthy neuron climbs to the peak over several steps); whether g(v) could carry it
+        // there is decided after the loop, from the saved start of the step. A non-finite
+        // update is caught by the largest magnitude.
+        let suspicious = spike & (v_old <= c);
+        v_prev[j] = v_old;
+        u_prev[j] = u_old;
+        worst = worst
+            .max(v_raw.magnitude_bits())
+            .max(u_raw.magnitude_bits());
         if INTERPOLATE {
             let f = (v_peak - v_old) / (v_raw - v_old);
             phi[j] = if spike { f } else { F::one() };
@@ -358,12 +365,36 @@ fn step_block_with<F: Real, const INTERPOLATE: bool>(
         let u_reset = if u_reset < u_max { u_reset } else { u_max };
         v[j] = if spike { c } else { v_new };
         u[j] = if spike { u_reset } else { u_new };
-        spiked[j] = spike as u8;
+        // The flag rides in the mask byte and is collected once per block (`take_diverged`):
+        // a reduction here would cost the loop its unrolling.
+        spiked[j] = spike as u8 | if suspicious { DIVERGED_BIT } else { 0 };
         count += spike as u32;
+    }
+    let mut diverged = u64::from(worst >= F::INFINITY_BITS);
+    if has_flags(spiked) {
+        for j in 0..n {
+            if spiked[j] & DIVERGED_BIT != 0 {
+                spiked[j] &= !DIVERGED_BIT;
+                let (v_old, u_old, i) = (v_prev[j], u_prev[j], input(j));
+                let (_, u_raw) = update(v_old, u_old, i);
+                let u_new = if u_raw < u_max { u_raw } else { u_max };
+                let u_new = if u_new > u_min { u_new } else { u_min };
+                // A spike from at or below the reset that g(v) cannot carry to the peak.
+                let u_lo = if u_new < u_old { u_new } else { u_old };
+                let q = i - u_lo + g_offset;
+                let dv = v_old - m;
+                let g_old = quad * dv * dv + q;
+                let g_peak = peak_rate + q;
+                let g_max = if g_old > g_peak { g_old } else { g_peak };
+                let trapped = (q <= zero) & ((v_old < m) | (g_old < zero));
+                let too_far = v_peak - v_old > two_h * g_max;
+                diverged += u64::from(trapped | too_far);
+            }
+        }
     }
     BlockStep {
         spikes: count as u64,
-        diverged: diverged as u64,
+        diverged,
     }
 }
 
@@ -472,6 +503,8 @@ impl<F: Real> BlockModel for IzhikevichModel<F> {
                 Vec::new()
             },
             spiked: vec![0; v.len()],
+            v_prev: vec![F::zero(); v.len()],
+            u_prev: vec![F::zero(); v.len()],
         }
     }
 
@@ -534,6 +567,7 @@ fn finish_interpolated_spikes<F: Real>(
         phi,
         u_at_spike,
         spiked,
+        ..
     } = s;
     for_each_spike(spiked, |j| {
         let f = F::of(unit_fraction(phi[j].f64()));

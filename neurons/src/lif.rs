@@ -43,8 +43,10 @@
 //! From `v < v_th` the solution approaches `v∞` monotonically, so it can reach `v_th` only if
 //! `v∞ ≥ v_th`. A step is flagged as diverged when a neuron spikes from `v_old < v_th` under a
 //! drive with `v∞ < v_th` (an explicit step overshooting, e.g. Euler with `dt > τ_m`), or when
-//! its update is not finite. The flag is one compare per neuron folded into the fused loop;
-//! [`NeuronModel::check_divergence`] turns it into [`ModelError::Diverged`] naming the step.
+//! its update is not finite. The fused loop tests the spike only when `v∞ < v_th` is possible
+//! (under a constant drive it is decided once per block), marking it in the spike mask, and
+//! catches non-finite updates with an integer maximum of `|v|` bits, so the check costs the
+//! loop almost nothing; [`NeuronModel::check_divergence`] turns it into [`ModelError::Diverged`] naming the step.
 //!
 //! ## Closed form
 //! From `v_reset` under constant `I` with `v∞ > v_th`, the `k`-th spike is at
@@ -54,8 +56,8 @@
 
 use crate::integrate::{self, Integrator};
 use crate::population::{
-    BlockModel, BlockPopulation, BlockStep, Drive, InitialPotential, check_param,
-    check_representable, for_each_spike, unit_fraction,
+    BlockModel, BlockPopulation, BlockStep, DIVERGED_BIT, Drive, InitialPotential, check_param,
+    check_representable, for_each_spike, take_diverged, unit_fraction,
 };
 use crate::real::Real;
 use neurotac_core::ModelError;
@@ -207,19 +209,32 @@ fn step_block<F: Real, const REFRACTORY: bool, const INTERPOLATE: bool>(
     update: &impl Fn(F, F) -> F,
 ) -> BlockStep {
     match drive {
+        // Under a constant drive, `v∞ < v_th` holds for the whole block or for none of it: the
+        // loop checks for unreachable spikes only when it can have them.
         Drive::Constant(c) => {
             let v_inf = k.v_rest + F::of(c);
-            step_block_with::<F, REFRACTORY, INTERPOLATE>(s, k, update, |_| v_inf)
+            if v_inf < k.v_th {
+                step_block_with::<F, REFRACTORY, INTERPOLATE, true>(s, k, update, |_| v_inf)
+            } else {
+                step_block_with::<F, REFRACTORY, INTERPOLATE, false>(s, k, update, |_| v_inf)
+            }
         }
         Drive::PerNeuron(x) => {
             let x = &x[..s.v.len()];
-            step_block_with::<F, REFRACTORY, INTERPOLATE>(s, k, update, |j| k.v_rest + F::of(x[j]))
+            step_block_with::<F, REFRACTORY, INTERPOLATE, true>(s, k, update, |j| {
+                k.v_rest + F::of(x[j])
+            })
         }
     }
 }
 
 #[inline(always)]
-fn step_block_with<F: Real, const REFRACTORY: bool, const INTERPOLATE: bool>(
+fn step_block_with<
+    F: Real,
+    const REFRACTORY: bool,
+    const INTERPOLATE: bool,
+    const BELOW_THRESHOLD: bool,
+>(
     s: &mut LifState<F>,
     k: &LifConstants<F>,
     update: &impl Fn(F, F) -> F,
@@ -254,7 +269,8 @@ fn step_block_with<F: Real, const REFRACTORY: bool, const INTERPOLATE: bool>(
     } = *k;
     let tiny = F::min_positive_value();
     let mut count = 0u32;
-    let mut diverged = 0u32;
+    // Largest |v_raw| seen, as bits: non-finite updates without a test per neuron.
+    let mut worst = F::Bits::default();
     for i in 0..n {
         let v_old = v[i];
         let v_target = v_inf(i);
@@ -278,9 +294,8 @@ fn step_block_with<F: Real, const REFRACTORY: bool, const INTERPOLATE: bool>(
         let spike = v_new >= v_th;
         // Divergence: a spike from below threshold under a drive that cannot reach it, or an
         // update that left the finite range.
-        let unreachable = spike & (v_target < v_th) & (v_old < v_th);
-        let non_finite = !v_raw.is_finite();
-        diverged += (unreachable | non_finite) as u32;
+        let unreachable = BELOW_THRESHOLD && spike & (v_target < v_th) & (v_old < v_th);
+        worst = worst.max(v_raw.magnitude_bits());
         if INTERPOLATE {
             phi[i] = if spike {
                 (v_th - v_old) / (v_new - v_old)
@@ -296,12 +311,14 @@ fn step_block_with<F: Real, const REFRACTORY: bool, const INTERPOLATE: bool>(
                 refractory_steps[i].saturating_sub(1)
             };
         }
-        spiked[i] = spike as u8;
+        // The flag rides in the mask byte and is collected once per block (`take_diverged`):
+        // a reduction here would cost the loop its unrolling.
+        spiked[i] = spike as u8 | if unreachable { DIVERGED_BIT } else { 0 };
         count += spike as u32;
     }
     BlockStep {
         spikes: count as u64,
-        diverged: diverged as u64,
+        diverged: take_diverged(spiked) + u64::from(worst >= F::INFINITY_BITS),
     }
 }
 

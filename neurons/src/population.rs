@@ -179,7 +179,8 @@ pub trait Population: NeuronModel {
 pub struct BlockStep {
     /// Spikes in the block.
     pub spikes: u64,
-    /// Neurons whose update the model's divergence criterion flagged (see each model's docs).
+    /// Nonzero when the model's divergence criterion flagged an update of the block (see each
+    /// model's docs): the flagged spikes, plus one for any non-finite update.
     pub diverged: u64,
 }
 
@@ -509,6 +510,32 @@ pub(crate) fn for_blocks<B: Send>(
             .map(|(b, blk)| f(b, blk))
             .fold(BlockStep::default(), BlockStep::add)
     }
+}
+
+/// Bit of a block's spike-mask byte that the fused step sets for a neuron whose update the
+/// model's divergence criterion flagged; [`take_diverged`] clears it before the mask is read.
+pub(crate) const DIVERGED_BIT: u8 = 2;
+
+/// `true` when some neuron of a block's mask carries [`DIVERGED_BIT`] (one pass over the bytes).
+#[inline]
+pub(crate) fn has_flags(mask: &[u8]) -> bool {
+    mask.iter().fold(0, |acc, &m| acc | m) & DIVERGED_BIT != 0
+}
+
+/// The number of neurons flagged with [`DIVERGED_BIT`] in a block's mask, clearing the bit so
+/// the mask is 0/1 again: one pass over the mask bytes per block (a second pass, clearing,
+/// only when something was flagged).
+#[inline]
+pub(crate) fn take_diverged(mask: &mut [u8]) -> u64 {
+    if !has_flags(mask) {
+        return 0;
+    }
+    let mut flagged = 0;
+    for m in mask {
+        flagged += u64::from(*m >> 1);
+        *m &= 1;
+    }
+    flagged
 }
 
 /// Calls `f(i)` for every `i` with `mask[i] != 0`, skipping eight silent neurons at a time.
