@@ -262,6 +262,41 @@ pub enum ModelError {
         /// The value.
         value: f64,
     },
+    /// A finite input value that the population's precision cannot hold (e.g. `1e39` in `f32`).
+    #[error(
+        "{model}: input to neuron {neuron} is {value}, beyond the {precision} range (|x| ≤ {max:e})"
+    )]
+    InputOutOfRange {
+        /// Model name.
+        model: &'static str,
+        /// Neuron index.
+        neuron: usize,
+        /// The value.
+        value: f64,
+        /// The population's precision (`"f32"`).
+        precision: &'static str,
+        /// The largest magnitude it holds.
+        max: f64,
+    },
+    /// The numerical solution left the model's dynamics (see the model's divergence criterion):
+    /// what it would report as spikes are artefacts of the time step or the integrator.
+    #[error(
+        "{model} diverged in step {step} (t = {t_s} s, dt = {dt_s} s, {integrator} integrator): {what}; use a smaller dt or another integrator"
+    )]
+    Diverged {
+        /// Model name.
+        model: &'static str,
+        /// The first step (0-based, from `step·dt` to `(step + 1)·dt`) the criterion flagged.
+        step: u64,
+        /// Start time of that step (s).
+        t_s: f64,
+        /// The time step (s).
+        dt_s: f64,
+        /// The integrator.
+        integrator: &'static str,
+        /// What the criterion detected.
+        what: &'static str,
+    },
     /// A state variable name the model does not have.
     #[error("{model} has no state variable '{name}' (has: {available})")]
     UnknownVariable {

@@ -108,6 +108,15 @@ pub trait NeuronModel: Send {
     /// constant over the step. Spikes are pushed into `spikes` (already cleared).
     fn step(&mut self, current: &[f64], spikes: &mut SpikeBuffer);
 
+    /// Reports a numerical divergence detected since `prepare`/`reset` (a typed
+    /// [`ModelError::Diverged`] naming the first step flagged). The step itself stays infallible
+    /// and only records the first flagged step; the network calls this once every block of
+    /// steps and at the end of each run, so checking costs nothing per neuron. Default: models
+    /// that cannot diverge return `Ok(())`.
+    fn check_divergence(&self) -> Result<(), ModelError> {
+        Ok(())
+    }
+
     /// Appends the value of variable `var` (an index into [`variables`](Self::variables)) of
     /// each neuron in `neurons` to `out`.
     fn read_variable(&self, var: usize, neurons: &[u32], out: &mut Vec<f64>);

@@ -41,14 +41,35 @@
 //! `h·|0.08·v + 5| < 2` (per ms): very large negative currents (−10⁶ drives `v` towards
 //! −5 000 mV, where that rate is ≈ 400/ms) need microsecond steps, or the state oscillates —
 //! finite, but with spurious spikes. `neurotac tradeoff neurons` shows where each scheme breaks.
+//!
+//! ## Divergence
+//! Spurious spikes of an unstable step are detected, not reported as firing. With `u` frozen
+//! at `u_lo` (the smaller of its values at the step's start and end), the `v` equation reads
+//! `dv/dt = g(v) = 0.04·(v − m)² + q` with `m = −62.5 mV` and `q = I − u_lo − 16.25`. A spike
+//! from `v_old ≤ c` (at or below the reset) is flagged when the dynamics cannot carry `v` to
+//! `v_peak` within the step:
+//! - `q ≤ 0` and `v_old` below the unstable fixed point `v₊ = m + √(−q/0.04)` (i.e. `v_old < m`
+//!   or `g(v_old) < 0`): `v` can never pass `v₊`;
+//! - or `v_peak − v_old > 2h·max(g(v_old), g(v_peak))`: `g` is convex, so its larger end value
+//!   bounds `dv/dt` on the way up, and even at that rate the rise takes more than two steps.
+//!
+//! A non-finite update of `v` or `u` is flagged too. The fused loop stays as lean as the step
+//! itself: it marks a spike from `v_old ≤ c` (rare in a healthy run) in the spike mask, keeps
+//! the step's start state and an integer maximum of `|v|`, `|u|` bits; the criterion above runs
+//! after the loop, for the marked neurons only. [`NeuronModel::check_divergence`] reports the first flagged step as
+//! [`ModelError::Diverged`] (`neurotac neuron --model izhikevich --current=-1e5` at 0.1 ms, or
+//! `--current 0 --dt 1e-2`, are such runs).
 
 use crate::integrate::{self, Integrator};
 use crate::population::{
-    BLOCK, Drive, InitialPotential, Population, block_len, check_dt, check_param,
-    collect_block_spikes, for_blocks, for_each_spike, n_blocks, unit_fraction,
+    BlockModel, BlockPopulation, BlockStep, DIVERGED_BIT, Drive, InitialPotential, check_param,
+    check_representable, for_each_spike, has_flags, unit_fraction,
 };
 use crate::real::Real;
-use neurotac_core::{ModelError, NeuronModel, SpikeBuffer};
+use neurotac_core::ModelError;
+#[cfg(doc)]
+use neurotac_core::NeuronModel;
+use std::marker::PhantomData;
 
 const MODEL: &str = "izhikevich";
 const SUPPORTED: &str = "izhikevich2003, euler, exp-euler, rk2, rk4";
@@ -138,12 +159,17 @@ impl IzhikevichParams {
         })
     }
 
-    fn validate(&self) -> Result<(), ModelError> {
-        check_param(MODEL, "a", self.a, false)?;
-        check_param(MODEL, "b", self.b, false)?;
-        check_param(MODEL, "c", self.c, false)?;
-        check_param(MODEL, "d", self.d, false)?;
-        check_param(MODEL, "v_peak", self.v_peak, false)?;
+    fn validate<F: Real>(&self) -> Result<(), ModelError> {
+        for (field, x) in [
+            ("a", self.a),
+            ("b", self.b),
+            ("c", self.c),
+            ("d", self.d),
+            ("v_peak", self.v_peak),
+        ] {
+            check_param(MODEL, field, x, false)?;
+            check_representable::<F>(MODEL, field, x)?;
+        }
         if self.c >= self.v_peak {
             return Err(ModelError::InvalidParameter {
                 model: MODEL,
@@ -164,7 +190,7 @@ impl IzhikevichParams {
     }
 }
 
-/// The state of one block of up to [`BLOCK`] Izhikevich neurons, structure of arrays.
+/// The state of one block of up to [`BLOCK`](crate::population::BLOCK) Izhikevich neurons, structure of arrays.
 #[derive(Debug, Clone, Default)]
 pub struct IzhikevichState<F> {
     /// Membrane potentials (mV).
@@ -177,10 +203,15 @@ pub struct IzhikevichState<F> {
     u_at_spike: Vec<F>,
     /// 1 where the neuron spiked in the last step.
     spiked: Vec<u8>,
+    /// `v` and `u` at the start of the last step, for the divergence check of its rare
+    /// suspicious spikes (module docs, Divergence).
+    v_prev: Vec<F>,
+    u_prev: Vec<F>,
 }
 
+/// Per-step constants, computed once by `prepare` in the population's precision.
 #[derive(Debug, Clone, Copy, Default)]
-struct IzhikevichConstants<F> {
+pub struct IzhikevichConstants<F> {
     a: F,
     b: F,
     c: F,
@@ -189,7 +220,14 @@ struct IzhikevichConstants<F> {
     v_floor: F,
     h: F,
     u_decay: F,
+    /// `0.04·(v_peak − m)²`: `g(v_peak) − q` of the divergence criterion.
+    peak_rate: F,
 }
+
+/// Vertex of the `v` nullcline, `m = −5/(2·0.04)` (mV).
+const V_NULLCLINE_MIN: f64 = -62.5;
+/// `140 − 0.04·m²`: `g(m) = q = I − u + this` (mV/ms).
+const G_AT_MIN_OFFSET: f64 = -16.25;
 
 /// `(dv/dt, du/dt)` at `(v, u)` for input `i`.
 #[inline(always)]
@@ -234,14 +272,15 @@ fn advance_state<F: Real>(
 }
 
 /// Advances one block by one step: fused update, clamp, threshold and reset, writing the
-/// spike mask; returns the number of spikes. `update(v, u, I)` is the integrator.
+/// spike mask; returns the number of spikes and of flagged updates (module docs, Divergence).
+/// `update(v, u, I)` is the integrator.
 #[inline(always)]
 fn step_block<F: Real, const INTERPOLATE: bool>(
     s: &mut IzhikevichState<F>,
     drive: Drive<'_>,
     k: &IzhikevichConstants<F>,
     update: &impl Fn(F, F, F) -> (F, F),
-) -> u64 {
+) -> BlockStep {
     match drive {
         Drive::Constant(c) => {
             let i = F::of(c);
@@ -260,7 +299,7 @@ fn step_block_with<F: Real, const INTERPOLATE: bool>(
     k: &IzhikevichConstants<F>,
     update: &impl Fn(F, F, F) -> (F, F),
     input: impl Fn(usize) -> F,
-) -> u64 {
+) -> BlockStep {
     let n = s.v.len();
     let IzhikevichState {
         v,
@@ -268,8 +307,11 @@ fn step_block_with<F: Real, const INTERPOLATE: bool>(
         phi,
         u_at_spike,
         spiked,
+        v_prev,
+        u_prev,
     } = s;
     let (v, u, spiked) = (&mut v[..n], &mut u[..n], &mut spiked[..n]);
+    let (v_prev, u_prev) = (&mut v_prev[..n], &mut u_prev[..n]);
     let (phi, u_at_spike) = if INTERPOLATE {
         (&mut phi[..n], &mut u_at_spike[..n])
     } else {
@@ -282,13 +324,21 @@ fn step_block_with<F: Real, const INTERPOLATE: bool>(
         d,
         v_peak,
         v_floor,
+        h,
+        peak_rate,
         ..
     } = *k;
     let (u_max, u_min) = (F::max_value(), F::min_value());
+    let (m, g_offset, quad) = (F::of(V_NULLCLINE_MIN), F::of(G_AT_MIN_OFFSET), F::of(0.04));
+    let two_h = h + h;
+    let zero = F::zero();
     let mut count = 0u32;
+    // Largest |v_raw|, |u_raw| seen, as bits: non-finite updates without a test per neuron.
+    let mut worst = F::Bits::default();
     for j in 0..n {
         let (v_old, u_old) = (v[j], u[j]);
-        let (v_raw, u_raw) = update(v_old, u_old, input(j));
+        let i = input(j);
+        let (v_raw, u_raw) = update(v_old, u_old, i);
         // One compare + select each: anything not below the peak (NaN and +∞ included) becomes
         // the peak, and so a spike; u outside the finite range (NaN included) becomes a bound.
         let v_new = if v_raw < v_peak { v_raw } else { v_peak };
@@ -296,6 +346,16 @@ fn step_block_with<F: Real, const INTERPOLATE: bool>(
         let u_new = if u_raw < u_max { u_raw } else { u_max };
         let u_new = if u_new > u_min { u_new } else { u_min };
         let spike = v_new >= v_peak;
+        // Divergence (module docs): a spike from at or below the reset is suspicious (rare: a
+        // healthy neuron climbs to the peak over several steps); whether g(v) could carry it
+        // there is decided after the loop, from the saved start of the step. A non-finite
+        // update is caught by the largest magnitude.
+        let suspicious = spike & (v_old <= c);
+        v_prev[j] = v_old;
+        u_prev[j] = u_old;
+        worst = worst
+            .max(v_raw.magnitude_bits())
+            .max(u_raw.magnitude_bits());
         if INTERPOLATE {
             let f = (v_peak - v_old) / (v_raw - v_old);
             phi[j] = if spike { f } else { F::one() };
@@ -305,13 +365,47 @@ fn step_block_with<F: Real, const INTERPOLATE: bool>(
         let u_reset = if u_reset < u_max { u_reset } else { u_max };
         v[j] = if spike { c } else { v_new };
         u[j] = if spike { u_reset } else { u_new };
-        spiked[j] = spike as u8;
+        // The flag rides in the mask byte and is collected once per block (`take_diverged`):
+        // a reduction here would cost the loop its unrolling.
+        spiked[j] = spike as u8 | if suspicious { DIVERGED_BIT } else { 0 };
         count += spike as u32;
     }
-    count as u64
+    let mut diverged = u64::from(worst >= F::INFINITY_BITS);
+    if has_flags(spiked) {
+        for j in 0..n {
+            if spiked[j] & DIVERGED_BIT != 0 {
+                spiked[j] &= !DIVERGED_BIT;
+                let (v_old, u_old, i) = (v_prev[j], u_prev[j], input(j));
+                let (_, u_raw) = update(v_old, u_old, i);
+                let u_new = if u_raw < u_max { u_raw } else { u_max };
+                let u_new = if u_new > u_min { u_new } else { u_min };
+                // A spike from at or below the reset that g(v) cannot carry to the peak.
+                let u_lo = if u_new < u_old { u_new } else { u_old };
+                let q = i - u_lo + g_offset;
+                let dv = v_old - m;
+                let g_old = quad * dv * dv + q;
+                let g_peak = peak_rate + q;
+                let g_max = if g_old > g_peak { g_old } else { g_peak };
+                let trapped = (q <= zero) & ((v_old < m) | (g_old < zero));
+                let too_far = v_peak - v_old > two_h * g_max;
+                diverged += u64::from(trapped | too_far);
+            }
+        }
+    }
+    BlockStep {
+        spikes: count as u64,
+        diverged,
+    }
 }
 
-/// A population of Izhikevich neurons in precision `F` (`f32` or `f64`).
+/// The Izhikevich model's part of a [`BlockPopulation`] in precision `F`: parameters, block
+/// state, constants and the fused step (see the module docs).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct IzhikevichModel<F>(PhantomData<F>);
+
+/// A population of Izhikevich neurons in precision `F` (`f32` or `f64`); built with
+/// [`new`](BlockPopulation::new) (Izhikevich's 2003 scheme, grid spike times, `v = −65 mV`,
+/// `u = b·v`) and the `with_*` methods of [`BlockPopulation`].
 ///
 /// ```
 /// use neurotac_neurons::{Izhikevich, IzhikevichParams, Population};
@@ -320,81 +414,123 @@ fn step_block_with<F: Real, const INTERPOLATE: bool>(
 /// assert_eq!(spikes, 23); // tonic firing at 23 Hz, as a 1 µs RK4 run also gives
 /// # Ok::<(), neurotac_core::ModelError>(())
 /// ```
-#[derive(Debug, Clone)]
-pub struct Izhikevich<F: Real> {
-    n: usize,
-    params: IzhikevichParams,
-    integrator: Integrator,
-    interpolate: bool,
-    initial: InitialPotential,
-    blocks: Vec<IzhikevichState<F>>,
-    k: IzhikevichConstants<F>,
-    dt_s: f64,
-}
+pub type Izhikevich<F> = BlockPopulation<IzhikevichModel<F>>;
 
 impl<F: Real> Izhikevich<F> {
-    /// `n` neurons with `params`, Izhikevich's 2003 scheme, grid spike times, `v = −65 mV`.
-    pub fn new(n: usize, params: IzhikevichParams) -> Self {
-        Self {
-            n,
-            params,
-            integrator: Integrator::Izhikevich2003,
-            interpolate: false,
-            initial: InitialPotential::Constant(-65.0),
-            blocks: Vec::new(),
-            k: IzhikevichConstants::default(),
-            dt_s: 0.0,
+    /// `(v, u)` of neuron `i` (after `prepare`).
+    pub fn state_of(&self, i: usize) -> (f64, f64) {
+        (self.variable(0, i), self.variable(1, i))
+    }
+}
+
+impl<F: Real> IzhikevichModel<F> {
+    fn step_with(
+        k: &IzhikevichConstants<F>,
+        integrator: Integrator,
+        interpolate: bool,
+        s: &mut IzhikevichState<F>,
+        d: Drive<'_>,
+        update: impl Fn(F, F, F) -> (F, F),
+    ) -> BlockStep {
+        if interpolate {
+            let step = step_block::<F, true>(s, d, k, &update);
+            if step.spikes > 0 {
+                finish_interpolated_spikes(s, d, k, integrator);
+            }
+            step
+        } else {
+            step_block::<F, false>(s, d, k, &update)
+        }
+    }
+}
+
+impl<F: Real> BlockModel for IzhikevichModel<F> {
+    type Real = F;
+    type Params = IzhikevichParams;
+    type State = IzhikevichState<F>;
+    type Constants = IzhikevichConstants<F>;
+
+    const NAME: &'static str = MODEL;
+    const VARIABLES: &'static [&'static str] = &["v", "u"];
+    const SUPPORTED: &'static str = SUPPORTED;
+    const DEFAULT_INTEGRATOR: Integrator = Integrator::Izhikevich2003;
+    const DIVERGENCE: &'static str = "the membrane jumped from at or below the reset to the peak in one step, faster than dv/dt allows for that input, or left the finite range";
+
+    fn supports(integrator: Integrator) -> bool {
+        integrator != Integrator::Exact
+    }
+
+    fn default_initial(_params: &IzhikevichParams) -> InitialPotential {
+        InitialPotential::Constant(-65.0)
+    }
+
+    fn validate(params: &IzhikevichParams) -> Result<(), ModelError> {
+        params.validate::<F>()
+    }
+
+    fn constants(p: &IzhikevichParams, dt_s: f64) -> IzhikevichConstants<F> {
+        let h = dt_s * 1e3;
+        IzhikevichConstants {
+            a: F::of(p.a),
+            b: F::of(p.b),
+            c: F::of(p.c),
+            d: F::of(p.d),
+            v_peak: F::of(p.v_peak),
+            v_floor: F::of(p.v_min).max(F::min_value()),
+            h: F::of(h),
+            u_decay: F::of((-p.a * h).exp()),
+            peak_rate: F::of(0.04 * (p.v_peak - V_NULLCLINE_MIN).powi(2)),
         }
     }
 
-    /// Chooses the integrator (checked by `prepare`).
-    pub fn with_integrator(mut self, integrator: Integrator) -> Self {
-        self.integrator = integrator;
-        self
+    fn new_block(
+        p: &IzhikevichParams,
+        _k: &IzhikevichConstants<F>,
+        v: &[f64],
+        interpolate: bool,
+    ) -> IzhikevichState<F> {
+        IzhikevichState {
+            v: v.iter().map(|&x| F::of(x)).collect(),
+            u: v.iter().map(|&x| F::of(p.b * x)).collect(),
+            phi: if interpolate {
+                vec![F::one(); v.len()]
+            } else {
+                Vec::new()
+            },
+            u_at_spike: if interpolate {
+                vec![F::zero(); v.len()]
+            } else {
+                Vec::new()
+            },
+            spiked: vec![0; v.len()],
+            v_prev: vec![F::zero(); v.len()],
+            u_prev: vec![F::zero(); v.len()],
+        }
     }
 
-    /// Interpolates spike times inside the step.
-    pub fn with_interpolation(mut self, interpolate: bool) -> Self {
-        self.interpolate = interpolate;
-        self
-    }
-
-    /// Sets the initial membrane potentials (mV); `u` starts at `b·v`.
-    pub fn with_initial_potential(mut self, initial: InitialPotential) -> Self {
-        self.initial = initial;
-        self
-    }
-
-    /// The parameters.
-    pub fn params(&self) -> &IzhikevichParams {
-        &self.params
-    }
-
-    /// The integrator.
-    pub fn integrator(&self) -> Integrator {
-        self.integrator
-    }
-
-    /// `(v, u)` of neuron `i` (after `prepare`).
-    pub fn state_of(&self, i: usize) -> (f64, f64) {
-        let s = &self.blocks[i / BLOCK];
-        (s.v[i % BLOCK].f64(), s.u[i % BLOCK].f64())
-    }
-
-    fn advance_blocks(&mut self, drive: Drive<'_>) -> u64 {
-        let k = self.k;
-        let (h, u_decay) = (k.h, k.u_decay);
+    fn step_block(
+        k: &IzhikevichConstants<F>,
+        integrator: Integrator,
+        interpolate: bool,
+        s: &mut IzhikevichState<F>,
+        d: Drive<'_>,
+    ) -> BlockStep {
+        let (k, h, u_decay) = (*k, k.h, k.u_decay);
         // One closure per integrator, so each gets its own vectorised loop.
         macro_rules! with {
             ($integrator:expr) => {
-                self.advance_with(
-                    drive,
+                Self::step_with(
+                    &k,
+                    integrator,
+                    interpolate,
+                    s,
+                    d,
                     #[inline(always)]
                     move |v, u, i| advance_state($integrator, &k, (v, u), i, h, u_decay),
                 )
             };
         }
-        match self.integrator {
+        match integrator {
             Integrator::Izhikevich2003 => with!(Integrator::Izhikevich2003),
             Integrator::Euler => with!(Integrator::Euler),
             Integrator::ExponentialEuler => with!(Integrator::ExponentialEuler),
@@ -404,20 +540,16 @@ impl<F: Real> Izhikevich<F> {
         }
     }
 
-    fn advance_with(&mut self, drive: Drive<'_>, update: impl Fn(F, F, F) -> (F, F) + Sync) -> u64 {
-        let (n, k, interpolate, integrator) = (self.n, self.k, self.interpolate, self.integrator);
-        for_blocks(&mut self.blocks, n, |b, s| {
-            let d = drive.block(b, s.v.len());
-            if interpolate {
-                let count = step_block::<F, true>(s, d, &k, &update);
-                if count > 0 {
-                    finish_interpolated_spikes(s, d, &k, integrator);
-                }
-                count
-            } else {
-                step_block::<F, false>(s, d, &k, &update)
-            }
-        })
+    fn spike_mask(s: &IzhikevichState<F>) -> &[u8] {
+        &s.spiked
+    }
+
+    fn spike_fractions(s: &IzhikevichState<F>) -> &[F] {
+        &s.phi
+    }
+
+    fn variable(s: &IzhikevichState<F>, var: usize, j: usize) -> f64 {
+        if var == 0 { s.v[j].f64() } else { s.u[j].f64() }
     }
 }
 
@@ -435,6 +567,7 @@ fn finish_interpolated_spikes<F: Real>(
         phi,
         u_at_spike,
         spiked,
+        ..
     } = s;
     for_each_spike(spiked, |j| {
         let f = F::of(unit_fraction(phi[j].f64()));
@@ -456,98 +589,4 @@ fn finish_interpolated_spikes<F: Real>(
         };
         u[j] = if u_next.is_finite() { u_next } else { u0 };
     });
-}
-
-impl<F: Real> Population for Izhikevich<F> {
-    fn advance(&mut self, drive: Drive<'_>) -> u64 {
-        self.advance_blocks(drive)
-    }
-
-    fn prepared_dt(&self) -> Option<f64> {
-        (self.dt_s > 0.0 && self.blocks.len() == n_blocks(self.n)).then_some(self.dt_s)
-    }
-}
-
-impl<F: Real> NeuronModel for Izhikevich<F> {
-    fn model_name(&self) -> &'static str {
-        MODEL
-    }
-
-    fn len(&self) -> usize {
-        self.n
-    }
-
-    fn variables(&self) -> &'static [&'static str] {
-        &["v", "u"]
-    }
-
-    fn prepare(&mut self, dt_s: f64) -> Result<(), ModelError> {
-        check_dt(MODEL, dt_s)?;
-        self.params.validate()?;
-        if self.integrator == Integrator::Exact {
-            return Err(ModelError::UnsupportedIntegrator {
-                model: MODEL,
-                integrator: self.integrator.name(),
-                supported: SUPPORTED,
-            });
-        }
-        let p = &self.params;
-        let h = dt_s * 1e3;
-        self.k = IzhikevichConstants {
-            a: F::of(p.a),
-            b: F::of(p.b),
-            c: F::of(p.c),
-            d: F::of(p.d),
-            v_peak: F::of(p.v_peak),
-            v_floor: F::of(p.v_min).max(F::min_value()),
-            h: F::of(h),
-            u_decay: F::of((-p.a * h).exp()),
-        };
-        let v0 = self.initial.values(MODEL, self.n)?;
-        let b = p.b;
-        self.blocks = (0..n_blocks(self.n))
-            .map(|blk| {
-                let v = &v0[blk * BLOCK..blk * BLOCK + block_len(self.n, blk)];
-                IzhikevichState {
-                    v: v.iter().map(|&x| F::of(x)).collect(),
-                    u: v.iter().map(|&x| F::of(b * x)).collect(),
-                    phi: if self.interpolate {
-                        vec![F::one(); v.len()]
-                    } else {
-                        Vec::new()
-                    },
-                    u_at_spike: if self.interpolate {
-                        vec![F::zero(); v.len()]
-                    } else {
-                        Vec::new()
-                    },
-                    spiked: vec![0; v.len()],
-                }
-            })
-            .collect();
-        self.dt_s = dt_s;
-        Ok(())
-    }
-
-    fn reset(&mut self) {
-        // `prepare` succeeded before, so this cannot fail.
-        let _ = self.prepare(self.dt_s);
-    }
-
-    fn step(&mut self, current: &[f64], spikes: &mut SpikeBuffer) {
-        if self.advance_blocks(Drive::PerNeuron(current)) == 0 {
-            return;
-        }
-        let interpolate = self.interpolate;
-        for (b, s) in self.blocks.iter().enumerate() {
-            collect_block_spikes(b, &s.spiked, interpolate.then_some(&s.phi[..]), spikes);
-        }
-    }
-
-    fn read_variable(&self, var: usize, neurons: &[u32], out: &mut Vec<f64>) {
-        out.extend(neurons.iter().map(|&i| {
-            let (v, u) = self.state_of(i as usize);
-            if var == 0 { v } else { u }
-        }));
-    }
 }

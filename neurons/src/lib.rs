@@ -11,7 +11,10 @@
 //! optionally interpolates spike times inside the step. The integrators are written once in
 //! [`integrate`]; state is structure-of-arrays in blocks ([`population`]), stepped by one fused,
 //! branch-free update–threshold–reset loop that the compiler vectorises, on rayon's pool for
-//! large populations.
+//! large populations. A model file holds only its maths ([`BlockModel`]: parameters, block
+//! state, the fused step); the builder, block allocation and `prepare`/`reset`/`step` are
+//! [`BlockPopulation`]'s. Each model flags steps whose result left its dynamics (divergence;
+//! see the models' docs), reported by [`neurotac_core::NeuronModel::check_divergence`].
 //!
 //! ```
 //! use neurotac_neurons::{Integrator, Lif, LifParams};
@@ -33,9 +36,14 @@ pub mod izhikevich;
 pub mod lif;
 pub mod population;
 pub mod real;
+pub mod run;
 
 pub use integrate::{Integrator, UnknownIntegrator};
-pub use izhikevich::{Izhikevich, IzhikevichParams, IzhikevichState};
-pub use lif::{Lif, LifParams, LifState};
-pub use population::{Drive, InitialPotential, Population};
+pub use izhikevich::{Izhikevich, IzhikevichModel, IzhikevichParams, IzhikevichState};
+pub use lif::{Lif, LifModel, LifParams, LifState};
+pub use population::{
+    BlockModel, BlockPopulation, BlockStep, DIVERGENCE_CHECK_STEPS, Drive, InitialPotential,
+    Population,
+};
 pub use real::Real;
+pub use run::{DEFAULT_MAX_STEPS, RunError, stream_spike_times, whole_steps};

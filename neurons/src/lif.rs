@@ -38,14 +38,32 @@
 //! state is always finite, even for Euler with `dt > 2τ_m` (unstable but never NaN). Values
 //! below the smallest normal number in magnitude are flushed to 0, so a long silence never
 //! leaves subnormal numbers in the loop.
+//!
+//! ## Divergence
+//! From `v < v_th` the solution approaches `v∞` monotonically, so it can reach `v_th` only if
+//! `v∞ ≥ v_th`. A step is flagged as diverged when a neuron spikes from `v_old < v_th` under a
+//! drive with `v∞ < v_th` (an explicit step overshooting, e.g. Euler with `dt > τ_m`), or when
+//! its update is not finite. The fused loop tests the spike only when `v∞ < v_th` is possible
+//! (under a constant drive it is decided once per block), marking it in the spike mask, and
+//! catches non-finite updates with an integer maximum of `|v|` bits, so the check costs the
+//! loop almost nothing; [`NeuronModel::check_divergence`] turns it into [`ModelError::Diverged`] naming the step.
+//!
+//! ## Closed form
+//! From `v_reset` under constant `I` with `v∞ > v_th`, the `k`-th spike is at
+//! `t_k = k·T + (k − 1)·t_ref` with `T = τ_m·ln((v∞ − v_reset)/(v∞ − v_th))`
+//! ([`LifParams::closed_form_period_s`], [`LifParams::closed_form_spike_times`]); for the defaults
+//! `T = τ·ln(I/(I − 1))`.
 
 use crate::integrate::{self, Integrator};
 use crate::population::{
-    BLOCK, Drive, InitialPotential, Population, block_len, check_dt, check_param,
-    collect_block_spikes, for_blocks, for_each_spike, n_blocks, unit_fraction,
+    BlockModel, BlockPopulation, BlockStep, DIVERGED_BIT, Drive, InitialPotential, check_param,
+    check_representable, for_each_spike, take_diverged, unit_fraction,
 };
 use crate::real::Real;
-use neurotac_core::{ModelError, NeuronModel, SpikeBuffer};
+use neurotac_core::ModelError;
+#[cfg(doc)]
+use neurotac_core::NeuronModel;
+use std::marker::PhantomData;
 
 const MODEL: &str = "lif";
 const SUPPORTED: &str = "exact, exp-euler, euler, rk2, rk4";
@@ -87,12 +105,46 @@ impl LifParams {
         Self::default()
     }
 
-    fn validate(&self) -> Result<(), ModelError> {
-        check_param(MODEL, "tau_m_s", self.tau_m_s, true)?;
-        check_param(MODEL, "v_rest", self.v_rest, false)?;
-        check_param(MODEL, "v_th", self.v_th, false)?;
-        check_param(MODEL, "v_reset", self.v_reset, false)?;
-        check_param(MODEL, "t_ref_s", self.t_ref_s, false)?;
+    /// The period `T = τ_m·ln((v∞ − v_reset)/(v∞ − v_th))` (s) of a neuron from `v_reset` under
+    /// the constant input `current` (`v∞ = v_rest + current`), without the refractory period;
+    /// `None` when `v∞ ≤ v_th` (it never fires). For the defaults, `T = τ·ln(I/(I − 1))`.
+    ///
+    /// ```
+    /// use neurotac_neurons::LifParams;
+    /// let t = LifParams::default().closed_form_period_s(1.04).unwrap();
+    /// assert!((t - 0.01 * 26f64.ln()).abs() < 1e-15); // 32.58 ms
+    /// assert_eq!(LifParams::default().closed_form_period_s(0.9), None);
+    /// ```
+    pub fn closed_form_period_s(&self, current: f64) -> Option<f64> {
+        let v_inf = self.v_rest + current;
+        (v_inf > self.v_th)
+            .then(|| self.tau_m_s * ((v_inf - self.v_reset) / (v_inf - self.v_th)).ln())
+    }
+
+    /// The spike times `t_k = k·T + (k − 1)·t_ref ≤ duration_s` (s) of a neuron starting at
+    /// `v_reset` under the constant `current` ([`closed_form_period_s`](Self::closed_form_period_s));
+    /// empty when it never fires.
+    pub fn closed_form_spike_times(&self, current: f64, duration_s: f64) -> Vec<f64> {
+        let Some(period) = self.closed_form_period_s(current) else {
+            return Vec::new();
+        };
+        (1..)
+            .map(|k| k as f64 * period + (k - 1) as f64 * self.t_ref_s)
+            .take_while(|&t| t <= duration_s)
+            .collect()
+    }
+
+    fn validate<F: Real>(&self) -> Result<(), ModelError> {
+        for (field, x, positive) in [
+            ("tau_m_s", self.tau_m_s, true),
+            ("v_rest", self.v_rest, false),
+            ("v_th", self.v_th, false),
+            ("v_reset", self.v_reset, false),
+            ("t_ref_s", self.t_ref_s, false),
+        ] {
+            check_param(MODEL, field, x, positive)?;
+            check_representable::<F>(MODEL, field, x)?;
+        }
         if self.t_ref_s < 0.0 {
             return Err(ModelError::InvalidParameter {
                 model: MODEL,
@@ -121,7 +173,7 @@ impl LifParams {
     }
 }
 
-/// The state of one block of up to [`BLOCK`] LIF neurons, structure of arrays.
+/// The state of one block of up to [`BLOCK`](crate::population::BLOCK) LIF neurons, structure of arrays.
 #[derive(Debug, Clone, Default)]
 pub struct LifState<F> {
     /// Membrane potentials.
@@ -136,7 +188,7 @@ pub struct LifState<F> {
 
 /// Per-step constants, computed once by `prepare` in the population's precision.
 #[derive(Debug, Clone, Copy, Default)]
-struct LifConstants<F> {
+pub struct LifConstants<F> {
     v_rest: F,
     v_th: F,
     v_reset: F,
@@ -147,33 +199,47 @@ struct LifConstants<F> {
 }
 
 /// Advances one block by one step: fused update, threshold, reset and refractory, writing the
-/// spike mask; returns the number of spikes. `update(v, v∞)` is the integrator.
+/// spike mask; returns the number of spikes and of flagged updates (module docs, Divergence).
+/// `update(v, v∞)` is the integrator.
 #[inline(always)]
 fn step_block<F: Real, const REFRACTORY: bool, const INTERPOLATE: bool>(
     s: &mut LifState<F>,
     drive: Drive<'_>,
     k: &LifConstants<F>,
     update: &impl Fn(F, F) -> F,
-) -> u64 {
+) -> BlockStep {
     match drive {
+        // Under a constant drive, `v∞ < v_th` holds for the whole block or for none of it: the
+        // loop checks for unreachable spikes only when it can have them.
         Drive::Constant(c) => {
             let v_inf = k.v_rest + F::of(c);
-            step_block_with::<F, REFRACTORY, INTERPOLATE>(s, k, update, |_| v_inf)
+            if v_inf < k.v_th {
+                step_block_with::<F, REFRACTORY, INTERPOLATE, true>(s, k, update, |_| v_inf)
+            } else {
+                step_block_with::<F, REFRACTORY, INTERPOLATE, false>(s, k, update, |_| v_inf)
+            }
         }
         Drive::PerNeuron(x) => {
             let x = &x[..s.v.len()];
-            step_block_with::<F, REFRACTORY, INTERPOLATE>(s, k, update, |j| k.v_rest + F::of(x[j]))
+            step_block_with::<F, REFRACTORY, INTERPOLATE, true>(s, k, update, |j| {
+                k.v_rest + F::of(x[j])
+            })
         }
     }
 }
 
 #[inline(always)]
-fn step_block_with<F: Real, const REFRACTORY: bool, const INTERPOLATE: bool>(
+fn step_block_with<
+    F: Real,
+    const REFRACTORY: bool,
+    const INTERPOLATE: bool,
+    const BELOW_THRESHOLD: bool,
+>(
     s: &mut LifState<F>,
     k: &LifConstants<F>,
     update: &impl Fn(F, F) -> F,
     v_inf: impl Fn(usize) -> F,
-) -> u64 {
+) -> BlockStep {
     let n = s.v.len();
     let LifState {
         v,
@@ -203,9 +269,12 @@ fn step_block_with<F: Real, const REFRACTORY: bool, const INTERPOLATE: bool>(
     } = *k;
     let tiny = F::min_positive_value();
     let mut count = 0u32;
+    // Largest |v_raw| seen, as bits: non-finite updates without a test per neuron.
+    let mut worst = F::Bits::default();
     for i in 0..n {
         let v_old = v[i];
-        let v_raw = update(v_old, v_inf(i));
+        let v_target = v_inf(i);
+        let v_raw = update(v_old, v_target);
         // One compare + select: NaN and −∞ (unstable Euler) become the floor, never the state.
         let v_new = if v_raw > v_floor { v_raw } else { v_floor };
         // Flush subnormals to 0: a long silence decays v towards v_rest = 0 through the
@@ -223,6 +292,10 @@ fn step_block_with<F: Real, const REFRACTORY: bool, const INTERPOLATE: bool>(
             };
         }
         let spike = v_new >= v_th;
+        // Divergence: a spike from below threshold under a drive that cannot reach it, or an
+        // update that left the finite range.
+        let unreachable = BELOW_THRESHOLD && spike & (v_target < v_th) & (v_old < v_th);
+        worst = worst.max(v_raw.magnitude_bits());
         if INTERPOLATE {
             phi[i] = if spike {
                 (v_th - v_old) / (v_new - v_old)
@@ -238,13 +311,24 @@ fn step_block_with<F: Real, const REFRACTORY: bool, const INTERPOLATE: bool>(
                 refractory_steps[i].saturating_sub(1)
             };
         }
-        spiked[i] = spike as u8;
+        // The flag rides in the mask byte and is collected once per block (`take_diverged`):
+        // a reduction here would cost the loop its unrolling.
+        spiked[i] = spike as u8 | if unreachable { DIVERGED_BIT } else { 0 };
         count += spike as u32;
     }
-    count as u64
+    BlockStep {
+        spikes: count as u64,
+        diverged: take_diverged(spiked) + u64::from(worst >= F::INFINITY_BITS),
+    }
 }
 
-/// A population of LIF neurons in precision `F` (`f32` or `f64`).
+/// The LIF model's part of a [`BlockPopulation`] in precision `F`: parameters, block state,
+/// constants and the fused step (see the module docs).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct LifModel<F>(PhantomData<F>);
+
+/// A population of LIF neurons in precision `F` (`f32` or `f64`); built with
+/// [`new`](BlockPopulation::new) and the `with_*` methods of [`BlockPopulation`].
 ///
 /// ```
 /// use neurotac_neurons::{Integrator, Lif, LifParams, Population};
@@ -254,79 +338,122 @@ fn step_block_with<F: Real, const REFRACTORY: bool, const INTERPOLATE: bool>(
 /// assert_eq!(spikes, 100 * 30);
 /// # Ok::<(), neurotac_core::ModelError>(())
 /// ```
-#[derive(Debug, Clone)]
-pub struct Lif<F: Real> {
-    n: usize,
-    params: LifParams,
-    integrator: Integrator,
-    interpolate: bool,
-    initial: InitialPotential,
-    blocks: Vec<LifState<F>>,
-    k: LifConstants<F>,
-    dt_s: f64,
-}
+pub type Lif<F> = BlockPopulation<LifModel<F>>;
 
 impl<F: Real> Lif<F> {
-    /// `n` neurons with `params`, the exact integrator, grid spike times and `v = v_rest` at start.
-    pub fn new(n: usize, params: LifParams) -> Self {
-        Self {
-            n,
-            params,
-            integrator: Integrator::Exact,
-            interpolate: false,
-            initial: InitialPotential::Constant(params.v_rest),
-            blocks: Vec::new(),
-            k: LifConstants::default(),
-            dt_s: 0.0,
+    /// Membrane potential of neuron `i` (after `prepare`).
+    pub fn potential(&self, i: usize) -> f64 {
+        self.variable(0, i)
+    }
+}
+
+impl<F: Real> LifModel<F> {
+    fn step_with(
+        k: &LifConstants<F>,
+        integrator: Integrator,
+        interpolate: bool,
+        s: &mut LifState<F>,
+        d: Drive<'_>,
+        update: impl Fn(F, F) -> F,
+    ) -> BlockStep {
+        match (k.refractory_steps > 0, interpolate) {
+            (false, false) => step_block::<F, false, false>(s, d, k, &update),
+            (true, false) => step_block::<F, true, false>(s, d, k, &update),
+            (false, true) => {
+                let step = step_block::<F, false, true>(s, d, k, &update);
+                if step.spikes > 0 {
+                    finish_interpolated_spikes(s, d, k, integrator);
+                }
+                step
+            }
+            (true, true) => step_block::<F, true, true>(s, d, k, &update),
+        }
+    }
+}
+
+impl<F: Real> BlockModel for LifModel<F> {
+    type Real = F;
+    type Params = LifParams;
+    type State = LifState<F>;
+    type Constants = LifConstants<F>;
+
+    const NAME: &'static str = MODEL;
+    const VARIABLES: &'static [&'static str] = &["v"];
+    const SUPPORTED: &'static str = SUPPORTED;
+    const DEFAULT_INTEGRATOR: Integrator = Integrator::Exact;
+    const DIVERGENCE: &'static str = "the membrane reached threshold under an input whose steady state v∞ lies below it, or left the finite range";
+
+    fn supports(integrator: Integrator) -> bool {
+        integrator != Integrator::Izhikevich2003
+    }
+
+    fn default_initial(params: &LifParams) -> InitialPotential {
+        InitialPotential::Constant(params.v_rest)
+    }
+
+    fn validate(params: &LifParams) -> Result<(), ModelError> {
+        params.validate::<F>()
+    }
+
+    fn constants(p: &LifParams, dt_s: f64) -> LifConstants<F> {
+        let h = dt_s / p.tau_m_s;
+        LifConstants {
+            v_rest: F::of(p.v_rest),
+            v_th: F::of(p.v_th),
+            v_reset: F::of(p.v_reset),
+            v_floor: F::of(p.v_min).max(F::min_value()),
+            h: F::of(h),
+            decay: F::of((-h).exp()),
+            refractory_steps: (p.t_ref_s / dt_s).round().min(u32::MAX as f64) as u32,
         }
     }
 
-    /// Chooses the integrator (checked by `prepare`).
-    pub fn with_integrator(mut self, integrator: Integrator) -> Self {
-        self.integrator = integrator;
-        self
+    fn new_block(
+        _params: &LifParams,
+        k: &LifConstants<F>,
+        v0: &[f64],
+        interpolate: bool,
+    ) -> LifState<F> {
+        let len = v0.len();
+        LifState {
+            v: v0.iter().map(|&x| F::of(x)).collect(),
+            refractory_steps: if k.refractory_steps > 0 {
+                vec![0; len]
+            } else {
+                Vec::new()
+            },
+            phi: if interpolate {
+                vec![F::one(); len]
+            } else {
+                Vec::new()
+            },
+            spiked: vec![0; len],
+        }
     }
 
-    /// Interpolates spike times inside the step (see the module docs).
-    pub fn with_interpolation(mut self, interpolate: bool) -> Self {
-        self.interpolate = interpolate;
-        self
-    }
-
-    /// Sets the initial membrane potentials.
-    pub fn with_initial_potential(mut self, initial: InitialPotential) -> Self {
-        self.initial = initial;
-        self
-    }
-
-    /// The parameters.
-    pub fn params(&self) -> &LifParams {
-        &self.params
-    }
-
-    /// The integrator.
-    pub fn integrator(&self) -> Integrator {
-        self.integrator
-    }
-
-    /// Membrane potential of neuron `i` (after `prepare`).
-    pub fn potential(&self, i: usize) -> f64 {
-        self.blocks[i / BLOCK].v[i % BLOCK].f64()
-    }
-
-    fn advance_blocks(&mut self, drive: Drive<'_>) -> u64 {
-        let k = self.k;
+    fn step_block(
+        k: &LifConstants<F>,
+        integrator: Integrator,
+        interpolate: bool,
+        s: &mut LifState<F>,
+        d: Drive<'_>,
+    ) -> BlockStep {
+        let (h, decay) = (k.h, k.decay);
         // One closure per integrator, so each gets its own vectorised loop.
         macro_rules! with {
             ($integrator:expr) => {
-                self.advance_with(
-                    drive,
+                Self::step_with(
+                    k,
+                    integrator,
+                    interpolate,
+                    s,
+                    d,
                     #[inline(always)]
-                    move |v, v_inf| advance_potential($integrator, v, v_inf, k.h, k.decay),
+                    move |v, v_inf| advance_potential($integrator, v, v_inf, h, decay),
                 )
             };
         }
-        match self.integrator {
+        match integrator {
             Integrator::Exact | Integrator::ExponentialEuler => with!(Integrator::Exact),
             Integrator::Euler => with!(Integrator::Euler),
             Integrator::Rk2 => with!(Integrator::Rk2),
@@ -335,25 +462,16 @@ impl<F: Real> Lif<F> {
         }
     }
 
-    fn advance_with(&mut self, drive: Drive<'_>, update: impl Fn(F, F) -> F + Sync) -> u64 {
-        let (n, k, integrator) = (self.n, self.k, self.integrator);
-        let refractory = k.refractory_steps > 0;
-        let interpolate = self.interpolate;
-        for_blocks(&mut self.blocks, n, |b, s| {
-            let d = drive.block(b, s.v.len());
-            match (refractory, interpolate) {
-                (false, false) => step_block::<F, false, false>(s, d, &k, &update),
-                (true, false) => step_block::<F, true, false>(s, d, &k, &update),
-                (false, true) => {
-                    let count = step_block::<F, false, true>(s, d, &k, &update);
-                    if count > 0 {
-                        finish_interpolated_spikes(s, d, &k, integrator);
-                    }
-                    count
-                }
-                (true, true) => step_block::<F, true, true>(s, d, &k, &update),
-            }
-        })
+    fn spike_mask(s: &LifState<F>) -> &[u8] {
+        &s.spiked
+    }
+
+    fn spike_fractions(s: &LifState<F>) -> &[F] {
+        &s.phi
+    }
+
+    fn variable(s: &LifState<F>, _var: usize, j: usize) -> f64 {
+        s.v[j].f64()
     }
 }
 
@@ -392,94 +510,32 @@ fn finish_interpolated_spikes<F: Real>(
     });
 }
 
-impl<F: Real> Population for Lif<F> {
-    fn advance(&mut self, drive: Drive<'_>) -> u64 {
-        self.advance_blocks(drive)
-    }
+#[cfg(test)]
+mod tests {
+    use super::*;
 
-    fn prepared_dt(&self) -> Option<f64> {
-        (self.dt_s > 0.0 && self.blocks.len() == n_blocks(self.n)).then_some(self.dt_s)
-    }
-}
-
-impl<F: Real> NeuronModel for Lif<F> {
-    fn model_name(&self) -> &'static str {
-        MODEL
-    }
-
-    fn len(&self) -> usize {
-        self.n
-    }
-
-    fn variables(&self) -> &'static [&'static str] {
-        &["v"]
-    }
-
-    fn prepare(&mut self, dt_s: f64) -> Result<(), ModelError> {
-        check_dt(MODEL, dt_s)?;
-        self.params.validate()?;
-        if self.integrator == Integrator::Izhikevich2003 {
-            return Err(ModelError::UnsupportedIntegrator {
-                model: MODEL,
-                integrator: self.integrator.name(),
-                supported: SUPPORTED,
-            });
-        }
-        let p = &self.params;
-        let h = dt_s / p.tau_m_s;
-        let refractory_steps = (p.t_ref_s / dt_s).round().min(u32::MAX as f64) as u32;
-        self.k = LifConstants {
-            v_rest: F::of(p.v_rest),
-            v_th: F::of(p.v_th),
-            v_reset: F::of(p.v_reset),
-            v_floor: F::of(p.v_min).max(F::min_value()),
-            h: F::of(h),
-            decay: F::of((-h).exp()),
-            refractory_steps,
+    #[test]
+    fn the_closed_form_solves_the_sub_threshold_equation() {
+        // v(t) = v∞ + (v_reset − v∞)·e^(−t/τ) reaches v_th at T; spikes repeat every T + t_ref.
+        let p = LifParams {
+            tau_m_s: 0.02,
+            v_rest: -0.5,
+            v_th: 1.0,
+            v_reset: -0.2,
+            t_ref_s: 3e-3,
+            v_min: f64::NEG_INFINITY,
         };
-        let v0 = self.initial.values(MODEL, self.n)?;
-        self.blocks = (0..n_blocks(self.n))
-            .map(|b| {
-                let len = block_len(self.n, b);
-                LifState {
-                    v: v0[b * BLOCK..b * BLOCK + len]
-                        .iter()
-                        .map(|&x| F::of(x))
-                        .collect(),
-                    refractory_steps: if refractory_steps > 0 {
-                        vec![0; len]
-                    } else {
-                        Vec::new()
-                    },
-                    phi: if self.interpolate {
-                        vec![F::one(); len]
-                    } else {
-                        Vec::new()
-                    },
-                    spiked: vec![0; len],
-                }
-            })
-            .collect();
-        self.dt_s = dt_s;
-        Ok(())
-    }
-
-    fn reset(&mut self) {
-        // `prepare` succeeded before, so this cannot fail.
-        let _ = self.prepare(self.dt_s);
-    }
-
-    fn step(&mut self, current: &[f64], spikes: &mut SpikeBuffer) {
-        if self.advance_blocks(Drive::PerNeuron(current)) == 0 {
-            return;
-        }
-        let interpolate = self.interpolate;
-        for (b, s) in self.blocks.iter().enumerate() {
-            collect_block_spikes(b, &s.spiked, interpolate.then_some(&s.phi[..]), spikes);
-        }
-    }
-
-    fn read_variable(&self, _var: usize, neurons: &[u32], out: &mut Vec<f64>) {
-        out.extend(neurons.iter().map(|&i| self.potential(i as usize)));
+        let current = 2.0;
+        let v_inf = p.v_rest + current;
+        let t = p.closed_form_period_s(current).unwrap();
+        let v_at = v_inf + (p.v_reset - v_inf) * (-t / p.tau_m_s).exp();
+        assert!((v_at - p.v_th).abs() < 1e-12, "{v_at}");
+        let times = p.closed_form_spike_times(current, 0.1);
+        assert!(times.len() > 2 && times.iter().all(|&s| s <= 0.1));
+        assert!((times[0] - t).abs() < 1e-15);
+        assert!((times[2] - times[1] - (t + p.t_ref_s)).abs() < 1e-12);
+        // v∞ at or below threshold never fires.
+        assert_eq!(p.closed_form_period_s(1.5), None);
+        assert!(p.closed_form_spike_times(1.5, 10.0).is_empty());
     }
 }

@@ -1,5 +1,7 @@
 //! What LIF and Izhikevich populations share: initial conditions, the block layout that makes
-//! parallel stepping deterministic, and turning per-block spike masks into a [`SpikeBuffer`].
+//! parallel stepping deterministic, turning per-block spike masks into a [`SpikeBuffer`], and
+//! the population itself, [`BlockPopulation`], generic over the per-model part ([`BlockModel`]:
+//! parameters, block state, per-step constants, the fused step of one block).
 //!
 //! State is structure-of-arrays, cut into blocks of [`BLOCK`] neurons (each block holds its own
 //! arrays). A step runs one fused update + threshold + reset loop per block, writing a 0/1 spike
@@ -7,10 +9,14 @@
 //! has more than one thread, else in order on the caller's thread. The arithmetic of a neuron
 //! never depends on the block split, so results are bit-identical at any thread count.
 
+use crate::integrate::Integrator;
+use crate::real::Real;
 use neurotac_core::{ModelError, NeuronModel, SpikeBuffer};
+use num_traits::Float;
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
+use std::fmt;
 
 /// Neurons per block.
 pub const BLOCK: usize = 4096;
@@ -93,15 +99,19 @@ impl<'a> Drive<'a> {
         }
     }
 
-    /// Input for neuron `i` (block-local when the drive was cut with [`block`](Self::block)).
+    /// Input for neuron `i` (block-local inside [`BlockModel::step_block`]).
     #[inline]
-    pub(crate) fn at(self, i: usize) -> f64 {
+    pub fn at(self, i: usize) -> f64 {
         match self {
             Drive::Constant(c) => c,
             Drive::PerNeuron(x) => x[i],
         }
     }
 }
+
+/// Steps between two divergence checks in [`Population::run_constant`] (and in the network's
+/// run loop): a check costs one call, never a pass over the neurons.
+pub const DIVERGENCE_CHECK_STEPS: u64 = 256;
 
 /// What block-stepped populations (LIF, Izhikevich) share beyond [`NeuronModel`]: stepping
 /// under a [`Drive`], and the checked and benchmark entry points built on it.
@@ -113,39 +123,41 @@ pub trait Population: NeuronModel {
     /// The time step the population is prepared for, if it is.
     fn prepared_dt(&self) -> Option<f64>;
 
+    /// Checks one input value for neuron `neuron`: NaN/±∞ and values beyond the population's
+    /// precision (e.g. `1e39` for `f32`) are typed errors.
+    fn check_input(&self, neuron: usize, value: f64) -> Result<(), ModelError>;
+
     /// Prepares (if needed) and runs `steps` steps of `dt_s` with the same input `current` for
     /// every neuron, without recording spike indices; returns the number of spikes. This is the
-    /// benchmark path; it steps exactly as a network does.
+    /// benchmark path; it steps exactly as a network does, and like a network checks for
+    /// divergence every [`DIVERGENCE_CHECK_STEPS`] steps and at the end.
     fn run_constant(&mut self, current: f64, dt_s: f64, steps: u64) -> Result<u64, ModelError> {
-        if !current.is_finite() {
-            return Err(ModelError::NonFiniteInput {
-                model: self.model_name(),
-                neuron: 0,
-                value: current,
-            });
-        }
+        self.check_input(0, current)?;
         if self.prepared_dt() != Some(dt_s) {
             self.prepare(dt_s)?;
         }
-        Ok((0..steps)
-            .map(|_| self.advance(Drive::Constant(current)))
-            .sum())
+        let mut spikes = 0;
+        for k in 1..=steps {
+            spikes += self.advance(Drive::Constant(current));
+            if k % DIVERGENCE_CHECK_STEPS == 0 {
+                self.check_divergence()?;
+            }
+        }
+        self.check_divergence()?;
+        Ok(spikes)
     }
 
     /// One network-style step with per-neuron input, rejecting input of the wrong length or
-    /// with NaN/±∞ values with a typed error (the state is then untouched).
+    /// with NaN/±∞ values (or values beyond the precision) with a typed error (the state is then
+    /// untouched).
     fn step_checked(
         &mut self,
         current: &[f64],
         spikes: &mut SpikeBuffer,
     ) -> Result<(), ModelError> {
         let model = self.model_name();
-        if let Some(i) = current.iter().position(|x| !x.is_finite()) {
-            return Err(ModelError::NonFiniteInput {
-                model,
-                neuron: i,
-                value: current[i],
-            });
+        for (i, &x) in current.iter().enumerate() {
+            self.check_input(i, x)?;
         }
         if current.len() != self.len() {
             return Err(ModelError::InvalidParameter {
@@ -158,6 +170,315 @@ pub trait Population: NeuronModel {
         spikes.clear();
         self.step(current, spikes);
         Ok(())
+    }
+}
+
+/// What one block's step returns: its spikes, and how many of them (or of its state updates)
+/// the model's divergence criterion flagged.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct BlockStep {
+    /// Spikes in the block.
+    pub spikes: u64,
+    /// Nonzero when the model's divergence criterion flagged an update of the block (see each
+    /// model's docs): the flagged spikes, plus one for any non-finite update.
+    pub diverged: u64,
+}
+
+impl BlockStep {
+    #[inline]
+    fn add(self, other: BlockStep) -> BlockStep {
+        BlockStep {
+            spikes: self.spikes + other.spikes,
+            diverged: self.diverged + other.diverged,
+        }
+    }
+}
+
+/// The per-model part of a block-stepped population: parameters, the state of one block,
+/// per-step constants and the fused step of one block. Everything else — the builder, block
+/// allocation, `prepare`/`reset`/`step`, spike collection and divergence bookkeeping — is
+/// [`BlockPopulation`]'s, written once.
+///
+/// Implemented by [`LifModel`](crate::lif::LifModel) and
+/// [`IzhikevichModel`](crate::izhikevich::IzhikevichModel); the populations are
+/// [`Lif`](crate::Lif)` = BlockPopulation<LifModel<F>>` and likewise for Izhikevich.
+pub trait BlockModel: Send + Sync + 'static {
+    /// Precision of the state.
+    type Real: Real;
+    /// The parameter record (validated by [`validate`](Self::validate) at `prepare`).
+    type Params: Copy + PartialEq + fmt::Debug + Send + Sync;
+    /// The state of one block of up to [`BLOCK`] neurons (structure of arrays).
+    type State: Clone + fmt::Debug + Send;
+    /// Per-step constants computed once by `prepare` in the population's precision.
+    type Constants: Copy + Default + fmt::Debug + Send + Sync;
+
+    /// Model name used in messages (e.g. `"lif"`).
+    const NAME: &'static str;
+    /// Names of the state variables (see [`NeuronModel::variables`]).
+    const VARIABLES: &'static [&'static str];
+    /// The supported integrators, for the "unsupported integrator" error.
+    const SUPPORTED: &'static str;
+    /// The integrator a new population starts with.
+    const DEFAULT_INTEGRATOR: Integrator;
+    /// What the model's divergence criterion detects (for the error message).
+    const DIVERGENCE: &'static str;
+
+    /// `true` when the model implements `integrator`.
+    fn supports(integrator: Integrator) -> bool;
+
+    /// The initial potential of a new population with `params`.
+    fn default_initial(params: &Self::Params) -> InitialPotential;
+
+    /// Validates the parameters (finite, representable in [`Real`](Self::Real), consistent).
+    fn validate(params: &Self::Params) -> Result<(), ModelError>;
+
+    /// The per-step constants for `params` at `dt_s` (already validated).
+    fn constants(params: &Self::Params, dt_s: f64) -> Self::Constants;
+
+    /// A block starting at the initial potentials `v0` (one per neuron of the block).
+    fn new_block(
+        params: &Self::Params,
+        k: &Self::Constants,
+        v0: &[f64],
+        interpolate: bool,
+    ) -> Self::State;
+
+    /// Advances one block by one step under its part of the drive: the fused update,
+    /// threshold and reset loop of the model with `integrator`, then (when `interpolate`) the
+    /// rest of the step after each interpolated spike.
+    fn step_block(
+        k: &Self::Constants,
+        integrator: Integrator,
+        interpolate: bool,
+        state: &mut Self::State,
+        drive: Drive<'_>,
+    ) -> BlockStep;
+
+    /// The block's spike mask of the last step (1 where a neuron spiked).
+    fn spike_mask(state: &Self::State) -> &[u8];
+
+    /// The block's in-step spike fractions of the last step (empty unless interpolating).
+    fn spike_fractions(state: &Self::State) -> &[Self::Real];
+
+    /// Variable `var` (an index into [`VARIABLES`](Self::VARIABLES)) of neuron `j` of the block.
+    fn variable(state: &Self::State, var: usize, j: usize) -> f64;
+}
+
+/// A population of `n` neurons of model `M`, in blocks of [`BLOCK`]: the builder, the block
+/// allocation and the `prepare`/`reset`/`step` scaffolding shared by every model.
+///
+/// Use it through the model aliases, [`Lif`](crate::Lif) and [`Izhikevich`](crate::Izhikevich).
+pub struct BlockPopulation<M: BlockModel> {
+    n: usize,
+    params: M::Params,
+    integrator: Integrator,
+    interpolate: bool,
+    initial: InitialPotential,
+    blocks: Vec<M::State>,
+    k: M::Constants,
+    dt_s: f64,
+    /// Steps advanced since `prepare`/`reset`.
+    steps: u64,
+    /// The first step (0-based) in which the divergence criterion fired, if any.
+    diverged_at: Option<u64>,
+}
+
+impl<M: BlockModel> Clone for BlockPopulation<M> {
+    fn clone(&self) -> Self {
+        Self {
+            n: self.n,
+            params: self.params,
+            integrator: self.integrator,
+            interpolate: self.interpolate,
+            initial: self.initial.clone(),
+            blocks: self.blocks.clone(),
+            k: self.k,
+            dt_s: self.dt_s,
+            steps: self.steps,
+            diverged_at: self.diverged_at,
+        }
+    }
+}
+
+impl<M: BlockModel> fmt::Debug for BlockPopulation<M> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct(M::NAME)
+            .field("n", &self.n)
+            .field("params", &self.params)
+            .field("integrator", &self.integrator)
+            .field("interpolate", &self.interpolate)
+            .field("initial", &self.initial)
+            .field("dt_s", &self.dt_s)
+            .field("steps", &self.steps)
+            .finish_non_exhaustive()
+    }
+}
+
+impl<M: BlockModel> BlockPopulation<M> {
+    /// `n` neurons with `params`, the model's default integrator and initial potential, grid
+    /// spike times.
+    pub fn new(n: usize, params: M::Params) -> Self {
+        Self {
+            n,
+            params,
+            integrator: M::DEFAULT_INTEGRATOR,
+            interpolate: false,
+            initial: M::default_initial(&params),
+            blocks: Vec::new(),
+            k: M::Constants::default(),
+            dt_s: 0.0,
+            steps: 0,
+            diverged_at: None,
+        }
+    }
+
+    /// Chooses the integrator (checked by `prepare`).
+    pub fn with_integrator(mut self, integrator: Integrator) -> Self {
+        self.integrator = integrator;
+        self
+    }
+
+    /// Interpolates spike times inside the step (see the model's docs).
+    pub fn with_interpolation(mut self, interpolate: bool) -> Self {
+        self.interpolate = interpolate;
+        self
+    }
+
+    /// Sets the initial membrane potentials (see the model's docs for the other variables).
+    pub fn with_initial_potential(mut self, initial: InitialPotential) -> Self {
+        self.initial = initial;
+        self
+    }
+
+    /// The parameters.
+    pub fn params(&self) -> &M::Params {
+        &self.params
+    }
+
+    /// The integrator.
+    pub fn integrator(&self) -> Integrator {
+        self.integrator
+    }
+
+    /// Variable `var` of neuron `i` (after `prepare`).
+    pub(crate) fn variable(&self, var: usize, i: usize) -> f64 {
+        M::variable(&self.blocks[i / BLOCK], var, i % BLOCK)
+    }
+
+    fn advance_blocks(&mut self, drive: Drive<'_>) -> u64 {
+        let (n, k, integrator, interpolate) = (self.n, self.k, self.integrator, self.interpolate);
+        let step = for_blocks(&mut self.blocks, n, |b, s| {
+            let len = M::spike_mask(s).len();
+            M::step_block(&k, integrator, interpolate, s, drive.block(b, len))
+        });
+        if step.diverged > 0 && self.diverged_at.is_none() {
+            self.diverged_at = Some(self.steps);
+        }
+        self.steps += 1;
+        step.spikes
+    }
+}
+
+impl<M: BlockModel> Population for BlockPopulation<M> {
+    fn advance(&mut self, drive: Drive<'_>) -> u64 {
+        self.advance_blocks(drive)
+    }
+
+    fn prepared_dt(&self) -> Option<f64> {
+        (self.dt_s > 0.0 && self.blocks.len() == n_blocks(self.n)).then_some(self.dt_s)
+    }
+
+    fn check_input(&self, neuron: usize, value: f64) -> Result<(), ModelError> {
+        if !value.is_finite() {
+            return Err(ModelError::NonFiniteInput {
+                model: M::NAME,
+                neuron,
+                value,
+            });
+        }
+        if !M::Real::of(value).is_finite() {
+            return Err(ModelError::InputOutOfRange {
+                model: M::NAME,
+                neuron,
+                value,
+                precision: M::Real::NAME,
+                max: M::Real::max_value().f64(),
+            });
+        }
+        Ok(())
+    }
+}
+
+impl<M: BlockModel> NeuronModel for BlockPopulation<M> {
+    fn model_name(&self) -> &'static str {
+        M::NAME
+    }
+
+    fn len(&self) -> usize {
+        self.n
+    }
+
+    fn variables(&self) -> &'static [&'static str] {
+        M::VARIABLES
+    }
+
+    fn prepare(&mut self, dt_s: f64) -> Result<(), ModelError> {
+        check_param(M::NAME, "dt_s", dt_s, true)?;
+        check_representable::<M::Real>(M::NAME, "dt_s", dt_s)?;
+        M::validate(&self.params)?;
+        if !M::supports(self.integrator) {
+            return Err(ModelError::UnsupportedIntegrator {
+                model: M::NAME,
+                integrator: self.integrator.name(),
+                supported: M::SUPPORTED,
+            });
+        }
+        self.k = M::constants(&self.params, dt_s);
+        let v0 = self.initial.values(M::NAME, self.n)?;
+        self.blocks = (0..n_blocks(self.n))
+            .map(|b| {
+                let v0 = &v0[b * BLOCK..b * BLOCK + block_len(self.n, b)];
+                M::new_block(&self.params, &self.k, v0, self.interpolate)
+            })
+            .collect();
+        self.dt_s = dt_s;
+        self.steps = 0;
+        self.diverged_at = None;
+        Ok(())
+    }
+
+    fn reset(&mut self) {
+        // `prepare` succeeded before, so this cannot fail.
+        let _ = self.prepare(self.dt_s);
+    }
+
+    fn step(&mut self, current: &[f64], spikes: &mut SpikeBuffer) {
+        if self.advance_blocks(Drive::PerNeuron(current)) == 0 {
+            return;
+        }
+        let interpolate = self.interpolate;
+        for (b, s) in self.blocks.iter().enumerate() {
+            let phi = interpolate.then_some(M::spike_fractions(s));
+            collect_block_spikes(b, M::spike_mask(s), phi, spikes);
+        }
+    }
+
+    fn read_variable(&self, var: usize, neurons: &[u32], out: &mut Vec<f64>) {
+        out.extend(neurons.iter().map(|&i| self.variable(var, i as usize)));
+    }
+
+    fn check_divergence(&self) -> Result<(), ModelError> {
+        match self.diverged_at {
+            None => Ok(()),
+            Some(step) => Err(ModelError::Diverged {
+                model: M::NAME,
+                step,
+                t_s: step as f64 * self.dt_s,
+                dt_s: self.dt_s,
+                integrator: self.integrator.name(),
+                what: M::DIVERGENCE,
+            }),
+        }
     }
 }
 
@@ -174,26 +495,52 @@ pub(crate) fn n_blocks(n: usize) -> usize {
 pub(crate) fn for_blocks<B: Send>(
     blocks: &mut [B],
     n: usize,
-    f: impl Fn(usize, &mut B) -> u64 + Sync,
-) -> u64 {
+    f: impl Fn(usize, &mut B) -> BlockStep + Sync,
+) -> BlockStep {
     if n >= PARALLEL_MIN && rayon::current_num_threads() > 1 {
         blocks
             .par_iter_mut()
             .enumerate()
             .map(|(b, blk)| f(b, blk))
-            .sum()
+            .reduce(BlockStep::default, BlockStep::add)
     } else {
         blocks
             .iter_mut()
             .enumerate()
             .map(|(b, blk)| f(b, blk))
-            .sum()
+            .fold(BlockStep::default(), BlockStep::add)
     }
+}
+
+/// Bit of a block's spike-mask byte that the fused step sets for a neuron whose update the
+/// model's divergence criterion flagged; [`take_diverged`] clears it before the mask is read.
+pub(crate) const DIVERGED_BIT: u8 = 2;
+
+/// `true` when some neuron of a block's mask carries [`DIVERGED_BIT`] (one pass over the bytes).
+#[inline]
+pub(crate) fn has_flags(mask: &[u8]) -> bool {
+    mask.iter().fold(0, |acc, &m| acc | m) & DIVERGED_BIT != 0
+}
+
+/// The number of neurons flagged with [`DIVERGED_BIT`] in a block's mask, clearing the bit so
+/// the mask is 0/1 again: one pass over the mask bytes per block (a second pass, clearing,
+/// only when something was flagged).
+#[inline]
+pub(crate) fn take_diverged(mask: &mut [u8]) -> u64 {
+    if !has_flags(mask) {
+        return 0;
+    }
+    let mut flagged = 0;
+    for m in mask {
+        flagged += u64::from(*m >> 1);
+        *m &= 1;
+    }
+    flagged
 }
 
 /// Calls `f(i)` for every `i` with `mask[i] != 0`, skipping eight silent neurons at a time.
 #[inline]
-pub(crate) fn for_each_spike(mask: &[u8], mut f: impl FnMut(usize)) {
+pub fn for_each_spike(mask: &[u8], mut f: impl FnMut(usize)) {
     let mut words = mask.chunks_exact(8);
     let mut base = 0;
     for word in words.by_ref() {
@@ -210,7 +557,7 @@ pub(crate) fn for_each_spike(mask: &[u8], mut f: impl FnMut(usize)) {
 
 /// Pushes the spikes recorded in `mask` (block `b`) into `out`, with `phi` fractions when given.
 #[inline]
-pub(crate) fn collect_block_spikes<F: crate::Real>(
+pub(crate) fn collect_block_spikes<F: Real>(
     b: usize,
     mask: &[u8],
     phi: Option<&[F]>,
@@ -225,7 +572,7 @@ pub(crate) fn collect_block_spikes<F: crate::Real>(
 
 /// An in-step spike fraction limited to `[0, 1]`; NaN (a 0/0 crossing) means the end of the step.
 #[inline]
-pub(crate) fn unit_fraction(phi: f64) -> f64 {
+pub fn unit_fraction(phi: f64) -> f64 {
     if phi.is_nan() {
         1.0
     } else {
@@ -233,8 +580,25 @@ pub(crate) fn unit_fraction(phi: f64) -> f64 {
     }
 }
 
+/// Refuses a finite `x` that overflows `F` (only `f32` can: `|x| > 3.4·10³⁸`).
+pub fn check_representable<F: Real>(
+    model: &'static str,
+    field: &'static str,
+    x: f64,
+) -> Result<(), ModelError> {
+    if x.is_finite() && !F::of(x).is_finite() {
+        return Err(ModelError::InvalidParameter {
+            model,
+            field,
+            value: x,
+            expected: "within the f32 range (|x| ≤ 3.4028235e38)",
+        });
+    }
+    Ok(())
+}
+
 /// Validates that `x` is finite and, optionally, positive.
-pub(crate) fn check_param(
+pub fn check_param(
     model: &'static str,
     field: &'static str,
     x: f64,
@@ -249,9 +613,4 @@ pub(crate) fn check_param(
         });
     }
     Ok(())
-}
-
-/// Validates a time step.
-pub(crate) fn check_dt(model: &'static str, dt_s: f64) -> Result<(), ModelError> {
-    check_param(model, "dt_s", dt_s, true)
 }

@@ -22,7 +22,7 @@ fn spike_times(model: &mut dyn NeuronModel, current: f64, dt_s: f64, duration_s:
 
 /// LIF from v = 0 under I > 1 (τ = 10 ms, threshold 1, reset 0): t_k = k·τ·ln(I/(I − 1)).
 fn lif_period(current: f64) -> f64 {
-    0.01 * (current / (current - 1.0)).ln()
+    LifParams::default().closed_form_period_s(current).unwrap()
 }
 
 #[test]

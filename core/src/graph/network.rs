@@ -161,11 +161,13 @@ impl Network {
                 expected: "finite and ≥ 0",
             });
         }
-        Ok(self.run_steps(steps.round() as u64))
+        self.run_steps(steps.round() as u64)
     }
 
     /// Runs `steps` steps (fewer if a readout asks to stop), then calls every readout's `finish`.
-    pub fn run_steps(&mut self, steps: u64) -> RunSummary {
+    /// Every 256 steps and at the end, each population's
+    /// [`check_divergence`](NeuronModel::check_divergence) runs; a divergence is an error.
+    pub fn run_steps(&mut self, steps: u64) -> Result<RunSummary, GraphError> {
         if !self.begun {
             self.begin_readouts();
         }
@@ -174,16 +176,25 @@ impl Network {
         while done < steps {
             let stop = self.step_once();
             done += 1;
+            if stop || done == steps || done % 256 == 0 {
+                for n in &self.nodes {
+                    if let RunningKind::Population(m) = &n.kind {
+                        let population = n.name.clone();
+                        m.check_divergence()
+                            .map_err(|source| GraphError::Model { population, source })?;
+                    }
+                }
+            }
             if stop {
                 stopped_early = done < steps;
                 break;
             }
         }
         self.readouts.iter_mut().for_each(|(_, r)| r.finish());
-        RunSummary {
+        Ok(RunSummary {
             steps: done,
             stopped_early,
-        }
+        })
     }
 
     fn begin_readouts(&mut self) {

@@ -116,6 +116,9 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
 }
 
 fn neurons(a: NeuronsArgs) -> anyhow::Result<()> {
+    for (flag, value) in [("duration", a.duration), ("dt", a.dt)] {
+        super::neuron::check_precision(flag, value, a.precision)?;
+    }
     let r = neuron_throughput(
         a.model,
         a.n,

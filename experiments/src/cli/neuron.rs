@@ -1,9 +1,14 @@
-//! `neurotac neuron`: one neuron under a constant current; prints its spike times.
+//! `neurotac neuron`: one neuron under a constant current; prints its spike times as they are
+//! found (streamed, so memory does not grow with the run).
 
-use anyhow::bail;
+use anyhow::{Context, bail};
 use clap::Args;
 use neurotac_experiments::neuron_setup::{NeuronKind, NeuronSetup, Precision};
-use neurotac_neurons::{Integrator, IzhikevichParams};
+use neurotac_neurons::{
+    DEFAULT_MAX_STEPS, Integrator, IzhikevichParams, stream_spike_times, whole_steps,
+};
+use std::io::Write;
+use std::ops::ControlFlow;
 
 #[derive(Debug, Args)]
 pub struct NeuronArgs {
@@ -16,12 +21,16 @@ pub struct NeuronArgs {
     /// Constant input current (LIF: potential units; Izhikevich: mV/ms).
     #[arg(long)]
     current: f64,
-    /// Simulated duration (s).
+    /// Simulated duration (s). Only whole steps are run: a partial last step is refused, so no
+    /// spike is ever stamped after the duration.
     #[arg(long, default_value_t = 1.0)]
     duration: f64,
     /// Time step (s).
     #[arg(long, default_value_t = 1e-4)]
     dt: f64,
+    /// Refuse runs of more steps than this.
+    #[arg(long, default_value_t = DEFAULT_MAX_STEPS)]
+    max_steps: u64,
     /// Integrator (default: exact for LIF, izhikevich2003 for Izhikevich).
     #[arg(long)]
     integrator: Option<Integrator>,
@@ -36,6 +45,17 @@ pub struct NeuronArgs {
     json: bool,
 }
 
+/// Refuses a value of `--flag` that overflows `precision` (only `f32` can: |x| > 3.4·10³⁸).
+pub fn check_precision(flag: &str, value: f64, precision: Precision) -> anyhow::Result<()> {
+    if precision == Precision::F32 && value.is_finite() && !(value as f32).is_finite() {
+        bail!(
+            "--{flag} {value:e} overflows f32 (largest magnitude {:e}); use --precision f64",
+            f32::MAX
+        );
+    }
+    Ok(())
+}
+
 pub fn run(args: NeuronArgs) -> anyhow::Result<()> {
     let Some(preset) = IzhikevichParams::named(&args.preset) else {
         bail!(
@@ -43,8 +63,26 @@ pub fn run(args: NeuronArgs) -> anyhow::Result<()> {
             args.preset
         );
     };
-    if !(args.duration.is_finite() && args.duration >= 0.0) {
-        bail!("--duration {} must be finite and ≥ 0", args.duration);
+    for (flag, value) in [
+        ("current", args.current),
+        ("duration", args.duration),
+        ("dt", args.dt),
+    ] {
+        check_precision(flag, value, args.precision)?;
+    }
+    let steps = whole_steps(args.duration, args.dt, args.max_steps).with_context(|| {
+        format!(
+            "--duration {} --dt {} --max-steps {}",
+            args.duration, args.dt, args.max_steps
+        )
+    })?;
+    if (steps as f64 * args.dt - args.duration).abs() > 1e-9 * args.duration {
+        eprintln!(
+            "note: {steps} whole steps of {} s fit in {} s; simulating {} s",
+            args.dt,
+            args.duration,
+            steps as f64 * args.dt
+        );
     }
     let setup = NeuronSetup {
         preset,
@@ -52,11 +90,33 @@ pub fn run(args: NeuronArgs) -> anyhow::Result<()> {
         interpolate: args.interpolate,
         ..NeuronSetup::single(args.model, args.precision)
     };
-    let times = setup.spike_times(args.current, args.dt, args.duration)?;
+    let mut pop = setup.population(1);
+    let mut out = std::io::BufWriter::new(std::io::stdout().lock());
+    let mut written: std::io::Result<()> = Ok(());
+    let mut first = true;
     if args.json {
-        println!("{}", serde_json::json!({ "spike_times_s": times }));
-    } else {
-        times.iter().for_each(|t| println!("{t}"));
+        out.write_all(b"{\"spike_times_s\":[")?;
     }
+    stream_spike_times(pop.as_mut(), args.current, args.dt, steps, &mut |_, t| {
+        written = if args.json {
+            let sep = if first { "" } else { "," };
+            serde_json::to_string(&t)
+                .map_err(std::io::Error::other)
+                .and_then(|t| write!(out, "{sep}{t}"))
+        } else {
+            writeln!(out, "{t}")
+        };
+        first = false;
+        if written.is_ok() {
+            ControlFlow::Continue(())
+        } else {
+            ControlFlow::Break(())
+        }
+    })?;
+    written?;
+    if args.json {
+        out.write_all(b"]}\n")?;
+    }
+    out.flush()?;
     Ok(())
 }

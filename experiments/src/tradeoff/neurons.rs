@@ -11,7 +11,7 @@ use crate::bench::BenchError;
 use crate::neuron_setup::{NeuronKind, NeuronSetup, Precision};
 use crate::report::svg::{Axis, Chart, Marker, PALETTE, Series, panels};
 use crate::threads::with_threads;
-use neurotac_neurons::Integrator;
+use neurotac_neurons::{Integrator, LifParams};
 use serde::Serialize;
 use std::fmt::Write;
 use std::path::Path;
@@ -74,13 +74,7 @@ pub struct NeuronTradeoffRow {
 pub fn truth(kind: NeuronKind, duration_s: f64) -> Result<Vec<f64>, BenchError> {
     let current = kind.benchmark_current();
     Ok(match kind {
-        NeuronKind::Lif => {
-            let period = 0.01 * (current / (current - 1.0)).ln();
-            (1..)
-                .map(|k| k as f64 * period)
-                .take_while(|&t| t <= duration_s)
-                .collect()
-        }
+        NeuronKind::Lif => LifParams::benchmark().closed_form_spike_times(current, duration_s),
         NeuronKind::Izhikevich => {
             let setup = NeuronSetup {
                 integrator: Integrator::Rk4,

@@ -1,0 +1,257 @@
+//! `neurotac neuron` and `bench neurons` under hostile numbers and a closed stdout (issue 14,
+//! items 6–10).
+
+mod common;
+
+use common::neurotac;
+use std::io::{BufRead, BufReader, Read};
+use std::process::{Command, Stdio};
+
+fn spike_times(json: &str) -> Vec<f64> {
+    let v: serde_json::Value = serde_json::from_str(json).expect("one JSON object");
+    v["spike_times_s"]
+        .as_array()
+        .expect("spike_times_s")
+        .iter()
+        .map(|t| t.as_f64().unwrap())
+        .collect()
+}
+
+#[test]
+fn issue_14_izhikevich_blow_up_is_an_error_naming_the_step() {
+    for args in [
+        &[
+            "neuron",
+            "--model",
+            "izhikevich",
+            "--current=-1e5",
+            "--json",
+        ][..],
+        &[
+            "neuron",
+            "--model",
+            "izhikevich",
+            "--current=-1e4",
+            "--integrator",
+            "euler",
+        ],
+        &[
+            "neuron",
+            "--model",
+            "izhikevich",
+            "--current=-1e4",
+            "--integrator",
+            "rk4",
+        ],
+        &[
+            "neuron",
+            "--model",
+            "izhikevich",
+            "--current",
+            "0",
+            "--dt",
+            "1e-2",
+        ],
+    ] {
+        let (ok, stdout, stderr) = neurotac(args);
+        assert!(!ok, "{args:?}: {stdout}");
+        assert!(
+            stderr.contains("diverged in step")
+                && stderr.contains("smaller dt or another integrator"),
+            "{args:?}: {stderr}"
+        );
+        assert!(!stdout.contains("0.0"), "no spike times printed: {stdout}");
+    }
+    // A healthy run is unchanged: RS at I = 10 fires 23 times in 1 s.
+    let (ok, stdout, stderr) = neurotac(&[
+        "neuron",
+        "--model",
+        "izhikevich",
+        "--current",
+        "10",
+        "--json",
+    ]);
+    assert!(ok, "{stderr}");
+    assert_eq!(spike_times(&stdout).len(), 23);
+}
+
+#[test]
+fn issue_14_values_beyond_the_precision_are_refused() {
+    let (ok, _, stderr) = neurotac(&["neuron", "--precision", "f32", "--current", "1e39"]);
+    assert!(
+        !ok && stderr.contains("--current 1e39 overflows f32"),
+        "{stderr}"
+    );
+    let (ok, _, stderr) = neurotac(&[
+        "neuron",
+        "--precision",
+        "f32",
+        "--current",
+        "1",
+        "--dt",
+        "1e39",
+    ]);
+    assert!(
+        !ok && stderr.contains("--dt 1e39 overflows f32"),
+        "{stderr}"
+    );
+    let (ok, _, stderr) = neurotac(&[
+        "bench",
+        "neurons",
+        "--precision",
+        "f32",
+        "--n",
+        "10",
+        "--dt",
+        "1e39",
+    ]);
+    assert!(
+        !ok && stderr.contains("--dt 1e39 overflows f32"),
+        "{stderr}"
+    );
+    let (ok, _, stderr) = neurotac(&[
+        "bench",
+        "neurons",
+        "--precision",
+        "f32",
+        "--n",
+        "10",
+        "--duration=-1e39",
+    ]);
+    assert!(!ok && stderr.contains("overflows f32"), "{stderr}");
+    // f64 holds them; `inf` stays refused.
+    let (ok, _, stderr) = neurotac(&["neuron", "--current", "inf"]);
+    assert!(!ok && stderr.contains("not finite"), "{stderr}");
+}
+
+#[test]
+fn issue_14_no_spike_after_the_duration() {
+    // Was `[2.0]`: the only step (2 s) ran past the 1 s asked for.
+    let (ok, stdout, stderr) = neurotac(&[
+        "neuron",
+        "--current",
+        "2",
+        "--dt",
+        "2",
+        "--duration",
+        "1",
+        "--json",
+    ]);
+    assert!(ok, "{stderr}");
+    assert_eq!(spike_times(&stdout), Vec::<f64>::new());
+    assert!(stderr.contains("0 whole steps"), "{stderr}");
+    let (ok, stdout, _) = neurotac(&[
+        "neuron",
+        "--current",
+        "2",
+        "--dt",
+        "0.003",
+        "--duration",
+        "0.1",
+        "--json",
+    ]);
+    assert!(ok);
+    let times = spike_times(&stdout);
+    assert!(
+        !times.is_empty() && times.iter().all(|&t| t <= 0.1),
+        "{times:?}"
+    );
+}
+
+#[test]
+fn issue_14_step_count_is_bounded_and_the_bound_can_be_raised() {
+    for args in [
+        &[
+            "neuron",
+            "--current",
+            "1e6",
+            "--dt",
+            "1e-6",
+            "--duration",
+            "1e5",
+        ][..],
+        &["neuron", "--current", "2", "--dt", "1e-300"],
+    ] {
+        let (ok, stdout, stderr) = neurotac(args);
+        assert!(!ok && stdout.is_empty(), "{args:?}");
+        assert!(
+            stderr.contains("--max-steps") && stderr.contains("steps"),
+            "{stderr}"
+        );
+    }
+    let small = [
+        "neuron",
+        "--current",
+        "2",
+        "--duration",
+        "0.01",
+        "--dt",
+        "1e-6",
+    ];
+    let (ok, _, stderr) = neurotac(&[&small[..], &["--max-steps", "5000"]].concat());
+    assert!(!ok && stderr.contains("limit of 5000"), "{stderr}");
+    let (ok, stdout, stderr) = neurotac(&[&small[..], &["--max-steps", "10000"]].concat());
+    assert!(ok, "{stderr}");
+    assert!(!stdout.is_empty());
+}
+
+#[test]
+fn spike_times_are_streamed_in_the_same_format() {
+    let (ok, stdout, _) = neurotac(&["neuron", "--current", "1.5", "--duration", "0.05", "--json"]);
+    assert!(ok);
+    assert!(
+        stdout.starts_with("{\"spike_times_s\":[0.011") && stdout.ends_with("]}\n"),
+        "{stdout}"
+    );
+    assert_eq!(spike_times(&stdout).len(), 4); // every 110 steps: 11, 22, 33, 44 ms
+    let (ok, text, _) = neurotac(&["neuron", "--current", "1.5", "--duration", "0.05"]);
+    assert!(ok);
+    assert_eq!(text.lines().count(), 4);
+}
+
+#[test]
+fn issue_14_a_closed_stdout_ends_the_command_quietly() {
+    // `neurotac neuron --current 2 --duration 100 | head -1` panicked (exit 101).
+    for args in [
+        &["neuron", "--current", "2", "--duration", "100"][..],
+        &["neuron", "--current", "2", "--duration", "100", "--json"],
+        &["--help"],
+    ] {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_neurotac"))
+            .args(args)
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        let mut first = String::new();
+        BufReader::new(child.stdout.take().unwrap())
+            .read_line(&mut first)
+            .unwrap();
+        assert!(!first.is_empty()); // the reader is dropped here: the pipe closes
+        let mut stderr = String::new();
+        child
+            .stderr
+            .take()
+            .unwrap()
+            .read_to_string(&mut stderr)
+            .unwrap();
+        let status = child.wait().unwrap();
+        assert!(stderr.is_empty(), "{args:?}: {stderr}");
+        #[cfg(unix)]
+        {
+            use std::os::unix::process::ExitStatusExt;
+            assert!(
+                status.success() || status.signal() == Some(libc_sigpipe()),
+                "{args:?}: {status:?}"
+            );
+        }
+        #[cfg(not(unix))]
+        assert!(status.code() != Some(101), "{args:?}: {status:?}");
+    }
+}
+
+/// SIGPIPE's number on every Unix neurotac builds for.
+#[cfg(unix)]
+fn libc_sigpipe() -> i32 {
+    13
+}
