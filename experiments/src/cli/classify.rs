@@ -1,6 +1,7 @@
 //! `neurotac classify`: KNN classification of a dataset under one coding and protocol.
 
 use super::load_labelled;
+use crate::cli::args;
 use clap::{Args, ValueEnum};
 use neurotac_core::Knn;
 use neurotac_experiments::coding::{CodingName, coding_distances};
@@ -27,31 +28,31 @@ pub struct ClassifyArgs {
     #[arg(long, value_enum)]
     coding: CodingName,
     /// Temporal-coding window Δt (s, whole ms).
-    #[arg(long)]
+    #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long)]
     dt: Option<f64>,
     /// Van Rossum kernel time constant τ (s).
-    #[arg(long)]
+    #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long)]
     tau: Option<f64>,
     /// Van Rossum cos θ in [0, 1].
-    #[arg(long)]
+    #[arg(value_parser = args::unit_interval, allow_negative_numbers = true, long)]
     cos: Option<f64>,
     /// Protocol.
     #[arg(long, value_enum, default_value = "loo")]
     protocol: ProtocolArg,
     /// Neighbours.
-    #[arg(long, default_value_t = 4)]
+    #[arg(value_parser = args::positive_count, allow_negative_numbers = true, long, default_value_t = 4)]
     k: usize,
     /// Test fraction of the split protocol.
-    #[arg(long, default_value_t = 0.2)]
+    #[arg(value_parser = args::open_fraction, allow_negative_numbers = true, long, default_value_t = 0.2)]
     test_fraction: f64,
     /// Folds of the k-fold protocol.
-    #[arg(long, default_value_t = 10)]
+    #[arg(value_parser = args::positive_count, allow_negative_numbers = true, long, default_value_t = 10)]
     folds: usize,
     /// Seed of the split / fold assignment.
     #[arg(long, default_value_t = 1)]
     seed: u64,
     /// Sample duration (s, whole ms); default: meta.duration_s, else one ms past the latest spike.
-    #[arg(long)]
+    #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long)]
     duration: Option<f64>,
     /// Print one JSON object instead of text.
     #[arg(long)]

@@ -1,5 +1,6 @@
 //! `neurotac demo`: 49 taxels (Poisson spike trains) → exponential synapses → 49 afferents.
 
+use crate::cli::args;
 use anyhow::Context;
 use clap::{Args, ValueEnum};
 use neurotac_core::PoissonInput;
@@ -17,13 +18,13 @@ pub struct DemoArgs {
     #[arg(long, value_enum, default_value = "lif")]
     model: Model,
     /// Number of taxels (the NeuroTac has 49).
-    #[arg(long, default_value_t = 49)]
+    #[arg(value_parser = args::positive_count, allow_negative_numbers = true, long, default_value_t = 49)]
     taxels: usize,
     /// Firing rate of each taxel's Poisson spike train (Hz).
-    #[arg(long, default_value_t = 20.0)]
+    #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long, default_value_t = 20.0)]
     rate_hz: f64,
     /// Simulated duration (s).
-    #[arg(long, default_value_t = 1.0)]
+    #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long, default_value_t = 1.0)]
     duration: f64,
     /// Seed of the taxel spike trains.
     #[arg(long, default_value_t = 1)]

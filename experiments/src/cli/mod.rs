@@ -8,6 +8,7 @@ use neurotac_core::SpikeDataset;
 use neurotac_experiments::datasets::simulated::TextureSet;
 use std::path::Path;
 
+mod args;
 mod bench;
 mod classify;
 mod convert;
@@ -129,4 +130,19 @@ pub fn load_labelled(path: &Path) -> anyhow::Result<SpikeDataset> {
         anyhow::bail!("{}: the dataset has no labels", path.display());
     }
     Ok(data)
+}
+
+/// The overwrite rule of every command that writes (README, "Outputs, cache and overwriting"):
+/// an output file or folder that already exists is refused unless `--force` is given.
+pub fn refuse_existing<'a>(
+    outputs: impl IntoIterator<Item = &'a Path>,
+    force: bool,
+) -> anyhow::Result<()> {
+    if force {
+        return Ok(());
+    }
+    match outputs.into_iter().find(|p| p.exists()) {
+        Some(p) => anyhow::bail!("{} already exists (use --force to replace it)", p.display()),
+        None => Ok(()),
+    }
 }

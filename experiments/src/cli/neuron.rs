@@ -1,5 +1,6 @@
 //! `neurotac neuron`: one neuron under a constant current; prints its spike times.
 
+use crate::cli::args;
 use anyhow::bail;
 use clap::Args;
 use neurotac_experiments::neuron_setup::{NeuronKind, NeuronSetup, Precision};
@@ -14,13 +15,13 @@ pub struct NeuronArgs {
     #[arg(long, default_value = "rs")]
     preset: String,
     /// Constant input current (LIF: potential units; Izhikevich: mV/ms).
-    #[arg(long)]
+    #[arg(value_parser = args::finite_f64, allow_negative_numbers = true, long)]
     current: f64,
     /// Simulated duration (s).
-    #[arg(long, default_value_t = 1.0)]
+    #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long, default_value_t = 1.0)]
     duration: f64,
     /// Time step (s).
-    #[arg(long, default_value_t = 1e-4)]
+    #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long, default_value_t = 1e-4)]
     dt: f64,
     /// Integrator (default: exact for LIF, izhikevich2003 for Izhikevich).
     #[arg(long)]

@@ -1,5 +1,6 @@
 //! `neurotac search dt`: the temporal coding's Δt brute force.
 
+use crate::cli::args;
 use crate::cli::load_labelled;
 use clap::Args;
 use neurotac_core::Knn;
@@ -18,13 +19,13 @@ pub struct DtArgs {
     #[arg(long)]
     input: PathBuf,
     /// Largest window Δt (ms); windows 1, 2, …, this.
-    #[arg(long, default_value_t = 200)]
+    #[arg(value_parser = args::positive_u32, allow_negative_numbers = true, long, default_value_t = 200)]
     max_window_ms: u32,
     /// Neighbours.
-    #[arg(long, default_value_t = 4)]
+    #[arg(value_parser = args::positive_count, allow_negative_numbers = true, long, default_value_t = 4)]
     k: usize,
     /// Sample duration (s, whole ms); default: meta.duration_s, else one ms past the latest spike.
-    #[arg(long)]
+    #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long)]
     duration: Option<f64>,
     /// Print one JSON object (with the accuracy at every Δt) instead of text.
     #[arg(long)]
