@@ -59,6 +59,7 @@ pub fn run(args: DemoArgs) -> anyhow::Result<()> {
             "afferent_spike_counts": counts,
             "total_taxel_spikes": total_in,
             "total_afferent_spikes": total,
+            "afferent_spikes_per_taxel_spike": total as f64 / total_in.max(1) as f64,
             "wall_s": wall_s,
         });
         println!("{out}");
@@ -72,6 +73,11 @@ pub fn run(args: DemoArgs) -> anyhow::Result<()> {
             println!("  {i:6}   {a:12} → {b}");
         }
         println!("  total    {total_in:12} → {total}");
+        println!(
+            "{:.2} afferent spikes per taxel spike (a lone taxel spike makes exactly one; spikes \
+             closer than ≈ 10 ms interact — see neurotac_experiments::afferents)",
+            total as f64 / total_in.max(1) as f64
+        );
     }
     Ok(())
 }
