@@ -6,6 +6,7 @@ use anyhow::{Context, bail};
 use clap::Args;
 use neurotac_core::io::{AtomicFile, check_distinct};
 use neurotac_experiments::report::figures::spike_train_figure;
+use neurotac_experiments::report::png::PngRenderer;
 use neurotac_experiments::transduce::{LayoutSpec, filter_file, resolve_layout, transduce_file};
 use neurotac_sensor::filter::MapStart;
 use neurotac_sensor::taxel::{TaxelLayout, TransductionConfig};
@@ -78,7 +79,8 @@ pub struct TransduceArgs {
     /// Output spike dataset (JSON, or compact binary with any other extension).
     #[arg(long)]
     out: PathBuf,
-    /// Also write a raster plot with spatial and temporal distributions (SVG).
+    /// Also write a raster plot with spatial and temporal distributions: SVG at this path and
+    /// PNG beside it (`r.svg` → `r.svg`, `r.png`).
     #[arg(long)]
     raster: Option<PathBuf>,
     /// Replace existing output files (without it, an existing output is refused).
@@ -95,10 +97,17 @@ pub fn run_transduce(a: TransduceArgs) -> anyhow::Result<()> {
         a.force,
     )?;
     let mut out_file = create_output(&a.out)?;
-    let mut raster_file = None;
+    // The raster as SVG at the path given and as PNG beside it (`r.svg` → `r.png`); a path
+    // ending in `.png` gets the PNG only.
+    let mut raster_files = Vec::new();
     if let Some(path) = &a.raster {
-        check_distinct(&a.input, path)?;
-        raster_file = Some(create_output(path)?);
+        let png = path.with_extension("png");
+        let svg = (png != *path).then(|| path.clone());
+        super::refuse_existing([png.as_path()], a.force)?;
+        for p in svg.iter().chain(std::iter::once(&png)) {
+            check_distinct(&a.input, p)?;
+            raster_files.push(create_output(p)?);
+        }
     }
     let layout = layout_from(&a.layout, &a.input, a.calibration_ms, a.rf_radius_px)?;
     if !(a.pool_ms.is_finite() && a.pool_ms > 0.0) {
@@ -123,16 +132,25 @@ pub fn run_transduce(a: TransduceArgs) -> anyhow::Result<()> {
     out_file
         .write_all(&bytes)
         .with_context(|| format!("writing {}", a.out.display()))?;
-    if let Some(file) = &mut raster_file {
+    if !raster_files.is_empty() {
         let title = format!(
             "{}: {} taxel spikes",
             a.input.display(),
             t.trains.total_spikes()
         );
-        file.write_all(spike_train_figure(&t.trains, &title, 0.159).as_bytes())
-            .with_context(|| format!("writing {}", file.target().display()))?;
+        let svg = spike_train_figure(&t.trains, &title, 0.159);
+        for file in &mut raster_files {
+            let bytes = match file.target().extension().is_some_and(|e| e == "png") {
+                true => PngRenderer::new()
+                    .render(&svg, 1.5)
+                    .with_context(|| format!("drawing {}", file.target().display()))?,
+                false => svg.clone().into_bytes(),
+            };
+            file.write_all(&bytes)
+                .with_context(|| format!("writing {}", file.target().display()))?;
+        }
     }
-    for file in std::iter::once(out_file).chain(raster_file) {
+    for file in std::iter::once(out_file).chain(raster_files) {
         let path = file.target().to_path_buf();
         file.commit()
             .with_context(|| format!("writing {}", path.display()))?;
