@@ -27,7 +27,16 @@ mod transduce;
 
 /// neurotac: spiking neural networks for neuromorphic touch (the NeuroTac sensor).
 #[derive(Debug, Parser)]
-#[command(name = "neurotac", version, about, propagate_version = true)]
+#[command(
+    name = "neurotac",
+    version,
+    about,
+    propagate_version = true,
+    after_help = "Outputs: every command that writes refuses an existing output file or folder \
+unless --force is given.\nCache: reproduce and simulate keep simulated datasets in \
+~/.cache/neurotac ($XDG_CACHE_HOME/neurotac, or $NEUROTAC_CACHE when set); delete that \
+folder to clear it."
+)]
 pub struct Cli {
     #[command(subcommand)]
     command: Command,

@@ -57,7 +57,8 @@ pub struct ReproduceArgs {
     /// Replace an existing report folder.
     #[arg(long)]
     force: bool,
-    /// A first look in under a minute: 10 slides per texture, 60 epochs, τ on a 10 ms grid.
+    /// A first look in about a minute (once built): 10 slides per texture, 60 epochs, τ on a
+    /// 10 ms grid.
     #[arg(long)]
     quick: bool,
     /// Also run the pipeline through a population of afferent neurons (one per taxel) and
