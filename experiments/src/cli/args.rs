@@ -8,18 +8,18 @@
 /// A count of at least 1 (`--epochs`, `--trials`, `--taxels`, `--n`, …).
 pub fn positive_count(s: &str) -> Result<usize, String> {
     match s.trim().parse::<i128>() {
-        Ok(n) if n >= 1 => usize::try_from(n).map_err(|_| format!("{n} is too large")),
-        Ok(n) => Err(format!("{n}: must be at least 1")),
-        Err(_) => Err(format!("'{s}' is not a whole number (expected 1, 2, 3, …)")),
+        Ok(n) if n >= 1 => usize::try_from(n).map_err(|_| "too large".to_owned()),
+        Ok(_) => Err("must be at least 1".into()),
+        Err(_) => Err("not a whole number (expected 1, 2, 3, …)".into()),
     }
 }
 
 /// A whole number of at least 0 (`--threads`, where 0 means one per core).
 pub fn count(s: &str) -> Result<usize, String> {
     match s.trim().parse::<i128>() {
-        Ok(n) if n >= 0 => usize::try_from(n).map_err(|_| format!("{n} is too large")),
-        Ok(n) => Err(format!("{n}: must be 0 or more")),
-        Err(_) => Err(format!("'{s}' is not a whole number (expected 0, 1, 2, …)")),
+        Ok(n) if n >= 0 => usize::try_from(n).map_err(|_| "too large".to_owned()),
+        Ok(_) => Err("must be 0 or more".into()),
+        Err(_) => Err("not a whole number (expected 0, 1, 2, …)".into()),
     }
 }
 
@@ -27,23 +27,23 @@ pub fn count(s: &str) -> Result<usize, String> {
 pub fn positive_i64(s: &str) -> Result<i64, String> {
     match s.trim().parse::<i64>() {
         Ok(n) if n >= 1 => Ok(n),
-        Ok(n) => Err(format!("{n}: must be at least 1")),
-        Err(_) => Err(format!("'{s}' is not a whole number (expected 1, 2, 3, …)")),
+        Ok(_) => Err("must be at least 1".into()),
+        Err(_) => Err("not a whole number (expected 1, 2, 3, …)".into()),
     }
 }
 
 /// A positive whole number of milliseconds (`search dt --max-window-ms`).
 pub fn positive_u32(s: &str) -> Result<u32, String> {
     let n = positive_count(s)?;
-    u32::try_from(n).map_err(|_| format!("{n} is too large"))
+    u32::try_from(n).map_err(|_| "too large".to_owned())
 }
 
 /// A finite number (`neuron --current`).
 pub fn finite_f64(s: &str) -> Result<f64, String> {
     match s.trim().parse::<f64>() {
         Ok(x) if x.is_finite() => Ok(x),
-        Ok(x) => Err(format!("{x}: must be a finite number")),
-        Err(_) => Err(format!("'{s}' is not a number")),
+        Ok(_) => Err("must be a finite number".into()),
+        Err(_) => Err("not a number".into()),
     }
 }
 
@@ -52,7 +52,7 @@ pub fn positive_f64(s: &str) -> Result<f64, String> {
     let x = finite_f64(s)?;
     match x > 0.0 {
         true => Ok(x),
-        false => Err(format!("{x}: must be greater than 0")),
+        false => Err("must be greater than 0".into()),
     }
 }
 
@@ -61,7 +61,7 @@ pub fn unit_interval(s: &str) -> Result<f64, String> {
     let x = finite_f64(s)?;
     match (0.0..=1.0).contains(&x) {
         true => Ok(x),
-        false => Err(format!("{x}: must lie in [0, 1]")),
+        false => Err("must lie in [0, 1]".into()),
     }
 }
 
@@ -70,7 +70,7 @@ pub fn open_fraction(s: &str) -> Result<f64, String> {
     let x = finite_f64(s)?;
     match x > 0.0 && x < 1.0 {
         true => Ok(x),
-        false => Err(format!("{x}: must lie strictly between 0 and 1")),
+        false => Err("must lie strictly between 0 and 1".into()),
     }
 }
 
