@@ -184,7 +184,7 @@ pub fn quick(config: &mut NeuronTradeoffConfig) {
     config.speed_neurons = 20_000;
 }
 
-/// Measures the sweep of `config` and writes `neurons.{csv,md,svg}` to `out`.
+/// Measures the sweep of `config` and writes `neurons.{csv,md,svg,png}` to `out`.
 pub fn report(
     config: &NeuronTradeoffConfig,
     out: &Path,

@@ -1,4 +1,4 @@
-//! `neurotac tradeoff neurons`: writes neurons.csv, neurons.md and neurons.svg.
+//! `neurotac tradeoff neurons`: writes neurons.csv, neurons.md, neurons.svg and neurons.png.
 
 use crate::cli::args;
 use clap::Args;
@@ -36,7 +36,7 @@ pub fn run(args: NeuronsArgs) -> anyhow::Result<()> {
     let front_end = markdown.find("\n## Every point").unwrap_or(markdown.len());
     println!("{}", &markdown[..front_end]);
     println!(
-        "{} points in {:.1} s → {}/neurons.{{csv,md,svg}}",
+        "{} points in {:.1} s → {}/neurons.{{csv,md,svg,png}}",
         rows.len(),
         start.elapsed().as_secs_f64(),
         args.out.display()

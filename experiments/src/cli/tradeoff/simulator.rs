@@ -1,4 +1,4 @@
-//! `neurotac tradeoff simulator`: writes simulator.csv, simulator.md and simulator.svg.
+//! `neurotac tradeoff simulator`: writes simulator.csv, simulator.md, simulator.svg and simulator.png.
 
 use crate::cli::args;
 use clap::Args;
@@ -48,7 +48,7 @@ pub fn run(args: SimulatorArgs) -> anyhow::Result<()> {
     let rows = report(&config, &args.out)?;
     println!("{}", to_markdown(&rows, &config));
     println!(
-        "{} tolerances in {:.1} s → {}/simulator.{{csv,md,svg}}",
+        "{} tolerances in {:.1} s → {}/simulator.{{csv,md,svg,png}}",
         rows.len(),
         start.elapsed().as_secs_f64(),
         args.out.display()
