@@ -33,7 +33,8 @@ pub fn run(duration_s: f64) -> Result<(Vec<usize>, Vec<usize>), GraphError> {
         Lif::<f64>::new(49, LifParams::default()).with_integrator(Integrator::Exact),
     )?;
     // One exponential current synapse per taxel: τ = 5 ms, weight 5, delivered in the same step.
-    // Its PSP peaks at 1.25× threshold, so every taxel spike makes one afferent spike.
+    // Its PSP peaks at 1.25× threshold, so a lone taxel spike makes one afferent spike (spikes
+    // closer than ≈ 10 ms interact; see neurotac_experiments::afferents).
     b.connect(
         input,
         afferents,

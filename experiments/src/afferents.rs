@@ -9,9 +9,15 @@
 //!   taxel event is one brief input;
 //! - LIF weight 5 (potential units; τ_m = 10 ms, v_th = 1): one taxel spike gives the PSP
 //!   `w·τ_s/(τ_m − τ_s)·(e^(−t/τ_m) − e^(−t/τ_s))`, peaking at `0.25·w = 1.25·v_th` at
-//!   `t = τ_m·ln 2 = 6.9 ms` — each taxel event makes exactly one afferent spike, ~3 ms later;
-//! - Izhikevich RS weight 20 (mV/ms): likewise one RS spike per taxel event from rest, and again
-//!   for an event 20 ms later (a smaller weight, 15, is silenced by adaptation on the second);
+//!   `t = τ_m·ln 2 = 6.9 ms` — a lone taxel event makes exactly one afferent spike, ~3 ms later;
+//! - Izhikevich RS weight 20 (mV/ms): likewise one RS spike per lone taxel event from rest, and
+//!   again for an event 20 ms later (a smaller weight, 15, is silenced by adaptation on the
+//!   second);
+//! - events closer than about 10 ms interact, so a taxel train is not copied spike for spike: a
+//!   second event before the LIF's first spike leaves enough synaptic current after the reset
+//!   for an extra spike, while the RS neuron's adaptation drops some spikes. `neurotac demo`
+//!   (49 Poisson taxels at 20 Hz for 1 s, seed 1) measures 909 taxel spikes → 1149 LIF spikes
+//!   (1.26 per taxel spike) and → 743 Izhikevich RS spikes (0.82);
 //! - dt = 0.1 ms: below a tenth of both time constants.
 
 use crate::error::ExperimentError;

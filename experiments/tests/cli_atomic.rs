@@ -133,7 +133,8 @@ fn issue_14_transduce_with_a_raster_into_a_missing_folder_writes_nothing() {
         s(&raster),
     ]);
     assert!(ok, "{stderr}");
-    assert_eq!(names(dir.path()), ["o.json", "r.csv", "r.svg"]);
+    // The raster comes as SVG and PNG (issue 15).
+    assert_eq!(names(dir.path()), ["o.json", "r.csv", "r.png", "r.svg"]);
 }
 
 #[test]
@@ -231,7 +232,8 @@ fn issue_14_classify_refuses_a_one_bit_flipped_dataset_naming_the_file() {
 #[test]
 fn issue_14_a_corrupt_cache_is_simulated_again_with_a_one_line_warning() {
     let dir = tempfile::tempdir().unwrap();
-    let out = dir.path().join("sim");
+    let (out, cache) = (dir.path().join("sim"), dir.path().join("cache"));
+    // The second run replaces the first one's output (--force, issue 15).
     let simulate = || {
         neurotac(&[
             "simulate",
@@ -241,12 +243,14 @@ fn issue_14_a_corrupt_cache_is_simulated_again_with_a_one_line_warning() {
             "1",
             "--out",
             s(&out),
+            "--cache",
+            s(&cache),
+            "--force",
         ])
     };
     let (ok, _, stderr) = simulate();
     assert!(ok, "{stderr}");
     let first = std::fs::read(out.join("artificial.bin")).unwrap();
-    let cache = out.join("cache");
     let cached = names(&cache);
     assert_eq!(cached.len(), 1, "{cached:?}");
     let cached = cache.join(&cached[0]);

@@ -222,6 +222,12 @@ fn a_recorded_dataset_runs_through_the_same_pipeline() {
         "{stdout}"
     );
     assert!(!stdout.contains("paper, Table"), "{stdout}");
+    // Issue 15: what is not read is listed, not skipped without a word.
+    assert!(
+        stderr.contains("my-textures: skipped 2 entries")
+            && stderr.contains("texture0/notes.md, texture1/notes.md"),
+        "{stderr}"
+    );
     assert!(out.join("confusion_my-textures_temporal.svg").is_file());
     assert!(out.join("confusion_my-textures_temporal.png").is_file());
     let _ = std::fs::remove_dir_all(&dir);

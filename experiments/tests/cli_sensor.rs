@@ -116,10 +116,11 @@ fn issue_14_convert_filter_and_transduce_share_one_policy_and_warning() {
     std::fs::write(&ordered, "t,x,y,on\n5,1,2,1\n10,1,2,0\n11,300,2,1\n").unwrap();
     let input = ordered.to_str().unwrap();
     let expected = format!("warning: {input}: skipped 1 events outside the sensor");
+    // The outputs exist from above: replacing them takes --force (issue 15).
     for args in [
         vec!["transduce", input, "--out", spikes.to_str().unwrap()],
-        vec!["filter", input, filtered.to_str().unwrap()],
-        vec!["convert", input, out.to_str().unwrap()],
+        vec!["filter", input, filtered.to_str().unwrap(), "--force"],
+        vec!["convert", input, out.to_str().unwrap(), "--force"],
     ] {
         let (ok, _, stderr) = neurotac(&args);
         assert!(ok, "{args:?}: {stderr}");

@@ -111,6 +111,7 @@ fn layout_finds_the_pins_and_transduce_accepts_it() {
             spec,
             "--out",
             out.to_str().unwrap(),
+            "--force", // the second spec replaces the first one's output (issue 15)
         ]);
         assert!(ok, "{spec}: {stderr}");
         assert_eq!(SpikeDataset::load(&out).unwrap().n_channels(), 49);

@@ -1,5 +1,6 @@
 //! `neurotac bench neurons|cuba`: throughput on the cases Brian2 is measured on.
 
+use crate::cli::args;
 use clap::{Args, Subcommand};
 use neurotac_experiments::bench::{CubaConfig, cuba, neuron_throughput};
 use neurotac_experiments::neuron_setup::{NeuronKind, Precision};
@@ -28,13 +29,13 @@ struct NeuronsArgs {
     #[arg(long, value_enum, default_value = "lif")]
     model: NeuronKind,
     /// Number of neurons.
-    #[arg(long, default_value_t = 100_000)]
+    #[arg(value_parser = args::positive_count, allow_negative_numbers = true, long, default_value_t = 100_000)]
     n: usize,
     /// Simulated duration (s).
-    #[arg(long, default_value_t = 1.0)]
+    #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long, default_value_t = 1.0)]
     duration: f64,
     /// Time step (s).
-    #[arg(long, default_value_t = 1e-4)]
+    #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long, default_value_t = 1e-4)]
     dt: f64,
     /// Floating-point precision.
     #[arg(long, value_enum, default_value = "f32")]
@@ -50,7 +51,7 @@ struct NeuronsArgs {
 #[derive(Debug, Args)]
 struct RunOptions {
     /// Worker threads (0 = one per core).
-    #[arg(long, default_value_t = 0)]
+    #[arg(value_parser = args::count, allow_negative_numbers = true, long, default_value_t = 0)]
     threads: usize,
     /// Also run the same case in Brian2 (C++ standalone) with this Python and report the ratio.
     #[arg(long, value_name = "PYTHON")]
@@ -63,10 +64,10 @@ struct RunOptions {
 #[derive(Debug, Args)]
 struct CubaArgs {
     /// Simulated duration (s).
-    #[arg(long, default_value_t = 1.0)]
+    #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long, default_value_t = 1.0)]
     duration: f64,
     /// Time step (s).
-    #[arg(long, default_value_t = 1e-4)]
+    #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long, default_value_t = 1e-4)]
     dt: f64,
     /// Seed of the connectivity and initial potentials.
     #[arg(long, default_value_t = 1)]

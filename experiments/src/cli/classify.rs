@@ -1,6 +1,7 @@
 //! `neurotac classify`: KNN classification of a dataset under one coding and protocol.
 
 use super::load_labelled;
+use crate::cli::args;
 use clap::{Args, ValueEnum};
 use neurotac_core::Knn;
 use neurotac_experiments::coding::{CodingName, coding_distances};
@@ -27,31 +28,31 @@ pub struct ClassifyArgs {
     #[arg(long, value_enum)]
     coding: CodingName,
     /// Temporal-coding window Δt (s, whole ms).
-    #[arg(long)]
+    #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long)]
     dt: Option<f64>,
     /// Van Rossum kernel time constant τ (s).
-    #[arg(long)]
+    #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long)]
     tau: Option<f64>,
     /// Van Rossum cos θ in [0, 1].
-    #[arg(long)]
+    #[arg(value_parser = args::unit_interval, allow_negative_numbers = true, long)]
     cos: Option<f64>,
     /// Protocol.
     #[arg(long, value_enum, default_value = "loo")]
     protocol: ProtocolArg,
     /// Neighbours.
-    #[arg(long, default_value_t = 4)]
+    #[arg(value_parser = args::positive_count, allow_negative_numbers = true, long, default_value_t = 4)]
     k: usize,
     /// Test fraction of the split protocol.
-    #[arg(long, default_value_t = 0.2)]
+    #[arg(value_parser = args::open_fraction, allow_negative_numbers = true, long, default_value_t = 0.2)]
     test_fraction: f64,
     /// Folds of the k-fold protocol.
-    #[arg(long, default_value_t = 10)]
+    #[arg(value_parser = args::positive_count, allow_negative_numbers = true, long, default_value_t = 10)]
     folds: usize,
     /// Seed of the split / fold assignment.
     #[arg(long, default_value_t = 1)]
     seed: u64,
     /// Sample duration (s, whole ms); default: meta.duration_s, else one ms past the latest spike.
-    #[arg(long)]
+    #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long)]
     duration: Option<f64>,
     /// Print one JSON object instead of text.
     #[arg(long)]
@@ -128,10 +129,64 @@ pub fn run(args: ClassifyArgs) -> anyhow::Result<()> {
 }
 
 fn print_confusion(counts: &[Vec<usize>], class_names: &[String]) {
-    println!("confusion matrix (rows: true class, columns: predicted):");
+    print!("{}", confusion_text(counts, class_names));
+}
+
+/// The confusion matrix as aligned text: one row per true class, named on the left (padded to
+/// the longest name), columns numbered 0, 1, … in class order (the key maps numbers to names
+/// when they differ), every column as wide as its widest entry.
+fn confusion_text(counts: &[Vec<usize>], class_names: &[String]) -> String {
+    use std::fmt::Write;
+    let name = |i: usize| class_names.get(i).cloned().unwrap_or_else(|| i.to_string());
+    let names: Vec<String> = (0..counts.len()).map(name).collect();
+    let name_width = names.iter().map(|n| n.chars().count()).max().unwrap_or(0);
+    let widths: Vec<usize> = (0..counts.len())
+        .map(|j| {
+            let widest = counts.iter().filter_map(|r| r.get(j)).max().copied();
+            widest
+                .unwrap_or(0)
+                .to_string()
+                .len()
+                .max(j.to_string().len())
+        })
+        .collect();
+    let mut out = String::from("confusion matrix (rows: true class, columns: predicted class):\n");
+    let _ = write!(out, "  {:name_width$}", "");
+    for (j, w) in widths.iter().enumerate() {
+        let _ = write!(out, " {j:>w$}");
+    }
+    out.push('\n');
     for (i, row) in counts.iter().enumerate() {
-        let name = class_names.get(i).cloned().unwrap_or_else(|| i.to_string());
-        let cells: Vec<String> = row.iter().map(|c| format!("{c:4}")).collect();
-        println!("  {name:>12} {}", cells.join(""));
+        let pad = name_width - names[i].chars().count();
+        let _ = write!(out, "  {}{:pad$}", names[i], "");
+        for (c, w) in row.iter().zip(&widths) {
+            let _ = write!(out, " {c:>w$}");
+        }
+        let _ = writeln!(out, "   ({i})");
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::confusion_text;
+
+    #[test]
+    fn issue_15_confusion_columns_line_up_with_long_class_names() {
+        let names = [
+            "grid_0.0_mm".to_owned(),
+            "a-much-longer-texture-name".to_owned(),
+        ];
+        let text = confusion_text(&[vec![12, 3], vec![0, 100]], &names);
+        let rows: Vec<&str> = text.lines().skip(1).collect();
+        assert_eq!(rows.len(), 3);
+        // Every line has the same width, and the last count ends in the same column.
+        let ends: Vec<usize> = rows
+            .iter()
+            .map(|r| r.find("   (").unwrap_or(r.len()))
+            .collect();
+        assert_eq!(ends[1], ends[2], "{text}");
+        assert_eq!(rows[0].chars().count(), ends[1], "{text}");
+        assert!(rows[1].starts_with("  grid_0.0_mm "), "{text}");
     }
 }

@@ -22,6 +22,9 @@ pub struct ConvertArgs {
     input: PathBuf,
     /// Output event file; the extension picks the format (.aedat, .aedat3, .aedat4, .txt, .csv).
     output: PathBuf,
+    /// Replace existing output files (without it, an existing output is refused).
+    #[arg(long)]
+    force: bool,
     /// Packet compression when writing AEDAT 4.0.
     #[arg(long, value_enum, default_value = "lz4")]
     compression: Codec,
@@ -29,6 +32,7 @@ pub struct ConvertArgs {
 
 pub fn run(args: ConvertArgs) -> anyhow::Result<()> {
     neurotac_core::io::check_distinct(&args.input, &args.output)?;
+    super::refuse_existing([args.output.as_path()], args.force)?;
     let out_format = match Format::from_extension(&args.output)? {
         Format::Aedat4(_) => Format::Aedat4(match args.compression {
             Codec::None => Compression::None,

@@ -1,5 +1,6 @@
 //! `neurotac demo`: 49 taxels (Poisson spike trains) → exponential synapses → 49 afferents.
 
+use crate::cli::args;
 use anyhow::Context;
 use clap::{Args, ValueEnum};
 use neurotac_core::PoissonInput;
@@ -17,13 +18,13 @@ pub struct DemoArgs {
     #[arg(long, value_enum, default_value = "lif")]
     model: Model,
     /// Number of taxels (the NeuroTac has 49).
-    #[arg(long, default_value_t = 49)]
+    #[arg(value_parser = args::positive_count, allow_negative_numbers = true, long, default_value_t = 49)]
     taxels: usize,
     /// Firing rate of each taxel's Poisson spike train (Hz).
-    #[arg(long, default_value_t = 20.0)]
+    #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long, default_value_t = 20.0)]
     rate_hz: f64,
     /// Simulated duration (s).
-    #[arg(long, default_value_t = 1.0)]
+    #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long, default_value_t = 1.0)]
     duration: f64,
     /// Seed of the taxel spike trains.
     #[arg(long, default_value_t = 1)]
@@ -58,6 +59,7 @@ pub fn run(args: DemoArgs) -> anyhow::Result<()> {
             "afferent_spike_counts": counts,
             "total_taxel_spikes": total_in,
             "total_afferent_spikes": total,
+            "afferent_spikes_per_taxel_spike": total as f64 / total_in.max(1) as f64,
             "wall_s": wall_s,
         });
         println!("{out}");
@@ -71,6 +73,11 @@ pub fn run(args: DemoArgs) -> anyhow::Result<()> {
             println!("  {i:6}   {a:12} → {b}");
         }
         println!("  total    {total_in:12} → {total}");
+        println!(
+            "{:.2} afferent spikes per taxel spike (a lone taxel spike makes exactly one; spikes \
+             closer than ≈ 10 ms interact — see neurotac_experiments::afferents)",
+            total as f64 / total_in.max(1) as f64
+        );
     }
     Ok(())
 }

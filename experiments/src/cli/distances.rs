@@ -1,6 +1,7 @@
 //! `neurotac distances`: the N×N distance matrix of a spike dataset, as `{"matrix": [[…]]}`.
 
 use super::load_dataset;
+use crate::cli::args;
 use anyhow::{Context, bail};
 use clap::{Args, ValueEnum};
 use neurotac_core::SpikeDataset;
@@ -28,27 +29,31 @@ pub struct DistancesArgs {
     #[arg(long, value_enum)]
     metric: Metric,
     /// Van Rossum kernel time constant τ (s).
-    #[arg(long)]
+    #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long)]
     tau: Option<f64>,
     /// Van Rossum cos θ in [0, 1] (0 labelled line, 1 summed population).
-    #[arg(long)]
+    #[arg(value_parser = args::unit_interval, allow_negative_numbers = true, long)]
     cos: Option<f64>,
     /// Coding whose features the Euclidean distance compares.
     #[arg(long, value_enum)]
     coding: Option<CodingName>,
     /// Temporal-coding window Δt (s, whole ms).
-    #[arg(long)]
+    #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long)]
     dt: Option<f64>,
     /// Sample duration (s, whole ms); default: meta.duration_s, else one ms past the latest spike.
-    #[arg(long)]
+    #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long)]
     duration: Option<f64>,
     /// Output JSON file.
     #[arg(long)]
     output: PathBuf,
+    /// Replace existing output files (without it, an existing output is refused).
+    #[arg(long)]
+    force: bool,
 }
 
 pub fn run(args: DistancesArgs) -> anyhow::Result<()> {
     neurotac_core::io::check_distinct(&args.input, &args.output)?;
+    super::refuse_existing([args.output.as_path()], args.force)?;
     let data = load_dataset(&args.input)?;
     let coding = match (args.metric, args.coding) {
         (Metric::VanRossum, _) => CodingName::Spatiotemporal,

@@ -8,6 +8,7 @@ use neurotac_core::SpikeDataset;
 use neurotac_experiments::datasets::simulated::TextureSet;
 use std::path::Path;
 
+mod args;
 mod bench;
 mod classify;
 mod convert;
@@ -26,7 +27,16 @@ mod transduce;
 
 /// neurotac: spiking neural networks for neuromorphic touch (the NeuroTac sensor).
 #[derive(Debug, Parser)]
-#[command(name = "neurotac", version, about, propagate_version = true)]
+#[command(
+    name = "neurotac",
+    version,
+    about,
+    propagate_version = true,
+    after_help = "Outputs: every command that writes refuses an existing output file or folder \
+unless --force is given.\nCache: reproduce and simulate keep simulated datasets in \
+~/.cache/neurotac ($XDG_CACHE_HOME/neurotac, or $NEUROTAC_CACHE when set); delete that \
+folder to clear it."
+)]
 pub struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -129,4 +139,19 @@ pub fn load_labelled(path: &Path) -> anyhow::Result<SpikeDataset> {
         anyhow::bail!("{}: the dataset has no labels", path.display());
     }
     Ok(data)
+}
+
+/// The overwrite rule of every command that writes (README, "Outputs, cache and overwriting"):
+/// an output file or folder that already exists is refused unless `--force` is given.
+pub fn refuse_existing<'a>(
+    outputs: impl IntoIterator<Item = &'a Path>,
+    force: bool,
+) -> anyhow::Result<()> {
+    if force {
+        return Ok(());
+    }
+    match outputs.into_iter().find(|p| p.exists()) {
+        Some(p) => anyhow::bail!("{} already exists (use --force to replace it)", p.display()),
+        None => Ok(()),
+    }
 }

@@ -1,6 +1,7 @@
 //! `neurotac neuron`: one neuron under a constant current; prints its spike times as they are
 //! found (streamed, so memory does not grow with the run).
 
+use crate::cli::args;
 use anyhow::{Context, bail};
 use clap::Args;
 use neurotac_experiments::neuron_setup::{NeuronKind, NeuronSetup, Precision};
@@ -19,14 +20,14 @@ pub struct NeuronArgs {
     #[arg(long, default_value = "rs")]
     preset: String,
     /// Constant input current (LIF: potential units; Izhikevich: mV/ms).
-    #[arg(long)]
+    #[arg(value_parser = args::finite_f64, allow_negative_numbers = true, long)]
     current: f64,
     /// Simulated duration (s). Only whole steps are run: a partial last step is refused, so no
     /// spike is ever stamped after the duration.
-    #[arg(long, default_value_t = 1.0)]
+    #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long, default_value_t = 1.0)]
     duration: f64,
     /// Time step (s).
-    #[arg(long, default_value_t = 1e-4)]
+    #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long, default_value_t = 1e-4)]
     dt: f64,
     /// Refuse runs of more steps than this.
     #[arg(long, default_value_t = DEFAULT_MAX_STEPS)]

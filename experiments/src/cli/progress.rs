@@ -3,7 +3,9 @@
 
 use indicatif::{ProgressBar, ProgressStyle};
 use neurotac_experiments::progress::Progress;
+use std::io::IsTerminal;
 use std::sync::Mutex;
+use std::time::Instant;
 
 /// A bar of `total` steps named `name` (`unit`: what a step is, e.g. `trials`), or a spinner
 /// when `total` is 0 (unknown).
@@ -30,8 +32,29 @@ pub fn bar(name: &str, total: u64, unit: &str) -> ProgressBar {
     bar
 }
 
-/// One bar per stage of a library run.
-pub struct Bars(Mutex<Option<ProgressBar>>);
+/// One bar per stage of a library run; when stderr is a terminal, a finished stage leaves one
+/// line with its name and wall time (`  ✓ artificial: Δt sweep 1…200 ms — 12.3 s`), so the
+/// stages of a long run stay readable after their bars are gone.
+pub struct Bars(Mutex<Option<Stage>>);
+
+struct Stage {
+    bar: ProgressBar,
+    name: String,
+    start: Instant,
+}
+
+impl Stage {
+    fn end(self) {
+        self.bar.finish_and_clear();
+        if std::io::stderr().is_terminal() {
+            eprintln!(
+                "  ✓ {} — {:.1} s",
+                self.name,
+                self.start.elapsed().as_secs_f64()
+            );
+        }
+    }
+}
 
 impl Bars {
     pub fn new() -> Self {
@@ -39,15 +62,20 @@ impl Bars {
     }
 
     fn current(&self) -> Option<ProgressBar> {
-        self.0.lock().expect("progress lock").clone()
+        let stage = self.0.lock().expect("progress lock");
+        stage.as_ref().map(|s| s.bar.clone())
     }
 }
 
 impl Progress for Bars {
     fn stage(&self, name: &str, total: u64) {
-        let new = bar(name, total, "");
+        let new = Stage {
+            bar: bar(name, total, ""),
+            name: name.to_owned(),
+            start: Instant::now(),
+        };
         if let Some(old) = self.0.lock().expect("progress lock").replace(new) {
-            old.finish_and_clear();
+            old.end();
         }
     }
 
@@ -58,8 +86,8 @@ impl Progress for Bars {
     }
 
     fn finish(&self) {
-        if let Some(b) = self.0.lock().expect("progress lock").take() {
-            b.finish_and_clear();
+        if let Some(stage) = self.0.lock().expect("progress lock").take() {
+            stage.end();
         }
     }
 

@@ -5,6 +5,7 @@
 //! unplugged mid-recording, every event received before is written, the file is completed and
 //! the command fails with the disconnection.
 
+use crate::cli::args;
 use anyhow::Context;
 use clap::Args;
 use neurotac_sensor::davis::{Davis, RusbTransport, StartOptions, record};
@@ -17,8 +18,11 @@ pub struct RecordArgs {
     /// Output event file (.aedat4, .aedat, .aedat3, .txt or .csv).
     #[arg(long)]
     out: PathBuf,
-    /// Recording duration (s).
+    /// Replace existing output files (without it, an existing output is refused).
     #[arg(long)]
+    force: bool,
+    /// Recording duration (s).
+    #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long)]
     seconds: f64,
     /// Add the host's Unix time at start (µs) to the device timestamps, as DV recordings hold
     /// (AEDAT 4.0 only: the 32-bit AEDAT 2.0 timestamps cannot hold it).
@@ -32,6 +36,7 @@ pub fn run(args: RecordArgs) -> anyhow::Result<()> {
         "--seconds must be a positive number of seconds, got {}",
         args.seconds
     );
+    super::refuse_existing([args.out.as_path()], args.force)?;
     let format = format::Format::from_extension(&args.out)?;
     let (transport, usb) = RusbTransport::open_first()?;
     let davis = Davis::open(transport, usb).context("opening the DAVIS camera")?;

@@ -4,8 +4,10 @@
 
 use super::SetArg;
 use super::progress::Bars;
+use crate::cli::args;
 use clap::{Args, ValueEnum};
 use neurotac_experiments::afferents::AfferentConfig;
+use neurotac_experiments::datasets::simulated::default_cache_dir;
 use neurotac_experiments::progress::Progress;
 use neurotac_experiments::report::folder::check_destination;
 use neurotac_experiments::report::tables::{
@@ -40,13 +42,13 @@ pub struct ReproduceArgs {
     #[arg(long, default_value = "neurotac-report")]
     out: PathBuf,
     /// Worker threads (0: all cores).
-    #[arg(long, default_value_t = 0)]
+    #[arg(value_parser = args::count, allow_negative_numbers = true, long, default_value_t = 0)]
     threads: usize,
     /// Bayesian-optimisation evaluations (paper: 1000; --quick: 60).
-    #[arg(long)]
+    #[arg(value_parser = args::positive_count, allow_negative_numbers = true, long)]
     epochs: Option<usize>,
     /// Slides per texture (paper: 100 artificial, 50 natural; --quick: 10).
-    #[arg(long)]
+    #[arg(value_parser = args::positive_count, allow_negative_numbers = true, long)]
     trials: Option<usize>,
     /// Run on a recorded dataset instead: one folder per texture class, one event file per
     /// slide (AEDAT 2/3.1/4, ECD text or CSV); --set, --trials and --params then do not apply.
@@ -55,7 +57,8 @@ pub struct ReproduceArgs {
     /// Replace an existing report folder.
     #[arg(long)]
     force: bool,
-    /// A first look in under a minute: 10 slides per texture, 60 epochs, τ on a 10 ms grid.
+    /// A first look in about a minute (once built): 10 slides per texture, 60 epochs, τ on a
+    /// 10 ms grid.
     #[arg(long)]
     quick: bool,
     /// Also run the pipeline through a population of afferent neurons (one per taxel) and
@@ -64,10 +67,10 @@ pub struct ReproduceArgs {
     afferents: Option<AfferentArg>,
     /// τ grid step of the optimisation (s; default 0.005, --quick 0.01; the paper's 1 ms grid
     /// costs ≈ 5× the default).
-    #[arg(long)]
+    #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long)]
     tau_step: Option<f64>,
-    /// Cache of simulated datasets (default: $NEUROTAC_CACHE, else $XDG_CACHE_HOME/neurotac,
-    /// else ~/.cache/neurotac).
+    /// Cache of simulated datasets, shared with `neurotac simulate` (default: $NEUROTAC_CACHE,
+    /// else $XDG_CACHE_HOME/neurotac, else ~/.cache/neurotac; delete the folder to clear it).
     #[arg(long)]
     cache: Option<PathBuf>,
     /// Simulator parameters (JSON, see `neurotac simulate params`); default: the calibrated ones.
@@ -75,22 +78,9 @@ pub struct ReproduceArgs {
     params: Option<PathBuf>,
 }
 
-fn default_cache() -> PathBuf {
-    if let Some(p) = std::env::var_os("NEUROTAC_CACHE") {
-        return p.into();
-    }
-    if let Some(p) = std::env::var_os("XDG_CACHE_HOME") {
-        return PathBuf::from(p).join("neurotac");
-    }
-    match std::env::var_os("HOME") {
-        Some(h) => PathBuf::from(h).join(".cache").join("neurotac"),
-        None => PathBuf::from(".neurotac-cache"),
-    }
-}
-
 pub fn run(args: ReproduceArgs) -> anyhow::Result<()> {
     check_destination(&args.out, args.force)?;
-    let cache = args.cache.clone().unwrap_or_else(default_cache);
+    let cache = args.cache.clone().unwrap_or_else(default_cache_dir);
     let mut config = match args.quick {
         true => ReproduceConfig::quick(args.seed, cache),
         false => ReproduceConfig::paper(args.seed, cache),

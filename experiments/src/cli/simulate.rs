@@ -3,9 +3,12 @@
 
 use super::SetArg;
 use super::progress::{Bars, bar};
+use crate::cli::args;
 use anyhow::Context;
 use clap::{Args, Subcommand};
-use neurotac_experiments::datasets::simulated::{GenerateConfig, PixelEventFiles};
+use neurotac_experiments::datasets::simulated::{
+    GenerateConfig, PixelEventFiles, default_cache_dir,
+};
 use neurotac_experiments::simulator_check::{
     CheckConfig, calibrate, check_trial_count, simulator_check, to_markdown,
 };
@@ -40,7 +43,7 @@ struct GenerateArgs {
     #[arg(long, value_enum, required = true)]
     set: Option<SetArg>,
     /// Slides per texture (default: the paper's, 100 artificial / 50 natural).
-    #[arg(long)]
+    #[arg(value_parser = args::positive_count, allow_negative_numbers = true, long)]
     trials: Option<usize>,
     /// Seed of the dataset (camera and every trial).
     #[arg(long, default_value_t = 1)]
@@ -63,21 +66,25 @@ struct GenerateArgs {
     /// With --pixel-events: write CSV with a `pin` column (source pin, −1 for noise) instead.
     #[arg(long)]
     labels: bool,
-    /// Cache folder (default: `<out>/cache`).
+    /// Cache of simulated datasets, shared with `neurotac reproduce` (default: $NEUROTAC_CACHE,
+    /// else $XDG_CACHE_HOME/neurotac, else ~/.cache/neurotac; delete the folder to clear it).
     #[arg(long)]
     cache: Option<PathBuf>,
     /// Worker threads (0 = one per core).
-    #[arg(long, default_value_t = 0)]
+    #[arg(value_parser = args::count, allow_negative_numbers = true, long, default_value_t = 0)]
     threads: usize,
+    /// Replace existing output files (without it, an existing output is refused).
+    #[arg(long)]
+    force: bool,
 }
 
 #[derive(Debug, Args)]
 struct CheckArgs {
     /// Slides per grid (≥ 10 for the monotonicity statistic).
-    #[arg(long, default_value_t = 10)]
+    #[arg(value_parser = args::positive_count, allow_negative_numbers = true, long, default_value_t = 10)]
     trials: usize,
     /// Slides of the 0, 2.5 and 5 mm grids for the variability statistic.
-    #[arg(long, default_value_t = 20)]
+    #[arg(value_parser = args::positive_count, allow_negative_numbers = true, long, default_value_t = 20)]
     variability_trials: usize,
     /// Seed.
     #[arg(long, default_value_t = 1)]
@@ -88,21 +95,24 @@ struct CheckArgs {
     /// Write `check.md` and `check.json` to this folder.
     #[arg(long)]
     out: Option<PathBuf>,
+    /// Replace existing output files (without it, an existing output is refused).
+    #[arg(long)]
+    force: bool,
     /// Worker threads (0 = one per core).
-    #[arg(long, default_value_t = 0)]
+    #[arg(value_parser = args::count, allow_negative_numbers = true, long, default_value_t = 0)]
     threads: usize,
 }
 
 #[derive(Debug, Args)]
 struct CalibrateArgs {
     /// Slides of the anchor grid per bisection step.
-    #[arg(long, default_value_t = 10)]
+    #[arg(value_parser = args::positive_count, allow_negative_numbers = true, long, default_value_t = 10)]
     trials: usize,
     /// Seed.
     #[arg(long, default_value_t = 1)]
     seed: u64,
     /// Alternations of the lever and conformity-gap fits.
-    #[arg(long, default_value_t = 3)]
+    #[arg(value_parser = args::positive_count, allow_negative_numbers = true, long, default_value_t = 3)]
     rounds: usize,
     /// Simulator parameter file to start from (JSON).
     #[arg(long)]
@@ -110,8 +120,11 @@ struct CalibrateArgs {
     /// Write the calibrated parameter file here (default: print it).
     #[arg(long)]
     out: Option<PathBuf>,
+    /// Replace an existing `--out` file.
+    #[arg(long)]
+    force: bool,
     /// Worker threads (0 = one per core).
-    #[arg(long, default_value_t = 0)]
+    #[arg(value_parser = args::count, allow_negative_numbers = true, long, default_value_t = 0)]
     threads: usize,
 }
 
@@ -145,20 +158,32 @@ fn generate(a: GenerateArgs) -> anyhow::Result<()> {
         true => PixelEventFiles::LabelledCsv,
         false => PixelEventFiles::Format(a.event_format.clone()),
     });
-    for set in a.set.context("--set is required")?.sets() {
+    let sets = a.set.context("--set is required")?.sets();
+    let mut outputs: Vec<PathBuf> = sets
+        .iter()
+        .map(|set| out.join(format!("{}.bin", set.name())))
+        .collect();
+    if a.json {
+        outputs.extend(
+            sets.iter()
+                .map(|set| out.join(format!("{}.json", set.name()))),
+        );
+    }
+    if a.pixel_events {
+        outputs.push(out.join("events"));
+    }
+    super::refuse_existing(outputs.iter().map(|p| p.as_path()), a.force)?;
+    for set in sets {
         let config = GenerateConfig {
             set,
             trials: a.trials.unwrap_or(set.paper_trials()),
             seed: a.seed,
             params,
             out: out.clone(),
-            cache: a.cache.clone().unwrap_or_else(|| out.join("cache")),
+            cache: a.cache.clone().unwrap_or_else(default_cache_dir),
             json: a.json,
             pixel_events: pixel_events.clone(),
         };
-        if config.trials == 0 {
-            anyhow::bail!("--trials 0: at least one trial per texture is needed");
-        }
         let start = Instant::now();
         let bars = Bars::new();
         let made = with_threads(a.threads, || {
@@ -194,6 +219,9 @@ fn generate(a: GenerateArgs) -> anyhow::Result<()> {
 }
 
 fn check(a: CheckArgs) -> anyhow::Result<()> {
+    if let Some(out) = &a.out {
+        super::refuse_existing([out.join("check.md").as_path()], a.force)?;
+    }
     let config = CheckConfig {
         trials: a.trials.max(2),
         variability_trials: a.variability_trials,
@@ -245,6 +273,9 @@ fn check(a: CheckArgs) -> anyhow::Result<()> {
 }
 
 fn calibrate_command(a: CalibrateArgs) -> anyhow::Result<()> {
+    if let Some(out) = &a.out {
+        super::refuse_existing([out.as_path()], a.force)?;
+    }
     let params = load_params(a.params.as_deref())?;
     let bar = super::progress::bar("calibrating", 0, "slides");
     let c = with_threads(a.threads, || {

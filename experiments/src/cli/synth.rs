@@ -1,5 +1,6 @@
 //! `neurotac synth`: writes a seeded synthetic NeuroTac-like texture dataset.
 
+use crate::cli::args;
 use anyhow::Context;
 use clap::Args;
 use neurotac_experiments::datasets::synthetic::{SyntheticConfig, synthetic_dataset};
@@ -11,26 +12,30 @@ pub struct SynthArgs {
     #[arg(long)]
     output: PathBuf,
     /// Number of samples.
-    #[arg(long, default_value_t = 1100)]
+    #[arg(value_parser = args::positive_count, allow_negative_numbers = true, long, default_value_t = 1100)]
     samples: usize,
     /// Number of classes (textures).
-    #[arg(long, default_value_t = 11)]
+    #[arg(value_parser = args::positive_count, allow_negative_numbers = true, long, default_value_t = 11)]
     classes: usize,
     /// Channels (taxels) per sample.
-    #[arg(long, default_value_t = 49)]
+    #[arg(value_parser = args::positive_count, allow_negative_numbers = true, long, default_value_t = 49)]
     channels: usize,
     /// Mean spikes per channel.
-    #[arg(long, default_value_t = 10.0)]
+    #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long, default_value_t = 10.0)]
     spikes_per_unit: f64,
     /// Sample duration (s).
-    #[arg(long, default_value_t = 4.5)]
+    #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long, default_value_t = 4.5)]
     duration: f64,
     /// Seed.
     #[arg(long, default_value_t = 1)]
     seed: u64,
+    /// Replace existing output files (without it, an existing output is refused).
+    #[arg(long)]
+    force: bool,
 }
 
 pub fn run(args: SynthArgs) -> anyhow::Result<()> {
+    super::refuse_existing([args.output.as_path()], args.force)?;
     anyhow::ensure!(
         args.spikes_per_unit.is_finite()
             && args.spikes_per_unit > 0.0

@@ -1,10 +1,12 @@
 //! `neurotac transduce`, `neurotac filter` and `neurotac layout`: the NeuroTac transduction
 //! (BA filter → receptive fields → pooling → re-centring) on any event file.
 
+use crate::cli::args;
 use anyhow::{Context, bail};
 use clap::Args;
 use neurotac_core::io::{AtomicFile, check_distinct};
 use neurotac_experiments::report::figures::spike_train_figure;
+use neurotac_experiments::report::png::PngRenderer;
 use neurotac_experiments::transduce::{LayoutSpec, filter_file, resolve_layout, transduce_file};
 use neurotac_sensor::filter::MapStart;
 use neurotac_sensor::taxel::{TaxelLayout, TransductionConfig};
@@ -54,22 +56,22 @@ pub struct TransduceArgs {
     #[arg(long, default_value = "default")]
     layout: String,
     /// Background-activity window (µs); 0 disables the filter.
-    #[arg(long, default_value_t = 5000)]
+    #[arg(value_parser = args::positive_i64, allow_negative_numbers = true, long, default_value_t = 5000)]
     ba_window_us: i64,
     /// Start the BA time surface empty instead of at t = 0 (dv-processing's choice).
     #[arg(long)]
     ba_empty_start: bool,
     /// Receptive-field radius (px); the paper's fields are 6 px in diameter.
-    #[arg(long, default_value_t = 3.0)]
+    #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long, default_value_t = 3.0)]
     rf_radius_px: f64,
     /// Pooling window (ms).
-    #[arg(long, default_value_t = 20.0)]
+    #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long, default_value_t = 20.0)]
     pool_ms: f64,
     /// Re-centring gain in [0, 1] (0: fixed fields).
-    #[arg(long, default_value_t = 0.5)]
+    #[arg(value_parser = args::unit_interval, allow_negative_numbers = true, long, default_value_t = 0.5)]
     gain: f64,
     /// Calibration time for --layout auto (ms).
-    #[arg(long, default_value_t = 500.0)]
+    #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long, default_value_t = 500.0)]
     calibration_ms: f64,
     /// Class label name stored in the dataset.
     #[arg(long)]
@@ -77,20 +79,35 @@ pub struct TransduceArgs {
     /// Output spike dataset (JSON, or compact binary with any other extension).
     #[arg(long)]
     out: PathBuf,
-    /// Also write a raster plot with spatial and temporal distributions (SVG).
+    /// Also write a raster plot with spatial and temporal distributions: SVG at this path and
+    /// PNG beside it (`r.svg` → `r.svg`, `r.png`).
     #[arg(long)]
     raster: Option<PathBuf>,
+    /// Replace existing output files (without it, an existing output is refused).
+    #[arg(long)]
+    force: bool,
 }
 
 pub fn run_transduce(a: TransduceArgs) -> anyhow::Result<()> {
     // Every output is checked against the input and created (hidden) before any work, and all
     // are renamed into place together at the end: a failure leaves none of them.
     check_distinct(&a.input, &a.out)?;
+    super::refuse_existing(
+        [a.out.as_path()].into_iter().chain(a.raster.as_deref()),
+        a.force,
+    )?;
     let mut out_file = create_output(&a.out)?;
-    let mut raster_file = None;
+    // The raster as SVG at the path given and as PNG beside it (`r.svg` → `r.png`); a path
+    // ending in `.png` gets the PNG only.
+    let mut raster_files = Vec::new();
     if let Some(path) = &a.raster {
-        check_distinct(&a.input, path)?;
-        raster_file = Some(create_output(path)?);
+        let png = path.with_extension("png");
+        let svg = (png != *path).then(|| path.clone());
+        super::refuse_existing([png.as_path()], a.force)?;
+        for p in svg.iter().chain(std::iter::once(&png)) {
+            check_distinct(&a.input, p)?;
+            raster_files.push(create_output(p)?);
+        }
     }
     let layout = layout_from(&a.layout, &a.input, a.calibration_ms, a.rf_radius_px)?;
     if !(a.pool_ms.is_finite() && a.pool_ms > 0.0) {
@@ -115,16 +132,25 @@ pub fn run_transduce(a: TransduceArgs) -> anyhow::Result<()> {
     out_file
         .write_all(&bytes)
         .with_context(|| format!("writing {}", a.out.display()))?;
-    if let Some(file) = &mut raster_file {
+    if !raster_files.is_empty() {
         let title = format!(
             "{}: {} taxel spikes",
             a.input.display(),
             t.trains.total_spikes()
         );
-        file.write_all(spike_train_figure(&t.trains, &title, 0.159).as_bytes())
-            .with_context(|| format!("writing {}", file.target().display()))?;
+        let svg = spike_train_figure(&t.trains, &title, 0.159);
+        for file in &mut raster_files {
+            let bytes = match file.target().extension().is_some_and(|e| e == "png") {
+                true => PngRenderer::new()
+                    .render(&svg, 1.5)
+                    .with_context(|| format!("drawing {}", file.target().display()))?,
+                false => svg.clone().into_bytes(),
+            };
+            file.write_all(&bytes)
+                .with_context(|| format!("writing {}", file.target().display()))?;
+        }
     }
-    for file in std::iter::once(out_file).chain(raster_file) {
+    for file in std::iter::once(out_file).chain(raster_files) {
         let path = file.target().to_path_buf();
         file.commit()
             .with_context(|| format!("writing {}", path.display()))?;
@@ -151,18 +177,22 @@ pub struct FilterArgs {
     /// Event file to write (format from its extension).
     output: PathBuf,
     /// Background-activity window (µs).
-    #[arg(long, default_value_t = 5000)]
+    #[arg(value_parser = args::positive_i64, allow_negative_numbers = true, long, default_value_t = 5000)]
     ba_window_us: i64,
     /// Start the BA time surface empty instead of at t = 0.
     #[arg(long)]
     ba_empty_start: bool,
     /// Also drop events within this refractory period of their own pixel's last event (µs).
-    #[arg(long)]
+    #[arg(value_parser = args::positive_i64, allow_negative_numbers = true, long)]
     refractory_us: Option<i64>,
+    /// Replace existing output files (without it, an existing output is refused).
+    #[arg(long)]
+    force: bool,
 }
 
 pub fn run_filter(a: FilterArgs) -> anyhow::Result<()> {
     check_distinct(&a.input, &a.output)?;
+    super::refuse_existing([a.output.as_path()], a.force)?;
     let start = Instant::now();
     let start_mode = ba_start(a.ba_empty_start);
     let c = filter_file(
@@ -192,20 +222,24 @@ pub struct LayoutArgs {
     /// Calibration recording (any event file).
     input: PathBuf,
     /// Use the first this many milliseconds.
-    #[arg(long, default_value_t = 500.0)]
+    #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long, default_value_t = 500.0)]
     calibration_ms: f64,
     /// Receptive-field radius (px); the paper's fields are 6 px in diameter.
-    #[arg(long, default_value_t = 3.0)]
+    #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long, default_value_t = 3.0)]
     rf_radius_px: f64,
     /// Write the 49 centres as a JSON list of [x, y] (px).
     #[arg(long)]
     out: Option<PathBuf>,
+    /// Replace existing output files (without it, an existing output is refused).
+    #[arg(long)]
+    force: bool,
 }
 
 pub fn run_layout(a: LayoutArgs) -> anyhow::Result<()> {
     if let Some(path) = &a.out {
         check_distinct(&a.input, path)?;
     }
+    super::refuse_existing(a.out.as_deref(), a.force)?;
     let layout = layout_from("auto", &a.input, a.calibration_ms, a.rf_radius_px)?;
     if let Some(path) = &a.out {
         neurotac_core::io::write(path, layout.to_json())

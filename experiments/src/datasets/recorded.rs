@@ -253,6 +253,21 @@ pub fn list_recorded(dir: &Path) -> Result<Vec<(String, Vec<PathBuf>)>, Recorded
     Ok(listed)
 }
 
+/// The non-hidden entries of a recorded dataset folder that [`list_recorded`] does not read,
+/// sorted: files beside the class folders, and in each class folder the sub-folders and the
+/// files whose extension is not an event format (`notes.md`, `slide.bag`, …). `reproduce
+/// --dataset` lists them so that nothing is skipped without a word.
+pub fn skipped_entries(dir: &Path) -> Result<Vec<PathBuf>, RecordedError> {
+    let mut skipped = entries(dir, |p| !p.is_dir())?;
+    for class in entries(dir, |p| p.is_dir())? {
+        skipped.extend(entries(&class, |p| {
+            !(p.is_file() && Format::from_extension(p).is_ok())
+        })?);
+    }
+    skipped.sort();
+    Ok(skipped)
+}
+
 /// The non-hidden entries of `dir` that `keep` accepts, sorted by name.
 fn entries(dir: &Path, keep: impl Fn(&Path) -> bool) -> Result<Vec<PathBuf>, RecordedError> {
     let list_error = |source| RecordedError::List {
@@ -460,4 +475,31 @@ pub fn load_recorded(
     let names = listed.into_iter().map(|(name, _)| name).collect();
     let dataset = SpikeDataset::new(observations, labels, names, meta)?;
     Ok(RecordedDataset { dataset, files })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn issue_15_skipped_entries_names_every_file_that_is_not_read() {
+        let dir = tempfile::tempdir().unwrap();
+        for class in ["a", "b"] {
+            std::fs::create_dir(dir.path().join(class)).unwrap();
+            std::fs::write(dir.path().join(class).join("0.csv"), "").unwrap();
+        }
+        std::fs::write(dir.path().join("README.md"), "").unwrap();
+        std::fs::write(dir.path().join("a/notes.md"), "").unwrap();
+        std::fs::write(dir.path().join("b/.hidden"), "").unwrap();
+        std::fs::create_dir(dir.path().join("b/extra")).unwrap();
+        let skipped = skipped_entries(dir.path()).unwrap();
+        let names: Vec<String> = skipped
+            .iter()
+            .map(|p| {
+                let rel = p.strip_prefix(dir.path()).unwrap();
+                rel.to_string_lossy().into_owned()
+            })
+            .collect();
+        assert_eq!(names, ["README.md", "a/notes.md", "b/extra"]);
+    }
 }

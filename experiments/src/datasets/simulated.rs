@@ -317,6 +317,23 @@ fn cache_key(meta: &serde_json::Map<String, serde_json::Value>) -> u64 {
     })
 }
 
+/// The cache folder of simulated datasets shared by `neurotac reproduce` and `neurotac
+/// simulate`: `$NEUROTAC_CACHE` if set, else `$XDG_CACHE_HOME/neurotac`, else
+/// `~/.cache/neurotac` (`./.neurotac-cache` without a home folder). Deleting the folder clears
+/// the cache; a dataset is simulated again when next needed.
+pub fn default_cache_dir() -> PathBuf {
+    if let Some(p) = std::env::var_os("NEUROTAC_CACHE") {
+        return p.into();
+    }
+    if let Some(p) = std::env::var_os("XDG_CACHE_HOME") {
+        return PathBuf::from(p).join("neurotac");
+    }
+    match std::env::var_os("HOME") {
+        Some(h) => PathBuf::from(h).join(".cache").join("neurotac"),
+        None => PathBuf::from(".neurotac-cache"),
+    }
+}
+
 /// The cache file of a dataset in `cache_dir`.
 pub fn cache_path(
     set: TextureSet,

@@ -74,7 +74,9 @@ fn accuracy_rows(set: &SetReport, out: &mut String) {
                     .unwrap_or_default(),
                 paper
                     .filter(|_| pipeline == "direct")
-                    .map(|p| (p.accuracy_percent[i] / 100.0).to_string())
+                    // The paper's percentage as a fraction, in its shortest form (0.928, not
+                    // 0.9279999999999999).
+                    .map(|p| ((p.accuracy_percent[i] * 1e6).round() / 1e8).to_string())
                     .unwrap_or_default(),
                 coding_seconds(r, c.coding)
             );

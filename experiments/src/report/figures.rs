@@ -47,7 +47,10 @@ pub fn spatial_chart(trains: &MultiSpikeTrain, title: &str) -> Chart {
             log: false,
             range: Some((-1.0, trains.n_channels() as f64)),
         },
-        y: Axis::linear("spikes"),
+        y: from_zero(
+            "spikes",
+            trains.counts().iter().copied().max().unwrap_or(0) as f64,
+        ),
         series: vec![Series {
             label: "spikes per taxel".into(),
             points,
@@ -59,6 +62,15 @@ pub fn spatial_chart(trains: &MultiSpikeTrain, title: &str) -> Chart {
     }
 }
 
+/// A linear y axis from 0 to a little above `max` (counts start at 0, so their axis does too).
+fn from_zero(label: &str, max: f64) -> Axis {
+    Axis {
+        label: label.into(),
+        log: false,
+        range: Some((0.0, if max > 0.0 { max * 1.05 } else { 1.0 })),
+    }
+}
+
 /// Spikes per taxel in a window of `window_s` rolled in 1 ms steps over `[0, end)` (the
 /// temporal coding's view): value at `s` = spikes in `[s, s + window)` over all taxels / N.
 pub fn temporal_chart(trains: &MultiSpikeTrain, window_s: f64, title: &str) -> Chart {
@@ -66,7 +78,7 @@ pub fn temporal_chart(trains: &MultiSpikeTrain, window_s: f64, title: &str) -> C
     let end = pooled.last().copied().unwrap_or(0.0).max(window_s);
     let n = trains.n_channels().max(1) as f64;
     let steps = ((end - window_s).max(0.0) / 1e-3).floor() as usize + 1;
-    let points = (0..steps)
+    let points: Vec<(f64, f64)> = (0..steps)
         .map(|k| {
             let s = k as f64 * 1e-3;
             let lo = pooled.partition_point(|&t| t < s);
@@ -77,7 +89,10 @@ pub fn temporal_chart(trains: &MultiSpikeTrain, window_s: f64, title: &str) -> C
     Chart {
         title: title.to_owned(),
         x: Axis::linear("window start (s)"),
-        y: Axis::linear(&format!("spikes per taxel in {:.0} ms", window_s * 1e3)),
+        y: from_zero(
+            &format!("spikes per taxel in {:.0} ms", window_s * 1e3),
+            points.iter().map(|p| p.1).fold(0.0, f64::max),
+        ),
         series: vec![Series {
             label: format!("Δt = {:.0} ms", window_s * 1e3),
             points,
@@ -102,9 +117,16 @@ pub fn spike_train_figure(trains: &MultiSpikeTrain, title: &str, window_s: f64) 
 }
 
 /// A confusion matrix as an SVG heat map (rows: true class, columns: predicted; cell shade ∝
-/// the fraction of the row's samples, count printed in each non-empty cell), like the paper's
-/// confusion-matrix figures.
-pub fn confusion_figure(counts: &[Vec<usize>], class_names: &[String], title: &str) -> String {
+/// the fraction of the row's samples, that fraction printed as a percentage in each non-empty
+/// cell), like the paper's confusion-matrix figures, with a colour bar (0–100 % of a row) and,
+/// right of each row, `n =` the number of test samples of that class; `note`, when given, is
+/// printed under the title (e.g. how few test samples a quick run has).
+pub fn confusion_figure(
+    counts: &[Vec<usize>],
+    class_names: &[String],
+    title: &str,
+    note: Option<&str>,
+) -> String {
     use std::fmt::Write;
     let n = counts.len();
     let name = |i: usize| {
@@ -118,13 +140,35 @@ pub fn confusion_figure(counts: &[Vec<usize>], class_names: &[String], title: &s
     let cell = (440.0 / n.max(1) as f64).clamp(14.0, 40.0);
     let (left, top) = (130.0, 60.0);
     let side = cell * n as f64;
-    let (w, h) = (left + side + 30.0, top + side + 120.0);
+    let bar_x = left + side + 60.0;
+    let (w, h) = (
+        (bar_x + 80.0).max(300.0),
+        (top + side + 120.0).max(top + 260.0),
+    );
     let mut svg = format!(
         r#"<svg xmlns="http://www.w3.org/2000/svg" width="{w:.0}" height="{h:.0}" viewBox="0 0 {w:.0} {h:.0}" font-family="sans-serif"><rect width="100%" height="100%" fill="white"/><text x="{:.1}" y="24" font-size="15" text-anchor="middle">{}</text>"#,
         w / 2.0,
         escape(title)
     );
-    let font = (cell * 0.45).clamp(7.0, 12.0);
+    if let Some(note) = note {
+        let _ = write!(
+            svg,
+            r##"<text x="{:.1}" y="44" font-size="12" text-anchor="middle" fill="#a33">{}</text>"##,
+            w / 2.0,
+            escape(note)
+        );
+    }
+    let shade = |f: f64| {
+        // White → the palette's blue.
+        let mix = |a: f64, b: f64| (a + (b - a) * f).round() as u8;
+        format!(
+            "#{:02x}{:02x}{:02x}",
+            mix(255.0, 0x2b as f64),
+            mix(255.0, 0x59 as f64),
+            mix(255.0, 0x8c as f64)
+        )
+    };
+    let font = (cell * 0.38).clamp(6.0, 11.0);
     for (i, row) in counts.iter().enumerate() {
         let total: usize = row.iter().sum();
         let y = top + i as f64 * cell;
@@ -141,27 +185,63 @@ pub fn confusion_figure(counts: &[Vec<usize>], class_names: &[String], title: &s
             } else {
                 c as f64 / total as f64
             };
-            // White → the palette's blue.
-            let mix = |a: f64, b: f64| (a + (b - a) * f).round() as u8;
             let x = left + j as f64 * cell;
             let _ = write!(
                 svg,
-                r##"<rect x="{x:.1}" y="{y:.1}" width="{cell:.1}" height="{cell:.1}" fill="#{:02x}{:02x}{:02x}" stroke="#ddd"/>"##,
-                mix(255.0, 0x2b as f64),
-                mix(255.0, 0x59 as f64),
-                mix(255.0, 0x8c as f64)
+                r##"<rect x="{x:.1}" y="{y:.1}" width="{cell:.1}" height="{cell:.1}" fill="{}" stroke="#ddd"/>"##,
+                shade(f)
             );
             if c > 0 {
                 let _ = write!(
                     svg,
-                    r#"<text x="{:.1}" y="{:.1}" font-size="{font:.1}" text-anchor="middle" fill="{}">{c}</text>"#,
+                    r#"<text x="{:.1}" y="{:.1}" font-size="{font:.1}" text-anchor="middle" fill="{}">{:.0}</text>"#,
                     x + cell / 2.0,
                     y + cell / 2.0 + font / 3.0,
-                    if f > 0.5 { "white" } else { "black" }
+                    if f > 0.5 { "white" } else { "black" },
+                    100.0 * f
                 );
             }
         }
+        let _ = write!(
+            svg,
+            r#"<text x="{:.1}" y="{:.1}" font-size="{font:.1}">n = {total}</text>"#,
+            left + side + 4.0,
+            y + cell / 2.0 + font / 3.0
+        );
     }
+    // Colour bar: the share of a row's samples, 0 at the bottom, 100 % at the top.
+    let bar_h = side.max(160.0);
+    for k in 0..50 {
+        let f = 1.0 - k as f64 / 50.0;
+        let _ = write!(
+            svg,
+            r#"<rect x="{bar_x:.1}" y="{:.1}" width="14" height="{:.2}" fill="{}"/>"#,
+            top + bar_h * k as f64 / 50.0,
+            bar_h / 50.0 + 0.3,
+            shade(f)
+        );
+    }
+    let _ = write!(
+        svg,
+        r##"<rect x="{bar_x:.1}" y="{top:.1}" width="14" height="{bar_h:.1}" fill="none" stroke="#999"/>"##
+    );
+    for pct in [0, 50, 100] {
+        let y = top + bar_h * (1.0 - pct as f64 / 100.0);
+        let _ = write!(
+            svg,
+            r#"<text x="{:.1}" y="{:.1}" font-size="10">{pct} %</text>"#,
+            bar_x + 18.0,
+            y + 3.5
+        );
+    }
+    let _ = write!(
+        svg,
+        r#"<text x="{:.1}" y="{:.1}" font-size="10" text-anchor="middle" transform="rotate(-90 {:.1} {:.1})">% of the true class (row)</text>"#,
+        bar_x + 60.0,
+        top + bar_h / 2.0,
+        bar_x + 60.0,
+        top + bar_h / 2.0
+    );
     for j in 0..n {
         let x = left + j as f64 * cell + cell / 2.0 + font / 3.0;
         let y = top + side + 6.0;
@@ -310,11 +390,28 @@ mod tests {
     #[test]
     fn confusion_figure_draws_one_cell_per_pair_and_prints_the_counts() {
         let names = vec!["a<b".to_owned(), "c".to_owned()];
-        let svg = confusion_figure(&[vec![3, 1], vec![0, 4]], &names, "t & u");
-        assert_eq!(svg.matches("<rect x=").count(), 4);
-        assert!(svg.contains(">3</text>") && svg.contains(">4</text>"));
+        let svg = confusion_figure(&[vec![3, 1], vec![0, 4]], &names, "t & u", None);
+        assert_eq!(svg.matches("<rect x=").count(), 4 + 50 + 1);
+        // Row percentages, the row totals and the colour bar's scale.
+        assert!(svg.contains(">75</text>") && svg.contains(">25</text>"));
+        assert!(svg.contains(">100</text>") && svg.contains(">n = 4</text>"));
+        assert!(svg.contains(">100 %</text>") && svg.contains(">0 %</text>"));
         // Empty cells print nothing; text is escaped.
         assert!(!svg.contains(">0</text>"));
         assert!(svg.contains("a&lt;b") && svg.contains("t &amp; u"));
+        let quick = confusion_figure(&[vec![1, 1]], &names, "t", Some("2 test samples"));
+        assert!(quick.contains(">2 test samples</text>"));
+    }
+
+    #[test]
+    fn issue_15_count_axes_start_at_zero() {
+        let trains = MultiSpikeTrain::from_channels(vec![vec![0.1; 3], vec![0.2; 5]]).unwrap();
+        let spatial = spatial_chart(&trains, "s");
+        assert_eq!(spatial.y.range.map(|r| r.0), Some(0.0));
+        assert!(spatial.y.range.unwrap().1 >= 5.0);
+        assert_eq!(
+            temporal_chart(&trains, 0.1, "t").y.range.map(|r| r.0),
+            Some(0.0)
+        );
     }
 }

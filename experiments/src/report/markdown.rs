@@ -129,11 +129,15 @@ fn markdown_set(set: &SetReport, md: &mut String) {
         md.push_str(&afferent_table(set));
         md.push('\n');
     }
+    let shown: Vec<&str> = set.examples.iter().map(|(n, _)| n.as_str()).collect();
     let _ = write!(
         md,
-        "![spike trains](spike_trains_{name}.svg)\n\n*Spike trains of one sample per \
-         texture (rows: raster, spikes per taxel, spikes per taxel in the chosen Δt \
-         window).*\n\n"
+        "![spike trains](spike_trains_{name}.svg)\n\n*Spike trains of the first sample of {} \
+         of the {} classes — {} (rows: raster, spikes per taxel, spikes per taxel in the \
+         chosen Δt window).*\n\n",
+        shown.len(),
+        d.class_names.len(),
+        shown.join(", ")
     );
     md.push_str(if d.codings.iter().any(|c| c.split.is_none()) {
         "Confusion matrices (leave-one-out; the split was refused):\n\n"

@@ -75,7 +75,8 @@ fn write_set_files(dir: &Path, set: &SetReport, png: &PngRenderer) -> Result<(),
     write_figure(
         dir,
         &format!("bo_convergence_{name}"),
-        &panels(&bayes_charts(d), 3),
+        // Stacked: one panel per row stays readable when the figure is scaled to a page.
+        &panels(&bayes_charts(d), 1),
         png,
     )?;
     write_figure(
@@ -100,10 +101,32 @@ fn write_set_files(dir: &Path, set: &SetReport, png: &PngRenderer) -> Result<(),
                 tables::pct(e.accuracy.mean)
             );
             let file = format!("confusion_{name}_{}{suffix}", c.coding.key());
+            let note = set.quick.then(|| {
+                let per_class: Vec<usize> =
+                    e.confusion.counts.iter().map(|r| r.iter().sum()).collect();
+                let (lo, hi) = (
+                    per_class.iter().min().copied().unwrap_or(0),
+                    per_class.iter().max().copied().unwrap_or(0),
+                );
+                let n = if lo == hi {
+                    lo.to_string()
+                } else {
+                    format!("{lo}–{hi}")
+                };
+                format!(
+                    "--quick: only {n} test samples per class; one sample moves a row by {:.0} %",
+                    100.0 / lo.max(1) as f64
+                )
+            });
             write_figure(
                 dir,
                 &file,
-                &figures::confusion_figure(&e.confusion.counts, &r.class_names, &title),
+                &figures::confusion_figure(
+                    &e.confusion.counts,
+                    &r.class_names,
+                    &title,
+                    note.as_deref(),
+                ),
                 png,
             )?;
             write(

@@ -144,7 +144,9 @@ pub fn parameter_rows(set: &SetResult) -> Vec<ParameterRow> {
         ),
         row(
             "Van Rossum τ (ms)",
-            set.bayes.best_tau_s * 1e3,
+            // ms on the search's grid, rounded so it prints in its shortest form (35, not
+            // 35.00000000000001).
+            (set.bayes.best_tau_s * 1e3 * 1e9).round() / 1e9,
             paper::TAU_MS,
         ),
         row("Van Rossum cos θ", set.bayes.best_cos, paper::COS_THETA),

@@ -241,7 +241,10 @@ pub fn run_set(
             move || coding_distances(obs, coding, &parameters)
         };
 
-        progress.stage("intensive and spatial codings", 2);
+        progress.stage(
+            &format!("{name}: intensive and spatial codings (LOO, 80/20 split)"),
+            2,
+        );
         let intensive = score(
             CodingName::Intensive,
             String::new(),
@@ -259,12 +262,19 @@ pub fn run_set(
         )?;
         progress.finish();
 
-        progress.stage("Δt sweep 1…200 ms", 0);
         let max_window = config.max_window_ms.min(duration_ms);
+        progress.stage(
+            &format!("{name}: Δt sweep 1…{max_window} ms (LOO at each)"),
+            0,
+        );
         let (sweep, dt_sweep_time) = timed(|| dt_sweep(obs, labels, duration_ms, max_window, knn));
         let sweep = sweep?;
         progress.finish();
         let dt = sweep.best_window_ms;
+        progress.stage(
+            &format!("{name}: temporal coding, Δt = {dt} ms (LOO, 80/20 split)"),
+            0,
+        );
         let temporal = score(
             CodingName::Temporal,
             format!("Δt = {dt} ms"),
@@ -273,8 +283,9 @@ pub fn run_set(
             euclidean(CodingName::Temporal, Some(dt)),
         )?;
 
+        progress.finish();
         progress.stage(
-            "Bayesian optimisation of τ, cos θ",
+            &format!("{name}: Bayesian optimisation of τ, cos θ (epochs)"),
             config.bayes.epochs as u64,
         );
         let mut objective = VanRossumObjective::new(obs, labels, knn, config.vr_cache);
@@ -287,6 +298,10 @@ pub fn run_set(
         });
         let bayes = bayes?;
         progress.finish();
+        progress.stage(
+            &format!("{name}: spatiotemporal coding (LOO, 80/20 split)"),
+            0,
+        );
         let spatiotemporal = score(
             CodingName::Spatiotemporal,
             format!(
@@ -302,6 +317,7 @@ pub fn run_set(
                     .distances(bayes.best_cos)?)
             },
         )?;
+        progress.finish();
         Ok(SetResult {
             name: name.to_owned(),
             class_names: data.class_names().to_vec(),

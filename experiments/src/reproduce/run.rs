@@ -4,7 +4,7 @@
 use super::paper;
 use super::{PipelineConfig, SetResult, run_set};
 use crate::afferents::{AfferentConfig, AfferentModel, afferent_dataset};
-use crate::datasets::recorded::{RecordedError, list_recorded, load_recorded};
+use crate::datasets::recorded::{RecordedError, list_recorded, load_recorded, skipped_entries};
 use crate::datasets::simulated::{DatasetsError, TextureSet, load_or_simulate_with};
 use crate::error::ExperimentError;
 use crate::progress::Progress;
@@ -231,6 +231,24 @@ fn load_source(
                 .and_then(|d| d.file_name().map(|n| n.to_string_lossy().into_owned()))
                 .unwrap_or_else(|| "recorded".into());
             let files: usize = list_recorded(dir)?.iter().map(|(_, f)| f.len()).sum();
+            let skipped = skipped_entries(dir)?;
+            if !skipped.is_empty() {
+                let shown: Vec<String> = skipped
+                    .iter()
+                    .take(20)
+                    .map(|p| p.strip_prefix(dir).unwrap_or(p).display().to_string())
+                    .collect();
+                let more = match skipped.len().saturating_sub(shown.len()) {
+                    0 => String::new(),
+                    n => format!(", and {n} more"),
+                };
+                progress.note(&format!(
+                    "{name}: skipped {} entries that are not event files in a class folder \
+                     (read: .aedat .aedat3 .aedat4 .txt .csv): {}{more}",
+                    skipped.len(),
+                    shown.join(", ")
+                ));
+            }
             progress.stage(&format!("{name}: transducing event files"), files as u64);
             // The paper's transduction; the BA map starts empty, so a recording's first
             // events are judged like any others whatever its time origin.

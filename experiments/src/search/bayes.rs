@@ -106,7 +106,13 @@ pub struct BayesResult {
 
 fn grid(min: f64, max: f64, step: f64) -> Vec<f64> {
     let n = ((max - min) / step + 1e-9).floor() as usize + 1;
-    (0..n).map(|i| min + i as f64 * step).collect()
+    (0..n).map(|i| on_grid(min + i as f64 * step)).collect()
+}
+
+/// `x` rounded to 12 decimals, so that a grid point is the double nearest to its decimal value
+/// (0.01 + 18 × 0.005 is 0.1, not 0.09999999999999999) and prints in its shortest form.
+fn on_grid(x: f64) -> f64 {
+    (x * 1e12).round() / 1e12
 }
 
 fn check(config: &BayesConfig) -> Result<(), ExperimentError> {
@@ -369,6 +375,20 @@ impl<'a> VanRossumObjective<'a> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn issue_15_grid_points_print_as_their_decimal_values() {
+        let taus = grid(0.01, 0.1, 0.005);
+        assert_eq!(taus.len(), 19);
+        assert_eq!(taus[18].to_string(), "0.1");
+        assert_eq!((taus[18] * 1e3).to_string(), "100");
+        assert_eq!(taus[5].to_string(), "0.035");
+        assert!(
+            grid(0.0, 1.0, 0.01)
+                .iter()
+                .all(|c| c.to_string().len() <= 4)
+        );
+    }
 
     #[test]
     fn erfc_and_ei_known_values() {

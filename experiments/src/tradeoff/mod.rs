@@ -49,6 +49,14 @@ pub enum TradeoffError {
         /// What is allowed.
         expected: &'static str,
     },
+    /// A figure could not be rasterised to PNG.
+    #[error("cannot draw {path}")]
+    Png {
+        /// The PNG file.
+        path: PathBuf,
+        /// Why.
+        source: crate::report::png::PngError,
+    },
     /// A file or folder could not be written.
     #[error("cannot write {path}")]
     Io {
@@ -130,7 +138,8 @@ pub fn error_series(label: &str, color: usize, marker: Marker, points: Vec<(f64,
     }
 }
 
-/// Creates `dir` and writes a trade's `<stem>.csv`, `<stem>.md` and `<stem>.svg`.
+/// Creates `dir` and writes a trade's `<stem>.csv`, `<stem>.md`, `<stem>.svg` and `<stem>.png`
+/// (the figure rasterised as the report's figures are).
 pub fn write_trade(
     dir: &Path,
     stem: &str,
@@ -145,7 +154,15 @@ pub fn write_trade(
             (&format!("{stem}.md"), markdown),
             (&format!("{stem}.svg"), svg),
         ],
-    )
+    )?;
+    let path = dir.join(format!("{stem}.png"));
+    let png = crate::report::png::PngRenderer::new()
+        .render(svg, 1.5)
+        .map_err(|source| TradeoffError::Png {
+            path: path.clone(),
+            source,
+        })?;
+    neurotac_core::io::write(&path, png).map_err(|source| TradeoffError::Io { path, source })
 }
 
 /// Creates `dir` and writes each `(file name, text)` into it.

@@ -178,7 +178,7 @@ pub fn quick(config: &mut NeuronTradeoffConfig) {
     config.speed_neurons = 20_000;
 }
 
-/// Measures the sweep of `config` and writes `neurons.{csv,md,svg}` to `out`.
+/// Measures the sweep of `config` and writes `neurons.{csv,md,svg,png}` to `out`.
 pub fn report(
     config: &NeuronTradeoffConfig,
     out: &Path,
@@ -296,7 +296,7 @@ pub fn to_markdown(rows: &[NeuronTradeoffRow], speed_neurons: usize) -> String {
     let mut out = String::from("# Neuron simulation: speed ↔ accuracy\n\n");
     let _ = write!(
         out,
-        "Truth: LIF closed form (I = 1.04); Izhikevich RS (I = 10) by RK4 at 1 µs. Speed: {speed_neurons} neurons, one thread.\n\n"
+        "Truth: LIF closed form (I = 1.04); Izhikevich RS (I = 10) by RK4 at 1 µs. Speed: {speed_neurons} neurons for 100 steps on one thread, the fastest of three runs (a short run that stays in cache; `neurotac bench neurons` measures a 1 s run, 10 000 steps at dt = 0.1 ms, once, on every core, so its per-thread figure is lower on a loaded machine).\n\n"
     );
     out.push_str("## Pareto front (no other point with the right spike count is both faster and more accurate)\n\n");
     out.push_str(&pareto_table(rows));

@@ -150,7 +150,7 @@ pub fn measure(
     vr_tradeoff(data.observations(), duration_s, config)
 }
 
-/// [`measure`]s the sweep and writes `vr.{csv,md,svg}` to `out`.
+/// [`measure`]s the sweep and writes `vr.{csv,md,svg,png}` to `out`.
 pub fn report(
     data: &SpikeDataset,
     duration_s: Option<f64>,

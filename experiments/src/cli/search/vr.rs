@@ -1,5 +1,6 @@
 //! `neurotac search vr`: Bayesian optimisation of the spatiotemporal coding's (τ, cos θ).
 
+use crate::cli::args;
 use crate::cli::load_labelled;
 use anyhow::Context;
 use clap::Args;
@@ -14,35 +15,38 @@ pub struct VrArgs {
     #[arg(long)]
     input: PathBuf,
     /// Objective evaluations in all (the paper: 1000).
-    #[arg(long, default_value_t = 1000)]
+    #[arg(value_parser = args::positive_count, allow_negative_numbers = true, long, default_value_t = 1000)]
     epochs: usize,
     /// Random initial evaluations.
-    #[arg(long, default_value_t = 10)]
+    #[arg(value_parser = args::positive_count, allow_negative_numbers = true, long, default_value_t = 10)]
     initial: usize,
     /// Seed of the initial design.
     #[arg(long, default_value_t = 1)]
     seed: u64,
     /// Smallest τ (s).
-    #[arg(long, default_value_t = 0.010)]
+    #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long, default_value_t = 0.010)]
     tau_min: f64,
     /// Largest τ (s).
-    #[arg(long, default_value_t = 0.100)]
+    #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long, default_value_t = 0.100)]
     tau_max: f64,
     /// τ grid step (s).
-    #[arg(long, default_value_t = 0.001)]
+    #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long, default_value_t = 0.001)]
     tau_step: f64,
     /// cos θ grid step.
-    #[arg(long, default_value_t = 0.01)]
+    #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long, default_value_t = 0.01)]
     cos_step: f64,
     /// Neighbours.
-    #[arg(long, default_value_t = 4)]
+    #[arg(value_parser = args::positive_count, allow_negative_numbers = true, long, default_value_t = 4)]
     k: usize,
     /// LL²/SP² matrices kept in memory (one per τ; 16 N² doubles each… times 2).
-    #[arg(long, default_value_t = 16)]
-    cache: usize,
+    #[arg(value_parser = args::count, allow_negative_numbers = true, long, default_value_t = 16)]
+    matrix_cache: usize,
     /// Write the convergence trace (JSON) here.
     #[arg(long)]
     trace: Option<PathBuf>,
+    /// Replace existing output files (without it, an existing output is refused).
+    #[arg(long)]
+    force: bool,
     /// Print one JSON object instead of text.
     #[arg(long)]
     json: bool,
@@ -51,6 +55,7 @@ pub struct VrArgs {
 pub fn run(args: VrArgs) -> anyhow::Result<()> {
     if let Some(trace) = &args.trace {
         neurotac_core::io::check_distinct(&args.input, trace)?;
+        crate::cli::refuse_existing([trace.as_path()], args.force)?;
     }
     let data = load_labelled(&args.input)?;
     let config = BayesConfig {
@@ -67,7 +72,7 @@ pub fn run(args: VrArgs) -> anyhow::Result<()> {
         data.observations(),
         data.labels(),
         Knn::new(args.k)?,
-        args.cache,
+        args.matrix_cache,
     );
     let (result, timing) =
         timed(|| bayes_optimise(&config, |i, tau, cos| objective.accuracy(i, tau, cos)));
@@ -92,8 +97,8 @@ pub fn run(args: VrArgs) -> anyhow::Result<()> {
         100.0 * result.best_value
     );
     println!(
-        "{} Van Rossum matrices computed (one per τ visited, cache {}); {timing}",
-        objective.matrices_computed, args.cache
+        "{} Van Rossum matrices computed (one per τ visited, matrix cache {}); {timing}",
+        objective.matrices_computed, args.matrix_cache
     );
     let mut last = f64::NEG_INFINITY;
     println!("  epoch   τ (s)  cos θ  best accuracy");

@@ -18,6 +18,9 @@ pub struct AllArgs {
     /// minute).
     #[arg(long)]
     quick: bool,
+    /// Replace existing output files (without it, an existing output is refused).
+    #[arg(long)]
+    force: bool,
     /// Spike dataset for the Van Rossum trade (default: a seeded synthetic one, 100 samples of
     /// 49 taxels over 4.5 s; 30 with --quick).
     #[arg(long)]
@@ -25,6 +28,7 @@ pub struct AllArgs {
 }
 
 pub fn run(args: AllArgs) -> anyhow::Result<()> {
+    crate::cli::refuse_existing([args.out.as_path()], args.force)?;
     let config = TradeoffAllConfig::new(args.quick);
     let data = match &args.vr_input {
         Some(path) => load_dataset(path)?,

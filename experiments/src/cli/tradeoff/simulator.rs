@@ -1,5 +1,6 @@
-//! `neurotac tradeoff simulator`: writes simulator.csv, simulator.md and simulator.svg.
+//! `neurotac tradeoff simulator`: writes simulator.csv, simulator.md, simulator.svg and simulator.png.
 
+use crate::cli::args;
 use clap::Args;
 use neurotac_experiments::tradeoff::simulator::{
     SimulatorTradeoffConfig, quick, report, to_markdown,
@@ -13,7 +14,7 @@ pub struct SimulatorArgs {
     #[arg(long, default_value = "tradeoff")]
     out: PathBuf,
     /// Slides per texture (flat plate and 5 mm grid).
-    #[arg(long, default_value_t = 3)]
+    #[arg(value_parser = args::positive_count, allow_negative_numbers = true, long, default_value_t = 3)]
     trials: usize,
     /// Seed.
     #[arg(long, default_value_t = 1)]
@@ -24,9 +25,13 @@ pub struct SimulatorArgs {
     /// One slide per texture and three tolerances (a few seconds).
     #[arg(long)]
     quick: bool,
+    /// Replace existing output files (without it, an existing output is refused).
+    #[arg(long)]
+    force: bool,
 }
 
 pub fn run(args: SimulatorArgs) -> anyhow::Result<()> {
+    crate::cli::refuse_existing([args.out.join("simulator.csv").as_path()], args.force)?;
     let mut config = SimulatorTradeoffConfig {
         trials: args.trials,
         seed: args.seed,
@@ -43,7 +48,7 @@ pub fn run(args: SimulatorArgs) -> anyhow::Result<()> {
     let rows = report(&config, &args.out)?;
     println!("{}", to_markdown(&rows, &config));
     println!(
-        "{} tolerances in {:.1} s → {}/simulator.{{csv,md,svg}}",
+        "{} tolerances in {:.1} s → {}/simulator.{{csv,md,svg,png}}",
         rows.len(),
         start.elapsed().as_secs_f64(),
         args.out.display()

@@ -1,6 +1,7 @@
 //! `neurotac tradeoff vr`: the trace-sampled Van Rossum distance (traces advanced at step dt by
 //! the graph's synapse filter) against the exact one, as dt shrinks.
 
+use crate::cli::args;
 use crate::cli::load_dataset;
 use clap::Args;
 use neurotac_experiments::tradeoff::vr::{VrTradeoffConfig, measure};
@@ -12,23 +13,24 @@ pub struct VrArgs {
     #[arg(long)]
     input: PathBuf,
     /// Kernel time constant τ (s).
-    #[arg(long, default_value_t = 0.076)]
+    #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long, default_value_t = 0.076)]
     tau: f64,
     /// cos θ in [0, 1].
-    #[arg(long, default_value_t = 0.4)]
+    #[arg(value_parser = args::unit_interval, allow_negative_numbers = true, long, default_value_t = 0.4)]
     cos: f64,
     /// Time steps to try (s), comma-separated.
     #[arg(
+        value_parser = args::positive_f64, allow_negative_numbers = true,
         long,
         value_delimiter = ',',
         default_value = "0.01,0.005,0.002,0.001,0.0005"
     )]
     dts: Vec<f64>,
     /// Use only the first N samples (the sampled matrices cost N²·steps).
-    #[arg(long, default_value_t = 100)]
+    #[arg(value_parser = args::positive_count, allow_negative_numbers = true, long, default_value_t = 100)]
     samples: usize,
     /// Sample duration (s, whole ms); default: meta.duration_s, else one ms past the latest spike.
-    #[arg(long)]
+    #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long)]
     duration: Option<f64>,
     /// Print one JSON object instead of a table.
     #[arg(long)]

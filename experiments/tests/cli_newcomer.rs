@@ -1,0 +1,234 @@
+//! Issue 15, what a newcomer trips over: numeric flags refused at parse time in the user's
+//! terms, one overwrite rule (refuse without --force), one cache, PNG beside every figure.
+
+mod common;
+use common::neurotac;
+use std::path::Path;
+
+fn s(p: &Path) -> &str {
+    p.to_str().unwrap()
+}
+
+#[test]
+fn issue_15_numeric_flags_are_refused_before_any_work_with_the_flag_named() {
+    for (args, flag, says) in [
+        (
+            &["reproduce", "--quick", "--epochs", "0"][..],
+            "--epochs",
+            "at least 1",
+        ),
+        (
+            &["simulate", "check", "--trials", "0"][..],
+            "--trials",
+            "at least 1",
+        ),
+        (&["demo", "--taxels", "0"][..], "--taxels", "at least 1"),
+        (&["bench", "neurons", "--n", "0"][..], "--n", "at least 1"),
+        (
+            &["bench", "neurons", "--duration", "-1"][..],
+            "--duration",
+            "greater than 0",
+        ),
+        (
+            &["demo", "--duration", "-1"][..],
+            "--duration",
+            "greater than 0",
+        ),
+        (&["demo", "--rate-hz", "nan"][..], "--rate-hz", "finite"),
+        (
+            &["synth", "--output", "x.json", "--samples", "-3"][..],
+            "--samples",
+            "at least 1",
+        ),
+        (
+            &[
+                "classify",
+                "--input",
+                "x",
+                "--coding",
+                "spatial",
+                "--test-fraction",
+                "1.5",
+            ][..],
+            "--test-fraction",
+            "between 0 and 1",
+        ),
+        (
+            &["search", "dt", "--input", "x", "--k", "zero"][..],
+            "--k",
+            "not a whole number",
+        ),
+    ] {
+        let start = std::time::Instant::now();
+        let (ok, stdout, stderr) = neurotac(args);
+        assert!(!ok, "{args:?} was accepted: {stdout}");
+        assert!(
+            stderr.contains(flag) && stderr.contains(says),
+            "{args:?}: {stderr}"
+        );
+        assert!(
+            !stderr.contains("unexpected argument"),
+            "{args:?}: {stderr}"
+        );
+        // Refused at parse time: no simulation ran (that takes many seconds).
+        assert!(start.elapsed().as_secs() < 20, "{args:?} did work first");
+    }
+}
+
+#[test]
+fn issue_15_writing_commands_refuse_an_existing_output_without_force() {
+    let dir = tempfile::tempdir().unwrap();
+    let data = dir.path().join("d.json");
+    let synth = |force: bool| {
+        let mut args = vec![
+            "synth",
+            "--output",
+            s(&data),
+            "--samples",
+            "12",
+            "--classes",
+            "3",
+        ];
+        args.extend(force.then_some("--force"));
+        neurotac(&args)
+    };
+    assert!(synth(false).0);
+    let before = std::fs::read(&data).unwrap();
+    let (ok, _, stderr) = synth(false);
+    assert!(
+        !ok && stderr.contains("already exists (use --force to replace it)"),
+        "{stderr}"
+    );
+    assert_eq!(
+        std::fs::read(&data).unwrap(),
+        before,
+        "refused, yet written"
+    );
+    assert!(synth(true).0);
+
+    let matrix = dir.path().join("m.json");
+    let distances = |force: bool| {
+        let mut args = vec!["distances", "--input", s(&data), "--metric", "euclidean"];
+        args.extend(["--coding", "spatial", "--output", s(&matrix)]);
+        args.extend(force.then_some("--force"));
+        neurotac(&args)
+    };
+    assert!(distances(false).0);
+    let (ok, _, stderr) = distances(false);
+    assert!(!ok && stderr.contains("m.json already exists"), "{stderr}");
+    assert!(distances(true).0);
+}
+
+#[test]
+fn issue_15_simulate_shares_the_reproduce_cache_and_refuses_to_overwrite() {
+    let dir = tempfile::tempdir().unwrap();
+    let (out, cache) = (dir.path().join("out"), dir.path().join("cache"));
+    let simulate = |force: bool| {
+        let mut cmd = std::process::Command::new(env!("CARGO_BIN_EXE_neurotac"));
+        cmd.args([
+            "simulate",
+            "--set",
+            "artificial",
+            "--trials",
+            "1",
+            "--threads",
+            "1",
+        ])
+        .args(["--out", s(&out)])
+        .args(force.then_some("--force"))
+        .env("NEUROTAC_CACHE", &cache);
+        let o = cmd.output().unwrap();
+        (
+            o.status.success(),
+            String::from_utf8_lossy(&o.stderr).into_owned(),
+        )
+    };
+    let (ok, stderr) = simulate(false);
+    assert!(ok, "{stderr}");
+    // The default cache is the shared one ($NEUROTAC_CACHE here), not `<out>/cache`.
+    assert!(!out.join("cache").exists());
+    let cached: Vec<_> = std::fs::read_dir(&cache).unwrap().collect();
+    assert_eq!(cached.len(), 1, "one cached dataset");
+    let (ok, stderr) = simulate(false);
+    assert!(
+        !ok && stderr.contains("artificial.bin already exists"),
+        "{stderr}"
+    );
+    let (ok, stderr) = simulate(true);
+    assert!(ok, "{stderr}");
+}
+
+#[test]
+fn issue_15_help_names_the_cache_and_search_vr_has_a_matrix_cache() {
+    let (ok, stdout, _) = neurotac(&["--help"]);
+    assert!(ok && stdout.contains("~/.cache/neurotac") && stdout.contains("--force"));
+    let (ok, stdout, _) = neurotac(&["simulate", "--help"]);
+    assert!(ok && stdout.contains("~/.cache/neurotac"), "{stdout}");
+    let (ok, stdout, _) = neurotac(&["search", "vr", "--help"]);
+    assert!(ok && stdout.contains("--matrix-cache") && !stdout.contains("--cache <"));
+}
+
+#[test]
+fn issue_15_demo_states_how_many_afferent_spikes_each_taxel_spike_makes() {
+    let (ok, stdout, stderr) = neurotac(&["demo", "--json"]);
+    assert!(ok, "{stderr}");
+    let v: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    let (taxel, afferent) = (
+        v["total_taxel_spikes"].as_f64().unwrap(),
+        v["total_afferent_spikes"].as_f64().unwrap(),
+    );
+    assert_eq!(
+        v["afferent_spikes_per_taxel_spike"].as_f64(),
+        Some(afferent / taxel)
+    );
+    // The README's numbers for the default demo (seed 1).
+    assert_eq!((taxel, afferent), (909.0, 1149.0));
+}
+
+#[test]
+fn issue_15_transduce_raster_is_written_as_svg_and_png() {
+    use neurotac_core::{Event, EventBuffer, Timestamp};
+    use neurotac_sensor::taxel::TaxelLayout;
+    let dir = tempfile::tempdir().unwrap();
+    // Every pin twitches every 30 ms: four neighbouring pixels 150 µs apart (the BA filter
+    // keeps an event whose neighbour fired shortly before).
+    let mut events = Vec::new();
+    for burst in 0..40i64 {
+        for (p, &(cx, cy)) in TaxelLayout::neurotac_default().centres().iter().enumerate() {
+            for (k, (dx, dy)) in [(0, 0), (1, 0), (0, 1), (-1, 0)].into_iter().enumerate() {
+                events.push(Event {
+                    t: Timestamp(burst * 30_000 + p as i64 * 40 + k as i64 * 150),
+                    x: (cx.round() as i32 + dx) as u16,
+                    y: (cy.round() as i32 + dy) as u16,
+                    polarity: k % 2 == 0,
+                });
+            }
+        }
+    }
+    events.sort_by_key(|e| e.t);
+    let events: EventBuffer = events.into_iter().collect();
+    let input = dir.path().join("e.csv");
+    neurotac_sensor::format::write_file(&input, &events).unwrap();
+    let (out, raster) = (dir.path().join("s.json"), dir.path().join("r.svg"));
+    let args = [
+        "transduce",
+        s(&input),
+        "--layout",
+        "default",
+        "--out",
+        s(&out),
+        "--raster",
+        s(&raster),
+    ];
+    let (ok, _, stderr) = neurotac(&args);
+    assert!(ok, "{stderr}");
+    assert!(
+        std::fs::read_to_string(&raster)
+            .unwrap()
+            .starts_with("<svg")
+    );
+    let png = std::fs::read(dir.path().join("r.png")).unwrap();
+    assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n");
+    let (ok, _, stderr) = neurotac(&args);
+    assert!(!ok && stderr.contains("already exists"), "{stderr}");
+}
