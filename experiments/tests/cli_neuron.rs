@@ -121,7 +121,10 @@ fn issue_14_values_beyond_the_precision_are_refused() {
     assert!(!ok && stderr.contains("overflows f32"), "{stderr}");
     // f64 holds them; `inf` stays refused.
     let (ok, _, stderr) = neurotac(&["neuron", "--current", "inf"]);
-    assert!(!ok && stderr.contains("must be a finite number"), "{stderr}");
+    assert!(
+        !ok && stderr.contains("must be a finite number"),
+        "{stderr}"
+    );
 }
 
 #[test]
