@@ -375,14 +375,27 @@ pub fn load_or_simulate_with(
     if trials == 0 {
         return Err(SimulationError::ZeroTrials.into());
     }
+    Ok(load_or_simulate_cached(set, trials, seed, params, cache_dir, progress)?.0)
+}
+
+/// [`load_or_simulate_with`], also saying whether the dataset came from the cache (the cache
+/// file is read once).
+fn load_or_simulate_cached(
+    set: TextureSet,
+    trials: usize,
+    seed: u64,
+    params: &SimParams,
+    cache_dir: &Path,
+    progress: &(dyn Fn() + Sync),
+) -> Result<(SpikeDataset, bool), DatasetsError> {
     params.validate()?;
     let path = cache_path(set, trials, seed, params, cache_dir);
     if let Some(cached) = read_cached(&path, &dataset_meta(set, trials, seed, params)) {
-        return Ok(cached);
+        return Ok((cached, true));
     }
     let simulated = simulate_set(set, trials, seed, params, &|_, _| Ok(()), progress)?;
     store(&simulated.dataset, cache_dir, &path)?;
-    Ok(simulated.dataset)
+    Ok((simulated.dataset, false))
 }
 
 /// The cached dataset at `path` if it exists, decodes and carries every entry of `meta`
@@ -485,11 +498,10 @@ pub fn generate(
     };
     std::fs::create_dir_all(out).map_err(io(out))?;
     let cache_file = cache_path(set, trials, seed, params, cache);
-    let from_cache = config.pixel_events.is_none() && SpikeDataset::load(&cache_file).is_ok();
     progress.stage(set.name(), (trials * set.textures().len()) as u64);
     let advance = || progress.advance(1);
-    let dataset = match &config.pixel_events {
-        None => load_or_simulate_with(set, trials, seed, params, cache, &advance)?,
+    let (dataset, from_cache) = match &config.pixel_events {
+        None => load_or_simulate_cached(set, trials, seed, params, cache, &advance)?,
         Some(files) => {
             let names = set.class_names();
             let dir = out.join("events");
@@ -514,7 +526,7 @@ pub fn generate(
             let simulated = simulate_set(set, trials, seed, params, &each, &advance)?;
             // Cache it too, so experiments find it.
             store(&simulated.dataset, cache, &cache_file)?;
-            simulated.dataset
+            (simulated.dataset, false)
         }
     };
     progress.finish();
