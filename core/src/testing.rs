@@ -56,6 +56,42 @@ pub fn shared_data(sub: &str) -> Option<PathBuf> {
     }
 }
 
+/// A global allocator that counts the allocations (and reallocations) of each thread, for
+/// "steps allocate nothing after warm-up" tests: declare
+/// `#[global_allocator] static GLOBAL: CountingAllocator = CountingAllocator;` in the test
+/// binary and read [`allocations_on_this_thread`] before and after the measured part.
+pub struct CountingAllocator;
+
+thread_local! {
+    static ALLOCATIONS: std::cell::Cell<u64> = const { std::cell::Cell::new(0) };
+}
+
+// SAFETY: every call is forwarded unchanged to the system allocator; only a thread-local
+// counter (which does not allocate) is updated besides.
+unsafe impl std::alloc::GlobalAlloc for CountingAllocator {
+    unsafe fn alloc(&self, layout: std::alloc::Layout) -> *mut u8 {
+        ALLOCATIONS.with(|a| a.set(a.get() + 1));
+        // SAFETY: forwarded unchanged to the system allocator.
+        unsafe { std::alloc::System.alloc(layout) }
+    }
+
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: std::alloc::Layout) {
+        // SAFETY: `ptr` came from `alloc` above with this layout.
+        unsafe { std::alloc::System.dealloc(ptr, layout) }
+    }
+
+    unsafe fn realloc(&self, ptr: *mut u8, layout: std::alloc::Layout, new_size: usize) -> *mut u8 {
+        ALLOCATIONS.with(|a| a.set(a.get() + 1));
+        // SAFETY: forwarded unchanged to the system allocator.
+        unsafe { std::alloc::System.realloc(ptr, layout, new_size) }
+    }
+}
+
+/// Allocations counted by [`CountingAllocator`] on this thread so far.
+pub fn allocations_on_this_thread() -> u64 {
+    ALLOCATIONS.with(std::cell::Cell::get)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
