@@ -54,16 +54,18 @@
 //!   bounds `dv/dt` on the way up, and even at that rate the rise takes more than two steps.
 //!
 //! A non-finite update of `v` or `u` is flagged too. The fused loop stays as lean as the step
-//! itself: it marks a spike from `v_old ≤ c` (rare in a healthy run) in the spike mask, keeps
-//! the step's start state and an integer maximum of `|v|`, `|u|` bits; the criterion above runs
-//! after the loop, for the marked neurons only. [`NeuronModel::check_divergence`] reports the first flagged step as
+//! itself: the state is double-buffered (a step reads the old state from one pair of buffers and
+//! writes the new one to the other), so the step's start state survives it at no cost, and the
+//! check runs after the loop for the neurons that spiked only (rare in a healthy run): their
+//! update is redone from the start state, a non-finite one is flagged, and so is a spike from
+//! `v_old ≤ c` that fails the criterion above. [`NeuronModel::check_divergence`] reports the first flagged step as
 //! [`ModelError::Diverged`] (`neurotac neuron --model izhikevich --current=-1e5` at 0.1 ms, or
 //! `--current 0 --dt 1e-2`, are such runs).
 
 use crate::integrate::{self, Integrator};
 use crate::population::{
-    BlockModel, BlockPopulation, BlockStep, DIVERGED_BIT, Drive, InitialPotential, check_param,
-    check_representable, for_each_spike, has_flags, unit_fraction,
+    BlockModel, BlockPopulation, BlockStep, Drive, InitialPotential, check_param,
+    check_representable, for_each_spike, unit_fraction,
 };
 use crate::real::Real;
 use neurotac_core::ModelError;
@@ -204,7 +206,8 @@ pub struct IzhikevichState<F> {
     /// 1 where the neuron spiked in the last step.
     spiked: Vec<u8>,
     /// `v` and `u` at the start of the last step, for the divergence check of its rare
-    /// suspicious spikes (module docs, Divergence).
+    /// suspicious spikes (module docs, Divergence). Double buffers, not copies: a step swaps
+    /// them with `v`, `u` and reads the old state from here, so keeping it costs no store.
     v_prev: Vec<F>,
     u_prev: Vec<F>,
 }
@@ -310,8 +313,12 @@ fn step_block_with<F: Real, const INTERPOLATE: bool>(
         v_prev,
         u_prev,
     } = s;
+    // The state at the start of the step moves to the `_prev` buffers; the loop reads it there
+    // and writes the new state over the buffers of the step before.
+    std::mem::swap(v, v_prev);
+    std::mem::swap(u, u_prev);
     let (v, u, spiked) = (&mut v[..n], &mut u[..n], &mut spiked[..n]);
-    let (v_prev, u_prev) = (&mut v_prev[..n], &mut u_prev[..n]);
+    let (v_prev, u_prev) = (&v_prev[..n], &u_prev[..n]);
     let (phi, u_at_spike) = if INTERPOLATE {
         (&mut phi[..n], &mut u_at_spike[..n])
     } else {
@@ -333,10 +340,8 @@ fn step_block_with<F: Real, const INTERPOLATE: bool>(
     let two_h = h + h;
     let zero = F::zero();
     let mut count = 0u32;
-    // Largest |v_raw|, |u_raw| seen, as bits: non-finite updates without a test per neuron.
-    let mut worst = F::Bits::default();
     for j in 0..n {
-        let (v_old, u_old) = (v[j], u[j]);
+        let (v_old, u_old) = (v_prev[j], u_prev[j]);
         let i = input(j);
         let (v_raw, u_raw) = update(v_old, u_old, i);
         // One compare + select each: anything not below the peak (NaN and +∞ included) becomes
@@ -346,16 +351,6 @@ fn step_block_with<F: Real, const INTERPOLATE: bool>(
         let u_new = if u_raw < u_max { u_raw } else { u_max };
         let u_new = if u_new > u_min { u_new } else { u_min };
         let spike = v_new >= v_peak;
-        // Divergence (module docs): a spike from at or below the reset is suspicious (rare: a
-        // healthy neuron climbs to the peak over several steps); whether g(v) could carry it
-        // there is decided after the loop, from the saved start of the step. A non-finite
-        // update is caught by the largest magnitude.
-        let suspicious = spike & (v_old <= c);
-        v_prev[j] = v_old;
-        u_prev[j] = u_old;
-        worst = worst
-            .max(v_raw.magnitude_bits())
-            .max(u_raw.magnitude_bits());
         if INTERPOLATE {
             let f = (v_peak - v_old) / (v_raw - v_old);
             phi[j] = if spike { f } else { F::one() };
@@ -365,32 +360,35 @@ fn step_block_with<F: Real, const INTERPOLATE: bool>(
         let u_reset = if u_reset < u_max { u_reset } else { u_max };
         v[j] = if spike { c } else { v_new };
         u[j] = if spike { u_reset } else { u_new };
-        // The flag rides in the mask byte and is collected once per block (`take_diverged`):
-        // a reduction here would cost the loop its unrolling.
-        spiked[j] = spike as u8 | if suspicious { DIVERGED_BIT } else { 0 };
+        spiked[j] = spike as u8;
         count += spike as u32;
     }
-    let mut diverged = u64::from(worst >= F::INFINITY_BITS);
-    if has_flags(spiked) {
-        for j in 0..n {
-            if spiked[j] & DIVERGED_BIT != 0 {
-                spiked[j] &= !DIVERGED_BIT;
-                let (v_old, u_old, i) = (v_prev[j], u_prev[j], input(j));
-                let (_, u_raw) = update(v_old, u_old, i);
-                let u_new = if u_raw < u_max { u_raw } else { u_max };
-                let u_new = if u_new > u_min { u_new } else { u_min };
-                // A spike from at or below the reset that g(v) cannot carry to the peak.
-                let u_lo = if u_new < u_old { u_new } else { u_old };
-                let q = i - u_lo + g_offset;
-                let dv = v_old - m;
-                let g_old = quad * dv * dv + q;
-                let g_peak = peak_rate + q;
-                let g_max = if g_old > g_peak { g_old } else { g_peak };
-                let trapped = (q <= zero) & ((v_old < m) | (g_old < zero));
-                let too_far = v_peak - v_old > two_h * g_max;
-                diverged += u64::from(trapped | too_far);
+    // Divergence (module docs), after the loop and for the spikes only (rare: keeping the
+    // fused loop free of it keeps its speed): the step is redone from its start state, still
+    // in the `_prev` buffers. A non-finite update always ends in a spike (v at the peak).
+    let mut diverged = 0u64;
+    if count > 0 {
+        for_each_spike(spiked, |j| {
+            let (v_old, u_old, i) = (v_prev[j], u_prev[j], input(j));
+            let (v_raw, u_raw) = update(v_old, u_old, i);
+            if !(v_raw.is_finite() && u_raw.is_finite()) {
+                diverged += 1;
+                return;
             }
-        }
+            if v_old > c {
+                return;
+            }
+            // A spike from at or below the reset that g(v) cannot carry to the peak.
+            let u_lo = if u_raw < u_old { u_raw } else { u_old };
+            let q = i - u_lo + g_offset;
+            let dv = v_old - m;
+            let g_old = quad * dv * dv + q;
+            let g_peak = peak_rate + q;
+            let g_max = if g_old > g_peak { g_old } else { g_peak };
+            let trapped = (q <= zero) & ((v_old < m) | (g_old < zero));
+            let too_far = v_peak - v_old > two_h * g_max;
+            diverged += u64::from(trapped | too_far);
+        });
     }
     BlockStep {
         spikes: count as u64,
@@ -424,6 +422,10 @@ impl<F: Real> Izhikevich<F> {
 }
 
 impl<F: Real> IzhikevichModel<F> {
+    /// Kept out of line: one function per integrator, whose fused loop gets the registers to
+    /// itself (inlined into one function with the other integrators' loops, its constants
+    /// spilled to the stack and it ran at ≈ 0.7× the speed).
+    #[inline(never)]
     fn step_with(
         k: &IzhikevichConstants<F>,
         integrator: Integrator,

@@ -43,10 +43,11 @@
 //! From `v < v_th` the solution approaches `v∞` monotonically, so it can reach `v_th` only if
 //! `v∞ ≥ v_th`. A step is flagged as diverged when a neuron spikes from `v_old < v_th` under a
 //! drive with `v∞ < v_th` (an explicit step overshooting, e.g. Euler with `dt > τ_m`), or when
-//! its update is not finite. The fused loop tests the spike only when `v∞ < v_th` is possible
-//! (under a constant drive it is decided once per block), marking it in the spike mask, and
-//! catches non-finite updates with an integer maximum of `|v|` bits, so the check costs the
-//! loop almost nothing; [`NeuronModel::check_divergence`] turns it into [`ModelError::Diverged`] naming the step.
+//! its update is not finite. Neither can happen when the step moves `v` monotonically towards
+//! `v∞` (the exact step always; Euler for `dt ≤ τ_m`, RK2 for `dt ≤ 2τ_m`, RK4 for
+//! `dt ≤ 2.78τ_m`), so the fused loop carries the check only for the other steps: it marks
+//! such a spike in the spike mask and ORs a non-finite flag of every update
+//! ([`Real::non_finite_flag`]); [`NeuronModel::check_divergence`] turns it into [`ModelError::Diverged`] naming the step.
 //!
 //! ## Closed form
 //! From `v_reset` under constant `I` with `v∞ > v_th`, the `k`-th spike is at
@@ -200,20 +201,20 @@ pub struct LifConstants<F> {
 
 /// Advances one block by one step: fused update, threshold, reset and refractory, writing the
 /// spike mask; returns the number of spikes and of flagged updates (module docs, Divergence).
-/// `update(v, v∞)` is the integrator.
+/// `update(v, v∞)` is the integrator; `guarded` is false when it contracts towards v∞
+/// ([`contracts`]), which leaves nothing to check.
 #[inline(always)]
 fn step_block<F: Real, const REFRACTORY: bool, const INTERPOLATE: bool>(
     s: &mut LifState<F>,
     drive: Drive<'_>,
     k: &LifConstants<F>,
     update: &impl Fn(F, F) -> F,
+    guarded: bool,
 ) -> BlockStep {
     match drive {
-        // Under a constant drive, `v∞ < v_th` holds for the whole block or for none of it: the
-        // loop checks for unreachable spikes only when it can have them.
         Drive::Constant(c) => {
             let v_inf = k.v_rest + F::of(c);
-            if v_inf < k.v_th {
+            if guarded {
                 step_block_with::<F, REFRACTORY, INTERPOLATE, true>(s, k, update, |_| v_inf)
             } else {
                 step_block_with::<F, REFRACTORY, INTERPOLATE, false>(s, k, update, |_| v_inf)
@@ -221,10 +222,29 @@ fn step_block<F: Real, const REFRACTORY: bool, const INTERPOLATE: bool>(
         }
         Drive::PerNeuron(x) => {
             let x = &x[..s.v.len()];
-            step_block_with::<F, REFRACTORY, INTERPOLATE, true>(s, k, update, |j| {
-                k.v_rest + F::of(x[j])
-            })
+            let v_inf = |j: usize| k.v_rest + F::of(x[j]);
+            if guarded {
+                step_block_with::<F, REFRACTORY, INTERPOLATE, true>(s, k, update, v_inf)
+            } else {
+                step_block_with::<F, REFRACTORY, INTERPOLATE, false>(s, k, update, v_inf)
+            }
         }
+    }
+}
+
+/// Whether one step of `integrator` with `h = dt/τ_m` moves `v` monotonically towards v∞:
+/// `v_new − v∞ = R(h)·(v_old − v∞)` with `0 ≤ R(h) ≤ 1` (exact: `R = e^(−h)`, always; Euler:
+/// `R = 1 − h`, h ≤ 1; RK2 and RK4: R is the Taylor polynomial of `e^(−h)` of degree 2 or 4,
+/// positive for every h, and ≤ 1 for h ≤ 2 and h ≤ 2.78). Then `v_new` lies between `v_old`
+/// and v∞, so a step can neither leave the finite range nor cross a threshold that both lie
+/// below: there is nothing to check.
+fn contracts(integrator: Integrator, h: f64) -> bool {
+    match integrator {
+        Integrator::Exact | Integrator::ExponentialEuler => true,
+        Integrator::Euler => h <= 1.0,
+        Integrator::Rk2 => h <= 2.0,
+        Integrator::Rk4 => h <= 2.78,
+        Integrator::Izhikevich2003 => false,
     }
 }
 
@@ -233,7 +253,7 @@ fn step_block_with<
     F: Real,
     const REFRACTORY: bool,
     const INTERPOLATE: bool,
-    const BELOW_THRESHOLD: bool,
+    const GUARDED: bool,
 >(
     s: &mut LifState<F>,
     k: &LifConstants<F>,
@@ -269,8 +289,9 @@ fn step_block_with<
     } = *k;
     let tiny = F::min_positive_value();
     let mut count = 0u32;
-    // Largest |v_raw| seen, as bits: non-finite updates without a test per neuron.
-    let mut worst = F::Bits::default();
+    // Whether an update left the finite range, without a test per neuron
+    // ([`Real::non_finite_flag`]).
+    let mut non_finite = F::Bits::default();
     for i in 0..n {
         let v_old = v[i];
         let v_target = v_inf(i);
@@ -294,8 +315,10 @@ fn step_block_with<
         let spike = v_new >= v_th;
         // Divergence: a spike from below threshold under a drive that cannot reach it, or an
         // update that left the finite range.
-        let unreachable = BELOW_THRESHOLD && spike & (v_target < v_th) & (v_old < v_th);
-        worst = worst.max(v_raw.magnitude_bits());
+        let unreachable = GUARDED && spike & (v_target < v_th) & (v_old < v_th);
+        if GUARDED {
+            non_finite = non_finite | v_raw.non_finite_flag();
+        }
         if INTERPOLATE {
             phi[i] = if spike {
                 (v_th - v_old) / (v_new - v_old)
@@ -318,7 +341,7 @@ fn step_block_with<
     }
     BlockStep {
         spikes: count as u64,
-        diverged: take_diverged(spiked) + u64::from(worst >= F::INFINITY_BITS),
+        diverged: take_diverged(spiked) + u64::from(F::any_non_finite(non_finite)),
     }
 }
 
@@ -356,17 +379,18 @@ impl<F: Real> LifModel<F> {
         d: Drive<'_>,
         update: impl Fn(F, F) -> F,
     ) -> BlockStep {
+        let guarded = !contracts(integrator, k.h.f64());
         match (k.refractory_steps > 0, interpolate) {
-            (false, false) => step_block::<F, false, false>(s, d, k, &update),
-            (true, false) => step_block::<F, true, false>(s, d, k, &update),
+            (false, false) => step_block::<F, false, false>(s, d, k, &update, guarded),
+            (true, false) => step_block::<F, true, false>(s, d, k, &update, guarded),
             (false, true) => {
-                let step = step_block::<F, false, true>(s, d, k, &update);
+                let step = step_block::<F, false, true>(s, d, k, &update, guarded);
                 if step.spikes > 0 {
                     finish_interpolated_spikes(s, d, k, integrator);
                 }
                 step
             }
-            (true, true) => step_block::<F, true, true>(s, d, k, &update),
+            (true, true) => step_block::<F, true, true>(s, d, k, &update, guarded),
         }
     }
 }

@@ -69,6 +69,19 @@ fn issue_14_lif_overshoot_below_threshold_is_a_divergence() {
     // The exact step at the same dt is right: it never fires.
     let mut exact = Lif::<f64>::new(1, LifParams::default());
     assert_eq!(exact.run_constant(0.9, 3e-2, 100).unwrap(), 0);
+    // Just past Euler's monotone range (dt = 1.5τ, still stable): 0 → 1.35 overshoots v∞ and
+    // the threshold, and is caught; the checks are compiled out only where a step cannot do so.
+    for precision_f32 in [false, true] {
+        let pop: &mut dyn neurotac_neurons::Population = if precision_f32 {
+            &mut Lif::<f32>::new(1, LifParams::default()).with_integrator(Integrator::Euler)
+        } else {
+            &mut Lif::<f64>::new(1, LifParams::default()).with_integrator(Integrator::Euler)
+        };
+        assert_eq!(diverged_step(pop, 0.9, 1.5e-2), Some(0));
+    }
+    // RK2 at 1.5τ moves monotonically (R = 1 − h + h²/2 = 0.625): healthy, never fires.
+    let mut rk2 = Lif::<f64>::new(1, LifParams::default()).with_integrator(Integrator::Rk2);
+    assert_eq!(rk2.run_constant(0.9, 1.5e-2, 100).unwrap(), 0);
 }
 
 #[test]
