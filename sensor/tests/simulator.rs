@@ -209,3 +209,29 @@ fn issue_12_slides_of_one_texture_share_their_mounting() {
     let d = run(q, "grid 2.5 mm", 2).info.draw;
     assert!((c.lateral_offset_mm - d.lateral_offset_mm).abs() > 10.0 * rp);
 }
+
+#[test]
+fn issue_12_each_slide_starts_its_pixels_anywhere_between_their_thresholds() {
+    // A pixel's memorised level is a per-slide draw strictly between its thresholds: a static
+    // scene without noise stays silent, while the same slide from fresh resets fires other
+    // pixels at other times, with a count of the same size.
+    let mut still = SimParams::default();
+    still.kinematics.distance_mm = 0.0;
+    let camera = Camera::new(&still, 11);
+    let mut sim = Simulator::new(still, &camera).unwrap();
+    let flat = sim.prepare(Texture::grid(0.0).unwrap());
+    assert!(sim.simulate_with(&flat, 0, 3, false).events.is_empty());
+
+    let slide = |random: bool| {
+        let mut p = short();
+        p.pixel.random_initial_reference = random;
+        let mut sim = Simulator::new(p, &camera).unwrap();
+        let flat = sim.prepare(Texture::grid(0.0).unwrap());
+        sim.simulate_with(&flat, 0, 3, false)
+    };
+    let (drawn, reset) = (slide(true), slide(false));
+    assert_ne!(drawn.events, reset.events);
+    let ratio = drawn.events.len() as f64 / reset.events.len() as f64;
+    assert!((0.75..=1.33).contains(&ratio), "{ratio}");
+    assert_eq!(drawn.events, slide(true).events);
+}

@@ -105,8 +105,8 @@ struct CheckArgs {
 
 #[derive(Debug, Args)]
 struct CalibrateArgs {
-    /// Slides of the anchor grid per bisection step.
-    #[arg(value_parser = args::positive_count, allow_negative_numbers = true, long, default_value_t = 10)]
+    /// Slides of the anchor grid per bisection step (each on a fresh mounting).
+    #[arg(value_parser = args::positive_count, allow_negative_numbers = true, long, default_value_t = 20)]
     trials: usize,
     /// Seed.
     #[arg(long, default_value_t = 1)]
@@ -244,11 +244,19 @@ fn check(a: CheckArgs) -> anyhow::Result<()> {
             s.bound
         );
     }
-    println!("spikes per taxel by grid (CV; signal events kept by the BA filter):");
-    for ((d, m, sd), (_, kept)) in report.grid_counts.iter().zip(&report.signal_kept) {
+    println!(
+        "spikes per taxel by grid: re-mounted slides (CV) | one mounting (CV) | signal events kept by the BA filter"
+    );
+    for (((d, m, sd), (_, m1, sd1)), (_, kept)) in report
+        .grid_counts
+        .iter()
+        .zip(&report.one_mounting_counts)
+        .zip(&report.signal_kept)
+    {
         println!(
-            "  {d:3.1} mm  {m:6.2} ± {sd:5.2}  ({:4.1} %; {:3.0} %)",
+            "  {d:3.1} mm  {m:6.2} ± {sd:5.2} ({:4.1} %) | {m1:6.2} ± {sd1:5.2} ({:4.1} %) | {:3.0} %",
             100.0 * sd / m,
+            100.0 * sd1 / m1,
             100.0 * kept
         );
     }

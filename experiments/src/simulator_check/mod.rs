@@ -1,8 +1,15 @@
 //! The simulator's 10 acceptance statistics (`shared/specs/simulator.md` §5), computed from
 //! simulated trials and printed with their bounds and PASS/FAIL by `neurotac simulate check`.
 //!
-//! Runs: the 11 grids × `trials` slides; 20 slides of the 0, 2.5 and 5 mm grids for the
-//! variability; the 5 mm grid and the flat plate at twice the speed; static recordings (no
+//! Runs: the 11 grids × `trials` slides, once as a dataset has them (every slide of a texture on
+//! its one mounting) and once re-mounted (every slide on a fresh mounting,
+//! [`calibration::remounted`]); 20 slides of the 0, 2.5 and 5 mm grids for the variability, both
+//! ways. The counts of statistics 1 and 2 are the re-mounted ones — the expected count of each
+//! grid, not one mounting's draw, which shifts a coarse grid's count by ≈ 5–10 % (a
+//! monotonicity test on one mounting per grid compares those draws) — and statistic 9 reports the
+//! variability from the spec's named sources (phase and offset re-drawn, threshold mismatch,
+//! noise) next to the within-mounting variability a dataset's class holds; the other
+//! statistics use the dataset's slides; the 5 mm grid and the flat plate at twice the speed; static recordings (no
 //! motion); an edge pass; a determinism re-run. Every run is seeded from the check's seed as a
 //! dataset would be ([`crate::datasets::trial_seed`]). The statistics compare with the paper's
 //! intensive counts (4.63 / 9.84 / 34.73 spikes per taxel), the three anchors of the three
@@ -74,8 +81,11 @@ pub struct Statistic {
 pub struct CheckReport {
     /// The 10 statistics.
     pub statistics: Vec<Statistic>,
-    /// Per grid: size (mm), mean and standard deviation of spikes per taxel.
+    /// Per grid: size (mm), mean and standard deviation of spikes per taxel over re-mounted
+    /// slides (the grid's expected count and its spread over mountings).
     pub grid_counts: Vec<(f64, f64, f64)>,
+    /// Per grid: the same over the slides of one mounting, as a dataset's class holds them.
+    pub one_mounting_counts: Vec<(f64, f64, f64)>,
     /// Per grid: share of its signal (pin) events the BA filter keeps (issue 12 item 6).
     pub signal_kept: Vec<(f64, f64)>,
     /// Trials simulated.
@@ -150,8 +160,7 @@ fn run_jobs(
 
 /// Number of trials [`simulator_check`] simulates with `config` (for a progress bar).
 pub fn check_trial_count(config: &CheckConfig) -> usize {
-    11 * config.trials
-        + 3 * config.variability_trials.saturating_sub(config.trials)
+    2 * (11 * config.trials + 3 * config.variability_trials.saturating_sub(config.trials))
         + 2 * config.trials
         + config.static_trials
 }
@@ -177,6 +186,7 @@ pub fn simulator_check(
         config.variability_trials.saturating_sub(n),
     ));
     let grids = run_jobs(&p, &camera, &jobs, progress)?;
+    let remounted = run_jobs(&calibration::remounted(&p), &camera, &jobs, progress)?;
     let mut fast = p;
     fast.kinematics.speed_mm_s *= 2.0;
     let fast_runs = run_jobs(
@@ -209,12 +219,16 @@ pub fn simulator_check(
             .collect()
     };
     let counts = |s: &[Summary]| s.iter().map(|x| x.spikes_per_taxel).collect::<Vec<_>>();
-    let grid_counts: Vec<(f64, f64, f64)> = (0..11)
-        .map(|c| {
-            let v = counts(&of(&grids, c, n));
-            (GRID_SIZES_MM[c], mean(v.iter().copied()), sd(&v))
-        })
-        .collect();
+    let count_table = |runs: &[Summary]| -> Vec<(f64, f64, f64)> {
+        (0..11)
+            .map(|c| {
+                let v = counts(&of(runs, c, n));
+                (GRID_SIZES_MM[c], mean(v.iter().copied()), sd(&v))
+            })
+            .collect()
+    };
+    let grid_counts = count_table(&remounted);
+    let one_mounting_counts = count_table(&grids);
     let m = |d: f64| {
         grid_counts
             .iter()
@@ -224,7 +238,7 @@ pub fn simulator_check(
     let mut stats = Vec::new();
 
     // 1. Flat-plate baseline and its breakdown.
-    let flats = of(&grids, flat, n);
+    let flats = of(&remounted, flat, n);
     let total = m(0.0);
     let burst = mean(flats.iter().map(|s| s.signal_burst));
     let steady = mean(flats.iter().map(|s| s.signal_steady));
@@ -242,7 +256,7 @@ pub fn simulator_check(
     // 2. Monotone in size.
     let (mut xs, mut ys) = (Vec::new(), Vec::new());
     for (c, &d) in GRID_SIZES_MM.iter().enumerate() {
-        for s in of(&grids, c, n) {
+        for s in of(&remounted, c, n) {
             xs.push(d);
             ys.push(s.spikes_per_taxel);
         }
@@ -488,22 +502,33 @@ pub fn simulator_check(
         pass: ratio8 >= 3.0 && involved >= 0.8 && drift < half_pitch,
     });
 
-    // 9. Variability over ≥ 20 trials.
-    let cv = |c: usize| {
-        let v = counts(&of(&grids, c, usize::MAX));
+    // 9. Variability over ≥ 20 trials: from the spec's sources (phase and offset re-drawn per
+    // slide, threshold mismatch, noise), and within one mounting (a dataset's class).
+    let cv = |runs: &[Summary], c: usize| {
+        let v = counts(&of(runs, c, usize::MAX));
         (sd(&v) / mean(v.iter().copied()), v.len())
     };
-    let cvs = [(0.0, cv(flat)), (2.5, cv(mid)), (5.0, cv(coarse))];
+    let sizes = [(0.0, flat), (2.5, mid), (5.0, coarse)];
+    let across: Vec<(f64, (f64, usize))> =
+        sizes.iter().map(|&(d, c)| (d, cv(&remounted, c))).collect();
+    let within: Vec<(f64, (f64, usize))> = sizes.iter().map(|&(d, c)| (d, cv(&grids, c))).collect();
+    let list = |cvs: &[(f64, (f64, usize))]| {
+        cvs.iter()
+            .map(|(d, (c, k))| format!("{d} mm {:.1} % ({k} trials)", 100.0 * c))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
     stats.push(Statistic {
         number: 9,
         name: "trial-to-trial variability",
-        measured: cvs
-            .iter()
-            .map(|(d, (c, k))| format!("{d} mm CV {:.1} % ({k} trials)", 100.0 * c))
-            .collect::<Vec<_>>()
-            .join("; "),
-        bound: "CV 5–30 %".into(),
-        pass: cvs.iter().all(|(_, (c, _))| (0.05..=0.30).contains(c)),
+        measured: format!(
+            "CV re-mounted (phase, offset, thresholds, noise): {}; within one mounting: {}",
+            list(&across),
+            list(&within)
+        ),
+        bound: "CV 5–30 % from the spec's sources; within a mounting > 0 and ≤ 30 %".into(),
+        pass: across.iter().all(|(_, (c, _))| (0.05..=0.30).contains(c))
+            && within.iter().all(|(_, (c, _))| *c > 0.0 && *c <= 0.30),
     });
 
     // 10. Determinism.
@@ -539,8 +564,9 @@ pub fn simulator_check(
     Ok(CheckReport {
         statistics: stats,
         grid_counts,
+        one_mounting_counts,
         signal_kept,
-        trials_simulated: grids.len() + fast_runs.len() + static_runs.len() + 3,
+        trials_simulated: grids.len() + remounted.len() + fast_runs.len() + static_runs.len() + 3,
     })
 }
 
@@ -580,14 +606,20 @@ pub fn to_markdown(report: &CheckReport) -> String {
     }
     let _ = writeln!(
         s,
-        "\n| grid (mm) | spikes/taxel (mean ± sd) | CV | signal events kept by the BA filter |"
+        "\n| grid (mm) | spikes/taxel, re-mounted (mean ± sd) | CV | one mounting (mean ± sd) | CV | signal events kept by the BA filter |"
     );
-    let _ = writeln!(s, "|---|---|---|---|");
-    for ((d, m, sd), (_, kept)) in report.grid_counts.iter().zip(&report.signal_kept) {
+    let _ = writeln!(s, "|---|---|---|---|---|---|");
+    for (((d, m, sd), (_, m1, sd1)), (_, kept)) in report
+        .grid_counts
+        .iter()
+        .zip(&report.one_mounting_counts)
+        .zip(&report.signal_kept)
+    {
         let _ = writeln!(
             s,
-            "| {d:.1} | {m:.2} ± {sd:.2} | {:.1} % | {:.0} % |",
+            "| {d:.1} | {m:.2} ± {sd:.2} | {:.1} % | {m1:.2} ± {sd1:.2} | {:.1} % | {:.0} % |",
             100.0 * sd / m,
+            100.0 * sd1 / m1,
             100.0 * kept
         );
     }

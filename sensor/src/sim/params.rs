@@ -98,8 +98,9 @@ pub enum PeriodRule {
 pub struct ContactParams {
     /// Depth z of the elastic-layer low-pass T(k) = (1 + kz)·e^(−kz) (mm). Default 1.25 (§6).
     pub skin_depth_mm: f64,
-    /// **Calibrated** (2.5 mm grid → 9.84): the sag/conformity law. Default 6.548, from
-    /// `neurotac simulate calibrate --trials 6 --rounds 3 --seed 1` (9.89 spikes per taxel). The gap g₀ (mm) over which
+    /// **Calibrated** (2.5 mm grid → 9.84): the sag/conformity law. Default 7.012, from
+    /// `neurotac simulate calibrate` (20 re-mounted slides per step, seed 1: 9.77 spikes per
+    /// taxel). The gap g₀ (mm) over which
     /// the free skin, as a membrane under the nominal contact pressure q, sags by 1 mm; it sets
     /// the skin tension T = q·g₀²/(8 · 1 mm) of the contact solve ([`super::contact`]).
     pub gap_conformity_mm: f64,
@@ -109,8 +110,8 @@ pub struct ContactParams {
     /// Width of the contact edge in χ(r) = 1/(1 + e^((r − a)/w)) (mm). Default 0.8.
     pub contact_edge_mm: f64,
     /// **Calibrated** (5 mm grid → 34.73): effective lever G_lever turning skin slope into
-    /// pin-tip displacement (mm; spec range 0.4–0.6). Default 0.5974, from `neurotac simulate
-    /// calibrate --trials 6 --rounds 3 --seed 1` (34.21 spikes per taxel).
+    /// pin-tip displacement (mm; spec range 0.4–0.6). Default 0.6607, from `neurotac simulate
+    /// calibrate` (20 re-mounted slides per step, seed 1: 34.68 spikes per taxel).
     pub lever_mm: f64,
     /// Fraction g_pin of the surface shear seen at the pin tips. Default 0.5 (spec §2.2).
     pub pin_shear_gain: f64,
@@ -137,8 +138,9 @@ pub struct ContactParams {
     /// (spec §6 prototype; rubber on smooth polymer 0.5–1, Persson 2001).
     pub adhesion_mu_kinetic: f64,
     /// **Calibrated** (flat plate → 4.63): the onset snap. Static adhesive friction exceeds the
-    /// kinetic by this fraction: μ_s,adh = μ_k,adh·(1 + excess). Default 0.4453, from
-    /// `neurotac simulate calibrate --trials 6 --rounds 3 --seed 1` (4.66 spikes per taxel).
+    /// kinetic by this fraction: μ_s,adh = μ_k,adh·(1 + excess). Default 0.3984, from
+    /// `neurotac simulate calibrate` (20 re-mounted slides per step, seed 1: 4.62 spikes per
+    /// taxel).
     pub static_excess: f64,
     /// Loss tangent tan δ of the skin rubber: hysteresis friction μ_hys = tan δ·⟨|∂z_s/∂X|⟩
     /// over the conformed skin (Greenwood & Tabor 1958). Default 0.25 (photopolymer rubbers
@@ -170,10 +172,10 @@ impl Default for ContactParams {
     fn default() -> Self {
         Self {
             skin_depth_mm: 1.25,
-            gap_conformity_mm: 6.548,
+            gap_conformity_mm: 7.012,
             foundation_stiffness_n_mm3: 0.002,
             contact_edge_mm: 0.8,
-            lever_mm: 0.5974,
+            lever_mm: 0.6607,
             pin_shear_gain: 0.5,
             bulge: 0.1,
             shear_spread: 1.5,
@@ -184,7 +186,7 @@ impl Default for ContactParams {
             slip_time_s: 0.01,
             slip_inertia_s: 0.001,
             adhesion_mu_kinetic: 0.7,
-            static_excess: 0.4453,
+            static_excess: 0.3984,
             loss_tangent: 0.25,
             micro_slope_rms: 0.2,
             skin_modulus_mpa: 1.4,
@@ -251,6 +253,14 @@ pub struct PixelParams {
     pub latency_s: f64,
     /// Mean of the exponential latency jitter (s). Default 30 µs (spec: 10–50 µs).
     pub latency_jitter_s: f64,
+    /// Whether a slide starts with every pixel's memorised reference level anywhere between its
+    /// thresholds (`L̃ − L_ref ~ U(−C⁻_p, C⁺_p)`, drawn per slide and pixel) rather than exactly
+    /// at its current level. Default true: a DVS pixel stores the log intensity of its last
+    /// event (Lichtsteiner et al., JSSC 2008), and before a slide that was somewhere in the
+    /// previous slide, the arm's return and the rest, so how close each pixel starts to its next
+    /// event is a per-slide draw. `false` starts every pixel freshly reset (as v2e and ESIM do
+    /// at their first frame).
+    pub random_initial_reference: bool,
 }
 
 impl Default for PixelParams {
@@ -263,6 +273,7 @@ impl Default for PixelParams {
             bandwidth_hz: 300.0,
             latency_s: 15e-6,
             latency_jitter_s: 30e-6,
+            random_initial_reference: true,
         }
     }
 }
@@ -448,10 +459,26 @@ pub const PARAMETER_SOURCES: &[(&str, &str)] = &[
         "spec 3.3: v2e defaults (thresholds 0.2, sigma 0.03, refractory 0.5 ms, 300 Hz)",
     ),
     (
+        "pixel.random_initial_reference",
+        "Lichtsteiner et al. (JSSC 2008): a pixel memorises the log intensity of its last event; [A] uniform between the thresholds at a slide's start",
+    ),
+    (
         "noise",
         "spec 3.3: total background activity 0.1-0.3 Hz per pixel",
     ),
     ("solver", "numerical settings (neurotac tradeoff simulator)"),
+    (
+        "natural.friction",
+        "20 natural textures (sensor::sim::NATURAL_TEXTURES, spec 2.4): fabrics, wood and felt 0.25-0.9 as skin and silicone surrogates on textiles (Derler & Gerhardt 2012 review; Vilhena & Ramalho 2016; Temel et al. 2021: silicone skin the highest); smooth acrylic above 1 with stick-slip, as clean rubber on smooth glassy polymers (Schallamach 1971; Persson 2001); soft foam high (adhesion plus bulk hysteresis)",
+    ),
+    (
+        "natural.roughness",
+        "[A] spec 2.4: weave periods and amplitudes from yarn and loop sizes (0.25-6 mm); self-affine roughness with Hurst 0.5-0.8 (Persson 2001 surface spectra); fabric relief measured by profile (Mooneghi et al. 2014 review of fabric surface roughness, KES-FB4 SMD)",
+    ),
+    (
+        "natural.compliance",
+        "kappa = E_t/(E_t + E_eff), E_eff = 0.3 MPa (skin): rigid wood, acrylic, metal 1; woven fabrics 0.5-0.8 and knits, felt 0.3-0.5 (transverse compression under 1-50 kPa, KES-FB3); pile fabrics and PU foam 0.05-0.1 (E 0.01-0.05 MPa, Gibson & Ashby, Cellular Solids)",
+    ),
 ];
 
 /// What a value must satisfy.

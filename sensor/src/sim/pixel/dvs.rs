@@ -23,13 +23,25 @@ fn exp_neg(x: f32) -> f32 {
 }
 
 impl PixelModel {
-    pub(super) fn init_patch(&mut self, patch: usize) {
+    /// The state of the pixels of `patch` at the start of slide `seed`: settled on the rendered
+    /// image, with the reference level drawn between the thresholds
+    /// (`PixelParams::random_initial_reference`) from a hash of (slide, pixel), so it does not
+    /// depend on the order patches are simulated in.
+    pub(super) fn init_patch(&mut self, patch: usize, seed: u64) {
         let (start, end) = self.patches.ranges[patch];
+        let random = self.params.pixel.random_initial_reference;
         for j in start..end {
             let (l, rate) = self.render(j, patch);
             self.l_in[j] = l;
             self.l_filt[j] = l;
-            self.l_ref[j] = l;
+            self.l_ref[j] = if random {
+                // A 24-bit uniform in [0, 1): L̃ − L_ref = u·(C⁺ + C⁻) − C⁻.
+                let u = (mix64(seed ^ mix64(0x7265_6600 ^ j as u64)) >> 40) as f32
+                    / (1u32 << 24) as f32;
+                l + self.c_off[j] - u * (self.c_on[j] + self.c_off[j])
+            } else {
+                l
+            };
             self.rate_old[j] = rate;
             self.reset_until[j] = f64::NEG_INFINITY;
             self.last_out_us[j] = i64::MIN;

@@ -252,7 +252,7 @@ impl PixelModel {
                 continue;
             }
             self.update_pins(patch, motion, 0.0);
-            self.init_patch(patch);
+            self.init_patch(patch, seed);
             let mut t = 0.0;
             let mut max_rate = 0.0f32;
             while t < duration_s {
