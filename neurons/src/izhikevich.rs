@@ -331,14 +331,9 @@ fn step_block_with<F: Real, const INTERPOLATE: bool>(
         d,
         v_peak,
         v_floor,
-        h,
-        peak_rate,
         ..
     } = *k;
     let (u_max, u_min) = (F::max_value(), F::min_value());
-    let (m, g_offset, quad) = (F::of(V_NULLCLINE_MIN), F::of(G_AT_MIN_OFFSET), F::of(0.04));
-    let two_h = h + h;
-    let zero = F::zero();
     let mut count = 0u32;
     for j in 0..n {
         let (v_old, u_old) = (v_prev[j], u_prev[j]);
@@ -364,36 +359,56 @@ fn step_block_with<F: Real, const INTERPOLATE: bool>(
         count += spike as u32;
     }
     // Divergence (module docs), after the loop and for the spikes only (rare: keeping the
-    // fused loop free of it keeps its speed): the step is redone from its start state, still
-    // in the `_prev` buffers. A non-finite update always ends in a spike (v at the peak).
-    let mut diverged = 0u64;
-    if count > 0 {
-        for_each_spike(spiked, |j| {
-            let (v_old, u_old, i) = (v_prev[j], u_prev[j], input(j));
-            let (v_raw, u_raw) = update(v_old, u_old, i);
-            if !(v_raw.is_finite() && u_raw.is_finite()) {
-                diverged += 1;
-                return;
-            }
-            if v_old > c {
-                return;
-            }
-            // A spike from at or below the reset that g(v) cannot carry to the peak.
-            let u_lo = if u_raw < u_old { u_raw } else { u_old };
-            let q = i - u_lo + g_offset;
-            let dv = v_old - m;
-            let g_old = quad * dv * dv + q;
-            let g_peak = peak_rate + q;
-            let g_max = if g_old > g_peak { g_old } else { g_peak };
-            let trapped = (q <= zero) & ((v_old < m) | (g_old < zero));
-            let too_far = v_peak - v_old > two_h * g_max;
-            diverged += u64::from(trapped | too_far);
-        });
-    }
+    // fused loop free of it keeps its speed).
+    let diverged = if count > 0 {
+        diverged_spikes(k, spiked, v_prev, u_prev, update, input)
+    } else {
+        0
+    };
     BlockStep {
         spikes: count as u64,
         diverged,
     }
+}
+
+/// The spikes of the last step that diverged (module docs, Divergence): each is redone from
+/// its start state, still in the `_prev` buffers. A non-finite update always ends in a spike
+/// (v at the peak). Out of line, so the fused loop keeps its registers.
+#[inline(never)]
+fn diverged_spikes<F: Real>(
+    k: &IzhikevichConstants<F>,
+    spiked: &[u8],
+    v_prev: &[F],
+    u_prev: &[F],
+    update: &impl Fn(F, F, F) -> (F, F),
+    input: impl Fn(usize) -> F,
+) -> u64 {
+    let (m, g_offset, quad) = (F::of(V_NULLCLINE_MIN), F::of(G_AT_MIN_OFFSET), F::of(0.04));
+    let two_h = k.h + k.h;
+    let zero = F::zero();
+    let mut diverged = 0u64;
+    for_each_spike(spiked, |j| {
+        let (v_old, u_old, i) = (v_prev[j], u_prev[j], input(j));
+        let (v_raw, u_raw) = update(v_old, u_old, i);
+        if !(v_raw.is_finite() && u_raw.is_finite()) {
+            diverged += 1;
+            return;
+        }
+        if v_old > k.c {
+            return;
+        }
+        // A spike from at or below the reset that g(v) cannot carry to the peak.
+        let u_lo = if u_raw < u_old { u_raw } else { u_old };
+        let q = i - u_lo + g_offset;
+        let dv = v_old - m;
+        let g_old = quad * dv * dv + q;
+        let g_peak = k.peak_rate + q;
+        let g_max = if g_old > g_peak { g_old } else { g_peak };
+        let trapped = (q <= zero) & ((v_old < m) | (g_old < zero));
+        let too_far = k.v_peak - v_old > two_h * g_max;
+        diverged += u64::from(trapped | too_far);
+    });
+    diverged
 }
 
 /// The Izhikevich model's part of a [`BlockPopulation`] in precision `F`: parameters, block

@@ -756,7 +756,9 @@ mod tests {
             "{surfaces:?}"
         );
         assert!(
-            surfaces[..=5].windows(2).all(|w| snap(&w[1]) >= snap(&w[0])),
+            surfaces[..=5]
+                .windows(2)
+                .all(|w| snap(&w[1]) >= snap(&w[0])),
             "{surfaces:?}"
         );
         assert!(
