@@ -3,7 +3,7 @@
 //!
 //! Runs: the 11 grids × `trials` slides, once as a dataset has them (every slide of a texture on
 //! its one mounting) and once re-mounted (every slide on a fresh mounting,
-//! [`calibration::remounted`]); 20 slides of the 0, 2.5 and 5 mm grids for the variability, both
+//! [`remounted`]); 20 slides of the 0, 2.5 and 5 mm grids for the variability, both
 //! ways. The counts of statistics 1 and 2 are the re-mounted ones — the expected count of each
 //! grid, not one mounting's draw, which shifts a coarse grid's count by ≈ 5–10 % (a
 //! monotonicity test on one mounting per grid compares those draws) — and statistic 9 reports the
@@ -19,7 +19,7 @@
 mod calibration;
 mod trial;
 
-pub use calibration::{Calibration, CalibrationEntry, calibrate, grid_count};
+pub use calibration::{Calibration, CalibrationEntry, calibrate, grid_count, remounted};
 use trial::{Summary, analyse};
 
 use crate::datasets::{
@@ -186,7 +186,7 @@ pub fn simulator_check(
         config.variability_trials.saturating_sub(n),
     ));
     let grids = run_jobs(&p, &camera, &jobs, progress)?;
-    let remounted = run_jobs(&calibration::remounted(&p), &camera, &jobs, progress)?;
+    let remounted_runs = run_jobs(&remounted(&p), &camera, &jobs, progress)?;
     let mut fast = p;
     fast.kinematics.speed_mm_s *= 2.0;
     let fast_runs = run_jobs(
@@ -227,7 +227,7 @@ pub fn simulator_check(
             })
             .collect()
     };
-    let grid_counts = count_table(&remounted);
+    let grid_counts = count_table(&remounted_runs);
     let one_mounting_counts = count_table(&grids);
     let m = |d: f64| {
         grid_counts
@@ -238,7 +238,7 @@ pub fn simulator_check(
     let mut stats = Vec::new();
 
     // 1. Flat-plate baseline and its breakdown.
-    let flats = of(&remounted, flat, n);
+    let flats = of(&remounted_runs, flat, n);
     let total = m(0.0);
     let burst = mean(flats.iter().map(|s| s.signal_burst));
     let steady = mean(flats.iter().map(|s| s.signal_steady));
@@ -256,7 +256,7 @@ pub fn simulator_check(
     // 2. Monotone in size.
     let (mut xs, mut ys) = (Vec::new(), Vec::new());
     for (c, &d) in GRID_SIZES_MM.iter().enumerate() {
-        for s in of(&remounted, c, n) {
+        for s in of(&remounted_runs, c, n) {
             xs.push(d);
             ys.push(s.spikes_per_taxel);
         }
@@ -509,8 +509,10 @@ pub fn simulator_check(
         (sd(&v) / mean(v.iter().copied()), v.len())
     };
     let sizes = [(0.0, flat), (2.5, mid), (5.0, coarse)];
-    let across: Vec<(f64, (f64, usize))> =
-        sizes.iter().map(|&(d, c)| (d, cv(&remounted, c))).collect();
+    let across: Vec<(f64, (f64, usize))> = sizes
+        .iter()
+        .map(|&(d, c)| (d, cv(&remounted_runs, c)))
+        .collect();
     let within: Vec<(f64, (f64, usize))> = sizes.iter().map(|&(d, c)| (d, cv(&grids, c))).collect();
     let list = |cvs: &[(f64, (f64, usize))]| {
         cvs.iter()
@@ -566,7 +568,11 @@ pub fn simulator_check(
         grid_counts,
         one_mounting_counts,
         signal_kept,
-        trials_simulated: grids.len() + remounted.len() + fast_runs.len() + static_runs.len() + 3,
+        trials_simulated: grids.len()
+            + remounted_runs.len()
+            + fast_runs.len()
+            + static_runs.len()
+            + 3,
     })
 }
 
