@@ -1,17 +1,21 @@
 //! The simulator's 10 acceptance statistics (`shared/specs/simulator.md` §5), computed from
 //! simulated trials and printed with their bounds and PASS/FAIL by `neurotac simulate check`.
 //!
-//! Runs: the 11 grids × `trials` slides, once as a dataset has them (every slide of a texture on
-//! its one mounting) and once re-mounted (every slide on a fresh mounting,
-//! [`remounted`]); 20 slides of the 0, 2.5 and 5 mm grids for the variability, both
-//! ways. The counts of statistics 1 and 2 are the re-mounted ones — the expected count of each
-//! grid, not one mounting's draw, which shifts a coarse grid's count by ≈ 5–10 % (a
-//! monotonicity test on one mounting per grid compares those draws) — and statistic 9 reports the
-//! variability from the spec's named sources (phase and offset re-drawn, threshold mismatch,
-//! noise) next to the within-mounting variability a dataset's class holds; the other
-//! statistics use the dataset's slides; the 5 mm grid and the flat plate at twice the speed; static recordings (no
-//! motion); an edge pass; a determinism re-run. Every run is seeded from the check's seed as a
-//! dataset would be ([`crate::datasets::trial_seed`]). The statistics compare with the paper's
+//! Runs:
+//! - the 11 grids × `trials` slides, once as a dataset has them (every slide of a texture on its
+//!   one mounting) and once re-mounted (every slide on a fresh mounting, [`remounted`]). The
+//!   counts of statistics 1 and 2 are the re-mounted ones: each grid's expected count, not one
+//!   mounting's draw, which moves a coarse grid's count by ≈ 5–10 % (a monotonicity test on one
+//!   mounting per grid would compare those draws). The other statistics use the dataset's slides;
+//! - `variability_trials` slides of the 0, 2.5 and 5 mm grids, both ways, spread over the
+//!   [`RECORDING_SLIDES`] of a texture's recording (0, 5, …, 95) so that they see its slow friction
+//!   drift as a dataset's class does: statistic 9 reports the variability from the spec's named
+//!   sources (phase and offset re-drawn, threshold mismatch, noise) next to the within-mounting
+//!   variability a dataset's class holds;
+//! - the 5 mm grid and the flat plate at twice the speed; static recordings (no motion); an
+//!   edge pass; a determinism re-run.
+//!
+//! Every run is seeded from the check's seed as a dataset would be ([`crate::datasets::trial_seed`]). The statistics compare with the paper's
 //! intensive counts (4.63 / 9.84 / 34.73 spikes per taxel), the three anchors of the three
 //! calibrated parameters ([`SimParams::calibrated_parameters`], [`calibrate`]); every other
 //! number is a prediction.
@@ -31,6 +35,10 @@ use neurotac_sensor::sim::{
 use serde::Serialize;
 use std::fmt::Write;
 
+/// Slides per texture in the paper's artificial recording (100 per grid): the span the
+/// variability statistic samples.
+pub const RECORDING_SLIDES: usize = 100;
+
 /// The paper's intensive-code means (spikes per taxel) for the 0, 2.5 and 5 mm grids.
 pub const PAPER_COUNTS: [(f64, f64); 3] = PAPER_INTENSIVE_MEANS;
 
@@ -39,7 +47,8 @@ pub const PAPER_COUNTS: [(f64, f64); 3] = PAPER_INTENSIVE_MEANS;
 pub struct CheckConfig {
     /// Slides per grid (≥ 10 for statistic 2). Default 10.
     pub trials: usize,
-    /// Slides of the 0, 2.5 and 5 mm grids for the variability (≥ 20). Default 20.
+    /// Slides of the 0, 2.5 and 5 mm grids for the variability (≥ 20), spread over a texture's
+    /// recording of [`RECORDING_SLIDES`]. Default 20.
     pub variability_trials: usize,
     /// Static recordings. Default 4.
     pub static_trials: usize,
@@ -160,7 +169,7 @@ fn run_jobs(
 
 /// Number of trials [`simulator_check`] simulates with `config` (for a progress bar).
 pub fn check_trial_count(config: &CheckConfig) -> usize {
-    2 * (11 * config.trials + 3 * config.variability_trials.saturating_sub(config.trials))
+    2 * (11 * config.trials + 3 * config.variability_trials.max(2))
         + 2 * config.trials
         + config.static_trials
 }
@@ -177,16 +186,25 @@ pub fn simulator_check(
     let set = TextureSet::Artificial;
     let all: Vec<usize> = (0..11).collect();
     let (flat, mid, coarse) = (0usize, 5usize, 10usize);
-    let mut jobs = jobs_for(set, config.seed, &all, 0, n);
-    jobs.extend(jobs_for(
-        set,
-        config.seed,
-        &[flat, mid, coarse],
-        n,
-        config.variability_trials.saturating_sub(n),
-    ));
+    let jobs = jobs_for(set, config.seed, &all, 0, n);
     let grids = run_jobs(&p, &camera, &jobs, progress)?;
     let remounted_runs = run_jobs(&remounted(&p), &camera, &jobs, progress)?;
+    // The variability's slides are spread over a texture's recording, so they see its slow
+    // friction drift as a dataset's class does (slides 0, 5, …, 95 for 20 trials).
+    let v = config.variability_trials.max(2);
+    let stride = (RECORDING_SLIDES / v).max(1);
+    let spread: Vec<TrialJob> = [flat, mid, coarse]
+        .iter()
+        .flat_map(|&class| {
+            (0..v).map(move |k| TrialJob {
+                class,
+                trial: k * stride,
+                seed: crate::datasets::trial_seed(config.seed, set, class, k * stride),
+            })
+        })
+        .collect();
+    let spread_runs = run_jobs(&p, &camera, &spread, progress)?;
+    let spread_remounted = run_jobs(&remounted(&p), &camera, &spread, progress)?;
     let mut fast = p;
     fast.kinematics.speed_mm_s *= 2.0;
     let fast_runs = run_jobs(
@@ -511,9 +529,12 @@ pub fn simulator_check(
     let sizes = [(0.0, flat), (2.5, mid), (5.0, coarse)];
     let across: Vec<(f64, (f64, usize))> = sizes
         .iter()
-        .map(|&(d, c)| (d, cv(&remounted_runs, c)))
+        .map(|&(d, c)| (d, cv(&spread_remounted, c)))
         .collect();
-    let within: Vec<(f64, (f64, usize))> = sizes.iter().map(|&(d, c)| (d, cv(&grids, c))).collect();
+    let within: Vec<(f64, (f64, usize))> = sizes
+        .iter()
+        .map(|&(d, c)| (d, cv(&spread_runs, c)))
+        .collect();
     let list = |cvs: &[(f64, (f64, usize))]| {
         cvs.iter()
             .map(|(d, (c, k))| format!("{d} mm {:.1} % ({k} trials)", 100.0 * c))
