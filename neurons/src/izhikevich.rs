@@ -372,8 +372,10 @@ fn step_block_with<F: Real, const INTERPOLATE: bool>(
 }
 
 /// The spikes of the last step that diverged (module docs, Divergence): each is redone from
-/// its start state, still in the `_prev` buffers. A non-finite update always ends in a spike
-/// (v at the peak). Out of line, so the fused loop keeps its registers.
+/// its start state, still in the `_prev` buffers. A non-finite update ends in a spike (NaN and
+/// +∞ become the peak), except `v → −∞`, which lands on the floor; the next step from there
+/// overflows to a spike and is caught then. Out of line, so the fused loop keeps its
+/// registers.
 #[inline(never)]
 fn diverged_spikes<F: Real>(
     k: &IzhikevichConstants<F>,
