@@ -381,6 +381,7 @@ pub fn process_alive(pid: u32) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::testing::folder_names;
     #[cfg(unix)]
     use std::os::unix::fs::FileTypeExt;
 
@@ -393,15 +394,6 @@ mod tests {
         pid
     }
 
-    fn names(folder: &Path) -> Vec<String> {
-        let mut v: Vec<String> = std::fs::read_dir(folder)
-            .unwrap()
-            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-            .collect();
-        v.sort();
-        v
-    }
-
     #[test]
     fn issue_14_an_uncommitted_file_leaves_the_old_content_and_no_temporary() {
         let dir = tempfile::tempdir().unwrap();
@@ -411,17 +403,17 @@ mod tests {
             f.write_all(b"half").unwrap();
             assert!(!target.exists());
         }
-        assert_eq!(names(dir.path()), Vec::<String>::new());
+        assert_eq!(folder_names(dir.path()), Vec::<String>::new());
         write(&target, b"old").unwrap();
         {
             let mut f = AtomicFile::create(&target).unwrap();
             f.write_all(b"new but failed").unwrap();
         }
         assert_eq!(std::fs::read(&target).unwrap(), b"old");
-        assert_eq!(names(dir.path()), ["o.csv"]);
+        assert_eq!(folder_names(dir.path()), ["o.csv"]);
         write(&target, b"new").unwrap();
         assert_eq!(std::fs::read(&target).unwrap(), b"new");
-        assert_eq!(names(dir.path()), ["o.csv"]);
+        assert_eq!(folder_names(dir.path()), ["o.csv"]);
     }
 
     #[test]
@@ -447,7 +439,7 @@ mod tests {
         write(&link, "new").unwrap();
         assert!(link.is_symlink());
         assert_eq!(std::fs::read_to_string(&real).unwrap(), "new");
-        assert_eq!(names(dir.path()), ["link.csv", "real.csv"]);
+        assert_eq!(folder_names(dir.path()), ["link.csv", "real.csv"]);
         // A named pipe (as /dev/stdout may be) is written, not replaced.
         let fifo = dir.path().join("pipe.csv");
         let c_path = std::ffi::CString::new(fifo.to_str().unwrap()).unwrap();
@@ -460,7 +452,10 @@ mod tests {
         write(&fifo, "through the pipe").unwrap();
         assert_eq!(reader.join().unwrap(), "through the pipe");
         assert!(fifo.metadata().unwrap().file_type().is_fifo());
-        assert_eq!(names(dir.path()), ["link.csv", "pipe.csv", "real.csv"]);
+        assert_eq!(
+            folder_names(dir.path()),
+            ["link.csv", "pipe.csv", "real.csv"]
+        );
     }
 
     #[test]
@@ -498,19 +493,19 @@ mod tests {
         let new = AtomicDir::create(&target).unwrap();
         std::fs::write(new.path().join("new.md"), "new").unwrap();
         assert_eq!(
-            names(&target),
+            folder_names(&target),
             ["old.md"],
             "the old folder is intact until the commit"
         );
         new.commit().unwrap();
-        assert_eq!(names(&target), ["new.md"]);
-        assert_eq!(names(dir.path()), ["report"]);
+        assert_eq!(folder_names(&target), ["new.md"]);
+        assert_eq!(folder_names(dir.path()), ["report"]);
         // Dropped uncommitted: the partial folder goes, the target stays.
         let failed = AtomicDir::create(&target).unwrap();
         std::fs::write(failed.path().join("x.md"), "x").unwrap();
         drop(failed);
-        assert_eq!(names(dir.path()), ["report"]);
-        assert_eq!(names(&target), ["new.md"]);
+        assert_eq!(folder_names(dir.path()), ["report"]);
+        assert_eq!(folder_names(&target), ["new.md"]);
     }
 
     #[test]
@@ -531,7 +526,7 @@ mod tests {
             "the target exists, so a dead run's old folder is stale"
         );
         d.commit().unwrap();
-        assert_eq!(names(dir.path()), ["report"]);
+        assert_eq!(folder_names(dir.path()), ["report"]);
     }
 
     #[test]
@@ -547,9 +542,9 @@ mod tests {
         std::fs::create_dir(&partial).unwrap();
         let target = dir.path().join("report");
         let d = AtomicDir::create(&target).unwrap();
-        assert_eq!(names(&target), ["old.md"]);
+        assert_eq!(folder_names(&target), ["old.md"]);
         drop(d);
-        assert_eq!(names(dir.path()), ["report"]);
+        assert_eq!(folder_names(dir.path()), ["report"]);
     }
 
     #[test]

@@ -1,5 +1,5 @@
 //! Test support shared by the tests of every crate (hidden from the documentation): where the
-//! shared data lives, and what a test does when it is absent.
+//! shared data lives, and what a test does when it is absent; what a folder holds.
 //!
 //! The real recordings (`../shared/data/…` beside the repository, or the folder named by the
 //! environment variable `NEUROTAC_SHARED_DATA`) are not part of the repository. A test that
@@ -8,6 +8,22 @@
 //! a missing folder fails the test, so that a CI run never passes without having read the data.
 
 use std::path::{Path, PathBuf};
+
+/// The names in `folder` (hidden ones included), sorted: what a test expects a command to
+/// have left behind. Panics when the folder cannot be read (a test's precondition).
+pub fn folder_names(folder: &Path) -> Vec<String> {
+    let mut names: Vec<String> = std::fs::read_dir(folder)
+        .expect("readable folder")
+        .map(|e| {
+            e.expect("folder entry")
+                .file_name()
+                .to_string_lossy()
+                .into_owned()
+        })
+        .collect();
+    names.sort();
+    names
+}
 
 /// Environment variable naming the shared `data` folder (default: `../shared/data` beside the
 /// workspace).

@@ -4,7 +4,8 @@
 
 mod common;
 
-use common::neurotac;
+use common::{neurotac, small_reproduce};
+use neurotac_core::testing::folder_names;
 use neurotac_core::{Event, EventBuffer, Timestamp};
 use neurotac_sensor::format::{read_file, write_file};
 use std::path::Path;
@@ -19,16 +20,6 @@ fn recording() -> EventBuffer {
             polarity: i % 3 == 0,
         })
         .collect()
-}
-
-/// The names in a folder (hidden ones included), sorted.
-fn names(folder: &Path) -> Vec<String> {
-    let mut v: Vec<String> = std::fs::read_dir(folder)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .collect();
-    v.sort();
-    v
 }
 
 fn s(path: &Path) -> &str {
@@ -60,7 +51,7 @@ fn issue_14_a_reader_error_mid_stream_leaves_no_output_and_keeps_an_old_one() {
         assert!(stderr.contains("truncated"), "{stderr}");
         let (ok, _, stderr) = neurotac(&["filter", s(&cut), s(&out)]);
         assert!(!ok, "filter to .{ext} must fail: {stderr}");
-        assert_eq!(names(dir.path()), ["t.aedat"], ".{ext}");
+        assert_eq!(folder_names(dir.path()), ["t.aedat"], ".{ext}");
     }
     // An existing output keeps its old content.
     let out = dir.path().join("o.csv");
@@ -68,7 +59,7 @@ fn issue_14_a_reader_error_mid_stream_leaves_no_output_and_keeps_an_old_one() {
     assert!(!neurotac(&["convert", s(&cut), s(&out)]).0);
     assert!(!neurotac(&["filter", s(&cut), s(&out)]).0);
     assert_eq!(std::fs::read_to_string(&out).unwrap(), "old");
-    assert_eq!(names(dir.path()), ["o.csv", "t.aedat"]);
+    assert_eq!(folder_names(dir.path()), ["o.csv", "t.aedat"]);
 }
 
 #[test]
@@ -89,7 +80,7 @@ fn issue_14_the_shared_recording_cut_at_byte_474357_leaves_no_aedat4() {
     assert!(!ok);
     assert!(stderr.contains("truncated at byte 474352"), "{stderr}");
     assert!(!out.exists());
-    assert_eq!(names(dir.path()), ["t.aedat"]);
+    assert_eq!(folder_names(dir.path()), ["t.aedat"]);
 }
 
 #[test]
@@ -102,7 +93,7 @@ fn issue_14_a_writer_error_leaves_no_output() {
     let (ok, _, stderr) = neurotac(&["convert", s(&input), s(&out)]);
     assert!(!ok);
     assert!(stderr.contains("32-bit AEDAT 2.0 timestamp"), "{stderr}");
-    assert_eq!(names(dir.path()), ["big.csv"]);
+    assert_eq!(folder_names(dir.path()), ["big.csv"]);
 }
 
 #[test]
@@ -121,7 +112,7 @@ fn issue_14_transduce_with_a_raster_into_a_missing_folder_writes_nothing() {
     ]);
     assert!(!ok);
     assert!(stderr.contains("missing/r.svg"), "{stderr}");
-    assert_eq!(names(dir.path()), ["r.csv"]);
+    assert_eq!(folder_names(dir.path()), ["r.csv"]);
     // With both folders there, both outputs appear.
     let raster = dir.path().join("r.svg");
     let (ok, _, stderr) = neurotac(&[
@@ -134,7 +125,10 @@ fn issue_14_transduce_with_a_raster_into_a_missing_folder_writes_nothing() {
     ]);
     assert!(ok, "{stderr}");
     // The raster comes as SVG and PNG (issue 15).
-    assert_eq!(names(dir.path()), ["o.json", "r.csv", "r.png", "r.svg"]);
+    assert_eq!(
+        folder_names(dir.path()),
+        ["o.json", "r.csv", "r.png", "r.svg"]
+    );
 }
 
 #[test]
@@ -251,7 +245,7 @@ fn issue_14_a_corrupt_cache_is_simulated_again_with_a_one_line_warning() {
     let (ok, _, stderr) = simulate();
     assert!(ok, "{stderr}");
     let first = std::fs::read(out.join("artificial.bin")).unwrap();
-    let cached = names(&cache);
+    let cached = folder_names(&cache);
     assert_eq!(cached.len(), 1, "{cached:?}");
     let cached = cache.join(&cached[0]);
     let mut bytes = std::fs::read(&cached).unwrap();
@@ -283,22 +277,8 @@ fn issue_14_reproduce_removes_partial_folders_of_dead_runs() {
     let partial = dir.path().join(format!(".report.partial-{pid}"));
     std::fs::create_dir(&partial).unwrap();
     std::fs::write(partial.join("report.md"), "interrupted").unwrap();
-    let (ok, _, stderr) = neurotac(&[
-        "reproduce",
-        "--set",
-        "artificial",
-        "--trials",
-        "3",
-        "--epochs",
-        "12",
-        "--tau-step",
-        "0.03",
-        "--out",
-        s(&out),
-        "--cache",
-        s(&cache),
-    ]);
+    let (ok, _, stderr) = small_reproduce(&out, &cache, &[]);
     assert!(ok, "{stderr}");
-    assert_eq!(names(dir.path()), ["cache", "report"]);
+    assert_eq!(folder_names(dir.path()), ["cache", "report"]);
     assert!(out.join("report.md").exists());
 }

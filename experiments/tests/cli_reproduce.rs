@@ -2,7 +2,7 @@
 
 mod common;
 
-use common::neurotac;
+use common::{neurotac, small_reproduce};
 use neurotac_sensor::format::{Compression, Format, to_bytes};
 use std::path::{Path, PathBuf};
 
@@ -15,34 +15,11 @@ fn scratch(name: &str) -> PathBuf {
     dir
 }
 
-/// A small artificial run (3 slides per texture, 12 epochs) into `out`, caching datasets in
-/// `cache`.
-fn small_run(out: &Path, cache: &Path, extra: &[&str]) -> (bool, String, String) {
-    let (out, cache) = (out.to_str().unwrap(), cache.to_str().unwrap());
-    let mut args = vec![
-        "reproduce",
-        "--set",
-        "artificial",
-        "--trials",
-        "3",
-        "--epochs",
-        "12",
-        "--tau-step",
-        "0.03",
-        "--out",
-        out,
-        "--cache",
-        cache,
-    ];
-    args.extend_from_slice(extra);
-    neurotac(&args)
-}
-
 #[test]
 fn a_small_run_prints_the_tables_and_writes_the_whole_report() {
     let dir = scratch("small");
     let (out, cache) = (dir.join("report"), dir.join("cache"));
-    let (ok, stdout, stderr) = small_run(&out, &cache, &[]);
+    let (ok, stdout, stderr) = small_reproduce(&out, &cache, &[]);
     assert!(ok, "{stderr}");
     for needle in [
         "paper, Table 1",
@@ -96,7 +73,7 @@ fn a_small_run_prints_the_tables_and_writes_the_whole_report() {
 
     // The same seed gives the same numbers on one thread (the cached dataset is reused).
     let again = dir.join("again");
-    let (ok, stdout2, stderr) = small_run(&again, &cache, &["--threads", "1"]);
+    let (ok, stdout2, stderr) = small_reproduce(&again, &cache, &["--threads", "1"]);
     assert!(ok, "{stderr}");
     let table = |s: &str| -> String { s.lines().filter(|l| l.starts_with('|')).collect() };
     assert_eq!(table(&stdout), table(&stdout2));
@@ -110,7 +87,7 @@ fn a_small_run_prints_the_tables_and_writes_the_whole_report() {
 
     // An existing report folder is refused without --force, and kept as it was.
     let before = std::fs::read_to_string(out.join("report.json")).unwrap();
-    let (ok, _, stderr) = small_run(&out, &cache, &["--seed", "2"]);
+    let (ok, _, stderr) = small_reproduce(&out, &cache, &["--seed", "2"]);
     assert!(!ok);
     assert!(
         stderr.contains("already exists") && stderr.contains("--force"),
@@ -120,7 +97,7 @@ fn a_small_run_prints_the_tables_and_writes_the_whole_report() {
         std::fs::read_to_string(out.join("report.json")).unwrap(),
         before
     );
-    let (ok, _, stderr) = small_run(&out, &cache, &["--seed", "2", "--force"]);
+    let (ok, _, stderr) = small_reproduce(&out, &cache, &["--seed", "2", "--force"]);
     assert!(ok, "{stderr}");
     assert_ne!(
         std::fs::read_to_string(out.join("report.json")).unwrap(),
@@ -133,7 +110,7 @@ fn a_small_run_prints_the_tables_and_writes_the_whole_report() {
 fn the_afferent_variant_reports_accuracy_and_time_next_to_the_direct_pipeline() {
     let dir = scratch("afferents");
     let (out, cache) = (dir.join("report"), dir.join("cache"));
-    let (ok, stdout, stderr) = small_run(&out, &cache, &["--afferents", "lif"]);
+    let (ok, stdout, stderr) = small_reproduce(&out, &cache, &["--afferents", "lif"]);
     assert!(ok, "{stderr}");
     assert!(
         stdout.contains("| lif afferents: LOO (%) |") && stdout.contains("| direct: time (s) |"),

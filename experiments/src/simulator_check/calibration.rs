@@ -15,11 +15,10 @@
 //! chosen Δt / τ / cos θ, is a held-out prediction.
 
 use super::mean;
-use crate::datasets::{
-    DatasetsError, TextureSet, camera_seed, jobs_for, map_trials, prepare_textures,
-};
+use crate::datasets::{DatasetsError, TextureSet, TrialJob, camera_seed, jobs_for, map_trials};
 use neurotac_sensor::sim::{
-    CalibratedParameter, GRID_SIZES_MM, PAPER_INTENSIVE_MEANS, SimParams, taxel_spikes,
+    CalibratedParameter, GRID_SIZES_MM, PAPER_INTENSIVE_MEANS, PreparedTexture, SimParams, Texture,
+    taxel_spikes,
 };
 use serde::Serialize;
 
@@ -60,12 +59,17 @@ pub fn grid_count(
         .expect("one of the paper's grid sizes");
     let params = &remounted(params);
     let camera = neurotac_sensor::sim::Camera::new(params, camera_seed(seed));
-    let jobs = jobs_for(TextureSet::Artificial, seed, &[class], 0, trials.max(1));
-    let textures = prepare_textures(params, TextureSet::Artificial);
+    // Only the anchor grid is prepared (its contact solve changes with every fitted value);
+    // the jobs keep the dataset's seeds of class `class` and point at that one texture.
+    let texture = PreparedTexture::new(Texture::Grid { size_mm }, params);
+    let jobs: Vec<TrialJob> = jobs_for(TextureSet::Artificial, seed, &[class], 0, trials.max(1))
+        .into_iter()
+        .map(|job| TrialJob { class: 0, ..job })
+        .collect();
     let counts = map_trials(
         params,
         &camera,
-        &textures,
+        std::slice::from_ref(&texture),
         &jobs,
         &|_, trial| Ok(taxel_spikes(trial)?.spikes.total_spikes() as f64 / 49.0),
         progress,

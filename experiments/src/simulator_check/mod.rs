@@ -30,7 +30,8 @@ use crate::datasets::{
     DatasetsError, TextureSet, TrialJob, camera_seed, jobs_for, map_trials, prepare_textures,
 };
 use neurotac_sensor::sim::{
-    Camera, GRID_SIZES_MM, PAPER_INTENSIVE_MEANS, SimParams, Simulator, Texture, edge_pass,
+    Camera, GRID_SIZES_MM, PAPER_INTENSIVE_MEANS, PreparedTexture, SimParams, Simulator, Texture,
+    edge_pass,
 };
 use serde::Serialize;
 use std::fmt::Write;
@@ -146,18 +147,20 @@ fn within_factor(x: f64, reference: f64, factor: f64) -> bool {
     x >= reference / factor && x <= reference * factor
 }
 
+/// Simulates and analyses `jobs` on the grids `textures` (prepared once: they depend on the
+/// contact parameters and the press, not on speed, distance or mounting).
 fn run_jobs(
     params: &SimParams,
     camera: &Camera,
+    textures: &[PreparedTexture],
     jobs: &[TrialJob],
     progress: &(dyn Fn() + Sync),
 ) -> Result<Vec<Summary>, DatasetsError> {
-    let textures = prepare_textures(params, TextureSet::Artificial);
     let rule = params.contact.period_rule;
     map_trials(
         params,
         camera,
-        &textures,
+        textures,
         jobs,
         &|job, trial| {
             let period = textures[job.class].texture.grid_period_mm(rule);
@@ -186,9 +189,10 @@ pub fn simulator_check(
     let set = TextureSet::Artificial;
     let all: Vec<usize> = (0..11).collect();
     let (flat, mid, coarse) = (0usize, 5usize, 10usize);
+    let textures = prepare_textures(&p, set);
     let jobs = jobs_for(set, config.seed, &all, 0, n);
-    let grids = run_jobs(&p, &camera, &jobs, progress)?;
-    let remounted_runs = run_jobs(&remounted(&p), &camera, &jobs, progress)?;
+    let grids = run_jobs(&p, &camera, &textures, &jobs, progress)?;
+    let remounted_runs = run_jobs(&remounted(&p), &camera, &textures, &jobs, progress)?;
     // The variability's slides are spread over a texture's recording, so they see its slow
     // friction drift as a dataset's class does (slides 0, 5, …, 95 for 20 trials).
     let v = config.variability_trials.max(2);
@@ -203,13 +207,14 @@ pub fn simulator_check(
             })
         })
         .collect();
-    let spread_runs = run_jobs(&p, &camera, &spread, progress)?;
-    let spread_remounted = run_jobs(&remounted(&p), &camera, &spread, progress)?;
+    let spread_runs = run_jobs(&p, &camera, &textures, &spread, progress)?;
+    let spread_remounted = run_jobs(&remounted(&p), &camera, &textures, &spread, progress)?;
     let mut fast = p;
     fast.kinematics.speed_mm_s *= 2.0;
     let fast_runs = run_jobs(
         &fast,
         &camera,
+        &textures,
         &jobs_for(set, config.seed ^ 0xfa57, &[flat, coarse], 0, n),
         progress,
     )?;
@@ -220,6 +225,7 @@ pub fn simulator_check(
     let static_runs = run_jobs(
         &still,
         &camera,
+        &textures,
         &jobs_for(
             set,
             config.seed ^ 0x57a7,

@@ -532,6 +532,7 @@ pub fn write_file(path: &Path, events: &EventBuffer) -> Result<(), FormatError> 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use neurotac_core::testing::folder_names;
 
     #[test]
     fn detection_by_magic_and_first_line() {
@@ -594,16 +595,6 @@ mod tests {
         assert_eq!(reader.sensor_size(), Some((346, 260)));
     }
 
-    /// The names in a folder, sorted.
-    fn names(folder: &Path) -> Vec<String> {
-        let mut v: Vec<String> = std::fs::read_dir(folder)
-            .unwrap()
-            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-            .collect();
-        v.sort();
-        v
-    }
-
     #[test]
     fn issue_14_a_failed_or_unfinished_write_leaves_the_old_file_or_none() {
         let dir = tempfile::tempdir().unwrap();
@@ -622,12 +613,12 @@ mod tests {
             write_file(&aedat, &events),
             Err(FormatError::Unrepresentable { .. })
         ));
-        assert_eq!(names(dir.path()), Vec::<String>::new());
+        assert_eq!(folder_names(dir.path()), Vec::<String>::new());
         // An existing file keeps its content.
         std::fs::write(&aedat, b"old").unwrap();
         assert!(write_file(&aedat, &events).is_err());
         assert_eq!(std::fs::read(&aedat).unwrap(), b"old");
-        assert_eq!(names(dir.path()), ["o.aedat"]);
+        assert_eq!(folder_names(dir.path()), ["o.aedat"]);
         // Every format: nothing visible until `finish`, nothing left when dropped before it.
         for format in Format::ALL {
             let path = dir.path().join("x.out");
@@ -635,12 +626,12 @@ mod tests {
             let _ = writer.write(&events);
             assert!(!path.exists(), "{format:?}");
             drop(writer);
-            assert_eq!(names(dir.path()), ["o.aedat"], "{format:?}");
+            assert_eq!(folder_names(dir.path()), ["o.aedat"], "{format:?}");
         }
         let csv = dir.path().join("o.csv");
         write_file(&csv, &events).unwrap();
         assert_eq!(read_file(&csv).unwrap().0, events);
-        assert_eq!(names(dir.path()), ["o.aedat", "o.csv"]);
+        assert_eq!(folder_names(dir.path()), ["o.aedat", "o.csv"]);
     }
 
     #[test]
