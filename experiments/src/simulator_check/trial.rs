@@ -73,6 +73,10 @@ fn power_at(x: &[f64], dt: f64, f_hz: f64) -> f64 {
 /// Periodicity of a mean-removed rate series at fundamental `f0`: ACF lag of the highest peak
 /// in [0.6, 1.5]/f0, the fraction of 0.5–40 Hz power within ±5 % of k·f0 (k = 1…7), and the
 /// comb spacing maximising the summed power at its harmonics (within ±30 % of f0).
+///
+/// A band is never narrower than the series' frequency resolution ±1/T: a line of a T-second
+/// record spreads its power over that width, so for the 5 mm grid (f0 = 1.5 Hz, T ≈ 3.7 s of
+/// steady sliding) a ±5 % band (±0.075 Hz) would hold only part of its own fundamental.
 fn periodicity(x: &[f64], dt: f64, f0: f64) -> (Option<f64>, f64, f64) {
     let energy: f64 = x.iter().map(|v| v * v).sum();
     let lo = ((0.6 / f0) / dt) as usize;
@@ -97,11 +101,13 @@ fn periodicity(x: &[f64], dt: f64, f0: f64) -> (Option<f64>, f64, f64) {
     });
     let (mut inside, mut total) = (0.0, 0.0);
     let df = 0.01;
+    let resolution = 1.0 / (x.len() as f64 * dt);
     let mut f = 0.5;
     while f <= 40.0 {
         let p = power_at(x, dt, f);
         total += p;
-        if (1..=7).any(|k| (f - k as f64 * f0).abs() <= 0.05 * k as f64 * f0) {
+        let k_f0 = |k: i32| f64::from(k) * f0;
+        if (1..=7).any(|k| (f - k_f0(k)).abs() <= (0.05 * k_f0(k)).max(resolution)) {
             inside += p;
         }
         f += df;
