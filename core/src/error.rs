@@ -403,6 +403,15 @@ pub enum DistanceError {
         /// The spike error.
         source: SpikeError,
     },
+    /// A sample whose trace record cannot be made (a spike before 0, or a step that is not a
+    /// whole number of µs).
+    #[error("sample {sample}: trace record")]
+    TraceRecord {
+        /// Index of the sample.
+        sample: usize,
+        /// Why.
+        source: CodingError,
+    },
     /// Two matrices that must have the same shape (e.g. LL² and SP²) do not.
     #[error("{what}: shape {got:?}, expected {expected:?}")]
     Shape {

@@ -46,6 +46,7 @@ pub mod neuron_setup;
 pub mod peers;
 pub mod progress;
 pub mod protocols;
+pub mod readouts;
 pub mod report;
 pub mod reproduce;
 pub mod search;

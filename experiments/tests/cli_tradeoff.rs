@@ -41,15 +41,19 @@ fn bare_tradeoff_quick_writes_one_summary_with_three_pareto_tables() {
         }
     }
     assert_eq!(summary.matches("How to choose:").count(), 3);
-    // Both neuron models have a front; the exact Van Rossum distance is listed for reference.
+    // Both neuron models have a front; the Van Rossum front holds exact and/or trace rows.
     let neurons = table_rows(&summary, "## Neuron simulation");
     assert!(neurons.iter().any(|r| r.starts_with("| lif |")));
     assert!(neurons.iter().any(|r| r.starts_with("| izhikevich |")));
     let vr = table_rows(&summary, "## Van Rossum distance");
     assert!(
-        vr[0].starts_with("| exact (Markage) |") && vr.len() >= 2,
+        vr.iter()
+            .all(|r| r.starts_with("| exact |") || r.starts_with("| traces |")),
         "{vr:?}"
     );
+    let csv = std::fs::read_to_string(out.join("vr/vr.csv")).unwrap();
+    assert!(csv.starts_with("method,trace_dt_s,precision,wall_s,cpu_s,loo_accuracy,"));
+    assert_eq!(csv.lines().count(), 1 + 1 + 2, "{csv}");
     // Every simulator row shown is on the front, as the per-trade CSV says.
     let simulator = table_rows(&summary, "## Simulator step tolerance");
     assert!(

@@ -47,8 +47,11 @@ mod temporal;
 
 pub use intensive::IntensiveCoding;
 pub use spatial::SpatialCoding;
-pub use spatiotemporal::{SpatiotemporalCoding, TraceFeatures, trace_features_of_dataset};
-pub use temporal::{TemporalCoding, duration_ms_of, pooled_bin_counts, spike_bin_ms, whole_ms};
+pub use spatiotemporal::{SpatiotemporalCoding, TraceRecord};
+pub use temporal::{
+    TemporalCoding, duration_ms_of, pooled_bin_counts, spike_bin_ms, whole_ms,
+    write_window_features,
+};
 
 use crate::error::CodingError;
 use crate::graph::{Readout, ReadoutContext, StepView};
@@ -304,7 +307,7 @@ mod tests {
             MultiSpikeTrain::from_channels(vec![vec![0.015], vec![0.020, 0.050]]).unwrap(),
         ];
         let exact = VanRossum::new(tau).unwrap().matrices(&on_grid).unwrap();
-        let sampled = trace_sampled_matrices(&on_grid, tau, 1e-3, 0.1).unwrap();
+        let sampled = trace_sampled_matrices(&on_grid, tau, 1e-3).unwrap();
         for c in [0.0, 0.4, 1.0] {
             let (e, s) = (
                 exact.squared(c).unwrap()[[0, 1]],
@@ -334,7 +337,7 @@ mod tests {
         let errors: Vec<f64> = [1e-3, 1e-4, 1e-5]
             .iter()
             .map(|&dt| {
-                let s = trace_sampled_matrices(&off_grid, tau, dt, 0.3)
+                let s = trace_sampled_matrices(&off_grid, tau, dt)
                     .unwrap()
                     .squared(0.4)
                     .unwrap();

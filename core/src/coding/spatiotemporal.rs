@@ -3,54 +3,104 @@
 //! distance ([`crate::distance::van_rossum`]).
 //!
 //! The coding keeps the spike trains it sees, which is all the exact distance needs. With
-//! [`SpatiotemporalCoding::with_trace_sampling`] it also advances the traces at the network step
-//! with the graph's synapse filter (decay `e^{−dt/τ}`, flush below
-//! [`FLUSH_TO_ZERO`](crate::FLUSH_TO_ZERO), then `+1` per spike of the step, exactly as a
-//! projection delivers a spike) and samples them after every step: the trace-sampled variant.
+//! [`SpatiotemporalCoding::with_trace_record`] it also keeps each channel's synaptic trace as a
+//! network advancing it at a step `h` holds it: a [`TraceRecord`] of the steps at which the
+//! trace jumps and by how many spikes. That is the whole trace in bounded memory — one entry per
+//! step with a spike, not one value per channel and step — because between jumps the graph's
+//! synapse filter only decays it: with `q = e^{−h/τ}` its state after the jump at step `k_i` is
 //!
-//! # Trace-sampled features
-//! Between samples a trace decays exactly, so with `q = e^{−dt/τ}` the Van Rossum integral
-//! over one step is `(2/τ)∫_0^{dt} δ(t_k)²·e^{−2s/τ} ds = (1 − q²)·δ(t_k)²`, and the tail after
-//! the last sample `t_{K−1}` sums to `δ(t_K)²` with `δ(t_K) = q·δ(t_{K−1})`. The features are
-//! therefore `√(1 − q²)·f(t_k)` for `k < K` followed by the tail value `q·f(t_{K−1})`, and the
-//! squared Euclidean distance between two samples' features is their trace-sampled `D²`. It is
-//! exact when every spike lies on the step grid; otherwise a spike enters its trace at the start
-//! of its step, an error that vanishes as `dt → 0`.
+//! ```text
+//! F_i = F_{i−1}·q^{k_i − k_{i−1}} + c_i        (c_i spikes in step k_i)
+//! ```
+//!
+//! the recursion an [`ExpSynapse`](crate::ExpSynapse) runs step by step. The record does not
+//! depend on τ, so one run serves every τ of a search; [`crate::distance::trace_sampled`]
+//! turns records into Van Rossum distances of the traces sampled at `h`.
 
 use super::Coding;
 use crate::distance::check_tau;
-use crate::error::{CodingError, DistanceError, GraphError};
-use crate::graph::{
-    NetworkBuilder, NetworkConfig, ReadoutSource, SpikeArrayInput, decay_and_flush,
-};
+use crate::error::CodingError;
 use crate::spikes::MultiSpikeTrain;
-use rayon::prelude::*;
+use crate::time::s_to_us;
 
 /// The spike trains of a source (for the exact multi-unit Van Rossum distance) and, optionally,
-/// its exponential traces sampled at every network step.
+/// its synaptic traces at a step `h` as a [`TraceRecord`].
 #[derive(Debug, Clone, PartialEq)]
 pub struct SpatiotemporalCoding {
     tau_s: f64,
-    sample_traces: bool,
     n_channels: usize,
     spikes: Vec<(u32, f64)>,
-    /// Trace sampling: decay per step, current traces, this step's spike counts, and the samples
-    /// (row-major, one row of `n_channels` per step).
-    decay: f64,
-    traces: Vec<f64>,
-    pending: Vec<f64>,
-    samples: Vec<f64>,
-    steps: usize,
+    /// The trace step in whole µs, when recording traces.
+    trace_step_us: Option<i64>,
+    /// Per channel: `(step, spikes in it)` in step order.
+    arrivals: Vec<Vec<(u32, u32)>>,
+    /// The first spike time no step can hold (before 0 or beyond `u32::MAX` steps).
+    out_of_range: Option<f64>,
 }
 
-/// Trace-sampled features of one sample (see the module docs): per-channel traces (channel-
-/// major, `K + 1` values per channel) and the pooled trace `Σ_n f_n` (`K + 1` values).
-#[derive(Debug, Clone, PartialEq)]
-pub struct TraceFeatures {
-    /// Scaled per-channel samples; squared Euclidean distances of these are `LL²`.
-    pub channels: Vec<f64>,
-    /// Scaled pooled samples; squared Euclidean distances of these are `SP²`.
-    pub pooled: Vec<f64>,
+/// A sample's synaptic traces at a step `h`, kept sparse: for each channel the steps at which its
+/// trace jumps and the number of spikes of each jump (module docs). Memory is one `(u32, u32)`
+/// pair per step holding a spike.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct TraceRecord {
+    step_us: i64,
+    /// Per channel: `(step, spikes)`, steps strictly increasing.
+    channels: Vec<Vec<(u32, u32)>>,
+}
+
+impl TraceRecord {
+    /// The record of `trains` at step `trace_dt_s` (a whole number of µs, ≥ 1 µs): spike
+    /// `t` falls in step `⌊round(t·10⁶) / h_µs⌋`, as the coding places it when fed by a network.
+    pub fn of_trains(trains: &MultiSpikeTrain, trace_dt_s: f64) -> Result<Self, CodingError> {
+        let mut coding = SpatiotemporalCoding::new(1.0)
+            .expect("τ = 1 s is valid")
+            .with_trace_record(trace_dt_s)?;
+        coding.encode(trains);
+        coding.trace_record().expect("trace recording is on")
+    }
+
+    /// The trace step `h` (s).
+    pub fn trace_dt_s(&self) -> f64 {
+        self.step_us as f64 * 1e-6
+    }
+
+    /// The trace step `h` in µs.
+    pub fn trace_step_us(&self) -> i64 {
+        self.step_us
+    }
+
+    /// Number of channels.
+    pub fn n_channels(&self) -> usize {
+        self.channels.len()
+    }
+
+    /// Channel `c`'s jumps: `(step, spikes)` in step order.
+    pub fn channel(&self, c: usize) -> &[(u32, u32)] {
+        &self.channels[c]
+    }
+
+    /// The pooled trace `Σ_n f_n`'s jumps: every channel's merged, counts of a shared step summed.
+    pub fn pooled(&self) -> Vec<(u32, u32)> {
+        let mut all: Vec<(u32, u32)> = self.channels.iter().flatten().copied().collect();
+        all.sort_unstable_by_key(|&(step, _)| step);
+        let mut pooled: Vec<(u32, u32)> = Vec::with_capacity(all.len());
+        for (step, count) in all {
+            match pooled.last_mut() {
+                Some(last) if last.0 == step => last.1 += count,
+                _ => pooled.push((step, count)),
+            }
+        }
+        pooled
+    }
+
+    /// Bytes held (the bounded-memory claim, measurable).
+    pub fn heap_bytes(&self) -> usize {
+        self.channels
+            .iter()
+            .map(|c| c.capacity() * std::mem::size_of::<(u32, u32)>())
+            .sum::<usize>()
+            + self.channels.capacity() * std::mem::size_of::<Vec<(u32, u32)>>()
+    }
 }
 
 impl SpatiotemporalCoding {
@@ -63,23 +113,29 @@ impl SpatiotemporalCoding {
         })?;
         Ok(Self {
             tau_s,
-            sample_traces: false,
             n_channels: 0,
             spikes: Vec::new(),
-            decay: 0.0,
-            traces: Vec::new(),
-            pending: Vec::new(),
-            samples: Vec::new(),
-            steps: 0,
+            trace_step_us: None,
+            arrivals: Vec::new(),
+            out_of_range: None,
         })
     }
 
-    /// The same coding, also sampling the traces after every network step.
-    pub fn with_trace_sampling(self) -> Self {
-        Self {
-            sample_traces: true,
-            ..self
+    /// The same coding, also keeping the traces at step `trace_dt_s` as a [`TraceRecord`]
+    /// (`trace_dt_s` a whole number of µs, ≥ 1 µs; e.g. the network step).
+    pub fn with_trace_record(self, trace_dt_s: f64) -> Result<Self, CodingError> {
+        let us = s_to_us(trace_dt_s);
+        if !(trace_dt_s.is_finite() && us >= 1 && (trace_dt_s * 1e6 - us as f64).abs() < 1e-6) {
+            return Err(CodingError::InvalidParameter {
+                what: "spatiotemporal trace_dt_s",
+                value: trace_dt_s,
+                expected: "a whole number of µs, at least 1 µs",
+            });
         }
+        Ok(Self {
+            trace_step_us: Some(us),
+            ..self
+        })
     }
 
     /// Kernel time constant τ (s).
@@ -93,40 +149,37 @@ impl SpatiotemporalCoding {
             .expect("recorded spikes have finite times on existing channels")
     }
 
-    /// Number of trace samples taken (network steps seen while sampling).
-    pub fn n_samples(&self) -> usize {
-        self.steps
-    }
-
-    /// The trace-sampled features (module docs), or `None` without trace sampling.
-    pub fn trace_features(&self) -> Option<TraceFeatures> {
-        if !self.sample_traces {
-            return None;
-        }
-        let n = self.n_channels;
-        let k = self.steps;
-        let q = self.decay;
-        let scale = (1.0 - q * q).sqrt();
-        let mut channels = vec![0.0; n * (k + 1)];
-        let mut pooled = vec![0.0; k + 1];
-        for step in 0..k {
-            let row = &self.samples[step * n..(step + 1) * n];
-            for (c, &f) in row.iter().enumerate() {
-                channels[c * (k + 1) + step] = scale * f;
+    /// The traces seen so far ([`TraceRecord`]), `None` without
+    /// [`with_trace_record`](Self::with_trace_record); an error when a spike fell before 0 or
+    /// beyond `u32::MAX` steps.
+    pub fn trace_record(&self) -> Option<Result<TraceRecord, CodingError>> {
+        let step_us = self.trace_step_us?;
+        Some(match self.out_of_range {
+            Some(time_s) if time_s < 0.0 => Err(CodingError::SpikeBeforeZero { sample: 0, time_s }),
+            Some(time_s) => Err(CodingError::InvalidParameter {
+                what: "spike time for the trace record",
+                value: time_s,
+                expected: "fewer than 2³² trace steps from 0",
+            }),
+            None => {
+                let mut channels = self.arrivals.clone();
+                for c in &mut channels {
+                    // Spikes arrive in time order per step, not per channel across `encode`'s
+                    // channel-by-channel feed: keep steps sorted and merged either way.
+                    if !c.is_sorted_by(|a, b| a.0 < b.0) {
+                        c.sort_unstable_by_key(|&(s, _)| s);
+                        c.dedup_by(|later, kept| {
+                            let same = later.0 == kept.0;
+                            if same {
+                                kept.1 += later.1;
+                            }
+                            same
+                        });
+                    }
+                }
+                Ok(TraceRecord { step_us, channels })
             }
-            pooled[step] = scale * row.iter().sum::<f64>();
-        }
-        // The exact tail: the last sample decayed once more (zero traces before any step).
-        let last = if k > 0 {
-            &self.samples[(k - 1) * n..k * n]
-        } else {
-            &self.traces[..]
-        };
-        for (c, &f) in last.iter().enumerate() {
-            channels[c * (k + 1) + k] = q * f;
-        }
-        pooled[k] = q * last.iter().sum::<f64>();
-        Some(TraceFeatures { channels, pooled })
+        })
     }
 }
 
@@ -134,111 +187,31 @@ impl Coding for SpatiotemporalCoding {
     fn reset(&mut self, n_channels: usize) {
         self.n_channels = n_channels;
         self.spikes.clear();
-        self.traces.clear();
-        self.traces.resize(n_channels, 0.0);
-        self.pending.clear();
-        self.pending.resize(n_channels, 0.0);
-        self.samples.clear();
-        self.steps = 0;
+        self.arrivals.iter_mut().for_each(Vec::clear);
+        self.arrivals.resize(n_channels, Vec::new());
+        self.out_of_range = None;
     }
 
     #[inline]
     fn add_spike(&mut self, channel: usize, t_s: f64) {
-        if channel < self.n_channels {
-            self.spikes.push((channel as u32, t_s));
-            self.pending[channel] += 1.0;
-        }
-    }
-
-    fn end_step(&mut self, _t_start_s: f64, dt_s: f64) {
-        if !self.sample_traces {
+        if channel >= self.n_channels {
             return;
         }
-        // The graph's synapse filter: decay, then deliver this step's spikes.
-        self.decay = (-dt_s / self.tau_s).exp();
-        decay_and_flush(&mut self.traces, self.decay);
-        for (f, p) in self.traces.iter_mut().zip(self.pending.iter_mut()) {
-            *f += *p;
-            *p = 0.0;
-        }
-        self.samples.extend_from_slice(&self.traces);
-        self.steps += 1;
-    }
-}
-
-/// Trace-sampled features of every observation: each is replayed through a network (a
-/// [`SpikeArrayInput`] watched by a trace-sampling [`SpatiotemporalCoding`]) at step `dt_s` for
-/// `duration_s` (parallel over observations; each row depends only on its observation).
-///
-/// Returns the per-channel feature matrix (for `LL²`) and the pooled one (for `SP²`), one row per
-/// observation.
-pub fn trace_features_of_dataset(
-    observations: &[MultiSpikeTrain],
-    tau_s: f64,
-    dt_s: f64,
-    duration_s: f64,
-) -> Result<(ndarray::Array2<f64>, ndarray::Array2<f64>), DistanceError> {
-    check_tau(tau_s)?;
-    for (what, value) in [("trace dt_s", dt_s), ("trace duration_s", duration_s)] {
-        if !(value.is_finite() && value > 0.0) {
-            return Err(DistanceError::InvalidParameter {
-                what,
-                value,
-                expected: "finite and > 0",
-            });
+        self.spikes.push((channel as u32, t_s));
+        if let Some(h) = self.trace_step_us {
+            let us = s_to_us(t_s);
+            match u32::try_from(us.div_euclid(h)) {
+                Ok(step) if us >= 0 => {
+                    let c = &mut self.arrivals[channel];
+                    match c.last_mut() {
+                        Some(last) if last.0 == step => last.1 += 1,
+                        _ => c.push((step, 1)),
+                    }
+                }
+                _ => {
+                    self.out_of_range.get_or_insert(t_s);
+                }
+            }
         }
     }
-    let n_channels = super::check_channels(observations).map_err(|e| match e {
-        CodingError::ChannelCount {
-            sample,
-            expected,
-            got,
-        } => DistanceError::ChannelCount {
-            sample,
-            expected,
-            got,
-        },
-        _ => unreachable!("check_channels only reports channel counts"),
-    })?;
-    let rows: Vec<TraceFeatures> = observations
-        .par_iter()
-        .map(|obs| -> Result<TraceFeatures, GraphError> {
-            let mut b = NetworkBuilder::new();
-            let input = b.add_spike_input("trains", SpikeArrayInput::new(obs.clone()))?;
-            let coding = SpatiotemporalCoding::new(tau_s)
-                .expect("τ checked above")
-                .with_trace_sampling();
-            let id = b.add_readout(ReadoutSource::Node(input), coding)?;
-            let mut net = b.build(NetworkConfig { dt_s })?;
-            net.run(duration_s)?;
-            Ok(net
-                .readout(id)
-                .trace_features()
-                .expect("trace sampling is on"))
-        })
-        .collect::<Result<_, _>>()
-        .map_err(|e| DistanceError::InvalidParameter {
-            what: "trace sampling network",
-            value: dt_s,
-            expected: match e {
-                GraphError::InvalidParameter { expected, .. } => expected,
-                _ => "a network that builds and runs",
-            },
-        })?;
-    let k = rows.first().map_or(0, |r| r.pooled.len());
-    let mut channels = ndarray::Array2::zeros((rows.len(), n_channels * k));
-    let mut pooled = ndarray::Array2::zeros((rows.len(), k));
-    for (i, r) in rows.iter().enumerate() {
-        channels
-            .row_mut(i)
-            .as_slice_mut()
-            .expect("rows of a standard array are contiguous")
-            .copy_from_slice(&r.channels);
-        pooled
-            .row_mut(i)
-            .as_slice_mut()
-            .expect("rows of a standard array are contiguous")
-            .copy_from_slice(&r.pooled);
-    }
-    Ok((channels, pooled))
 }

@@ -83,6 +83,22 @@ pub fn pooled_bin_counts(trains: &MultiSpikeTrain, duration_ms: u32) -> Vec<u32>
     bins
 }
 
+/// The temporal features from per-ms pooled bin counts ([`TemporalCoding::bin_counts`],
+/// [`pooled_bin_counts`]): `R(s) = (1/N)·Σ_{b ∈ [s, s + Δt)} bins[b]` for `s = 0 … T − Δt`, written
+/// to `out` (length `T − Δt + 1`, `window_ms ≤ T = bins.len()`), so one recorded bin series
+/// gives the features of every window.
+pub fn write_window_features(bins: &[u32], window_ms: u32, n_channels: usize, out: &mut [f64]) {
+    // Running window count = C[s + Δt] − C[s], advanced by one bin in, one bin out.
+    let dt = window_ms as usize;
+    let scale = 1.0 / n_channels.max(1) as f64;
+    let mut count: u64 = bins[..dt].iter().map(|&b| b as u64).sum();
+    out[0] = count as f64 * scale;
+    for (s, o) in out.iter_mut().enumerate().take(bins.len() + 1 - dt).skip(1) {
+        count = count + bins[s + dt - 1] as u64 - bins[s - 1] as u64;
+        *o = count as f64 * scale;
+    }
+}
+
 /// Rolling-window spike counts pooled over channels and divided by `N` (the paper's temporal
 /// coding). See the module docs for the exact window convention.
 #[derive(Debug, Clone, PartialEq)]
@@ -169,15 +185,7 @@ impl FeatureCoding for TemporalCoding {
     }
 
     fn write_features(&self, out: &mut [f64]) {
-        // Running window count = C[s + Δt] − C[s], advanced by one bin in, one bin out.
-        let dt = self.window_ms as usize;
-        let scale = 1.0 / self.n_channels.max(1) as f64;
-        let mut count: u64 = self.bins[..dt].iter().map(|&b| b as u64).sum();
-        out[0] = count as f64 * scale;
-        for (s, o) in out.iter_mut().enumerate().take(self.n_windows()).skip(1) {
-            count = count + self.bins[s + dt - 1] as u64 - self.bins[s - 1] as u64;
-            *o = count as f64 * scale;
-        }
+        write_window_features(&self.bins, self.window_ms, self.n_channels, out);
     }
 
     fn features(&self) -> Vec<f64> {

@@ -14,7 +14,7 @@ pub mod trace_sampled;
 pub mod van_rossum;
 
 pub use euclidean::{euclidean_distance_matrix, squared_euclidean, squared_euclidean_matrix};
-pub use trace_sampled::trace_sampled_matrices;
+pub use trace_sampled::{TracePrecision, trace_matrices, trace_sampled_matrices};
 pub use van_rossum::{PreparedVanRossum, VanRossum, VanRossumMatrices, combine_squared};
 
 use crate::error::DistanceError;

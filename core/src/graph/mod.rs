@@ -65,7 +65,6 @@ pub use readout::{
     Readout, ReadoutContext, SpikeRecorder, StateRecorder, StateSampler, StepView,
     SynapticCurrentSampler, SynapticTraceRecorder, TraceRecorder, TraceSampler,
 };
-pub(crate) use synapse::decay_and_flush;
 pub use synapse::{Connectivity, ExpSynapse, FLUSH_TO_ZERO, Synapse};
 
 #[cfg(test)]

@@ -19,10 +19,10 @@ use rand_chacha::ChaCha8Rng;
 pub const FLUSH_TO_ZERO: f64 = 1e-30;
 
 /// The synapse filter's decay of one step: `x ← x·factor`, then values below [`FLUSH_TO_ZERO`]
-/// in magnitude become exactly 0 (branch-free, so it vectorises). Shared by projections and the
-/// trace-sampling spatiotemporal coding, so both filter spikes identically.
+/// in magnitude become exactly 0 (branch-free, so it vectorises). The trace-sampled Van Rossum
+/// distance ([`crate::distance::trace_sampled`]) applies the same flush to its sparse states.
 #[inline]
-pub(crate) fn decay_and_flush(values: &mut [f64], factor: f64) {
+fn decay_and_flush(values: &mut [f64], factor: f64) {
     values.iter_mut().for_each(|v| *v = flush(*v * factor));
 }
 

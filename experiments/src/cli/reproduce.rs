@@ -8,7 +8,9 @@ use crate::cli::args;
 use clap::{Args, ValueEnum};
 use neurotac_experiments::afferents::AfferentConfig;
 use neurotac_experiments::datasets::simulated::default_cache_dir;
+use neurotac_experiments::neuron_setup::Precision;
 use neurotac_experiments::progress::Progress;
+use neurotac_experiments::readouts::VrFrom;
 use neurotac_experiments::report::folder::check_destination;
 use neurotac_experiments::report::tables::{
     accuracy_table, afferent_table, intensive_table, parameter_table,
@@ -28,6 +30,15 @@ enum AfferentArg {
     Lif,
     /// Izhikevich regular-spiking afferents (weight 20, Izhikevich's 2003 scheme).
     Izhikevich,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum VrFromArg {
+    /// The exact distance from the spatiotemporal readout's spike trains (the paper's).
+    Exact,
+    /// The distance of the readout's synaptic traces sampled at --trace-dt (memory: one entry
+    /// per step with a spike).
+    Traces,
 }
 
 #[derive(Debug, Args)]
@@ -69,6 +80,15 @@ pub struct ReproduceArgs {
     /// costs ≈ 5× the default).
     #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long)]
     tau_step: Option<f64>,
+    /// Where the spatiotemporal coding's Van Rossum distance comes from.
+    #[arg(long, value_enum, default_value = "exact")]
+    vr_from: VrFromArg,
+    /// Trace step for --vr-from traces (ms, a whole number of µs; default 0.1, the network step).
+    #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long, default_value_t = 0.1)]
+    trace_dt: f64,
+    /// Arithmetic of --vr-from traces.
+    #[arg(long, value_enum, default_value = "f64")]
+    trace_precision: Precision,
     /// Cache of simulated datasets, shared with `neurotac simulate` (default: $NEUROTAC_CACHE,
     /// else $XDG_CACHE_HOME/neurotac, else ~/.cache/neurotac; delete the folder to clear it).
     #[arg(long)]
@@ -99,6 +119,13 @@ pub fn run(args: ReproduceArgs) -> anyhow::Result<()> {
     if let Some(p) = &args.params {
         config.params = SimParams::from_json_file(p)?;
     }
+    config.pipeline.vr_from = match args.vr_from {
+        VrFromArg::Exact => VrFrom::Exact,
+        VrFromArg::Traces => VrFrom::Traces {
+            trace_dt_s: args.trace_dt * 1e-3,
+            precision: args.trace_precision,
+        },
+    };
     config.afferents = args.afferents.map(|a| match a {
         AfferentArg::Lif => AfferentConfig::lif(),
         AfferentArg::Izhikevich => AfferentConfig::izhikevich(),

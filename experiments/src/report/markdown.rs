@@ -89,13 +89,18 @@ fn markdown_set(set: &SetReport, md: &mut String) {
     let _ = write!(
         md,
         "## {} set\n\n{} classes, {samples} samples ({}); {:.2} spikes per taxel on average; \
-         dataset {:.1} s, pipeline {:.1} s wall.\n\n",
+         dataset {:.1} s, readout network {:.1} s, pipeline {:.1} s wall.\n\n\
+         Codings from: {} (the KNN head classified what the readouts held). Van Rossum \
+         distance: {}.\n\n",
         name,
         d.class_names.len(),
         set.source,
         d.mean_spikes_per_taxel,
         set.dataset_time.wall_s,
-        d.time.wall_s
+        set.readout_time.wall_s,
+        d.time.wall_s,
+        d.path,
+        d.van_rossum,
     );
     if set.quick {
         md.push_str(

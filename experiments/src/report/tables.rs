@@ -326,6 +326,8 @@ pub(crate) mod tests {
         };
         SetResult {
             name: name.into(),
+            path: "network: taxel input → four coding readouts".into(),
+            van_rossum: "exact, from the readout's spike trains".into(),
             class_names: vec!["grid 0.0 mm".into(), "grid 2.5 mm".into()],
             samples_per_class: vec![5, 5],
             duration_ms: 10,
@@ -368,6 +370,7 @@ pub(crate) mod tests {
             sets: vec![SetReport {
                 source: source.into(),
                 dataset_time: Timing::default(),
+                readout_time: Timing::default(),
                 direct,
                 afferent: None,
                 examples: Vec::new(),
@@ -383,6 +386,7 @@ pub(crate) mod tests {
         let set = |name| SetReport {
             source: "test".into(),
             dataset_time: Timing::default(),
+            readout_time: Timing::default(),
             direct: set_result(name),
             afferent: None,
             examples: Vec::new(),
@@ -481,6 +485,7 @@ pub(crate) mod tests {
         let set = SetReport {
             source: "test".into(),
             dataset_time: Timing::default(),
+            readout_time: Timing::default(),
             direct: set_result("artificial"),
             afferent: None,
             examples: Vec::new(),

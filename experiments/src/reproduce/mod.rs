@@ -31,17 +31,17 @@ pub use run::{
     example_samples, run,
 };
 
-use crate::coding::{
-    CodingName, CodingParameters, class_means, coding_distances, mean_spikes_per_channel,
-    sample_duration_ms,
-};
+use crate::coding::CodingName;
 use crate::error::ExperimentError;
 use crate::progress::Progress;
 use crate::protocols::{Evaluation, Protocol, evaluate};
+use crate::readouts::{EncodedSet, VrFrom, encode_offline};
 use crate::search::bayes::{BayesConfig, BayesResult, VanRossumObjective, bayes_optimise};
-use crate::search::dt_sweep::{DtSweep, dt_sweep};
+use crate::search::dt_sweep::{DtSweep, dt_sweep_of_bins};
 use crate::timing::{Timing, timed};
 use ndarray::Array2;
+use neurotac_core::coding::write_window_features;
+use neurotac_core::distance::euclidean_distance_matrix;
 use neurotac_core::{Knn, KnnError, SpikeDataset};
 use serde::Serialize;
 
@@ -60,6 +60,8 @@ pub struct PipelineConfig {
     pub split_seed: u64,
     /// Van Rossum `LL²`/`SP²` matrix pairs kept in memory during the search (one per τ).
     pub vr_cache: usize,
+    /// The Van Rossum distance exact or from traces (`--vr-from`). Paper: exact.
+    pub vr_from: VrFrom,
 }
 
 impl PipelineConfig {
@@ -82,6 +84,7 @@ impl PipelineConfig {
             test_fraction: 0.2,
             split_seed: seed,
             vr_cache: 24,
+            vr_from: VrFrom::Exact,
         }
     }
 }
@@ -123,6 +126,11 @@ pub struct SearchSpace {
 pub struct SetResult {
     /// Set name (`artificial`, `natural`, or the recorded dataset's folder name).
     pub name: String,
+    /// What produced the codings: the network path of [`crate::readouts`], or the offline
+    /// encoders.
+    pub path: String,
+    /// Where the spatiotemporal coding's Van Rossum distance came from.
+    pub van_rossum: String,
     /// Class names (index = label).
     pub class_names: Vec<String>,
     /// Samples per class.
@@ -165,24 +173,18 @@ impl SetResult {
 fn score(
     coding: CodingName,
     parameters: String,
-    data: &SpikeDataset,
+    labels: &[usize],
+    n_classes: usize,
     config: &PipelineConfig,
     distances: impl FnOnce() -> Result<Array2<f64>, ExperimentError>,
 ) -> Result<CodingResult, ExperimentError> {
     let knn = Knn::new(config.k)?;
-    let n_classes = data.n_classes();
     let (result, time) = timed(|| -> Result<_, ExperimentError> {
         let d = distances()?;
-        let loo = evaluate(
-            d.view(),
-            data.labels(),
-            n_classes,
-            knn,
-            Protocol::LeaveOneOut,
-        )?;
+        let loo = evaluate(d.view(), labels, n_classes, knn, Protocol::LeaveOneOut)?;
         let split = evaluate(
             d.view(),
-            data.labels(),
+            labels,
             n_classes,
             knn,
             Protocol::Split {
@@ -208,38 +210,68 @@ fn score(
     })
 }
 
-/// Runs the paper's pipeline on one labelled set (see the module docs).
+/// Runs the paper's pipeline on one labelled set (see the module docs), encoded offline
+/// ([`encode_offline`]); [`run_encoded`] takes the readouts of a network instead.
 pub fn run_set(
     name: &str,
     data: &SpikeDataset,
     config: &PipelineConfig,
     progress: &dyn Progress,
 ) -> Result<SetResult, ExperimentError> {
-    let labels = data.labels();
-    if labels.len() != data.len() {
+    if data.labels().len() != data.len() {
         return Err(KnnError::Unlabelled.into());
     }
-    if data.n_classes() < 2 {
+    run_encoded(
+        name,
+        &encode_offline(data, config.vr_from)?,
+        config,
+        progress,
+    )
+}
+
+/// The temporal features at window `window_ms` of every sample, from its per-ms bins.
+fn temporal_features(set: &EncodedSet, window_ms: u32) -> Array2<f64> {
+    let width = (set.duration_ms - window_ms + 1) as usize;
+    let mut out = Array2::zeros((set.len(), width));
+    for (bins, mut row) in set.bins.iter().zip(out.rows_mut()) {
+        let row = row
+            .as_slice_mut()
+            .expect("rows of a fresh array are contiguous");
+        write_window_features(bins, window_ms, set.spatial.ncols(), row);
+    }
+    out
+}
+
+/// Runs the paper's pipeline on the coding readouts of one labelled set (see the module docs
+/// and [`crate::readouts`]).
+pub fn run_encoded(
+    name: &str,
+    set: &EncodedSet,
+    config: &PipelineConfig,
+    progress: &dyn Progress,
+) -> Result<SetResult, ExperimentError> {
+    let labels = &set.labels[..];
+    let n_classes = set.n_classes();
+    if n_classes < 2 {
         return Err(ExperimentError::InvalidParameter {
             what: "classes",
-            value: data.n_classes() as f64,
+            value: n_classes as f64,
             expected: "≥ 2 to classify",
         });
     }
     let knn = Knn::new(config.k)?;
     let (result, time) = timed(|| -> Result<SetResult, ExperimentError> {
-        let obs = data.observations();
-        let duration_ms = sample_duration_ms(data, None)?;
-        let (samples_per_class, intensive_class_means) = class_means(data);
-        let mean_spikes_per_taxel = mean_spikes_per_channel(data);
-        let euclidean = |coding, window_ms| {
-            let parameters = CodingParameters {
-                window_ms,
-                duration_ms: Some(duration_ms),
-                ..CodingParameters::default()
-            };
-            move || coding_distances(obs, coding, &parameters)
-        };
+        let duration_ms = set.duration_ms;
+        let mut samples_per_class = vec![0usize; n_classes];
+        let mut intensive_class_means = vec![0.0; n_classes];
+        for (&l, &r) in labels.iter().zip(set.intensive.column(0)) {
+            samples_per_class[l] += 1;
+            intensive_class_means[l] += r;
+        }
+        for (m, &n) in intensive_class_means.iter_mut().zip(&samples_per_class) {
+            *m /= n.max(1) as f64;
+        }
+        let mean_spikes_per_taxel = set.intensive.column(0).sum() / set.len().max(1) as f64;
 
         progress.stage(
             &format!("{name}: intensive and spatial codings (LOO, 80/20 split)"),
@@ -248,17 +280,19 @@ pub fn run_set(
         let intensive = score(
             CodingName::Intensive,
             String::new(),
-            data,
+            labels,
+            n_classes,
             config,
-            euclidean(CodingName::Intensive, None),
+            || Ok(euclidean_distance_matrix(set.intensive.view())?),
         )?;
         progress.advance(1);
         let spatial = score(
             CodingName::Spatial,
             String::new(),
-            data,
+            labels,
+            n_classes,
             config,
-            euclidean(CodingName::Spatial, None),
+            || Ok(euclidean_distance_matrix(set.spatial.view())?),
         )?;
         progress.finish();
 
@@ -267,7 +301,7 @@ pub fn run_set(
             &format!("{name}: Δt sweep 1…{max_window} ms (LOO at each)"),
             0,
         );
-        let (sweep, dt_sweep_time) = timed(|| dt_sweep(obs, labels, duration_ms, max_window, knn));
+        let (sweep, dt_sweep_time) = timed(|| dt_sweep_of_bins(&set.bins, labels, max_window, knn));
         let sweep = sweep?;
         progress.finish();
         let dt = sweep.best_window_ms;
@@ -278,9 +312,14 @@ pub fn run_set(
         let temporal = score(
             CodingName::Temporal,
             format!("Δt = {dt} ms"),
-            data,
+            labels,
+            n_classes,
             config,
-            euclidean(CodingName::Temporal, Some(dt)),
+            || {
+                Ok(euclidean_distance_matrix(
+                    temporal_features(set, dt).view(),
+                )?)
+            },
         )?;
 
         progress.finish();
@@ -288,7 +327,8 @@ pub fn run_set(
             &format!("{name}: Bayesian optimisation of τ, cos θ (epochs)"),
             config.bayes.epochs as u64,
         );
-        let mut objective = VanRossumObjective::new(obs, labels, knn, config.vr_cache);
+        let mut objective =
+            VanRossumObjective::new(set.van_rossum_input(), labels, knn, config.vr_cache);
         let (bayes, bayes_time) = timed(|| {
             bayes_optimise(&config.bayes, |i, tau, cos| {
                 let a = objective.accuracy(i, tau, cos);
@@ -309,7 +349,8 @@ pub fn run_set(
                 bayes.best_tau_s * 1e3,
                 bayes.best_cos
             ),
-            data,
+            labels,
+            n_classes,
             config,
             || {
                 Ok(objective
@@ -320,7 +361,9 @@ pub fn run_set(
         progress.finish();
         Ok(SetResult {
             name: name.to_owned(),
-            class_names: data.class_names().to_vec(),
+            path: set.path.clone(),
+            van_rossum: set.vr_from.describe(),
+            class_names: set.class_names.clone(),
             samples_per_class,
             duration_ms,
             mean_spikes_per_taxel,

@@ -2,12 +2,13 @@
 //! afferent variant when asked) → one [`Report`], ready for [`crate::report::write_report`].
 
 use super::paper;
-use super::{PipelineConfig, SetResult, run_set};
-use crate::afferents::{AfferentConfig, AfferentModel, afferent_dataset};
+use super::{PipelineConfig, SetResult, run_encoded};
+use crate::afferents::{AfferentConfig, AfferentModel};
 use crate::datasets::recorded::{RecordedError, list_recorded, load_recorded, skipped_entries};
 use crate::datasets::simulated::{DatasetsError, TextureSet, load_or_simulate_with};
 use crate::error::ExperimentError;
 use crate::progress::Progress;
+use crate::readouts::{EncodedSet, encode_through_graph};
 use crate::timing::{Timing, timed};
 use neurotac_core::{MultiSpikeTrain, SpikeDataset};
 use neurotac_sensor::filter::MapStart;
@@ -106,8 +107,8 @@ pub enum ReproduceError {
         /// Why (boxed: experiment errors are large).
         source: Box<ExperimentError>,
     },
-    /// The afferent network failed.
-    #[error("running the afferent network")]
+    /// The readout network (with or without afferents) failed.
+    #[error("running the readout network")]
     Afferents(#[source] Box<ExperimentError>),
 }
 
@@ -122,7 +123,8 @@ pub struct AfferentRun {
     pub tau_syn_s: f64,
     /// Network time step (s).
     pub dt_s: f64,
-    /// Time to run every sample through the afferent network.
+    /// Time to run every sample through the network (taxel input → afferents → coding
+    /// readouts).
     pub network_time: Timing,
     /// The pipeline on the afferents' spikes.
     pub result: SetResult,
@@ -135,6 +137,8 @@ pub struct SetReport {
     pub source: String,
     /// Time to build or load the taxel spike dataset.
     pub dataset_time: Timing,
+    /// Time to run every sample through the readout network (taxel input → coding readouts).
+    pub readout_time: Timing,
     /// Taxel spikes → codings (the paper's pipeline).
     pub direct: SetResult,
     /// Taxel spikes → afferent neurons → codings.
@@ -282,8 +286,21 @@ fn run_source(
         data.n_classes(),
         dataset_time.wall_s
     ));
-    let pipeline = |data: &SpikeDataset, what| {
-        run_set(&name, data, &config.pipeline, progress).map_err(|source| {
+    let vr_from = config.pipeline.vr_from;
+    let through_graph = |afferents: Option<AfferentConfig>, what: &str| {
+        progress.stage(
+            &format!("{name}: {what} network (taxel input → coding readouts)"),
+            data.len() as u64,
+        );
+        let out = timed(|| {
+            encode_through_graph(&data, afferents, vr_from, &|| progress.advance(1))
+                .map_err(|e| ReproduceError::Afferents(Box::new(e)))
+        });
+        progress.finish();
+        out
+    };
+    let pipeline = |set: &EncodedSet, what: &'static str| {
+        run_encoded(&name, set, &config.pipeline, progress).map_err(|source| {
             ReproduceError::Pipeline {
                 name: name.clone(),
                 what,
@@ -291,16 +308,12 @@ fn run_source(
             }
         })
     };
-    let direct = pipeline(&data, "set")?;
+    let (encoded, readout_time) = through_graph(None, "readout");
+    let direct = pipeline(&(encoded?), "set")?;
     let afferent = match config.afferents {
         None => None,
         Some(a) => {
-            let duration_s = direct.duration_ms as f64 * 1e-3 + AFFERENT_TAIL_S;
-            progress.stage(&format!("{name}: afferent network"), data.len() as u64);
-            let (spikes, network_time) =
-                timed(|| afferent_dataset(&data, duration_s, a, &|| progress.advance(1)));
-            let spikes = spikes.map_err(|e| ReproduceError::Afferents(Box::new(e)))?;
-            progress.finish();
+            let (encoded, network_time) = through_graph(Some(a), "afferent");
             Some(AfferentRun {
                 model: match a.model {
                     AfferentModel::Lif => "lif".into(),
@@ -310,13 +323,14 @@ fn run_source(
                 tau_syn_s: a.tau_syn_s,
                 dt_s: a.dt_s,
                 network_time,
-                result: pipeline(&spikes, "afferents")?,
+                result: pipeline(&encoded?, "afferents")?,
             })
         }
     };
     Ok(SetReport {
         source: source_text,
         dataset_time,
+        readout_time,
         examples: example_samples(&data),
         direct,
         afferent,

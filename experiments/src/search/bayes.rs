@@ -19,8 +19,10 @@
 //! first out), so every cos θ at a known τ costs only a matrix combination and a LOO pass.
 
 use crate::error::ExperimentError;
+use crate::neuron_setup::Precision;
 use crate::protocols::Accuracy;
-use neurotac_core::distance::{VanRossum, VanRossumMatrices};
+use neurotac_core::coding::TraceRecord;
+use neurotac_core::distance::{VanRossum, VanRossumMatrices, trace_matrices};
 use neurotac_core::special::erfc;
 use neurotac_core::{Knn, MultiSpikeTrain};
 use rand::{RngExt, SeedableRng};
@@ -306,10 +308,55 @@ where
     })
 }
 
-/// Leave-one-out KNN accuracy of the exact Van Rossum distance at (τ, cos θ), with `LL²`/`SP²`
+/// What the Van Rossum matrices of a search are computed from.
+#[derive(Debug, Clone, Copy)]
+pub enum VanRossumInput<'a> {
+    /// The exact distance from the spike trains ([`VanRossum::matrices`]).
+    Exact(&'a [MultiSpikeTrain]),
+    /// The trace-sampled distance from the samples' synaptic trace records
+    /// ([`trace_matrices`]), with its arithmetic in `precision`.
+    Traces {
+        /// One record per sample, all at the same trace step.
+        records: &'a [TraceRecord],
+        /// `f64` or `f32` arithmetic.
+        precision: Precision,
+    },
+}
+
+impl VanRossumInput<'_> {
+    /// `LL²` and `SP²` at `tau_s`.
+    pub fn matrices(&self, tau_s: f64) -> Result<VanRossumMatrices, ExperimentError> {
+        Ok(match *self {
+            VanRossumInput::Exact(trains) => VanRossum::new(tau_s)?.matrices(trains)?,
+            VanRossumInput::Traces {
+                records,
+                precision: Precision::F64,
+            } => trace_matrices::<f64>(records, tau_s)?,
+            VanRossumInput::Traces {
+                records,
+                precision: Precision::F32,
+            } => trace_matrices::<f32>(records, tau_s)?,
+        })
+    }
+
+    /// Number of samples.
+    pub fn len(&self) -> usize {
+        match self {
+            VanRossumInput::Exact(t) => t.len(),
+            VanRossumInput::Traces { records, .. } => records.len(),
+        }
+    }
+
+    /// `true` without samples.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+}
+
+/// Leave-one-out KNN accuracy of the Van Rossum distance at (τ, cos θ), with `LL²`/`SP²`
 /// cached per τ grid index (at most `capacity` matrices, least recently used evicted).
 pub struct VanRossumObjective<'a> {
-    observations: &'a [MultiSpikeTrain],
+    input: VanRossumInput<'a>,
     labels: &'a [usize],
     knn: Knn,
     capacity: usize,
@@ -320,15 +367,11 @@ pub struct VanRossumObjective<'a> {
 }
 
 impl<'a> VanRossumObjective<'a> {
-    /// An objective over `observations` labelled `labels`, keeping up to `capacity` τ matrices.
-    pub fn new(
-        observations: &'a [MultiSpikeTrain],
-        labels: &'a [usize],
-        knn: Knn,
-        capacity: usize,
-    ) -> Self {
+    /// An objective over `input`'s samples labelled `labels`, keeping up to `capacity` τ
+    /// matrices.
+    pub fn new(input: VanRossumInput<'a>, labels: &'a [usize], knn: Knn, capacity: usize) -> Self {
         Self {
-            observations,
+            input,
             labels,
             knn,
             capacity: capacity.max(1),
@@ -350,7 +393,7 @@ impl<'a> VanRossumObjective<'a> {
             self.cache.push(entry);
             return Ok(m);
         }
-        let m = Arc::new(VanRossum::new(tau_s)?.matrices(self.observations)?);
+        let m = Arc::new(self.input.matrices(tau_s)?);
         self.matrices_computed += 1;
         if self.cache.len() == self.capacity {
             self.cache.remove(0);

@@ -341,8 +341,24 @@ pub fn dt_sweep(
     max_window_ms: u32,
     knn: Knn,
 ) -> Result<DtSweep, ExperimentError> {
-    let predictions =
-        leave_one_out_predictions(observations, labels, duration_ms, max_window_ms, knn)?;
+    dt_sweep_of_bins(
+        &bins_of(observations, duration_ms),
+        labels,
+        max_window_ms,
+        knn,
+    )
+}
+
+/// [`dt_sweep`] from each sample's pooled spike count per 1-ms bin (e.g. a temporal coding
+/// readout's [`bin_counts`](neurotac_core::coding::TemporalCoding::bin_counts)); all samples
+/// have the same number of bins, the duration `T` in ms.
+pub fn dt_sweep_of_bins(
+    bins: &[Vec<u32>],
+    labels: &[usize],
+    max_window_ms: u32,
+    knn: Knn,
+) -> Result<DtSweep, ExperimentError> {
+    let predictions = leave_one_out_predictions_of_bins(bins, labels, max_window_ms, knn)?;
     let n = labels.len();
     let accuracy: Vec<f64> = predictions
         .iter()
@@ -359,6 +375,13 @@ pub fn dt_sweep(
     })
 }
 
+fn bins_of(observations: &[MultiSpikeTrain], duration_ms: u32) -> Vec<Vec<u32>> {
+    observations
+        .par_iter()
+        .map(|o| pooled_bin_counts(o, duration_ms))
+        .collect()
+}
+
 /// The leave-one-out predictions of [`dt_sweep`]: entry `Δt − 1` holds one label per sample.
 pub fn leave_one_out_predictions(
     observations: &[MultiSpikeTrain],
@@ -367,7 +390,22 @@ pub fn leave_one_out_predictions(
     max_window_ms: u32,
     knn: Knn,
 ) -> Result<Vec<Vec<usize>>, ExperimentError> {
-    let n = observations.len();
+    leave_one_out_predictions_of_bins(
+        &bins_of(observations, duration_ms),
+        labels,
+        max_window_ms,
+        knn,
+    )
+}
+
+/// [`leave_one_out_predictions`] from per-ms pooled bin counts (see [`dt_sweep_of_bins`]).
+pub fn leave_one_out_predictions_of_bins(
+    counts: &[Vec<u32>],
+    labels: &[usize],
+    max_window_ms: u32,
+    knn: Knn,
+) -> Result<Vec<Vec<usize>>, ExperimentError> {
+    let n = counts.len();
     if labels.len() != n {
         return Err(KnnError::Shape {
             rows: n,
@@ -391,6 +429,15 @@ pub fn leave_one_out_predictions(
             expected: "fewer than 2³² − 1",
         });
     }
+    let duration = counts.first().map_or(0, Vec::len);
+    if let Some(sample) = counts.iter().position(|c| c.len() != duration) {
+        return Err(ExperimentError::InvalidParameter {
+            what: "bins of a sample (ms)",
+            value: counts[sample].len() as f64,
+            expected: "the same duration as sample 0",
+        });
+    }
+    let duration_ms = u32::try_from(duration).unwrap_or(u32::MAX);
     if max_window_ms == 0 || max_window_ms > duration_ms {
         return Err(ExperimentError::InvalidParameter {
             what: "max_window_ms",
@@ -398,10 +445,6 @@ pub fn leave_one_out_predictions(
             expected: "≥ 1 and ≤ the sample duration",
         });
     }
-    let counts: Vec<Vec<u32>> = observations
-        .par_iter()
-        .map(|o| pooled_bin_counts(o, duration_ms))
-        .collect();
     // Exact integer lanes: D² ≤ 2(‖w_a‖² + ‖w_b‖²) with ‖w‖² ≤ max window count · Δ · n, so the
     // wrapping ring arithmetic gives it exactly when below half the lane range.
     let bound = counts
@@ -421,9 +464,9 @@ pub fn leave_one_out_predictions(
     let max_count = counts.iter().flatten().copied().max().unwrap_or(0);
     let shape = Shape::new(duration_ms as usize, max_window_ms as usize, max_count);
     if 4 * bound < i32::MAX as u128 {
-        Ok(sweep::<i32>(&counts, labels, &shape, knn))
+        Ok(sweep::<i32>(counts, labels, &shape, knn))
     } else if 4 * bound < i64::MAX as u128 {
-        Ok(sweep::<i64>(&counts, labels, &shape, knn))
+        Ok(sweep::<i64>(counts, labels, &shape, knn))
     } else {
         Err(ExperimentError::InvalidParameter {
             what: "duration_ms",

@@ -6,7 +6,7 @@
 //! | module | trade |
 //! |---|---|
 //! | [`neurons`] | model × integrator × dt × precision × spike stamping: updates/s against spike-time error |
-//! | [`vr`] | trace-sampled vs exact Van Rossum distance: matrix time against relative error |
+//! | [`vr`] | exact vs synaptic-trace Van Rossum distance (trace dt × f32/f64): matrix time against LOO accuracy |
 //! | [`simulator`] | pixel-model step tolerance: trials/s against event-timing error |
 //!
 //! To add a trade: a module with a config, a measuring function, `to_csv`/`to_markdown`/`to_svg`
@@ -248,7 +248,7 @@ pub fn run_all(
     let neurons_s = timed_stage("neurons", t);
     let t = std::time::Instant::now();
     progress.stage("vr", 0);
-    let sweep = vr::report(data, None, &config.vr, &out.join(summary::VR_DIR))?;
+    let sweep = vr::report(data, &config.vr, &out.join(summary::VR_DIR))?;
     let vr_s = timed_stage("vr", t);
     let t = std::time::Instant::now();
     progress.stage("simulator", 0);

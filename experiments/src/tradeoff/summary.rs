@@ -39,18 +39,19 @@ pub fn summary_markdown(
     s.push_str(&links(NEURONS_DIR, "neurons"));
     s.push_str("How to choose: read the front of your model from the top and stop at the first row whose mean error is below your timing budget (e.g. well under the 1 ms bins of the codings); interpolated stamping is nearly free and usually buys more accuracy than a smaller dt.\n\n");
 
-    s.push_str("## Van Rossum distance: trace-sampled vs exact\n\n");
+    s.push_str("## Van Rossum distance: exact vs synaptic traces\n\n");
     let _ = write!(
         s,
-        "Traded: the step dt at which a simulated network samples its synapse traces, for the time of the {n} × {n} distance matrix against the relative error of the distance (τ = {tau} s, cos θ = {cos}). The exact (Markage) distance is listed for reference.\n\n",
+        "Traded: the step at which a network samples its synaptic traces (and their precision, f64/f32), for the time of the {n} × {n} distance matrix against leave-one-out KNN accuracy (k = {k}, τ = {tau} s, cos θ = {cos}); the exact (Markage) distance competes too.\n\n",
         n = vr.samples,
+        k = vr.k,
         tau = vr.tau_s,
         cos = vr.cos
     );
     s.push_str(&vr::pareto_table(vr));
     s.push('\n');
     s.push_str(&links(VR_DIR, "vr"));
-    s.push_str("How to choose: to classify, use the exact distance (no error, and in this measurement faster than any sampled one); the trace-sampled distance is what an on-line network computes, so pick the largest dt whose error is below the differences between classes you need to resolve.\n\n");
+    s.push_str("How to choose: to classify offline, take the fastest row on the front; the trace distance is what an on-line network computes (`reproduce --vr-from traces`), and its accuracy at your trace step is in the table.\n\n");
 
     s.push_str("## Simulator step tolerance\n\n");
     let _ = write!(

@@ -1,31 +1,41 @@
-//! The speed ↔ accuracy trade of the multi-unit Van Rossum distance: the trace-sampled distance
-//! (the traces a simulated network advances at step dt through its synapse filter) against the
-//! exact one (the Markage recursion), as dt shrinks.
+//! The speed ↔ accuracy trade of the multi-unit Van Rossum distance, measured as
+//! classification accuracy: the exact distance (Markage recursion) against the distance of the
+//! synaptic traces a network samples at `trace_dt`, in `f64` or `f32`
+//! ([`neurotac_core::distance::trace_sampled`]).
 //!
-//! Error: the relative difference `|D_dt − D| / D` over every pair of distinct samples with
-//! `D > 0` (mean and max). Time: wall and CPU time of the whole N × N matrix.
+//! For each method: wall and CPU time of the N × N matrix (from the readouts: trains or trace
+//! records), leave-one-out KNN accuracy at (τ, cos θ), and the relative error of the distance
+//! `|D_h − D| / D` over every pair of distinct samples with `D > 0` (mean and max). The Pareto
+//! front is taken on (matrix speed, LOO accuracy).
 
 use super::{Table, TradeoffError, error_series, mark_front, write_trade};
-use crate::coding::sample_duration_ms;
 use crate::error::ExperimentError;
+use crate::neuron_setup::Precision;
+use crate::protocols::Accuracy;
 use crate::report::svg::{Axis, Chart, Marker, panels};
+use crate::search::bayes::VanRossumInput;
 use crate::timing::{Timing, timed};
-use neurotac_core::distance::{VanRossum, check_cos, trace_sampled_matrices};
-use neurotac_core::{MultiSpikeTrain, SpikeDataset};
+use neurotac_core::coding::TraceRecord;
+use neurotac_core::distance::check_cos;
+use neurotac_core::{CodingError, Knn, SpikeDataset};
+use rayon::prelude::*;
 use std::path::Path;
 
-/// What to sweep.
+/// What to measure.
 #[derive(Debug, Clone, PartialEq)]
 pub struct VrTradeoffConfig {
     /// Kernel time constant τ (s). Default 0.076 (the paper's best).
     pub tau_s: f64,
-    /// cos θ in [0, 1]. Default 0.4.
+    /// cos θ in [0, 1]. Default 0.4 (the paper's best).
     pub cos: f64,
-    /// Time steps to try (s). Default 10, 5, 2, 1, 0.5 ms.
-    pub dts_s: Vec<f64>,
-    /// Use at most the first this many samples (the sampled matrices cost N²·steps).
-    /// Default 100.
-    pub samples: usize,
+    /// KNN neighbours. Default 4 (the paper's).
+    pub k: usize,
+    /// Trace steps to try (s). Default 0.1, 1, 5, 20 ms.
+    pub trace_dts_s: Vec<f64>,
+    /// Arithmetic of the traces. Default f64 and f32.
+    pub precisions: Vec<Precision>,
+    /// Use every `⌈N / samples⌉`-th sample (all classes keep samples); `None`: all.
+    pub samples: Option<usize>,
 }
 
 impl Default for VrTradeoffConfig {
@@ -33,28 +43,36 @@ impl Default for VrTradeoffConfig {
         Self {
             tau_s: 0.076,
             cos: 0.4,
-            dts_s: vec![0.01, 0.005, 0.002, 0.001, 0.0005],
-            samples: 100,
+            k: 4,
+            trace_dts_s: vec![1e-4, 1e-3, 5e-3, 2e-2],
+            precisions: vec![Precision::F64, Precision::F32],
+            samples: None,
         }
     }
 }
 
-/// One time step.
+/// One method.
 #[derive(Debug, Clone, serde::Serialize)]
 pub struct VrTradeoffRow {
-    /// Time step (s).
-    pub dt_s: f64,
-    /// Time of the trace-sampled matrix.
+    /// `exact`, or `traces`.
+    pub method: &'static str,
+    /// Trace step (s); `None` for the exact distance.
+    pub trace_dt_s: Option<f64>,
+    /// Arithmetic.
+    pub precision: Precision,
+    /// Time of the N × N matrix pair (`LL²`, `SP²`) from the readouts.
     pub timing: Timing,
-    /// Mean relative error of the distance over the pairs.
+    /// Leave-one-out KNN accuracy at (τ, cos θ).
+    pub loo: Accuracy,
+    /// Mean relative error of the distance over the pairs (0 for exact).
     pub mean_relative_error: f64,
     /// Max relative error of the distance over the pairs.
     pub max_relative_error: f64,
-    /// No other time step is both faster (wall) and more accurate (mean error).
+    /// No other method is both faster and more accurate.
     pub pareto: bool,
 }
 
-/// The measured sweep.
+/// The measured trade.
 #[derive(Debug, Clone, serde::Serialize)]
 pub struct VrTradeoff {
     /// Samples used.
@@ -63,101 +81,116 @@ pub struct VrTradeoff {
     pub tau_s: f64,
     /// cos θ.
     pub cos: f64,
-    /// Time of the exact matrix.
-    pub exact: Timing,
-    /// One row per time step, in the order given.
+    /// KNN neighbours.
+    pub k: usize,
+    /// The exact distance first, then every trace step × precision in the order given.
     pub rows: Vec<VrTradeoffRow>,
 }
 
-/// Measures the sweep on the first `config.samples` of `observations`, sampling the traces over
-/// `[0, duration_s)`.
-pub fn vr_tradeoff(
-    observations: &[MultiSpikeTrain],
-    duration_s: f64,
+/// Measures the trade on `data` (labelled; see the module docs).
+pub fn measure(
+    data: &SpikeDataset,
     config: &VrTradeoffConfig,
 ) -> Result<VrTradeoff, ExperimentError> {
     check_cos(config.cos)?;
-    let obs = &observations[..config.samples.min(observations.len())];
+    let stride = config
+        .samples
+        .map_or(1, |s| data.len().div_ceil(s.max(1)).max(1));
+    let picked: Vec<usize> = (0..data.len()).step_by(stride).collect();
+    let obs: Vec<_> = picked
+        .iter()
+        .map(|&i| data.observations()[i].clone())
+        .collect();
+    let labels: Vec<usize> = picked.iter().map(|&i| data.labels()[i]).collect();
     let n = obs.len();
-    if n < 2 {
+    if n < 2 || labels.len() != n {
         return Err(ExperimentError::InvalidParameter {
-            what: "samples",
+            what: "labelled samples",
             value: n as f64,
-            expected: "at least 2 (distances are between pairs)",
+            expected: "at least 2 (distances are between pairs), every one labelled",
         });
     }
-    let vr = VanRossum::new(config.tau_s)?;
-    let (exact, exact_time) = timed(|| vr.matrices(obs)?.squared(config.cos));
-    let exact = exact?;
-    let mut rows = Vec::new();
-    for &dt_s in &config.dts_s {
-        let (sampled, timing) = timed(|| {
-            trace_sampled_matrices(obs, config.tau_s, dt_s, duration_s)?.squared(config.cos)
-        });
-        let sampled = sampled?;
-        let (mut max_rel, mut sum_rel, mut pairs) = (0.0f64, 0.0, 0usize);
-        for i in 0..n {
-            for j in i + 1..n {
-                let (e, s) = (exact[[i, j]].sqrt(), sampled[[i, j]].sqrt());
-                if e > 0.0 {
-                    let rel = (s - e).abs() / e;
-                    max_rel = max_rel.max(rel);
-                    sum_rel += rel;
-                    pairs += 1;
+    let knn = Knn::new(config.k)?;
+    let evaluate = |input: VanRossumInput<'_>| -> Result<_, ExperimentError> {
+        let (m, timing) = timed(|| input.matrices(config.tau_s));
+        let d2 = m?.squared(config.cos)?;
+        let loo = Accuracy::of(&knn.leave_one_out(d2.view(), &labels)?, &labels);
+        Ok((d2, timing, loo))
+    };
+    let (exact, timing, loo) = evaluate(VanRossumInput::Exact(&obs))?;
+    let mut rows = vec![VrTradeoffRow {
+        method: "exact",
+        trace_dt_s: None,
+        precision: Precision::F64,
+        timing,
+        loo,
+        mean_relative_error: 0.0,
+        max_relative_error: 0.0,
+        pareto: false,
+    }];
+    for &h in &config.trace_dts_s {
+        let records = obs
+            .par_iter()
+            .map(|o| TraceRecord::of_trains(o, h))
+            .collect::<Result<Vec<_>, CodingError>>()?;
+        for &precision in &config.precisions {
+            let input = VanRossumInput::Traces {
+                records: &records,
+                precision,
+            };
+            let (sampled, timing, loo) = evaluate(input)?;
+            let (mut max_rel, mut sum_rel, mut pairs) = (0.0f64, 0.0, 0usize);
+            for i in 0..n {
+                for j in i + 1..n {
+                    let (e, s) = (exact[[i, j]].sqrt(), sampled[[i, j]].sqrt());
+                    if e > 0.0 {
+                        let rel = (s - e).abs() / e;
+                        max_rel = max_rel.max(rel);
+                        sum_rel += rel;
+                        pairs += 1;
+                    }
                 }
             }
+            rows.push(VrTradeoffRow {
+                method: "traces",
+                trace_dt_s: Some(h),
+                precision,
+                timing,
+                loo,
+                mean_relative_error: sum_rel / pairs.max(1) as f64,
+                max_relative_error: max_rel,
+                pareto: false,
+            });
         }
-        rows.push(VrTradeoffRow {
-            dt_s,
-            timing,
-            mean_relative_error: if pairs > 0 {
-                sum_rel / pairs as f64
-            } else {
-                0.0
-            },
-            max_relative_error: max_rel,
-            pareto: false,
-        });
     }
     mark_front(
         &mut rows,
-        |r| Some((1.0 / r.timing.wall_s, r.mean_relative_error)),
+        |r| Some((1.0 / r.timing.wall_s.max(1e-9), 1.0 - r.loo.mean)),
         |r, on_front| r.pareto = on_front,
     );
     Ok(VrTradeoff {
         samples: n,
         tau_s: config.tau_s,
         cos: config.cos,
-        exact: exact_time,
+        k: config.k,
         rows,
     })
 }
 
-/// The quick settings: 30 samples, three time steps.
+/// The quick settings: 60 samples, two trace steps, f64 only.
 pub fn quick(config: &mut VrTradeoffConfig) {
-    config.samples = 30;
-    config.dts_s = vec![0.01, 0.005, 0.002];
+    config.samples = Some(60);
+    config.trace_dts_s = vec![1e-3, 2e-2];
+    config.precisions = vec![Precision::F64];
 }
 
-/// Measures the sweep on `data` (sample duration: `duration_s`, else as
-/// [`sample_duration_ms`]).
-pub fn measure(
-    data: &SpikeDataset,
-    duration_s: Option<f64>,
-    config: &VrTradeoffConfig,
-) -> Result<VrTradeoff, ExperimentError> {
-    let duration_s = sample_duration_ms(data, duration_s)? as f64 / 1e3;
-    vr_tradeoff(data.observations(), duration_s, config)
-}
-
-/// [`measure`]s the sweep and writes `vr.{csv,md,svg,png}` to `out`.
+/// [`measure`]s the trade and writes `vr.{csv,md,svg,png}` to `out`.
 pub fn report(
     data: &SpikeDataset,
-    duration_s: Option<f64>,
     config: &VrTradeoffConfig,
     out: &Path,
 ) -> Result<VrTradeoff, TradeoffError> {
-    let sweep = measure(data, duration_s, config)?;
+    let sweep = measure(data, config)?;
     write_trade(
         out,
         "vr",
@@ -168,95 +201,124 @@ pub fn report(
     Ok(sweep)
 }
 
-/// CSV: one line per time step, then the exact matrix (`dt_s` empty, errors 0).
+fn dt_cell(r: &VrTradeoffRow) -> String {
+    r.trace_dt_s.map_or("—".into(), |h| format!("{}", h * 1e3))
+}
+
+/// CSV: one line per method.
 pub fn to_csv(sweep: &VrTradeoff) -> String {
     let mut table = Table::new(&[
-        "dt_s",
+        "method",
+        "trace_dt_s",
+        "precision",
         "wall_s",
         "cpu_s",
+        "loo_accuracy",
         "mean_relative_error",
         "max_relative_error",
         "pareto",
     ]);
-    let cpu = |t: &Timing| t.cpu_s.map_or(String::new(), |c| format!("{c}"));
     for r in &sweep.rows {
         table.push(vec![
-            format!("{:e}", r.dt_s),
+            r.method.into(),
+            r.trace_dt_s.map_or(String::new(), |h| format!("{h:e}")),
+            r.precision.name().into(),
             format!("{:e}", r.timing.wall_s),
-            cpu(&r.timing),
+            r.timing.cpu_s.map_or(String::new(), |c| format!("{c}")),
+            format!("{}", r.loo.mean),
             format!("{:e}", r.mean_relative_error),
             format!("{:e}", r.max_relative_error),
             r.pareto.to_string(),
         ]);
     }
-    let exact = [
-        String::new(),
-        format!("{:e}", sweep.exact.wall_s),
-        cpu(&sweep.exact),
-    ];
-    table.push([&exact[..], &["0".into(), "0".into(), String::new()]].concat());
     table.to_csv()
 }
 
-/// The exact distance, then `rows`, as a Markdown table.
-fn table<'a>(sweep: &VrTradeoff, rows: impl IntoIterator<Item = &'a VrTradeoffRow>) -> String {
+fn table<'a>(rows: impl IntoIterator<Item = &'a VrTradeoffRow>) -> String {
     let mut table = Table::new(&[
         "method",
-        "dt (s)",
+        "trace dt (ms)",
+        "precision",
+        "LOO accuracy",
         "mean rel. error",
         "max rel. error",
-        "time",
+        "matrix time",
     ]);
-    let exact = ["exact (Markage)", "—", "0", "0"].map(String::from);
-    table.push([&exact[..], &[sweep.exact.to_string()]].concat());
     for r in rows {
         table.push(vec![
-            "trace-sampled".into(),
-            r.dt_s.to_string(),
-            format!("{:.3e}", r.mean_relative_error),
-            format!("{:.3e}", r.max_relative_error),
+            r.method.into(),
+            dt_cell(r),
+            r.precision.name().into(),
+            format!("{:.1} %", 100.0 * r.loo.mean),
+            format!("{:.2e}", r.mean_relative_error),
+            format!("{:.2e}", r.max_relative_error),
             r.timing.to_string(),
         ]);
     }
     table.to_markdown()
 }
 
-/// The exact distance and the Pareto front of the time steps as a Markdown table.
+/// The Pareto front (fastest first) as a Markdown table.
 pub fn pareto_table(sweep: &VrTradeoff) -> String {
     let mut front: Vec<&VrTradeoffRow> = sweep.rows.iter().filter(|r| r.pareto).collect();
     front.sort_by(|a, b| a.timing.wall_s.total_cmp(&b.timing.wall_s));
-    table(sweep, front)
+    table(front)
 }
 
-/// A Markdown report: every time step against the exact distance.
+/// A Markdown report: every method.
 pub fn to_markdown(sweep: &VrTradeoff) -> String {
     let mut out = format!(
-        "# Van Rossum distance: trace-sampled vs exact\n\n{} samples, τ = {} s, cos θ = {}.\n\n",
-        sweep.samples, sweep.tau_s, sweep.cos
+        "# Van Rossum distance: exact vs synaptic traces\n\n{} samples, τ = {} s, cos θ = {}, \
+         KNN k = {} (leave-one-out). Matrix time: `LL²` and `SP²` of all pairs from the \
+         readouts (trains or trace records), {} threads.\n\n",
+        sweep.samples,
+        sweep.tau_s,
+        sweep.cos,
+        sweep.k,
+        rayon::current_num_threads()
     );
-    out.push_str(&table(sweep, &sweep.rows));
+    out.push_str(&table(&sweep.rows));
+    out.push_str("\nPareto front (matrix speed, LOO accuracy):\n\n");
+    out.push_str(&pareto_table(sweep));
     out
 }
 
-/// Mean and max relative error against wall time, one point per time step.
+/// LOO accuracy and mean relative error against matrix wall time, one point per method.
 pub fn to_svg(sweep: &VrTradeoff) -> String {
-    let series = |label: &str, c: usize, marker, error: fn(&VrTradeoffRow) -> f64| {
-        let points = sweep.rows.iter().map(|r| (r.timing.wall_s, error(r)));
-        error_series(label, c, marker, points.collect())
+    let points = |f: fn(&VrTradeoffRow) -> f64| -> Vec<(f64, f64)> {
+        sweep.rows.iter().map(|r| (r.timing.wall_s, f(r))).collect()
     };
-    let chart = Chart {
+    let accuracy = Chart {
         title: format!(
-            "trace-sampled Van Rossum vs exact ({} samples; points: dt; exact: {:.3} s)",
-            sweep.samples, sweep.exact.wall_s
+            "Van Rossum: exact vs traces ({} samples; LOO accuracy)",
+            sweep.samples
         ),
         x: Axis::log("wall time of the N × N matrix (s)"),
-        y: Axis::log("relative error of the distance"),
-        series: vec![
-            series("mean", 0, Marker::Circle, |r| r.mean_relative_error),
-            series("max", 1, Marker::Square, |r| r.max_relative_error),
-        ],
+        y: Axis::linear("leave-one-out accuracy"),
+        series: vec![error_series(
+            "methods",
+            0,
+            Marker::Circle,
+            points(|r| r.loo.mean),
+        )],
     };
-    panels(&[chart], 1)
+    let error = Chart {
+        title: "relative error of the distance (traces vs exact)".into(),
+        x: Axis::log("wall time of the N × N matrix (s)"),
+        y: Axis::log("mean relative error"),
+        series: vec![error_series(
+            "mean",
+            1,
+            Marker::Square,
+            sweep
+                .rows
+                .iter()
+                .filter(|r| r.mean_relative_error > 0.0)
+                .map(|r| (r.timing.wall_s, r.mean_relative_error))
+                .collect(),
+        )],
+    };
+    panels(&[accuracy, error], 2)
 }
 
 #[cfg(test)]
@@ -265,39 +327,40 @@ mod tests {
     use crate::datasets::synthetic::{SyntheticConfig, synthetic_dataset};
 
     #[test]
-    fn error_shrinks_with_dt_and_the_front_is_marked() {
+    fn every_method_gets_accuracy_and_the_trace_error_shrinks_with_the_step() {
         let data = synthetic_dataset(&SyntheticConfig {
-            samples: 6,
-            classes: 2,
-            channels: 4,
-            duration_s: 1.0,
+            samples: 40,
+            classes: 4,
+            channels: 6,
             ..SyntheticConfig::default()
         });
         let config = VrTradeoffConfig {
-            dts_s: vec![0.01, 0.001],
-            samples: 5,
+            trace_dts_s: vec![2e-2, 1e-3, 1e-5],
+            samples: Some(20),
             ..VrTradeoffConfig::default()
         };
-        let sweep = vr_tradeoff(data.observations(), 1.0, &config).unwrap();
-        assert_eq!((sweep.samples, sweep.rows.len()), (5, 2));
-        let (coarse, fine) = (&sweep.rows[0], &sweep.rows[1]);
-        assert!(fine.mean_relative_error < coarse.mean_relative_error / 3.0);
-        assert!(coarse.max_relative_error >= coarse.mean_relative_error);
-        // The finer step is the more accurate one: it is always on the front.
-        assert!(fine.pareto);
-        assert_eq!(to_csv(&sweep).lines().count(), 1 + 2 + 1);
-        assert!(pareto_table(&sweep).contains("| exact (Markage) |"));
-        assert!(to_svg(&sweep).contains("<svg"));
-        let too_few = VrTradeoffConfig {
-            samples: 1,
-            ..config
-        };
-        assert!(matches!(
-            vr_tradeoff(data.observations(), 1.0, &too_few),
-            Err(ExperimentError::InvalidParameter {
-                what: "samples",
-                ..
-            })
-        ));
+        let t = measure(&data, &config).unwrap();
+        assert_eq!(t.samples, 20);
+        assert_eq!(t.rows.len(), 1 + 3 * 2);
+        assert_eq!(
+            (t.rows[0].method, t.rows[0].mean_relative_error),
+            ("exact", 0.0)
+        );
+        assert!(t.rows.iter().all(|r| r.loo.n == 20));
+        assert!(t.rows.iter().any(|r| r.pareto));
+        let f64_errors: Vec<f64> = t
+            .rows
+            .iter()
+            .filter(|r| r.method == "traces" && r.precision == Precision::F64)
+            .map(|r| r.mean_relative_error)
+            .collect();
+        assert!(
+            f64_errors[0] > f64_errors[1] && f64_errors[1] > f64_errors[2],
+            "{f64_errors:?}"
+        );
+        assert!(f64_errors[2] < 1e-3, "{f64_errors:?}");
+        // At a 10 µs step the traces rank the neighbours as the exact distance does.
+        assert_eq!(t.rows.last().unwrap().loo.mean, t.rows[0].loo.mean);
+        assert!(to_csv(&t).lines().count() == 8 && to_markdown(&t).contains("Pareto front"));
     }
 }

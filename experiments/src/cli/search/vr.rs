@@ -5,7 +5,9 @@ use crate::cli::load_labelled;
 use anyhow::Context;
 use clap::Args;
 use neurotac_core::Knn;
-use neurotac_experiments::search::bayes::{BayesConfig, VanRossumObjective, bayes_optimise};
+use neurotac_experiments::search::bayes::{
+    BayesConfig, VanRossumInput, VanRossumObjective, bayes_optimise,
+};
 use neurotac_experiments::timing::timed;
 use std::path::PathBuf;
 
@@ -69,7 +71,7 @@ pub fn run(args: VrArgs) -> anyhow::Result<()> {
         ..Default::default()
     };
     let mut objective = VanRossumObjective::new(
-        data.observations(),
+        VanRossumInput::Exact(data.observations()),
         data.labels(),
         Knn::new(args.k)?,
         args.matrix_cache,

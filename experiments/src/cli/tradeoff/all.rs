@@ -22,7 +22,7 @@ pub struct AllArgs {
     #[arg(long)]
     force: bool,
     /// Spike dataset for the Van Rossum trade (default: a seeded synthetic one, 100 samples of
-    /// 49 taxels over 4.5 s; 30 with --quick).
+    /// 49 taxels over 4.5 s, 10 classes; 60 samples with --quick).
     #[arg(long)]
     vr_input: Option<PathBuf>,
 }
@@ -33,7 +33,7 @@ pub fn run(args: AllArgs) -> anyhow::Result<()> {
     let data = match &args.vr_input {
         Some(path) => load_dataset(path)?,
         None => synthetic_dataset(&SyntheticConfig {
-            samples: config.vr.samples,
+            samples: config.vr.samples.unwrap_or(100),
             classes: 10,
             ..SyntheticConfig::default()
         }),

@@ -1,78 +1,92 @@
-//! `neurotac tradeoff vr`: the trace-sampled Van Rossum distance (traces advanced at step dt by
-//! the graph's synapse filter) against the exact one, as dt shrinks.
+//! `neurotac tradeoff vr`: the exact Van Rossum distance against the distance of synaptic
+//! traces sampled at `--trace-dts` in f64/f32, as LOO accuracy, distance error and matrix time,
+//! on a simulated set (`--set`) or a labelled dataset (`--input`).
 
 use crate::cli::args;
-use crate::cli::load_dataset;
+use crate::cli::load_labelled;
 use clap::Args;
-use neurotac_experiments::tradeoff::vr::{VrTradeoffConfig, measure};
+use neurotac_experiments::datasets::simulated::{TextureSet, default_cache_dir, load_or_simulate};
+use neurotac_experiments::neuron_setup::Precision;
+use neurotac_experiments::tradeoff::vr::{VrTradeoffConfig, measure, to_markdown};
+use neurotac_sensor::sim::SimParams;
 use std::path::PathBuf;
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+enum VrSet {
+    /// The 11 bump grids, 100 slides each (seed 1, from the cache or simulated).
+    Artificial,
+    /// The 20 natural textures, 50 slides each.
+    Natural,
+}
 
 #[derive(Debug, Args)]
 pub struct VrArgs {
-    /// Spike dataset (JSON or binary).
+    /// A simulated texture set (the paper's slide counts, seed 1, default cache).
+    #[arg(
+        long,
+        value_enum,
+        conflicts_with = "input",
+        required_unless_present = "input"
+    )]
+    set: Option<VrSet>,
+    /// A labelled spike dataset (JSON or binary) instead.
     #[arg(long)]
-    input: PathBuf,
+    input: Option<PathBuf>,
     /// Kernel time constant τ (s).
     #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long, default_value_t = 0.076)]
     tau: f64,
     /// cos θ in [0, 1].
     #[arg(value_parser = args::unit_interval, allow_negative_numbers = true, long, default_value_t = 0.4)]
     cos: f64,
-    /// Time steps to try (s), comma-separated.
+    /// Trace steps to try (ms, whole µs), comma-separated.
     #[arg(
         value_parser = args::positive_f64, allow_negative_numbers = true,
         long,
         value_delimiter = ',',
-        default_value = "0.01,0.005,0.002,0.001,0.0005"
+        default_value = "0.1,1,5,20"
     )]
-    dts: Vec<f64>,
-    /// Use only the first N samples (the sampled matrices cost N²·steps).
-    #[arg(value_parser = args::positive_count, allow_negative_numbers = true, long, default_value_t = 100)]
-    samples: usize,
-    /// Sample duration (s, whole ms); default: meta.duration_s, else one ms past the latest spike.
-    #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long)]
-    duration: Option<f64>,
+    trace_dts: Vec<f64>,
+    /// Trace arithmetic to try, comma-separated.
+    #[arg(long, value_enum, value_delimiter = ',', default_value = "f64,f32")]
+    precisions: Vec<Precision>,
+    /// Use about this many samples (every ⌈N/samples⌉-th; default: all).
+    #[arg(value_parser = args::positive_count, allow_negative_numbers = true, long)]
+    samples: Option<usize>,
     /// Print one JSON object instead of a table.
     #[arg(long)]
     json: bool,
 }
 
 pub fn run(args: VrArgs) -> anyhow::Result<()> {
-    let data = load_dataset(&args.input)?;
+    let data = match (&args.input, args.set) {
+        (Some(path), _) => load_labelled(path)?,
+        (None, set) => {
+            let set = match set {
+                Some(VrSet::Natural) => TextureSet::Natural,
+                _ => TextureSet::Artificial,
+            };
+            load_or_simulate(
+                set,
+                set.paper_trials(),
+                1,
+                &SimParams::default(),
+                &default_cache_dir(),
+            )?
+        }
+    };
     let config = VrTradeoffConfig {
         tau_s: args.tau,
         cos: args.cos,
-        dts_s: args.dts.clone(),
+        trace_dts_s: args.trace_dts.iter().map(|ms| ms * 1e-3).collect(),
+        precisions: args.precisions.clone(),
         samples: args.samples,
+        ..VrTradeoffConfig::default()
     };
-    let sweep = measure(&data, args.duration, &config)?;
+    let sweep = measure(&data, &config)?;
     if args.json {
-        let out = serde_json::json!({
-            "samples": sweep.samples, "tau_s": sweep.tau_s, "cos": sweep.cos,
-            "exact": sweep.exact,
-            "sampled": sweep.rows.iter().map(|r| serde_json::json!({
-                "dt_s": r.dt_s, "timing": r.timing,
-                "mean_relative_error": r.mean_relative_error,
-                "max_relative_error": r.max_relative_error
-            })).collect::<Vec<_>>(),
-        });
-        println!("{out}");
-        return Ok(());
-    }
-    println!(
-        "trace-sampled vs exact Van Rossum distance, {} samples, τ = {} s, cos θ = {}",
-        sweep.samples, sweep.tau_s, sweep.cos
-    );
-    println!("  exact (markage)           {}", sweep.exact);
-    println!(
-        "  {:>9}  {:>14}  {:>14}  time",
-        "dt (s)", "mean rel. err", "max rel. err"
-    );
-    for r in &sweep.rows {
-        println!(
-            "  {:>9}  {:>14.3e}  {:>14.3e}  {}",
-            r.dt_s, r.mean_relative_error, r.max_relative_error, r.timing
-        );
+        println!("{}", serde_json::to_string(&sweep)?);
+    } else {
+        println!("{}", to_markdown(&sweep));
     }
     Ok(())
 }
