@@ -56,13 +56,17 @@ pub use error::{
 };
 pub use event::{Event, EventBuffer};
 pub use graph::{
-    Connectivity, CurrentInput, ExpSynapse, Network, NetworkBuilder, NetworkConfig, NodeId,
-    PoissonInput, ProjectionId, Readout, ReadoutContext, ReadoutId, ReadoutSource, RunSummary,
-    SpikeArrayInput, SpikeRecorder, SpikeSource, StateRecorder, StateSampler, StepView, Synapse,
-    SynapticCurrentSampler, SynapticTraceRecorder, TraceRecorder, TraceSampler,
+    Connectivity, CurrentId, CurrentInput, ExpSynapse, InputId, Network, NetworkBuilder,
+    NetworkConfig, NodeId, PoissonInput, PopulationId, ProjectionId, Readout, ReadoutContext,
+    ReadoutId, ReadoutSource, RunSummary, SpikeArrayInput, SpikeRecorder, SpikeSource,
+    StateRecorder, StateSampler, StepView, Synapse, SynapticCurrentSampler, SynapticTraceRecorder,
+    TraceRecorder, TraceSampler, one_spike_weight,
 };
 pub use io::{AtomicDir, AtomicFile};
 pub use knn::Knn;
 pub use model::{NeuronModel, SpikeBuffer};
+/// The `ndarray` version neurotac's matrices use (feature matrices, distance matrices), so user
+/// code needs no matching dependency of its own.
+pub use ndarray;
 pub use spikes::{MultiSpikeTrain, SpikeTrain};
 pub use time::{Timestamp, s_to_us, us_to_s};

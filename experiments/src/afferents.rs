@@ -29,8 +29,8 @@
 
 use crate::error::ExperimentError;
 use neurotac_core::{
-    Connectivity, ExpSynapse, GraphError, MultiSpikeTrain, NetworkBuilder, NetworkConfig, NodeId,
-    ReadoutId, SpikeArrayInput, SpikeDataset, SpikeRecorder, SpikeSource,
+    Connectivity, ExpSynapse, GraphError, InputId, MultiSpikeTrain, NetworkBuilder, NetworkConfig,
+    PopulationId, ReadoutId, SpikeArrayInput, SpikeDataset, SpikeRecorder, SpikeSource,
 };
 use neurotac_neurons::{Integrator, Izhikevich, IzhikevichParams, Lif, LifParams};
 use rayon::prelude::*;
@@ -85,7 +85,7 @@ pub struct AfferentNetwork {
     /// The runnable network.
     pub network: neurotac_core::Network,
     /// The taxel input node (for [`neurotac_core::Network::replace_spike_input`]).
-    pub input: neurotac_core::NodeId,
+    pub input: neurotac_core::InputId,
     /// The afferents' spike recorder.
     pub spikes: ReadoutId<SpikeRecorder>,
     /// The taxels' spike recorder (the input as the network saw it).
@@ -96,10 +96,10 @@ pub struct AfferentNetwork {
 /// through an exponential synapse (`config`), and returns the afferent population.
 pub fn afferent_population(
     builder: &mut NetworkBuilder,
-    input: NodeId,
+    input: InputId,
     n: usize,
     config: AfferentConfig,
-) -> Result<NodeId, GraphError> {
+) -> Result<PopulationId, GraphError> {
     let afferents = match config.model {
         AfferentModel::Lif => builder.add_population(
             "afferents",

@@ -25,7 +25,7 @@ use neurotac_core::coding::{
     TraceRecord, duration_ms_of, feature_matrix, pooled_bin_counts,
 };
 use neurotac_core::{
-    CodingError, MultiSpikeTrain, Network, NetworkBuilder, NetworkConfig, NodeId, ReadoutId,
+    CodingError, InputId, MultiSpikeTrain, Network, NetworkBuilder, NetworkConfig, ReadoutId,
     ReadoutSource, SpikeArrayInput, SpikeDataset,
 };
 use rayon::prelude::*;
@@ -148,7 +148,7 @@ pub fn encode_offline(data: &SpikeDataset, vr_from: VrFrom) -> Result<EncodedSet
 /// The network every sample of a set runs through, and its readouts.
 struct ReadoutNetwork {
     network: Network,
-    input: NodeId,
+    input: InputId,
     intensive: ReadoutId<IntensiveCoding>,
     spatial: ReadoutId<SpatialCoding>,
     temporal: ReadoutId<TemporalCoding>,
@@ -176,11 +176,10 @@ impl ReadoutNetwork {
             "taxels",
             SpikeArrayInput::new(MultiSpikeTrain::empty(n_channels)),
         )?;
-        let coded = match afferents {
-            None => input,
-            Some(config) => afferent_population(&mut b, input, n_channels, config)?,
+        let source: ReadoutSource = match afferents {
+            None => input.into(),
+            Some(config) => afferent_population(&mut b, input, n_channels, config)?.into(),
         };
-        let source = ReadoutSource::Node(coded);
         let mut spatiotemporal = SpatiotemporalCoding::new(1.0)?;
         if let VrFrom::Traces { trace_dt_s, .. } = vr_from {
             spatiotemporal = spatiotemporal.with_trace_record(trace_dt_s)?;

@@ -31,7 +31,7 @@
 //! // As a readout of a spike input replaying the same sample:
 //! let mut b = NetworkBuilder::new();
 //! let taxels = b.add_spike_input("taxels", SpikeArrayInput::new(sample.clone()))?;
-//! let temporal = b.add_readout(ReadoutSource::Node(taxels), TemporalCoding::new(0.010, 0.030)?)?;
+//! let temporal = b.add_readout(taxels, TemporalCoding::new(0.010, 0.030)?)?;
 //! let mut net = b.build(NetworkConfig { dt_s: 1e-4 })?;
 //! net.run(0.030)?;
 //! let mut direct = TemporalCoding::new(0.010, 0.030)?;
@@ -175,7 +175,7 @@ coding_readout!(
 mod tests {
     use super::*;
     use crate::MultiSpikeTrain;
-    use crate::graph::{NetworkBuilder, NetworkConfig, ReadoutSource, SpikeArrayInput};
+    use crate::graph::{NetworkBuilder, NetworkConfig, SpikeArrayInput};
 
     fn sample() -> MultiSpikeTrain {
         // Stamps that are awkward in binary (0.159 s, 0.0999999 s) and a within-bin repeat.
@@ -197,7 +197,7 @@ mod tests {
         let input = b
             .add_spike_input("taxels", SpikeArrayInput::new(trains.clone()))
             .unwrap();
-        let id = b.add_readout(ReadoutSource::Node(input), coding).unwrap();
+        let id = b.add_readout(input, coding).unwrap();
         let mut net = b.build(NetworkConfig { dt_s }).unwrap();
         net.run(0.3).unwrap();
         net.readout(id).clone()

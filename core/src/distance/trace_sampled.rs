@@ -260,7 +260,7 @@ mod tests {
     use super::*;
     use crate::coding::{Coding, SpatiotemporalCoding};
     use crate::distance::VanRossum;
-    use crate::graph::{NetworkBuilder, NetworkConfig, ReadoutSource, SpikeArrayInput};
+    use crate::graph::{NetworkBuilder, NetworkConfig, SpikeArrayInput};
     use rand::{RngExt, SeedableRng};
 
     fn random_samples(n: usize, channels: usize, spikes: usize, seed: u64) -> Vec<MultiSpikeTrain> {
@@ -384,7 +384,7 @@ mod tests {
             .unwrap()
             .with_trace_record(1e-4)
             .unwrap();
-        let id = b.add_readout(ReadoutSource::Node(input), coding).unwrap();
+        let id = b.add_readout(input, coding).unwrap();
         let mut net = b.build(NetworkConfig { dt_s: 1e-4 }).unwrap();
         net.run(0.31).unwrap();
         let from_network = net.readout(id).trace_record().unwrap().unwrap();

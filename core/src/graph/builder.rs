@@ -1,7 +1,10 @@
 //! [`NetworkBuilder`]: the network described node by node, checked, pruned to what the
 //! readouts need and prepared into a [`Network`] (see the [module docs](super)).
 
-use super::ids::{NetworkConfig, NodeId, ProjectionId, ReadoutId, ReadoutSource};
+use super::ids::{
+    CurrentId, InputId, NetworkConfig, NodeId, PopulationId, ProjectionId, ReadoutId,
+    ReadoutSource, SpikingNode,
+};
 use super::input::{CurrentInput, SpikeSource};
 use super::network::{Network, RunningKind, RunningNode, RunningSource};
 use super::readout::{Readout, SpikeRecorder, StateRecorder, SynapticTraceRecorder};
@@ -84,9 +87,10 @@ impl NetworkBuilder {
         &mut self,
         name: &str,
         model: impl NeuronModel + 'static,
-    ) -> Result<NodeId, GraphError> {
+    ) -> Result<PopulationId, GraphError> {
         let size = model.len();
         self.add(name, size, NodeKind::Population(Box::new(model)))
+            .map(|n| PopulationId(n.0))
     }
 
     /// Adds a spike source (recorded trains, Poisson, or your own [`SpikeSource`]).
@@ -94,9 +98,10 @@ impl NetworkBuilder {
         &mut self,
         name: &str,
         source: impl SpikeSource + 'static,
-    ) -> Result<NodeId, GraphError> {
+    ) -> Result<InputId, GraphError> {
         let size = source.len();
         self.add(name, size, NodeKind::Spikes(Box::new(source)))
+            .map(|n| InputId(n.0))
     }
 
     /// Adds a current source; attach it to populations with [`inject`](Self::inject).
@@ -104,20 +109,25 @@ impl NetworkBuilder {
         &mut self,
         name: &str,
         current: CurrentInput,
-    ) -> Result<NodeId, GraphError> {
+    ) -> Result<CurrentId, GraphError> {
         current.validate(name)?;
         let size = current.len();
         self.add(name, size, NodeKind::Current(current))
+            .map(|n| CurrentId(n.0))
     }
 
     /// Feeds a current source into a population. The source must have one value per neuron or
     /// a single broadcast value.
-    pub fn inject(&mut self, current: NodeId, population: NodeId) -> Result<(), GraphError> {
-        let src = self.node(current)?;
+    pub fn inject(
+        &mut self,
+        current: CurrentId,
+        population: PopulationId,
+    ) -> Result<(), GraphError> {
+        let src = self.node(current.into())?;
         if !matches!(src.kind, NodeKind::Current(_)) {
             return Err(Self::wrong_role(src, "injected as a current"));
         }
-        let dst = self.node(population)?;
+        let dst = self.node(population.into())?;
         if !matches!(dst.kind, NodeKind::Population(_)) {
             return Err(Self::wrong_role(dst, "the target of a current"));
         }
@@ -132,15 +142,22 @@ impl NetworkBuilder {
         Ok(())
     }
 
-    /// Connects a spike-emitting node (`pre`: population or spike source) to a population
-    /// (`post`) through exponential current synapses.
+    /// Connects a spike-emitting node (`pre`: a [`PopulationId`] or an [`InputId`]) to a
+    /// population (`post`) through exponential current synapses.
+    ///
+    /// **Delay rule** ([`ExpSynapse::with_delay`]): from a population the delay is at least one
+    /// step — a population's spikes of step `k` exist only after its integration in step `k`,
+    /// so they reach their targets in step `k + delay`; from a spike input, delay 0 delivers a
+    /// spike in the step it is emitted. A population → population projection with delay 0 is
+    /// an error ([`GraphError::InvalidParameter`] naming the projection).
     pub fn connect(
         &mut self,
-        pre: NodeId,
-        post: NodeId,
+        pre: impl SpikingNode,
+        post: PopulationId,
         connectivity: Connectivity,
         synapse: ExpSynapse,
     ) -> Result<ProjectionId, GraphError> {
+        let (pre, post): (NodeId, NodeId) = (pre.into(), post.into());
         let src = self.node(pre)?;
         if matches!(src.kind, NodeKind::Current(_)) {
             return Err(Self::wrong_role(src, "a presynaptic spike source"));
@@ -174,12 +191,14 @@ impl NetworkBuilder {
         Ok(ProjectionId(self.projections.len() - 1))
     }
 
-    /// Attaches any readout. Node sources must emit spikes (population or spike source).
+    /// Attaches any readout to a population, a spike input or a projection (any of their ids,
+    /// or a [`ReadoutSource`]). Node sources must emit spikes.
     pub fn add_readout<R: Readout>(
         &mut self,
-        source: ReadoutSource,
+        source: impl Into<ReadoutSource>,
         readout: R,
     ) -> Result<ReadoutId<R>, GraphError> {
+        let source = source.into();
         match source {
             ReadoutSource::Node(id) => {
                 let n = self.node(id)?;
@@ -200,20 +219,23 @@ impl NetworkBuilder {
     }
 
     /// Records every spike of a population or spike source.
-    pub fn record_spikes(&mut self, node: NodeId) -> Result<ReadoutId<SpikeRecorder>, GraphError> {
-        self.add_readout(ReadoutSource::Node(node), SpikeRecorder::new())
+    pub fn record_spikes(
+        &mut self,
+        node: impl SpikingNode,
+    ) -> Result<ReadoutId<SpikeRecorder>, GraphError> {
+        self.add_readout(ReadoutSource::Node(node.into()), SpikeRecorder::new())
     }
 
     /// Records state variable `variable` of `neurons` (all when `None`) of a population every
     /// `every_steps` steps.
     pub fn record_state(
         &mut self,
-        population: NodeId,
+        population: PopulationId,
         variable: &str,
         neurons: Option<Vec<u32>>,
         every_steps: u64,
     ) -> Result<ReadoutId<StateRecorder>, GraphError> {
-        let node = self.node(population)?;
+        let node = self.node(population.into())?;
         let NodeKind::Population(model) = &node.kind else {
             return Err(Self::wrong_role(
                 node,
@@ -233,10 +255,7 @@ impl NetworkBuilder {
                 },
             })?;
         let neurons = self.checked_neurons(neurons, node.size, &node.name)?;
-        self.add_readout(
-            ReadoutSource::Node(population),
-            StateRecorder::new(var, neurons, every_steps),
-        )
+        self.add_readout(population, StateRecorder::new(var, neurons, every_steps))
     }
 
     /// Records the synaptic currents of a projection onto `neurons` (all when `None`) every step.

@@ -56,9 +56,13 @@ mod input;
 mod network;
 mod readout;
 mod synapse;
+mod weight;
 
 pub use builder::NetworkBuilder;
-pub use ids::{NetworkConfig, NodeId, ProjectionId, ReadoutId, ReadoutSource};
+pub use ids::{
+    CurrentId, InputId, NetworkConfig, NodeId, PopulationId, ProjectionId, ReadoutId,
+    ReadoutSource, SpikingNode,
+};
 pub use input::{CurrentInput, PoissonInput, SpikeArrayInput, SpikeSource};
 pub use network::{Network, RunSummary};
 pub use readout::{
@@ -66,6 +70,7 @@ pub use readout::{
     SynapticCurrentSampler, SynapticTraceRecorder, TraceRecorder, TraceSampler,
 };
 pub use synapse::{Connectivity, ExpSynapse, FLUSH_TO_ZERO, Synapse};
+pub use weight::one_spike_weight;
 
 #[cfg(test)]
 mod tests;

@@ -1,7 +1,7 @@
 //! [`Network`]: a built network and its run loop, one step in the documented phase order (see
 //! the [module docs](super)).
 
-use super::ids::{NodeId, ReadoutId};
+use super::ids::{InputId, NodeId, ReadoutId};
 use super::input::{CurrentInput, SpikeSource};
 use super::readout::{Readout, ReadoutContext, StepView};
 use super::synapse::RunningProjection;
@@ -80,7 +80,8 @@ impl Network {
     }
 
     /// `true` when `node` was kept (some readout depends on it).
-    pub fn is_active(&self, node: NodeId) -> bool {
+    pub fn is_active(&self, node: impl Into<NodeId>) -> bool {
+        let node: NodeId = node.into();
         self.node_index.get(node.0).is_some_and(Option::is_some)
     }
 
@@ -104,7 +105,7 @@ impl Network {
     /// start it from time 0.
     pub fn replace_spike_input(
         &mut self,
-        node: NodeId,
+        node: InputId,
         source: impl SpikeSource + 'static,
     ) -> Result<(), GraphError> {
         let i = self

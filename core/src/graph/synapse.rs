@@ -32,14 +32,21 @@ fn flush(x: f64) -> f64 {
     if x.abs() < FLUSH_TO_ZERO { 0.0 } else { x }
 }
 
-/// Exponential current synapse parameters shared by all synapses of a projection.
+/// Exponential current synapse parameters shared by all synapses of a projection: each
+/// presynaptic spike adds its weight `w` to the synaptic current, which decays as
+/// `I(t) = w·e^{−t/τ_syn}` and enters the target model's input (weights are in the model's input
+/// units; [`one_spike_weight`](super::one_spike_weight) finds the weight at which one spike makes
+/// a neuron fire).
+///
+/// **Delay rule:** `delay_steps ≥ 1` from a population, `≥ 0` from a spike input.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ExpSynapse {
     /// Decay time constant τ_syn in seconds (> 0).
     pub tau_s: f64,
     /// Transmission delay in whole steps. 0 is allowed from input nodes only; from a
     /// population it must be ≥ 1, since a population's spikes of step k exist only after its
-    /// own integration in step k.
+    /// own integration in step k (the delay rule, checked by
+    /// [`NetworkBuilder::connect`](super::NetworkBuilder::connect)).
     pub delay_steps: u32,
 }
 
