@@ -47,11 +47,20 @@ pub fn sample(class: usize, trial: usize) -> MultiSpikeTrain {
     MultiSpikeTrain::from_channels(channels).expect("regular trains are sorted and finite")
 }
 
-/// Builds the network once, runs every sample through it, and returns the labels, the
-/// readout's trace records, the chosen weights and the leave-one-out predictions at
-/// (τ, cos θ) = (20 ms, 0.5).
-pub fn run()
--> Result<(Vec<usize>, Vec<TraceRecord>, [f64; 2], Vec<usize>), Box<dyn std::error::Error>> {
+/// What [`run`] returns.
+pub struct Outcome {
+    /// Class of each sample.
+    pub labels: Vec<usize>,
+    /// The readout's trace record of each sample (the Izhikevich layer's spikes as traces).
+    pub records: Vec<TraceRecord>,
+    /// The weights input → LIF and LIF → Izhikevich.
+    pub weights: [f64; 2],
+    /// Leave-one-out KNN predictions at (τ, cos θ) = (20 ms, 0.5).
+    pub predicted: Vec<usize>,
+}
+
+/// Builds the network once and runs every sample through it.
+pub fn run() -> Result<Outcome, Box<dyn std::error::Error>> {
     let synapse = ExpSynapse::new(5e-3);
     let lif = || Lif::<f64>::new(1, LifParams::default()).with_integrator(Integrator::Exact);
     let rs = || Izhikevich::<f64>::new(1, IzhikevichParams::rs());
@@ -97,12 +106,22 @@ pub fn run()
     }
     let d2: Array2<f64> = trace_matrices::<f64>(&records, 0.02)?.squared(0.5)?;
     let predicted = Knn::new(3)?.leave_one_out(d2.view(), &labels)?;
-    Ok((labels, records, [w_lif, w_rs], predicted))
+    Ok(Outcome {
+        labels,
+        records,
+        weights: [w_lif, w_rs],
+        predicted,
+    })
 }
 
 #[allow(dead_code)]
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let (labels, records, [w_lif, w_rs], predicted) = run()?;
+    let Outcome {
+        labels,
+        records,
+        weights: [w_lif, w_rs],
+        predicted,
+    } = run()?;
     let correct = predicted
         .iter()
         .zip(&labels)

@@ -5,7 +5,12 @@ mod example;
 
 #[test]
 fn the_two_layer_network_classifies_its_three_classes_from_traces() {
-    let (labels, records, [w_lif, w_rs], predicted) = example::run().unwrap();
+    let example::Outcome {
+        labels,
+        records,
+        weights: [w_lif, w_rs],
+        predicted,
+    } = example::run().unwrap();
     assert_eq!(labels.len(), 3 * example::PER_CLASS);
     // LIF (τ_m 10 ms, τ_syn 5 ms): the PSP peaks at w/4, so one spike needs w ≈ 4 (threshold
     // 1); the step-wise input makes it slightly more.
