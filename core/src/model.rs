@@ -120,4 +120,29 @@ pub trait NeuronModel: Send {
     /// Appends the value of variable `var` (an index into [`variables`](Self::variables)) of
     /// each neuron in `neurons` to `out`.
     fn read_variable(&self, var: usize, neurons: &[u32], out: &mut Vec<f64>);
+
+    /// `true` when the population can be stepped event-driven: a neuron whose input is 0 is
+    /// not touched in a step ([`step_active`](Self::step_active)) and is advanced over the
+    /// skipped steps in closed form when it next gets input, or at [`settle`](Self::settle).
+    /// Default `false` (clock-driven; LIF says when it can, see its docs).
+    fn event_driven(&self) -> bool {
+        false
+    }
+
+    /// One event-driven step (only called when [`event_driven`](Self::event_driven)): advances
+    /// the neurons `active` (ascending), neuron `active[j]` under the input `inputs[j]`, pushing
+    /// their spikes; every other neuron's input is 0 this step. The default steps every neuron
+    /// (the others at input 0).
+    fn step_active(&mut self, active: &[u32], inputs: &[f64], spikes: &mut SpikeBuffer) {
+        let mut current = vec![0.0; self.len()];
+        for (&i, &x) in active.iter().zip(inputs) {
+            current[i as usize] = x;
+        }
+        self.step(&current, spikes);
+    }
+
+    /// Brings every neuron skipped by [`step_active`](Self::step_active) up to the current step
+    /// (the network calls it at the end of each run, so state reads after a run are current).
+    /// Default: nothing to do.
+    fn settle(&mut self) {}
 }

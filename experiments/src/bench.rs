@@ -1,4 +1,5 @@
-//! Throughput benchmarks: neuron updates per second and the CUBA network.
+//! Throughput benchmarks: neuron updates per second, the afferent pipeline at a given activity
+//! (clock-driven against event-driven, [`afferent_activity`]) and the CUBA network.
 //!
 //! Both are the cases Brian2 is measured on, so the numbers compare directly (see the README's
 //! performance section). Timing covers stepping only; building and allocation are reported
@@ -7,9 +8,11 @@
 use crate::neuron_setup::{NeuronKind, NeuronSetup, Precision};
 use crate::threads::{ThreadPoolError, with_threads};
 use neurotac_core::{
-    Connectivity, ExpSynapse, GraphError, ModelError, NetworkBuilder, NetworkConfig,
+    Connectivity, ExpSynapse, GraphError, ModelError, MultiSpikeTrain, Network, NetworkBuilder,
+    NetworkConfig, ReadoutId, SpikeArrayInput, SpikeRecorder,
 };
 use neurotac_neurons::{InitialPotential, Integrator, Lif, LifParams};
+use rand::{RngExt, SeedableRng};
 use serde::Serialize;
 use std::time::Instant;
 
@@ -108,6 +111,175 @@ pub fn neuron_throughput(
         updates_per_s,
         updates_per_s_per_thread: updates_per_s / used as f64,
         spikes,
+    })
+}
+
+/// `n` taxel trains of which the fraction `active` (evenly spaced, at least one when
+/// `active > 0`) fire as Poisson processes at `rate_hz` over `duration_s`, seeded; the others
+/// are silent.
+pub fn activity_taxels(
+    n: usize,
+    active: f64,
+    rate_hz: f64,
+    duration_s: f64,
+    seed: u64,
+) -> MultiSpikeTrain {
+    let n_active =
+        ((active.clamp(0.0, 1.0) * n as f64).round() as usize).max(usize::from(active > 0.0));
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+    let channels: Vec<Vec<f64>> = (0..n)
+        .map(|c| {
+            let mut train = Vec::new();
+            // Channel c is active when it is the first of its share of n / n_active channels.
+            if n_active > 0 && (c * n_active) % n < n_active && rate_hz > 0.0 {
+                let mut t = -(1.0 - rng.random::<f64>()).ln() / rate_hz;
+                while t < duration_s {
+                    train.push(t);
+                    t += -(1.0 - rng.random::<f64>()).ln() / rate_hz;
+                }
+            }
+            train
+        })
+        .collect();
+    MultiSpikeTrain::from_channels(channels).expect("sorted finite Poisson times")
+}
+
+/// Runs of each mode in [`afferent_activity`]; the fastest counts.
+pub const ACTIVITY_REPEATS: usize = 5;
+
+/// One stepping mode of [`afferent_activity`] (its fastest of [`ACTIVITY_REPEATS`] runs).
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct ActivityRun {
+    /// Wall time of the run (s; building excluded).
+    pub wall_s: f64,
+    /// Neuron updates done ([`neurotac_core::Network::neuron_updates`]).
+    pub updates: u64,
+    /// Effective throughput: `n × steps / wall_s` (the clock-driven work done per second).
+    pub effective_updates_per_s: f64,
+    /// Afferent spikes.
+    pub spikes: usize,
+}
+
+/// What [`afferent_activity`] measured.
+#[derive(Debug, Clone, Serialize)]
+pub struct ActivityBenchResult {
+    /// Taxels (= afferents).
+    pub n: usize,
+    /// Fraction of taxels firing.
+    pub active_fraction: f64,
+    /// Their Poisson rate (Hz).
+    pub rate_hz: f64,
+    /// Time step (s).
+    pub dt_s: f64,
+    /// Steps run.
+    pub steps: u64,
+    /// Every neuron updated every step.
+    pub clock_driven: ActivityRun,
+    /// Only neurons with synaptic input updated.
+    pub event_driven: ActivityRun,
+    /// `clock_driven.wall_s / event_driven.wall_s`.
+    pub speedup: f64,
+    /// Both runs gave the same spikes (same neurons, same times).
+    pub identical_spikes: bool,
+}
+
+/// The afferent pipeline's network: `taxels` → exponential synapses (τ 5 ms, weight 5, no
+/// delay) → one LIF afferent per taxel (exact, f64) → spike recorder, clock- or event-driven.
+pub fn afferent_network(
+    taxels: &MultiSpikeTrain,
+    dt_s: f64,
+    event_driven: bool,
+) -> Result<(Network, ReadoutId<SpikeRecorder>), GraphError> {
+    let n = taxels.n_channels();
+    let mut b = NetworkBuilder::new();
+    b.event_driven(event_driven);
+    let input = b.add_spike_input("taxels", SpikeArrayInput::new(taxels.clone()))?;
+    let afferents = b.add_population(
+        "afferents",
+        Lif::<f64>::new(n, LifParams::default()).with_integrator(Integrator::Exact),
+    )?;
+    b.connect(
+        input,
+        afferents,
+        Connectivity::OneToOne { weight: 5.0 },
+        ExpSynapse::new(5e-3).with_delay(0),
+    )?;
+    let spikes = b.record_spikes(afferents)?;
+    Ok((b.build(NetworkConfig { dt_s })?, spikes))
+}
+
+/// The afferent pipeline (`n` taxels → exponential synapses, τ 5 ms, weight 5 → `n` LIF
+/// afferents, exact, f64) with the fraction `active` of the taxels firing at `rate_hz` (seed
+/// `seed`), run for `duration_s` at `dt_s` clock-driven and event-driven
+/// ([`NetworkBuilder::event_driven`]) on one thread, each the fastest of
+/// [`ACTIVITY_REPEATS`] interleaved runs; the spikes are compared.
+pub fn afferent_activity(
+    n: usize,
+    active: f64,
+    rate_hz: f64,
+    duration_s: f64,
+    dt_s: f64,
+    seed: u64,
+) -> Result<ActivityBenchResult, BenchError> {
+    for (what, value, ok) in [
+        ("activity", active, (0.0..=1.0).contains(&active)),
+        ("rate_hz", rate_hz, rate_hz.is_finite() && rate_hz >= 0.0),
+        (
+            "duration_s",
+            duration_s,
+            duration_s.is_finite() && duration_s >= 0.0,
+        ),
+    ] {
+        if !ok {
+            return Err(BenchError::InvalidParameter {
+                what,
+                value,
+                expected: "activity in [0, 1], rate and duration finite and ≥ 0",
+            });
+        }
+    }
+    let taxels = activity_taxels(n, active, rate_hz, duration_s, seed);
+    let run = |event_driven: bool| -> Result<(ActivityRun, Vec<(u32, f64)>), BenchError> {
+        let (mut net, spikes) = afferent_network(&taxels, dt_s, event_driven)?;
+        let (result, wall_s) = with_threads(1, || {
+            let start = Instant::now();
+            let result = net.run(duration_s);
+            (result, start.elapsed().as_secs_f64())
+        })?;
+        result?;
+        let steps = net.steps_done();
+        let out = net.readout(spikes).spikes().to_vec();
+        Ok((
+            ActivityRun {
+                wall_s,
+                updates: net.neuron_updates(),
+                effective_updates_per_s: n as f64 * steps as f64 / wall_s,
+                spikes: out.len(),
+            },
+            out,
+        ))
+    };
+    // The shortest of five interleaved runs of each mode: a shared machine's noise only ever
+    // adds time.
+    let fastest = |a: (ActivityRun, Vec<(u32, f64)>), b: (ActivityRun, Vec<(u32, f64)>)| {
+        if b.0.wall_s < a.0.wall_s { b } else { a }
+    };
+    let (mut clock, mut event) = (run(false)?, run(true)?);
+    for _ in 1..ACTIVITY_REPEATS {
+        clock = fastest(clock, run(false)?);
+        event = fastest(event, run(true)?);
+    }
+    let ((clock_driven, clock_spikes), (event_driven, event_spikes)) = (clock, event);
+    Ok(ActivityBenchResult {
+        n,
+        active_fraction: active,
+        rate_hz,
+        dt_s,
+        steps: (duration_s / dt_s).round() as u64,
+        speedup: clock_driven.wall_s / event_driven.wall_s,
+        identical_spikes: clock_spikes == event_spikes,
+        clock_driven,
+        event_driven,
     })
 }
 

@@ -57,8 +57,8 @@
 
 use crate::integrate::{self, Integrator};
 use crate::population::{
-    BlockModel, BlockPopulation, BlockStep, DIVERGED_BIT, Drive, InitialPotential, check_param,
-    check_representable, for_each_spike, take_diverged, unit_fraction,
+    ActiveNeurons, BlockModel, BlockPopulation, BlockStep, DIVERGED_BIT, Drive, InitialPotential,
+    check_param, check_representable, for_each_spike, take_diverged, unit_fraction,
 };
 use crate::real::Real;
 use neurotac_core::ModelError;
@@ -455,6 +455,76 @@ impl<F: Real> BlockModel for LifModel<F> {
         }
     }
 
+    /// LIF skips idle neurons when the step contracts towards v∞ (no divergence check to
+    /// carry: exact always, Euler/RK for small h), spikes are on the grid (no interpolation)
+    /// and `v_rest < v_th` (a neuron without input cannot fire).
+    fn skips_idle(
+        _params: &LifParams,
+        k: &LifConstants<F>,
+        integrator: Integrator,
+        interpolate: bool,
+    ) -> bool {
+        !interpolate && contracts(integrator, k.h.f64()) && k.v_rest < k.v_th
+    }
+
+    /// Without input `v∞ = v_rest`: the refractory steps left hold `v_reset`, then
+    /// `v ← v_rest + (v − v_rest)·e^{−n·h}` over the other `n` steps (the exact solution; the
+    /// clock-driven steps agree with it up to rounding), floored and flushed as a step does.
+    fn advance_idle(k: &LifConstants<F>, s: &mut LifState<F>, j: usize, steps: u64) {
+        let mut n = steps;
+        if k.refractory_steps > 0 && s.refractory_steps[j] > 0 {
+            let held = u64::from(s.refractory_steps[j]).min(n);
+            s.v[j] = k.v_reset;
+            s.refractory_steps[j] -= held as u32;
+            n -= held;
+        }
+        if n == 0 {
+            return;
+        }
+        let decay = F::of((-(n as f64) * k.h.f64()).exp());
+        let v = k.v_rest + (s.v[j] - k.v_rest) * decay;
+        let v = if v > k.v_floor { v } else { k.v_floor };
+        s.v[j] = if v.abs() >= F::min_positive_value() {
+            v
+        } else {
+            F::zero()
+        };
+    }
+
+    /// The fused loop's update, floor, flush, refractory hold, threshold and reset for one
+    /// neuron (the event-driven tests check both give the same spikes).
+    #[inline]
+    fn step_neuron(
+        k: &LifConstants<F>,
+        integrator: Integrator,
+        s: &mut LifState<F>,
+        j: usize,
+        input: f64,
+    ) -> bool {
+        step_one(k, s, j, input, |v, v_inf| {
+            advance_potential(integrator, v, v_inf, k.h, k.decay)
+        })
+    }
+
+    /// The exact step (the event-driven default) gets its own loop, the others share one.
+    fn step_neurons(
+        k: &LifConstants<F>,
+        integrator: Integrator,
+        active: ActiveNeurons<'_, LifState<F>>,
+    ) {
+        let idle = |s: &mut LifState<F>, j, steps| Self::advance_idle(k, s, j, steps);
+        match integrator {
+            Integrator::Exact | Integrator::ExponentialEuler => {
+                let update =
+                    |v, v_inf| advance_potential(Integrator::Exact, v, v_inf, k.h, k.decay);
+                active.run(idle, |s, j, input| step_one(k, s, j, input, update))
+            }
+            _ => active.run(idle, |s, j, input| {
+                Self::step_neuron(k, integrator, s, j, input)
+            }),
+        }
+    }
+
     fn step_block(
         k: &LifConstants<F>,
         integrator: Integrator,
@@ -510,6 +580,40 @@ fn advance_potential<F: Real>(integrator: Integrator, v: F, v_inf: F, h: F, deca
         Integrator::Rk4 => integrate::rk4([v], h, f)[0],
         Integrator::Izhikevich2003 => unreachable!("rejected by prepare"),
     }
+}
+
+/// One neuron's step with `update(v, v∞)`: the fused loop's floor, flush, refractory hold,
+/// threshold and reset ([`BlockModel::step_neuron`]).
+#[inline(always)]
+fn step_one<F: Real>(
+    k: &LifConstants<F>,
+    s: &mut LifState<F>,
+    j: usize,
+    input: f64,
+    update: impl Fn(F, F) -> F,
+) -> bool {
+    let v_inf = k.v_rest + F::of(input);
+    let v_raw = update(s.v[j], v_inf);
+    let v_new = if v_raw > k.v_floor { v_raw } else { k.v_floor };
+    let mut v_new = if v_new.abs() >= F::min_positive_value() {
+        v_new
+    } else {
+        F::zero()
+    };
+    let refractory = k.refractory_steps > 0;
+    if refractory && s.refractory_steps[j] != 0 {
+        v_new = k.v_reset;
+    }
+    let spike = v_new >= k.v_th;
+    s.v[j] = if spike { k.v_reset } else { v_new };
+    if refractory {
+        s.refractory_steps[j] = if spike {
+            k.refractory_steps
+        } else {
+            s.refractory_steps[j].saturating_sub(1)
+        };
+    }
+    spike
 }
 
 /// After an interpolated spike at fraction φ, integrates from `v_reset` over `(1 − φ)·dt`.

@@ -262,6 +262,92 @@ pub trait BlockModel: Send + Sync + 'static {
 
     /// Variable `var` (an index into [`VARIABLES`](Self::VARIABLES)) of neuron `j` of the block.
     fn variable(state: &Self::State, var: usize, j: usize) -> f64;
+
+    /// Event-driven stepping ([`NeuronModel::event_driven`]): `true` when, with these settings, a
+    /// neuron whose input is 0 can be left alone and advanced later in closed form
+    /// ([`advance_idle`](Self::advance_idle)), and stepped alone
+    /// ([`step_neuron`](Self::step_neuron)) with the arithmetic of
+    /// [`step_block`](Self::step_block). Default `false`: clock-driven only.
+    fn skips_idle(
+        params: &Self::Params,
+        k: &Self::Constants,
+        integrator: Integrator,
+        interpolate: bool,
+    ) -> bool {
+        let _ = (params, k, integrator, interpolate);
+        false
+    }
+
+    /// Advances neuron `j` of the block over `steps` steps of zero input in closed form. Called
+    /// only when [`skips_idle`](Self::skips_idle) holds; the default leaves the state alone.
+    fn advance_idle(k: &Self::Constants, state: &mut Self::State, j: usize, steps: u64) {
+        let _ = (k, state, j, steps);
+    }
+
+    /// One step of neuron `j` of the block under `input`, with the arithmetic of
+    /// [`step_block`](Self::step_block); `true` when it spiked. Called only when
+    /// [`skips_idle`](Self::skips_idle) holds; the default never spikes.
+    fn step_neuron(
+        k: &Self::Constants,
+        integrator: Integrator,
+        state: &mut Self::State,
+        j: usize,
+        input: f64,
+    ) -> bool {
+        let _ = (k, integrator, state, j, input);
+        false
+    }
+
+    /// One event-driven step of the neurons `active` ([`NeuronModel::step_active`]): each is
+    /// first brought up to step `now` ([`advance_idle`](Self::advance_idle)), then stepped
+    /// ([`step_neuron`](Self::step_neuron)). A model may override it to hoist its integrator
+    /// choice out of the loop.
+    fn step_neurons(
+        k: &Self::Constants,
+        integrator: Integrator,
+        active: ActiveNeurons<'_, Self::State>,
+    ) {
+        active.run(
+            |s, j, idle| Self::advance_idle(k, s, j, idle),
+            |s, j, input| Self::step_neuron(k, integrator, s, j, input),
+        );
+    }
+}
+
+/// The neurons of one event-driven step and the bookkeeping around them
+/// ([`BlockModel::step_neurons`]).
+pub struct ActiveNeurons<'a, S> {
+    blocks: &'a mut [S],
+    current_to: &'a mut [u64],
+    now: u64,
+    active: &'a [u32],
+    inputs: &'a [f64],
+    spikes: &'a mut SpikeBuffer,
+}
+
+impl<S> ActiveNeurons<'_, S> {
+    /// For each active neuron: `idle(block, j, steps)` over the steps it was skipped, then
+    /// `step(block, j, input)`, pushing its spike when that returns `true`.
+    #[inline(always)]
+    pub fn run(
+        self,
+        mut idle: impl FnMut(&mut S, usize, u64),
+        mut step: impl FnMut(&mut S, usize, f64) -> bool,
+    ) {
+        let now = self.now;
+        for (&i, &input) in self.active.iter().zip(self.inputs) {
+            let i = i as usize;
+            let (block, j) = (&mut self.blocks[i / BLOCK], i % BLOCK);
+            let to = &mut self.current_to[i];
+            if *to < now {
+                idle(block, j, now - *to);
+            }
+            if step(block, j, input) {
+                self.spikes.push(i as u32);
+            }
+            *to = now + 1;
+        }
+    }
 }
 
 /// A population of `n` neurons of model `M`, in blocks of [`BLOCK`]: the builder, the block
@@ -281,6 +367,9 @@ pub struct BlockPopulation<M: BlockModel> {
     steps: u64,
     /// The first step (0-based) in which the divergence criterion fired, if any.
     diverged_at: Option<u64>,
+    /// Event-driven stepping: the step up to which each neuron's state is current (empty when
+    /// the model cannot skip idle neurons with these settings).
+    current_to: Vec<u64>,
 }
 
 impl<M: BlockModel> Clone for BlockPopulation<M> {
@@ -296,6 +385,7 @@ impl<M: BlockModel> Clone for BlockPopulation<M> {
             dt_s: self.dt_s,
             steps: self.steps,
             diverged_at: self.diverged_at,
+            current_to: self.current_to.clone(),
         }
     }
 }
@@ -329,6 +419,7 @@ impl<M: BlockModel> BlockPopulation<M> {
             dt_s: 0.0,
             steps: 0,
             diverged_at: None,
+            current_to: Vec::new(),
         }
     }
 
@@ -444,6 +535,10 @@ impl<M: BlockModel> NeuronModel for BlockPopulation<M> {
         self.dt_s = dt_s;
         self.steps = 0;
         self.diverged_at = None;
+        self.current_to.clear();
+        if M::skips_idle(&self.params, &self.k, self.integrator, self.interpolate) {
+            self.current_to.resize(self.n, 0);
+        }
         Ok(())
     }
 
@@ -465,6 +560,33 @@ impl<M: BlockModel> NeuronModel for BlockPopulation<M> {
 
     fn read_variable(&self, var: usize, neurons: &[u32], out: &mut Vec<f64>) {
         out.extend(neurons.iter().map(|&i| self.variable(var, i as usize)));
+    }
+
+    fn event_driven(&self) -> bool {
+        self.current_to.len() == self.n && self.n > 0
+    }
+
+    fn step_active(&mut self, active: &[u32], inputs: &[f64], spikes: &mut SpikeBuffer) {
+        let neurons = ActiveNeurons {
+            blocks: &mut self.blocks,
+            current_to: &mut self.current_to,
+            now: self.steps,
+            active,
+            inputs,
+            spikes,
+        };
+        M::step_neurons(&self.k, self.integrator, neurons);
+        self.steps += 1;
+    }
+
+    fn settle(&mut self) {
+        let (k, now) = (self.k, self.steps);
+        for (i, to) in self.current_to.iter_mut().enumerate() {
+            if *to < now {
+                M::advance_idle(&k, &mut self.blocks[i / BLOCK], i % BLOCK, now - *to);
+                *to = now;
+            }
+        }
     }
 
     fn check_divergence(&self) -> Result<(), ModelError> {

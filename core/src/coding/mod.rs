@@ -148,6 +148,10 @@ pub(crate) fn check_channels(observations: &[MultiSpikeTrain]) -> Result<usize, 
 macro_rules! coding_readout {
     ($($coding:ty),* $(,)?) => {$(
         impl Readout for $coding {
+            fn reads_population_state(&self) -> bool {
+                false
+            }
+
             fn begin(&mut self, context: &ReadoutContext<'_>) {
                 Coding::reset(self, context.source_size);
             }

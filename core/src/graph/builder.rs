@@ -6,7 +6,7 @@ use super::ids::{
     ReadoutSource, SpikingNode,
 };
 use super::input::{CurrentInput, SpikeSource};
-use super::network::{Network, RunningKind, RunningNode, RunningSource};
+use super::network::{ActiveSet, Network, RunningKind, RunningNode, RunningSource};
 use super::readout::{Readout, SpikeRecorder, StateRecorder, SynapticTraceRecorder};
 use super::synapse::{Connectivity, ExpSynapse, RunningProjection};
 use crate::error::GraphError;
@@ -50,6 +50,7 @@ pub struct NetworkBuilder {
     /// `(current node, population)` injections.
     injections: Vec<(usize, usize)>,
     readouts: Vec<(ReadoutSource, Box<dyn Readout>)>,
+    event_driven: bool,
 }
 
 impl NetworkBuilder {
@@ -80,6 +81,21 @@ impl NetworkBuilder {
             kind: node.kind.describe(),
             role,
         }
+    }
+
+    /// Steps populations event-driven where possible ("model only what a scene requires"): a
+    /// neuron whose synaptic input is 0 (no current left above
+    /// [`FLUSH_TO_ZERO`](super::FLUSH_TO_ZERO)) is not touched in a step, and is advanced over
+    /// the skipped steps in closed form when input next reaches it
+    /// ([`NeuronModel::step_active`]), so work follows activity
+    /// ([`Network::neuron_updates`]). Applies to populations whose model supports it with its
+    /// settings ([`NeuronModel::event_driven`]: LIF with a contracting integrator and grid spike
+    /// times), with no injected current and no readout of their state; the others stay
+    /// clock-driven. Spikes equal the clock-driven ones except where the closed-form decay and
+    /// the step-by-step one round differently at a threshold crossing. Default: off.
+    pub fn event_driven(&mut self, on: bool) -> &mut Self {
+        self.event_driven = on;
+        self
     }
 
     /// Adds a population of neurons; `model` carries its size and parameters.
@@ -378,6 +394,7 @@ impl NetworkBuilder {
                 input: vec![0.0; spec.size],
                 incoming: Vec::new(),
                 currents: Vec::new(),
+                active: None,
             });
         }
         let mut projections = Vec::new();
@@ -402,6 +419,7 @@ impl NetworkBuilder {
             projection_index[i] = Some(projections.len());
             projections.push(RunningProjection {
                 pre,
+                post: runtime_index[p.post],
                 delay,
                 decay: (-dt_s / p.synapse.tau_s).exp(),
                 wiring: p.connectivity.compile(sizes[p.pre], sizes[p.post]),
@@ -411,6 +429,23 @@ impl NetworkBuilder {
         for (c, pop) in self.injections {
             if let (Some(c), Some(pop)) = (runtime_index[c], runtime_index[pop]) {
                 nodes[pop].currents.push(c);
+            }
+        }
+        // Event-driven populations: asked for, supported by the model with its settings, fed
+        // by projections only (an injected current reaches every neuron) and read by no readout
+        // that looks at their state (which would see skipped neurons before they are settled).
+        if self.event_driven {
+            for (i, node) in nodes.iter_mut().enumerate() {
+                let RunningKind::Population(m) = &node.kind else {
+                    continue;
+                };
+                let state_read = self.readouts.iter().any(|(source, r)| {
+                    matches!(*source, ReadoutSource::Node(n) if runtime_index[n.0] == Some(i))
+                        && r.reads_population_state()
+                });
+                if m.event_driven() && node.currents.is_empty() && !state_read {
+                    node.active = Some(ActiveSet::new(node.size));
+                }
             }
         }
         let readouts = self
@@ -438,6 +473,8 @@ impl NetworkBuilder {
             begun: false,
             pruned,
             node_index: runtime_index,
+            neuron_updates: 0,
+            scratch: Vec::new(),
             untargeted,
         })
     }

@@ -4,7 +4,7 @@
 use super::ids::{InputId, NodeId, ReadoutId};
 use super::input::{CurrentInput, SpikeSource};
 use super::readout::{Readout, ReadoutContext, StepView};
-use super::synapse::RunningProjection;
+use super::synapse::{RunningProjection, flush};
 use crate::error::GraphError;
 use crate::model::{NeuronModel, SpikeBuffer};
 use std::any::Any;
@@ -27,6 +27,45 @@ pub(super) struct RunningNode {
     pub(super) incoming: Vec<usize>,
     /// Current sources injected into this node.
     pub(super) currents: Vec<usize>,
+    /// Event-driven populations: the neurons with synaptic input (see
+    /// [`NetworkBuilder::event_driven`](super::NetworkBuilder::event_driven)).
+    pub(super) active: Option<ActiveSet>,
+}
+
+/// The neurons of an event-driven population whose synaptic current is nonzero, ascending.
+pub(super) struct ActiveSet {
+    list: Vec<u32>,
+    /// The neurons of `list` whose current is still nonzero after this step's decay.
+    next: Vec<u32>,
+    flag: Vec<bool>,
+    sorted: bool,
+}
+
+impl ActiveSet {
+    pub(super) fn new(n: usize) -> Self {
+        Self {
+            list: Vec::new(),
+            next: Vec::new(),
+            flag: vec![false; n],
+            sorted: true,
+        }
+    }
+
+    #[inline]
+    fn mark(&mut self, j: u32) {
+        if !std::mem::replace(&mut self.flag[j as usize], true) {
+            self.sorted &= self.list.last().is_none_or(|&l| l < j);
+            self.list.push(j);
+        }
+    }
+
+    fn clear(&mut self) {
+        self.list
+            .iter()
+            .for_each(|&j| self.flag[j as usize] = false);
+        self.list.clear();
+        self.sorted = true;
+    }
 }
 
 pub(super) enum RunningSource {
@@ -56,6 +95,10 @@ pub struct Network {
     pub(super) node_index: Vec<Option<usize>>,
     /// Projections kept only for a trace readout (their target was pruned): decayed on their own.
     pub(super) untargeted: Vec<usize>,
+    /// Neuron updates done since build or the last reset.
+    pub(super) neuron_updates: u64,
+    /// Presynaptic spikes of one delivery (reused, so a step allocates nothing).
+    pub(super) scratch: Vec<u32>,
 }
 
 impl Network {
@@ -83,6 +126,22 @@ impl Network {
     pub fn is_active(&self, node: impl Into<NodeId>) -> bool {
         let node: NodeId = node.into();
         self.node_index.get(node.0).is_some_and(Option::is_some)
+    }
+
+    /// Neuron updates done since build or the last [`reset`](Self::reset): every neuron of a
+    /// clock-driven population each step, only the neurons with input of an event-driven one
+    /// ([`NetworkBuilder::event_driven`](super::NetworkBuilder::event_driven)).
+    pub fn neuron_updates(&self) -> u64 {
+        self.neuron_updates
+    }
+
+    /// Names of the populations stepped event-driven.
+    pub fn event_driven_populations(&self) -> Vec<&str> {
+        self.nodes
+            .iter()
+            .filter(|n| n.active.is_some())
+            .map(|n| n.name.as_str())
+            .collect()
     }
 
     /// Total number of synapses in the kept projections.
@@ -146,7 +205,11 @@ impl Network {
                 RunningKind::Population(m) => m.reset(),
             }
             n.history.iter_mut().for_each(SpikeBuffer::clear);
+            if let Some(a) = &mut n.active {
+                a.clear();
+            }
         }
+        self.neuron_updates = 0;
         for p in &mut self.projections {
             p.current.iter_mut().for_each(|c| *c = 0.0);
         }
@@ -191,6 +254,11 @@ impl Network {
                 break;
             }
         }
+        for n in &mut self.nodes {
+            if let (RunningKind::Population(m), Some(_)) = (&mut n.kind, &n.active) {
+                m.settle();
+            }
+        }
         self.readouts.iter_mut().for_each(|(_, r)| r.finish());
         Ok(RunSummary {
             steps: done,
@@ -232,12 +300,72 @@ impl Network {
         for p in &mut self.projections {
             if k >= p.delay as u64 {
                 let h = &self.nodes[p.pre].history;
-                p.deliver(h[((k - p.delay as u64) % h.len() as u64) as usize].indices());
+                let spikes = h[((k - p.delay as u64) % h.len() as u64) as usize].indices();
+                p.deliver(spikes);
+                if let Some(post) = p.post.filter(|&post| self.nodes[post].active.is_some()) {
+                    self.scratch.clear();
+                    self.scratch.extend_from_slice(spikes);
+                    let active = self.nodes[post].active.as_mut().expect("checked");
+                    p.for_each_target(&self.scratch, |j| active.mark(j));
+                }
             }
         }
         // 3–4. integration, threshold and reset (synaptic decay fused into the input sum)
         for n in &mut self.nodes {
+            if let (RunningKind::Population(m), Some(active)) = (&mut n.kind, &mut n.active) {
+                // Event-driven: only the neurons with synaptic current, summed in the
+                // clock-driven order (so equal inputs give equal states), gathered in list order.
+                if !active.sorted {
+                    active.list.sort_unstable();
+                    active.sorted = true;
+                }
+                // In the same pass, the neurons whose current survives this step's decay
+                // (the others leave the set after this step).
+                let ActiveSet {
+                    list, next, flag, ..
+                } = active;
+                next.clear();
+                let mut keep = |j: u32, live: bool| {
+                    if live {
+                        next.push(j);
+                    } else {
+                        flag[j as usize] = false;
+                    }
+                };
+                if let [only] = n.incoming[..] {
+                    // One projection (the afferent pipeline): a tight loop.
+                    let p = &mut self.projections[only];
+                    let (current, decay) = (&mut p.current[..], p.decay);
+                    for (&j, x) in list.iter().zip(n.input.iter_mut()) {
+                        let c = &mut current[j as usize];
+                        *x = *c;
+                        *c = flush(*c * decay);
+                        keep(j, *c != 0.0);
+                    }
+                } else {
+                    for (&j, input) in list.iter().zip(n.input.iter_mut()) {
+                        let (mut x, mut live) = (0.0, false);
+                        for &p in &n.incoming {
+                            let p = &mut self.projections[p];
+                            let c = &mut p.current[j as usize];
+                            x += *c;
+                            *c = flush(*c * p.decay);
+                            live |= *c != 0.0;
+                        }
+                        *input = x;
+                        keep(j, live);
+                    }
+                }
+                let slot = (k % n.history.len() as u64) as usize;
+                n.history[slot].clear();
+                // `input` holds the active neurons' inputs in list order (it has room for all).
+                m.step_active(list, &n.input[..list.len()], &mut n.history[slot]);
+                self.neuron_updates += list.len() as u64;
+                std::mem::swap(list, next);
+                continue;
+            }
             if let RunningKind::Population(m) = &mut n.kind {
+                self.neuron_updates += n.size as u64;
                 if n.incoming.is_empty() {
                     n.input.iter_mut().for_each(|x| *x = 0.0);
                 }

@@ -53,6 +53,14 @@ pub trait Readout: Any + Send {
 
     /// Called when a run ends (normally or by a stop request).
     fn finish(&mut self) {}
+
+    /// `true` when the readout looks at its source population's state
+    /// ([`StepView::population`]). An event-driven population skips neurons without input, so
+    /// a population with such a readout is stepped clock-driven. Default `true` (the safe
+    /// answer); spike readouts say `false`.
+    fn reads_population_state(&self) -> bool {
+        true
+    }
 }
 
 /// Records every spike of a node as `(neuron, time)`.
@@ -90,6 +98,10 @@ impl SpikeRecorder {
 }
 
 impl Readout for SpikeRecorder {
+    fn reads_population_state(&self) -> bool {
+        false
+    }
+
     fn begin(&mut self, context: &ReadoutContext<'_>) {
         self.n = context.source_size;
         self.spikes.clear();

@@ -28,7 +28,7 @@ fn decay_and_flush(values: &mut [f64], factor: f64) {
 
 /// `x`, or exactly 0 when `|x| <` [`FLUSH_TO_ZERO`].
 #[inline(always)]
-fn flush(x: f64) -> f64 {
+pub(super) fn flush(x: f64) -> f64 {
     if x.abs() < FLUSH_TO_ZERO { 0.0 } else { x }
 }
 
@@ -244,6 +244,8 @@ impl Connectivity {
 #[derive(Debug, Clone)]
 pub(crate) struct RunningProjection {
     pub pre: usize,
+    /// The target node (runtime index), `None` when pruned (kept for a trace readout).
+    pub post: Option<usize>,
     pub delay: usize,
     pub decay: f64,
     pub wiring: Wiring,
@@ -305,6 +307,25 @@ impl RunningProjection {
         }
     }
 
+    /// Calls `f` with every target neuron the presynaptic `spikes` reach (with repeats).
+    #[inline]
+    pub fn for_each_target(&self, spikes: &[u32], mut f: impl FnMut(u32)) {
+        match &self.wiring {
+            Wiring::OneToOne(_) => spikes.iter().for_each(|&i| f(i)),
+            Wiring::AllToAll(_) => {
+                if !spikes.is_empty() {
+                    (0..self.current.len() as u32).for_each(f);
+                }
+            }
+            Wiring::Csr { offsets, post, .. } => {
+                for &i in spikes {
+                    let (a, b) = (offsets[i as usize], offsets[i as usize + 1]);
+                    post[a..b].iter().for_each(|&j| f(j));
+                }
+            }
+        }
+    }
+
     /// Number of synapses.
     pub fn n_synapses(&self, n_pre: usize) -> usize {
         match &self.wiring {
@@ -359,6 +380,7 @@ mod tests {
     fn decay_is_exact_and_flushes_subnormals() {
         let mut p = RunningProjection {
             pre: 0,
+            post: None,
             delay: 0,
             decay: (-0.1f64).exp(),
             wiring: Wiring::OneToOne(1.0),

@@ -2,7 +2,7 @@
 
 use crate::cli::args;
 use clap::{Args, Subcommand};
-use neurotac_experiments::bench::{CubaConfig, cuba, neuron_throughput};
+use neurotac_experiments::bench::{CubaConfig, afferent_activity, cuba, neuron_throughput};
 use neurotac_experiments::neuron_setup::{NeuronKind, Precision};
 use neurotac_experiments::peers::run_brian2;
 use neurotac_neurons::Integrator;
@@ -43,6 +43,15 @@ struct NeuronsArgs {
     /// Integrator (default: exact for LIF, izhikevich2003 for Izhikevich).
     #[arg(long)]
     integrator: Option<Integrator>,
+    /// Instead: the afferent pipeline (N taxels → exponential synapses → N LIF afferents,
+    /// exact, f64, one thread) with this fraction of the taxels firing (Poisson, --rate),
+    /// clock-driven against event-driven: effective throughput, speed-up, identical spikes
+    /// (--precision does not apply: the pipeline runs in f64).
+    #[arg(value_parser = args::unit_interval, allow_negative_numbers = true, long)]
+    activity: Option<f64>,
+    /// Firing rate of the active taxels with --activity (Hz).
+    #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long, default_value_t = 20.0)]
+    rate: f64,
     #[command(flatten)]
     run: RunOptions,
 }
@@ -117,6 +126,9 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
 }
 
 fn neurons(a: NeuronsArgs) -> anyhow::Result<()> {
+    if let Some(activity) = a.activity {
+        return activity_bench(&a, activity);
+    }
     for (flag, value) in [("duration", a.duration), ("dt", a.dt)] {
         super::neuron::check_precision(flag, value, a.precision)?;
     }
@@ -198,5 +210,50 @@ fn cuba_network(a: CubaArgs) -> anyhow::Result<()> {
         r.rate_hz
     );
     print(&report, a.run.json, line);
+    Ok(())
+}
+
+/// `bench neurons --activity F`: the afferent pipeline clock-driven against event-driven.
+fn activity_bench(a: &NeuronsArgs, activity: f64) -> anyhow::Result<()> {
+    if a.model != NeuronKind::Lif || a.integrator.is_some() {
+        anyhow::bail!(
+            "--activity runs the LIF afferent pipeline (exact integrator, f64; Izhikevich populations stay clock-driven): drop --model/--integrator"
+        );
+    }
+    if a.run.brian2.is_some() {
+        anyhow::bail!("--activity has no Brian2 counterpart; drop --brian2");
+    }
+    let r = afferent_activity(a.n, activity, a.rate, a.duration, a.dt, 1)?;
+    if a.run.json {
+        println!("{}", serde_json::to_string(&r)?);
+        return Ok(());
+    }
+    println!(
+        "afferent pipeline: {} taxels ({:.1} % firing at {} Hz) → {} LIF afferents (exact, f64), {} steps of {} s, one thread",
+        r.n,
+        100.0 * r.active_fraction,
+        r.rate_hz,
+        r.n,
+        r.steps,
+        r.dt_s
+    );
+    for (name, run) in [
+        ("clock-driven", r.clock_driven),
+        ("event-driven", r.event_driven),
+    ] {
+        println!(
+            "  {name:12}  {:8.4} s wall  {:>14} neuron updates  effective {:.3e} neuron-steps/s  {} spikes",
+            run.wall_s, run.updates, run.effective_updates_per_s, run.spikes
+        );
+    }
+    println!(
+        "event-driven is {:.1}× faster; spikes {}",
+        r.speedup,
+        if r.identical_spikes {
+            "identical"
+        } else {
+            "DIFFER"
+        }
+    );
     Ok(())
 }
