@@ -172,6 +172,8 @@ impl ReadoutNetwork {
         vr_from: VrFrom,
     ) -> Result<Self, ExperimentError> {
         let mut b = NetworkBuilder::new();
+        // Only afferents with input are stepped (LIF; Izhikevich stays clock-driven).
+        b.event_driven(true);
         let input = b.add_spike_input(
             "taxels",
             SpikeArrayInput::new(MultiSpikeTrain::empty(n_channels)),
@@ -293,7 +295,7 @@ pub fn encode_through_graph(
     }
     let layer = match afferents.map(|a| a.model) {
         None => String::new(),
-        Some(AfferentModel::Lif) => " → exponential synapses → LIF afferents".into(),
+        Some(AfferentModel::Lif) => " → exponential synapses → LIF afferents (event-driven)".into(),
         Some(AfferentModel::Izhikevich) => {
             " → exponential synapses → Izhikevich RS afferents".into()
         }
