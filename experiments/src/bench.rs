@@ -5,6 +5,7 @@
 //! performance section). Timing covers stepping only; building and allocation are reported
 //! apart.
 
+use crate::afferents::{AfferentConfig, afferent_population};
 use crate::neuron_setup::{NeuronKind, NeuronSetup, Precision};
 use crate::threads::{ThreadPoolError, with_threads};
 use neurotac_core::{
@@ -183,27 +184,18 @@ pub struct ActivityBenchResult {
     pub identical_spikes: bool,
 }
 
-/// The afferent pipeline's network: `taxels` → exponential synapses (τ 5 ms, weight 5, no
-/// delay) → one LIF afferent per taxel (exact, f64) → spike recorder, clock- or event-driven.
+/// The afferent pipeline's network: `taxels` → the LIF afferents of
+/// [`AfferentConfig::lif`](crate::afferents::AfferentConfig::lif) (exponential synapses, τ 5 ms,
+/// weight 5; exact, f64) → spike recorder, clock- or event-driven, at step `dt_s`.
 pub fn afferent_network(
     taxels: &MultiSpikeTrain,
     dt_s: f64,
     event_driven: bool,
 ) -> Result<(Network, ReadoutId<SpikeRecorder>), GraphError> {
-    let n = taxels.n_channels();
     let mut b = NetworkBuilder::new();
     b.event_driven(event_driven);
     let input = b.add_spike_input("taxels", SpikeArrayInput::new(taxels.clone()))?;
-    let afferents = b.add_population(
-        "afferents",
-        Lif::<f64>::new(n, LifParams::default()).with_integrator(Integrator::Exact),
-    )?;
-    b.connect(
-        input,
-        afferents,
-        Connectivity::OneToOne { weight: 5.0 },
-        ExpSynapse::new(5e-3).with_delay(0),
-    )?;
+    let afferents = afferent_population(&mut b, input, taxels.n_channels(), AfferentConfig::lif())?;
     let spikes = b.record_spikes(afferents)?;
     Ok((b.build(NetworkConfig { dt_s })?, spikes))
 }
