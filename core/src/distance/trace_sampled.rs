@@ -21,7 +21,7 @@
 //! `⟨f, g⟩_h` equals the exact Van Rossum product of the spike trains moved to their steps'
 //! grid, so the distance is exact for spikes on the grid and its error vanishes as `h → 0`
 //! (`neurotac tradeoff vr` measures it). States decayed below
-//! [`FLUSH_TO_ZERO`](crate::FLUSH_TO_ZERO) become 0, as in a projection. The arithmetic runs in
+//! [`FLUSH_TO_ZERO`] become 0, as in a projection. The arithmetic runs in
 //! `f64` or `f32` ([`TracePrecision`]), the trade a network storing `f32` traces makes.
 
 use super::van_rossum::VanRossumMatrices;
