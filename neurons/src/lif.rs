@@ -67,6 +67,10 @@ use neurotac_core::NeuronModel;
 use std::marker::PhantomData;
 
 const MODEL: &str = "lif";
+
+/// Longest refractory period in steps (2²⁴: whole numbers are exact up to it in f32); a longer
+/// `t_ref` is held this many steps (over 27 minutes at dt = 0.1 ms).
+const REFRACTORY_MAX: f64 = 16_777_216.0;
 const SUPPORTED: &str = "exact, exp-euler, euler, rk2, rk4";
 
 /// LIF parameters (see the module docs for the equations and units).
@@ -179,8 +183,9 @@ impl LifParams {
 pub struct LifState<F> {
     /// Membrane potentials.
     pub v: Vec<F>,
-    /// Remaining refractory steps (empty when `t_ref = 0`).
-    pub refractory_steps: Vec<u32>,
+    /// Remaining refractory steps (empty when `t_ref = 0`): whole numbers held in `F`, the
+    /// width of `v`, so that the fused loop vectorises (exact up to 2²⁴ steps in f32).
+    pub refractory_steps: Vec<F>,
     /// In-step spike fractions of the last step (empty unless interpolating).
     phi: Vec<F>,
     /// 1 where the neuron spiked in the last step.
@@ -197,6 +202,8 @@ pub struct LifConstants<F> {
     h: F,
     decay: F,
     refractory_steps: u32,
+    /// `refractory_steps` in `F` (at most 2²⁴, exact in f32).
+    refractory: F,
 }
 
 /// Advances one block by one step: fused update, threshold, reset and refractory, writing the
@@ -284,7 +291,7 @@ fn step_block_with<
         v_th,
         v_reset,
         v_floor,
-        refractory_steps: n_ref,
+        refractory: n_ref,
         ..
     } = *k;
     let tiny = F::min_positive_value();
@@ -306,7 +313,7 @@ fn step_block_with<
             F::zero()
         };
         if REFRACTORY {
-            v_new = if refractory_steps[i] == 0 {
+            v_new = if refractory_steps[i] == F::zero() {
                 v_new
             } else {
                 v_reset
@@ -328,10 +335,13 @@ fn step_block_with<
         }
         v[i] = if spike { v_reset } else { v_new };
         if REFRACTORY {
+            let left = refractory_steps[i] - F::one();
             refractory_steps[i] = if spike {
                 n_ref
+            } else if left > F::zero() {
+                left
             } else {
-                refractory_steps[i].saturating_sub(1)
+                F::zero()
             };
         }
         // The flag rides in the mask byte and is collected once per block (`take_diverged`):
@@ -428,7 +438,8 @@ impl<F: Real> BlockModel for LifModel<F> {
             v_floor: F::of(p.v_min).max(F::min_value()),
             h: F::of(h),
             decay: F::of((-h).exp()),
-            refractory_steps: (p.t_ref_s / dt_s).round().min(u32::MAX as f64) as u32,
+            refractory_steps: (p.t_ref_s / dt_s).round().min(REFRACTORY_MAX) as u32,
+            refractory: F::of((p.t_ref_s / dt_s).round().min(REFRACTORY_MAX)),
         }
     }
 
@@ -442,7 +453,7 @@ impl<F: Real> BlockModel for LifModel<F> {
         LifState {
             v: v0.iter().map(|&x| F::of(x)).collect(),
             refractory_steps: if k.refractory_steps > 0 {
-                vec![0; len]
+                vec![F::zero(); len]
             } else {
                 Vec::new()
             },
@@ -472,10 +483,10 @@ impl<F: Real> BlockModel for LifModel<F> {
     /// clock-driven steps agree with it up to rounding), floored and flushed as a step does.
     fn advance_idle(k: &LifConstants<F>, s: &mut LifState<F>, j: usize, steps: u64) {
         let mut n = steps;
-        if k.refractory_steps > 0 && s.refractory_steps[j] > 0 {
-            let held = u64::from(s.refractory_steps[j]).min(n);
+        if k.refractory_steps > 0 && s.refractory_steps[j] > F::zero() {
+            let held = (s.refractory_steps[j].f64() as u64).min(n);
             s.v[j] = k.v_reset;
-            s.refractory_steps[j] -= held as u32;
+            s.refractory_steps[j] = F::of((s.refractory_steps[j].f64() as u64 - held) as f64);
             n -= held;
         }
         if n == 0 {
@@ -601,16 +612,19 @@ fn step_one<F: Real>(
         F::zero()
     };
     let refractory = k.refractory_steps > 0;
-    if refractory && s.refractory_steps[j] != 0 {
+    if refractory && s.refractory_steps[j] != F::zero() {
         v_new = k.v_reset;
     }
     let spike = v_new >= k.v_th;
     s.v[j] = if spike { k.v_reset } else { v_new };
     if refractory {
+        let left = s.refractory_steps[j] - F::one();
         s.refractory_steps[j] = if spike {
-            k.refractory_steps
+            k.refractory
+        } else if left > F::zero() {
+            left
         } else {
-            s.refractory_steps[j].saturating_sub(1)
+            F::zero()
         };
     }
     spike

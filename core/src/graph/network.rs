@@ -369,8 +369,24 @@ impl Network {
                 if n.incoming.is_empty() {
                     n.input.iter_mut().for_each(|x| *x = 0.0);
                 }
-                for (j, &p) in n.incoming.iter().enumerate() {
-                    self.projections[p].drain_into(&mut n.input, j == 0);
+                match n.incoming[..] {
+                    // Two projections (an excitatory and an inhibitory one, as in CUBA): one
+                    // pass over the three arrays instead of two passes over the input.
+                    [a, b] if a != b => {
+                        let (pa, pb) = if a < b {
+                            let (lo, hi) = self.projections.split_at_mut(b);
+                            (&mut lo[a], &mut hi[0])
+                        } else {
+                            let (lo, hi) = self.projections.split_at_mut(a);
+                            (&mut hi[0], &mut lo[b])
+                        };
+                        RunningProjection::drain_pair_into(pa, pb, &mut n.input);
+                    }
+                    _ => {
+                        for (j, &p) in n.incoming.iter().enumerate() {
+                            self.projections[p].drain_into(&mut n.input, j == 0);
+                        }
+                    }
                 }
                 for &c in &n.currents {
                     self.currents[c].add_into(t_k, &mut n.input);

@@ -117,6 +117,13 @@ pub(crate) enum Wiring {
         post: Vec<u32>,
         weight: Vec<f64>,
     },
+    /// CSR by presynaptic neuron, one weight for all (random connectivity): a spike's row is
+    /// only its targets, a third of the memory a row with weights reads.
+    UniformCsr {
+        offsets: Vec<usize>,
+        post: Vec<u32>,
+        weight: f64,
+    },
 }
 
 fn check_weight(what: &str, w: f64) -> Result<(), GraphError> {
@@ -186,17 +193,21 @@ impl Connectivity {
 
     /// Compiles into run-time wiring (random pairs are drawn here, only for needed projections).
     pub(crate) fn compile(&self, n_pre: usize, n_post: usize) -> Wiring {
-        let csr = |mut list: Vec<(u32, u32, f64)>| {
-            list.sort_by_key(|s| (s.0, s.1));
+        // Row offsets of a list sorted by presynaptic neuron.
+        let offsets = |pre: &mut dyn Iterator<Item = u32>| {
             let mut offsets = vec![0usize; n_pre + 1];
-            for s in &list {
-                offsets[s.0 as usize + 1] += 1;
+            for i in pre {
+                offsets[i as usize + 1] += 1;
             }
             for i in 0..n_pre {
                 offsets[i + 1] += offsets[i];
             }
+            offsets
+        };
+        let csr = |mut list: Vec<(u32, u32, f64)>| {
+            list.sort_by_key(|s| (s.0, s.1));
             Wiring::Csr {
-                offsets,
+                offsets: offsets(&mut list.iter().map(|s| s.0)),
                 post: list.iter().map(|s| s.1).collect(),
                 weight: list.iter().map(|s| s.2).collect(),
             }
@@ -212,13 +223,12 @@ impl Connectivity {
                 weight,
                 seed,
             } => {
-                let mut list = Vec::new();
+                // Pairs are drawn in (pre, post) order, so the list is already sorted.
+                let mut list: Vec<(u32, u32)> = Vec::new();
                 let mut rng = ChaCha8Rng::seed_from_u64(*seed);
                 let total = n_pre * n_post;
                 if *probability >= 1.0 {
-                    list.extend(
-                        (0..total).map(|k| ((k / n_post) as u32, (k % n_post) as u32, *weight)),
-                    );
+                    list.extend((0..total).map(|k| ((k / n_post) as u32, (k % n_post) as u32)));
                 } else if *probability > 0.0 {
                     // Geometric skipping: the gap to the next chosen pair is Geometric(p).
                     let log_q = (1.0 - probability).ln();
@@ -230,11 +240,15 @@ impl Connectivity {
                             break;
                         }
                         k += gap as usize;
-                        list.push(((k / n_post) as u32, (k % n_post) as u32, *weight));
+                        list.push(((k / n_post) as u32, (k % n_post) as u32));
                         k += 1;
                     }
                 }
-                csr(list)
+                Wiring::UniformCsr {
+                    offsets: offsets(&mut list.iter().map(|s| s.0)),
+                    post: list.iter().map(|s| s.1).collect(),
+                    weight: *weight,
+                }
             }
         }
     }
@@ -277,6 +291,22 @@ impl RunningProjection {
         }
     }
 
+    /// `input = a + b` (in that order, as two [`drain_into`](Self::drain_into) calls sum),
+    /// then both decay by one step: one pass for a population fed by two projections.
+    #[inline]
+    pub fn drain_pair_into(a: &mut Self, b: &mut Self, input: &mut [f64]) {
+        let (da, db) = (a.decay, b.decay);
+        for ((x, ca), cb) in input
+            .iter_mut()
+            .zip(a.current.iter_mut())
+            .zip(b.current.iter_mut())
+        {
+            *x = *ca + *cb;
+            *ca = flush(*ca * da);
+            *cb = flush(*cb * db);
+        }
+    }
+
     /// Adds the weights of the presynaptic neurons `spikes` to their targets' currents.
     #[inline]
     pub fn deliver(&mut self, spikes: &[u32]) {
@@ -304,6 +334,17 @@ impl RunningProjection {
                     }
                 }
             }
+            Wiring::UniformCsr {
+                offsets,
+                post,
+                weight,
+            } => {
+                for &i in spikes {
+                    for &j in &post[offsets[i as usize]..offsets[i as usize + 1]] {
+                        self.current[j as usize] += weight;
+                    }
+                }
+            }
         }
     }
 
@@ -317,7 +358,7 @@ impl RunningProjection {
                     (0..self.current.len() as u32).for_each(f);
                 }
             }
-            Wiring::Csr { offsets, post, .. } => {
+            Wiring::Csr { offsets, post, .. } | Wiring::UniformCsr { offsets, post, .. } => {
                 for &i in spikes {
                     let (a, b) = (offsets[i as usize], offsets[i as usize + 1]);
                     post[a..b].iter().for_each(|&j| f(j));
@@ -331,7 +372,7 @@ impl RunningProjection {
         match &self.wiring {
             Wiring::OneToOne(_) => n_pre,
             Wiring::AllToAll(_) => n_pre * self.current.len(),
-            Wiring::Csr { post, .. } => post.len(),
+            Wiring::Csr { post, .. } | Wiring::UniformCsr { post, .. } => post.len(),
         }
     }
 }
@@ -348,7 +389,7 @@ mod tests {
             seed: 3,
         };
         let count = |w: &Wiring| match w {
-            Wiring::Csr { post, .. } => post.len(),
+            Wiring::Csr { post, .. } | Wiring::UniformCsr { post, .. } => post.len(),
             _ => unreachable!(),
         };
         let (a, b) = (c.compile(1000, 1000), c.compile(1000, 1000));
