@@ -9,21 +9,30 @@ excluded. THREADS = 1 runs without OpenMP. Needs `pip install brian2` and a C++ 
 """
 import json
 import sys
+import shutil
 import tempfile
 
 import brian2 as b2
 from brian2 import ms, mV, second
 
 
+# The standalone project is built in a temporary folder, removed once the results are read
+# (`device.build` defaults to ./output, so the folder is passed to it, not only to set_device).
+BUILD_DIR = tempfile.mkdtemp(prefix="brian2_")
+
+
 def standalone(threads):
-    b2.set_device("cpp_standalone", directory=tempfile.mkdtemp(prefix="brian2_"), build_on_run=False)
+    b2.set_device("cpp_standalone", directory=BUILD_DIR, build_on_run=False)
     b2.prefs.devices.cpp_standalone.openmp_threads = 0 if threads <= 1 else threads
     b2.prefs.logging.console_log_level = "ERROR"
 
 
 def finish(monitor_count):
-    b2.device.build(run=True, compile=True)
-    return {"peer": f"brian2 {b2.__version__}", "run_s": b2.device._last_run_time, "spikes": int(monitor_count())}
+    try:
+        b2.device.build(directory=BUILD_DIR, run=True, compile=True)
+        return {"peer": f"brian2 {b2.__version__}", "run_s": b2.device._last_run_time, "spikes": int(monitor_count())}
+    finally:
+        shutil.rmtree(BUILD_DIR, ignore_errors=True)
 
 
 def neurons(model, n, duration, dt, threads):
