@@ -2,8 +2,8 @@
 //! clock-driven network.
 
 use neurotac_core::{
-    Connectivity, ExpSynapse, MultiSpikeTrain, Network, NetworkBuilder, NetworkConfig,
-    SpikeArrayInput,
+    Connectivity, ExpSynapse, MultiSpikeTrain, Network, NetworkBuilder, NetworkConfig, NeuronModel,
+    ReadoutId, SpikeArrayInput, SpikeRecorder,
 };
 use neurotac_neurons::{Integrator, Izhikevich, IzhikevichParams, Lif, LifParams};
 use rand::{RngExt, SeedableRng};
@@ -29,24 +29,20 @@ fn taxels(n: usize, active: usize, rate_hz: f64, duration_s: f64, seed: u64) -> 
     MultiSpikeTrain::from_channels(channels.collect::<Vec<_>>()).unwrap()
 }
 
-/// The afferent pipeline: taxels → exponential synapses (τ 5 ms, weight 5) → LIF.
-fn afferents(
+/// Taxels → exponential synapses (τ 5 ms, weight 5) → `model` (a population named "pop"),
+/// its spikes recorded (and its `v` when `with_state`), built at step `DT`.
+fn pipeline(
     input: &MultiSpikeTrain,
-    lif: LifParams,
+    model: impl NeuronModel + 'static,
     event_driven: bool,
-) -> (Network, Vec<(u32, f64)>) {
-    let n = input.n_channels();
+    with_state: bool,
+) -> (Network, ReadoutId<SpikeRecorder>) {
     let mut b = NetworkBuilder::new();
     b.event_driven(event_driven);
     let taxels = b
         .add_spike_input("taxels", SpikeArrayInput::new(input.clone()))
         .unwrap();
-    let pop = b
-        .add_population(
-            "lif",
-            Lif::<f64>::new(n, lif).with_integrator(Integrator::Exact),
-        )
-        .unwrap();
+    let pop = b.add_population("pop", model).unwrap();
     b.connect(
         taxels,
         pop,
@@ -55,7 +51,20 @@ fn afferents(
     )
     .unwrap();
     let spikes = b.record_spikes(pop).unwrap();
-    let mut net = b.build(NetworkConfig { dt_s: DT }).unwrap();
+    if with_state {
+        b.record_state(pop, "v", None, 1).unwrap();
+    }
+    (b.build(NetworkConfig { dt_s: DT }).unwrap(), spikes)
+}
+
+/// The afferent pipeline with LIF afferents (exact), run for 1 s: the network and its spikes.
+fn afferents(
+    input: &MultiSpikeTrain,
+    lif: LifParams,
+    event_driven: bool,
+) -> (Network, Vec<(u32, f64)>) {
+    let model = Lif::<f64>::new(input.n_channels(), lif).with_integrator(Integrator::Exact);
+    let (mut net, spikes) = pipeline(input, model, event_driven, false);
     net.run(1.0).unwrap();
     let out = net.readout(spikes).spikes().to_vec();
     (net, out)
@@ -75,7 +84,7 @@ fn event_driven_lif_spikes_as_the_clock_driven_one_with_far_fewer_updates() {
         let (clock, clock_spikes) = afferents(&input, params, false);
         let (event, event_spikes) = afferents(&input, params, true);
         assert!(clock.event_driven_populations().is_empty());
-        assert_eq!(event.event_driven_populations(), ["lif"]);
+        assert_eq!(event.event_driven_populations(), ["pop"]);
         assert!(!clock_spikes.is_empty());
         assert_eq!(event_spikes, clock_spikes, "{params:?}");
         assert_eq!(clock.neuron_updates(), 1000 * 10_000);
@@ -112,32 +121,18 @@ fn updates_scale_with_the_input_events() {
 fn populations_that_cannot_skip_stay_clock_driven() {
     let input = MultiSpikeTrain::from_channels(vec![vec![0.01], vec![]]).unwrap();
     let build = |with_state: bool, izhikevich: bool, interpolate: bool| {
-        let mut b = NetworkBuilder::new();
-        b.event_driven(true);
-        let taxels = b
-            .add_spike_input("taxels", SpikeArrayInput::new(input.clone()))
-            .unwrap();
-        let pop = if izhikevich {
-            b.add_population("pop", Izhikevich::<f64>::new(2, IzhikevichParams::rs()))
-        } else {
-            b.add_population(
-                "pop",
-                Lif::<f64>::new(2, LifParams::default()).with_interpolation(interpolate),
+        let network = if izhikevich {
+            pipeline(
+                &input,
+                Izhikevich::<f64>::new(2, IzhikevichParams::rs()),
+                true,
+                with_state,
             )
-        }
-        .unwrap();
-        b.connect(
-            taxels,
-            pop,
-            Connectivity::OneToOne { weight: 5.0 },
-            ExpSynapse::new(5e-3).with_delay(0),
-        )
-        .unwrap();
-        b.record_spikes(pop).unwrap();
-        if with_state {
-            b.record_state(pop, "v", None, 1).unwrap();
-        }
-        b.build(NetworkConfig { dt_s: DT }).unwrap()
+        } else {
+            let lif = Lif::<f64>::new(2, LifParams::default()).with_interpolation(interpolate);
+            pipeline(&input, lif, true, with_state)
+        };
+        network.0
     };
     assert_eq!(
         build(false, false, false).event_driven_populations(),
