@@ -156,11 +156,25 @@ pub fn mean_spikes_per_channel(data: &SpikeDataset) -> f64 {
 /// Samples per class and the mean of the intensive coding (spikes per channel) over each
 /// class's samples (index = label; 0 for a class without samples).
 pub fn class_means(data: &SpikeDataset) -> (Vec<usize>, Vec<f64>) {
-    let mut samples_per_class = vec![0usize; data.n_classes()];
-    let mut means = vec![0.0; data.n_classes()];
-    for (o, &l) in data.observations().iter().zip(data.labels()) {
+    let intensive = data
+        .observations()
+        .iter()
+        .map(|o| o.total_spikes() as f64 / o.n_channels().max(1) as f64);
+    class_means_of(intensive, data.labels(), data.n_classes())
+}
+
+/// Samples per class and the mean of `values` (one per sample, labelled `labels`) over each of
+/// `n_classes` classes (0 for a class without samples).
+pub fn class_means_of(
+    values: impl IntoIterator<Item = f64>,
+    labels: &[usize],
+    n_classes: usize,
+) -> (Vec<usize>, Vec<f64>) {
+    let mut samples_per_class = vec![0usize; n_classes];
+    let mut means = vec![0.0; n_classes];
+    for (value, &l) in values.into_iter().zip(labels) {
         samples_per_class[l] += 1;
-        means[l] += o.total_spikes() as f64 / o.n_channels().max(1) as f64;
+        means[l] += value;
     }
     for (m, &n) in means.iter_mut().zip(&samples_per_class) {
         *m /= n.max(1) as f64;

@@ -250,11 +250,10 @@ pub fn encode_through_graph(
         } else {
             0.0
         };
-    // Build once up front so a bad configuration fails before any work.
-    ReadoutNetwork::build(n_channels, duration_ms, afferents, vr_from)?;
     let samples: Vec<SampleReadouts> = data
         .observations()
         .par_iter()
+        // One network per worker, built on its first sample (a build error is that sample's).
         .map_init(
             || None,
             |slot: &mut Option<ReadoutNetwork>, sample| {

@@ -164,8 +164,8 @@ impl SpatiotemporalCoding {
             None => {
                 let mut channels = self.arrivals.clone();
                 for c in &mut channels {
-                    // Spikes arrive in time order per step, not per channel across `encode`'s
-                    // channel-by-channel feed: keep steps sorted and merged either way.
+                    // A network and `encode` feed each channel in time order; a caller of
+                    // `add_spike` may not, so out-of-order steps are sorted and merged here.
                     if !c.is_sorted_by(|a, b| a.0 < b.0) {
                         c.sort_unstable_by_key(|&(s, _)| s);
                         c.dedup_by(|later, kept| {

@@ -31,7 +31,7 @@ pub use run::{
     example_samples, run,
 };
 
-use crate::coding::CodingName;
+use crate::coding::{CodingName, class_means_of};
 use crate::error::ExperimentError;
 use crate::progress::Progress;
 use crate::protocols::{Evaluation, Protocol, evaluate};
@@ -262,15 +262,8 @@ pub fn run_encoded(
     let knn = Knn::new(config.k)?;
     let (result, time) = timed(|| -> Result<SetResult, ExperimentError> {
         let duration_ms = set.duration_ms;
-        let mut samples_per_class = vec![0usize; n_classes];
-        let mut intensive_class_means = vec![0.0; n_classes];
-        for (&l, &r) in labels.iter().zip(set.intensive.column(0)) {
-            samples_per_class[l] += 1;
-            intensive_class_means[l] += r;
-        }
-        for (m, &n) in intensive_class_means.iter_mut().zip(&samples_per_class) {
-            *m /= n.max(1) as f64;
-        }
+        let (samples_per_class, intensive_class_means) =
+            class_means_of(set.intensive.column(0).iter().copied(), labels, n_classes);
         let mean_spikes_per_taxel = set.intensive.column(0).sum() / set.len().max(1) as f64;
 
         progress.stage(

@@ -338,19 +338,6 @@ impl VanRossumInput<'_> {
             } => trace_matrices::<f32>(records, tau_s)?,
         })
     }
-
-    /// Number of samples.
-    pub fn len(&self) -> usize {
-        match self {
-            VanRossumInput::Exact(t) => t.len(),
-            VanRossumInput::Traces { records, .. } => records.len(),
-        }
-    }
-
-    /// `true` without samples.
-    pub fn is_empty(&self) -> bool {
-        self.len() == 0
-    }
 }
 
 /// Leave-one-out KNN accuracy of the Van Rossum distance at (τ, cos θ), with `LL²`/`SP²`
