@@ -2,8 +2,9 @@
 //! every integrator, N = 10³ … 10⁶ at dt = 0.1 ms; plus 10⁷ neurons (memory-bound) and all
 //! cores at 10⁶. The cases are Brian2's: LIF I = 1.04, Izhikevich RS I = 10.
 //!
-//! `afferent_activity`: the afferent pipeline (10⁴ taxels → exponential synapses → LIF, exact,
-//! f64, one core) with 0.1 … 100 % of the taxels firing at 20 Hz, clock- and event-driven;
+//! `afferent_activity`: the afferent pipeline (10⁴ taxels → exponential synapses → LIF exact or
+//! Izhikevich RS from rest, f64, one core) with 0.1 … 100 % of the taxels firing at 20 Hz,
+//! clock- and event-driven;
 //! "elem/s" there is the *effective* throughput, N × steps per second, whatever was updated.
 //!
 //! `cargo bench --bench neuron_throughput`; criterion reports "elem/s" = neuron updates/s.
@@ -87,6 +88,7 @@ fn memory_bound_and_all_cores(c: &mut Criterion) {
 }
 
 fn afferent_activity(c: &mut Criterion) {
+    use neurotac::experiments::afferents::AfferentConfig;
     use neurotac::experiments::bench::{activity_taxels, afferent_network};
     let (n, duration_s) = (10_000, 0.2);
     let mut g = c.benchmark_group("afferent_activity");
@@ -94,11 +96,19 @@ fn afferent_activity(c: &mut Criterion) {
         .warm_up_time(Duration::from_millis(300))
         .measurement_time(Duration::from_secs(1));
     g.throughput(Throughput::Elements(n as u64 * (duration_s / DT) as u64));
+    let models = [
+        ("lif", AfferentConfig::lif()),
+        ("izhikevich", AfferentConfig::izhikevich()),
+    ];
     for active in [0.001, 0.01, 0.1, 1.0] {
         let taxels = activity_taxels(n, active, 20.0, duration_s, 1);
-        for (mode, event_driven) in [("clock", false), ("event", true)] {
-            let (mut net, _) = afferent_network(&taxels, DT, event_driven).expect("valid network");
-            g.bench_function(BenchmarkId::new(mode, active), |b| {
+        for ((model, config), (mode, event_driven)) in models
+            .into_iter()
+            .flat_map(|m| [(m, ("clock", false)), (m, ("event", true))])
+        {
+            let (mut net, _) =
+                afferent_network(&taxels, config, DT, event_driven).expect("valid network");
+            g.bench_function(BenchmarkId::new(format!("{model}_{mode}"), active), |b| {
                 b.iter(|| {
                     net.reset();
                     with_threads(1, || net.run(duration_s).expect("runs")).expect("thread pool")

@@ -121,24 +121,28 @@ pub trait NeuronModel: Send {
     /// each neuron in `neurons` to `out`.
     fn read_variable(&self, var: usize, neurons: &[u32], out: &mut Vec<f64>);
 
-    /// `true` when the population can be stepped event-driven: a neuron whose input is 0 is
-    /// not touched in a step ([`step_active`](Self::step_active)) and is advanced over the
-    /// skipped steps in closed form when it next gets input, or at [`settle`](Self::settle).
-    /// Default `false` (clock-driven; LIF says when it can, see its docs).
+    /// `true` when the population can be stepped event-driven: a neuron whose input is 0 (and,
+    /// for models without a closed form, that is back at rest) is not touched in a step
+    /// ([`step_active`](Self::step_active)) and is advanced over the skipped steps when it next
+    /// gets input, or at [`settle`](Self::settle). Default `false` (clock-driven; LIF and
+    /// Izhikevich say when they can, see their docs).
     fn event_driven(&self) -> bool {
         false
     }
 
     /// One event-driven step (only called when [`event_driven`](Self::event_driven)): advances
     /// the neurons `active` (ascending), neuron `active[j]` under the input `inputs[j]`, pushing
-    /// their spikes; every other neuron's input is 0 this step. The default steps every neuron
-    /// (the others at input 0).
-    fn step_active(&mut self, active: &[u32], inputs: &[f64], spikes: &mut SpikeBuffer) {
+    /// their spikes; every other neuron's input is 0 this step. Returns the number of neurons
+    /// updated: the active ones, plus any the model must still step at input 0 (e.g. an
+    /// Izhikevich neuron not yet back at rest). The default steps every neuron (the others at
+    /// input 0).
+    fn step_active(&mut self, active: &[u32], inputs: &[f64], spikes: &mut SpikeBuffer) -> u64 {
         let mut current = vec![0.0; self.len()];
         for (&i, &x) in active.iter().zip(inputs) {
             current[i as usize] = x;
         }
         self.step(&current, spikes);
+        self.len() as u64
     }
 
     /// Brings every neuron skipped by [`step_active`](Self::step_active) up to the current step

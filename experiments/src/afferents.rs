@@ -23,8 +23,8 @@
 //!   neighbouring 20 ms windows can be less than 17 ms apart, so with LIF afferents a taxel that
 //!   fires in consecutive windows is counted up, which is why the intensive coding differs from
 //!   the direct pipeline's. `neurotac demo` (49 Poisson taxels at 20 Hz for 1 s, seed 1)
-//!   measures 909 taxel spikes → 1149 LIF spikes (1.26 per taxel spike) and → 743 Izhikevich RS
-//!   spikes (0.82);
+//!   measures 909 taxel spikes → 1149 LIF spikes (1.26 per taxel spike) and → 744 Izhikevich RS
+//!   spikes (0.82; RS afferents start at rest, −70 mV);
 //! - dt = 0.1 ms: below a tenth of both time constants.
 
 use crate::error::ExperimentError;
@@ -32,7 +32,9 @@ use neurotac_core::{
     Connectivity, ExpSynapse, GraphError, InputId, MultiSpikeTrain, NetworkBuilder, NetworkConfig,
     PopulationId, ReadoutId, SpikeArrayInput, SpikeDataset, SpikeRecorder, SpikeSource,
 };
-use neurotac_neurons::{Integrator, Izhikevich, IzhikevichParams, Lif, LifParams};
+use neurotac_neurons::{
+    InitialPotential, Integrator, Izhikevich, IzhikevichParams, Lif, LifParams,
+};
 use rayon::prelude::*;
 
 /// Which afferent model to use, with its default parameters.
@@ -40,7 +42,8 @@ use rayon::prelude::*;
 pub enum AfferentModel {
     /// LIF with [`LifParams::default`] (τ_m = 10 ms, threshold 1, reset 0), exact integrator.
     Lif,
-    /// Izhikevich regular spiking ([`IzhikevichParams::rs`]), Izhikevich's 2003 scheme.
+    /// Izhikevich regular spiking ([`IzhikevichParams::rs`]), Izhikevich's 2003 scheme,
+    /// starting at its resting point (−70 mV; an afferent without input is at rest).
     Izhikevich,
 }
 
@@ -105,10 +108,17 @@ pub fn afferent_population(
             "afferents",
             Lif::<f64>::new(n, LifParams::default()).with_integrator(Integrator::Exact),
         )?,
-        AfferentModel::Izhikevich => builder.add_population(
-            "afferents",
-            Izhikevich::<f64>::new(n, IzhikevichParams::rs()),
-        )?,
+        AfferentModel::Izhikevich => {
+            let rs = IzhikevichParams::rs();
+            let rest = rs
+                .resting_potential()
+                .expect("RS has a stable resting point");
+            builder.add_population(
+                "afferents",
+                Izhikevich::<f64>::new(n, rs)
+                    .with_initial_potential(InitialPotential::Constant(rest)),
+            )?
+        }
     };
     builder.connect(
         input,

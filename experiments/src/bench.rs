@@ -5,7 +5,7 @@
 //! performance section). Timing covers stepping only; building and allocation are reported
 //! apart.
 
-use crate::afferents::{AfferentConfig, afferent_population};
+use crate::afferents::{AfferentConfig, AfferentModel, afferent_population};
 use crate::neuron_setup::{NeuronKind, NeuronSetup, Precision};
 use crate::threads::{ThreadPoolError, with_threads};
 use neurotac_core::{
@@ -164,6 +164,8 @@ pub struct ActivityRun {
 /// What [`afferent_activity`] measured.
 #[derive(Debug, Clone, Serialize)]
 pub struct ActivityBenchResult {
+    /// The afferent model: "lif" (exact) or "izhikevich" (RS, Izhikevich's 2003 scheme).
+    pub model: &'static str,
     /// Taxels (= afferents).
     pub n: usize,
     /// Fraction of taxels firing.
@@ -184,28 +186,30 @@ pub struct ActivityBenchResult {
     pub identical_spikes: bool,
 }
 
-/// The afferent pipeline's network: `taxels` → the LIF afferents of
-/// [`AfferentConfig::lif`](crate::afferents::AfferentConfig::lif) (exponential synapses, τ 5 ms,
-/// weight 5; exact, f64) → spike recorder, clock- or event-driven, at step `dt_s`.
+/// The afferent pipeline's network: `taxels` → the afferents of `config` (exponential
+/// synapses; [`AfferentConfig::lif`]: τ 5 ms, weight 5, exact, f64) → spike recorder, clock- or
+/// event-driven, at step `dt_s`.
 pub fn afferent_network(
     taxels: &MultiSpikeTrain,
+    config: AfferentConfig,
     dt_s: f64,
     event_driven: bool,
 ) -> Result<(Network, ReadoutId<SpikeRecorder>), GraphError> {
     let mut b = NetworkBuilder::new();
     b.event_driven(event_driven);
     let input = b.add_spike_input("taxels", SpikeArrayInput::new(taxels.clone()))?;
-    let afferents = afferent_population(&mut b, input, taxels.n_channels(), AfferentConfig::lif())?;
+    let afferents = afferent_population(&mut b, input, taxels.n_channels(), config)?;
     let spikes = b.record_spikes(afferents)?;
     Ok((b.build(NetworkConfig { dt_s })?, spikes))
 }
 
-/// The afferent pipeline (`n` taxels → exponential synapses, τ 5 ms, weight 5 → `n` LIF
-/// afferents, exact, f64) with the fraction `active` of the taxels firing at `rate_hz` (seed
-/// `seed`), run for `duration_s` at `dt_s` clock-driven and event-driven
+/// The afferent pipeline (`n` taxels → exponential synapses → `n` afferents of `config`, f64)
+/// with the fraction `active` of the taxels firing at `rate_hz` (seed `seed`), run for
+/// `duration_s` at `dt_s` clock-driven and event-driven
 /// ([`NetworkBuilder::event_driven`]) on one thread, each the fastest of
 /// [`ACTIVITY_REPEATS`] interleaved runs; the spikes are compared.
 pub fn afferent_activity(
+    config: AfferentConfig,
     n: usize,
     active: f64,
     rate_hz: f64,
@@ -232,7 +236,7 @@ pub fn afferent_activity(
     }
     let taxels = activity_taxels(n, active, rate_hz, duration_s, seed);
     let run = |event_driven: bool| -> Result<(ActivityRun, Vec<(u32, f64)>), BenchError> {
-        let (mut net, spikes) = afferent_network(&taxels, dt_s, event_driven)?;
+        let (mut net, spikes) = afferent_network(&taxels, config, dt_s, event_driven)?;
         let (result, wall_s) = with_threads(1, || {
             let start = Instant::now();
             let result = net.run(duration_s);
@@ -263,6 +267,10 @@ pub fn afferent_activity(
     }
     let ((clock_driven, clock_spikes), (event_driven, event_spikes)) = (clock, event);
     Ok(ActivityBenchResult {
+        model: match config.model {
+            AfferentModel::Lif => "lif",
+            AfferentModel::Izhikevich => "izhikevich",
+        },
         n,
         active_fraction: active,
         rate_hz,

@@ -172,7 +172,7 @@ impl ReadoutNetwork {
         vr_from: VrFrom,
     ) -> Result<Self, ExperimentError> {
         let mut b = NetworkBuilder::new();
-        // Only afferents with input are stepped (LIF; Izhikevich stays clock-driven).
+        // Only afferents with input (or, Izhikevich, still settling to rest) are stepped.
         b.event_driven(true);
         let input = b.add_spike_input(
             "taxels",

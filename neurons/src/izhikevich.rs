@@ -42,6 +42,24 @@
 //! −5 000 mV, where that rate is ≈ 400/ms) need microsecond steps, or the state oscillates —
 //! finite, but with spurious spikes. `neurotac tradeoff neurons` shows where each scheme breaks.
 //!
+//! ## Event-driven stepping
+//! Without input the model has no closed form, but it has a resting point: `u* = b·v*` with
+//! `v*` the lower root of `0.04·v² + (5 − b)·v + 140 = 0` ([`resting_point`]; −70 mV for RS,
+//! b = 0.2), a stable node or focus when `b − √D − a < 0`. In an event-driven network
+//! ([`NeuronModel::event_driven`]) a neuron is stepped at every step in which it has input and
+//! afterwards, at input 0, until `v` and `u` are both within
+//! [`rest_tolerance`](IzhikevichParams::rest_tolerance) (default 10⁻³ mV) of `(v*, u*)`; then it
+//! is held there, untouched, until its next input. The held state differs from the
+//! clock-driven one by at most about the tolerance (the clock-driven trajectory keeps
+//! converging towards the resting point), so spikes match the clock-driven run unless a
+//! threshold crossing is decided by less than that. After a spike the return to rest takes
+//! ≈ ln(d / tol) / |λ_slow| (≈ 330 ms for RS at 10⁻³ mV), so work follows activity with that
+//! tail. Event-driven stepping needs grid spike times (no interpolation), a stable resting
+//! point that the step resolves (`h·|λ_fast| < 1`) and a positive tolerance; otherwise the
+//! population stays clock-driven. Start a population at rest with
+//! [`IzhikevichParams::resting_potential`] as its initial potential, or the first steps are
+//! spent settling from −65 mV.
+//!
 //! ## Divergence
 //! Spurious spikes of an unstable step are detected, not reported as firing. With `u` frozen
 //! at `u_lo` (the smaller of its values at the step's start and end), the `v` equation reads
@@ -91,7 +109,14 @@ pub struct IzhikevichParams {
     pub v_peak: f64,
     /// Lowest potential kept (mV); default −∞, i.e. only the finite range is enforced.
     pub v_min: f64,
+    /// Event-driven stepping (module docs): a neuron without input is held once `v` and `u`
+    /// are both within this distance (mV) of the resting point. Default
+    /// [`REST_TOLERANCE_MV`]; 0 keeps the population clock-driven.
+    pub rest_tolerance: f64,
 }
+
+/// The default [`IzhikevichParams::rest_tolerance`]: 10⁻³ mV.
+pub const REST_TOLERANCE_MV: f64 = 1e-3;
 
 impl Default for IzhikevichParams {
     /// Regular spiking ([`rs`](Self::rs)).
@@ -109,6 +134,7 @@ impl IzhikevichParams {
             d,
             v_peak: 30.0,
             v_min: f64::NEG_INFINITY,
+            rest_tolerance: REST_TOLERANCE_MV,
         }
     }
 
@@ -147,6 +173,13 @@ impl IzhikevichParams {
         Self::preset(0.1, 0.26, -65.0, 2.0)
     }
 
+    /// `v*` of the resting point without input (mV), when it exists and is stable
+    /// ([`resting_point`]); −70 mV for [`rs`](Self::rs). With it as the initial potential
+    /// (`u = b·v`), a population starts at rest.
+    pub fn resting_potential(&self) -> Option<f64> {
+        resting_point(self.a, self.b).map(|(v, _, _)| v)
+    }
+
     /// The preset with this (case-insensitive) name: rs, ib, ch, fs, lts, tc, rz.
     pub fn named(name: &str) -> Option<Self> {
         Some(match name.to_ascii_lowercase().as_str() {
@@ -178,6 +211,14 @@ impl IzhikevichParams {
                 field: "c",
                 value: self.c,
                 expected: "< v_peak",
+            });
+        }
+        if !(self.rest_tolerance >= 0.0 && self.rest_tolerance.is_finite()) {
+            return Err(ModelError::InvalidParameter {
+                model: MODEL,
+                field: "rest_tolerance",
+                value: self.rest_tolerance,
+                expected: "finite and ≥ 0 (mV)",
             });
         }
         if self.v_min.is_nan() || self.v_min > self.c {
@@ -225,6 +266,41 @@ pub struct IzhikevichConstants<F> {
     u_decay: F,
     /// `0.04·(v_peak − m)²`: `g(v_peak) − q` of the divergence criterion.
     peak_rate: F,
+    /// The resting point `(v*, u*)` without input, and the tolerance within which a neuron
+    /// counts as at rest (module docs, Event-driven stepping).
+    v_rest: F,
+    u_rest: F,
+    rest_tolerance: F,
+    /// `true` when the resting point exists, is stable, the step resolves its fastest decay
+    /// (`h·|λ| < 1`) and the tolerance is positive.
+    holds_at_rest: bool,
+}
+
+/// The resting point `(v*, u*)` of the equations without input, when it exists and is stable,
+/// and the largest decay rate `|λ|` (1/ms) of the linearisation there.
+///
+/// `u* = b·v*` and `0.04·v*² + (5 − b)·v* + 140 = 0`; the lower root
+/// `v* = (−(5 − b) − √D)/0.08`, `D = (5 − b)² − 22.4`, has Jacobian
+/// `[[b − √D, −1], [a·b, −a]]`: determinant `a·√D > 0`, stable when the trace
+/// `b − √D − a < 0`.
+pub fn resting_point(a: f64, b: f64) -> Option<(f64, f64, f64)> {
+    let disc = (5.0 - b).powi(2) - 4.0 * 0.04 * 140.0;
+    if !(disc > 0.0 && a > 0.0) {
+        return None;
+    }
+    let root = disc.sqrt();
+    let v = (-(5.0 - b) - root) / 0.08;
+    let (trace, det) = (b - root - a, a * root);
+    if trace >= 0.0 {
+        return None;
+    }
+    let split = trace * trace - 4.0 * det;
+    let fastest = if split >= 0.0 {
+        (-trace + split.sqrt()) / 2.0
+    } else {
+        det.sqrt()
+    };
+    Some((v, b * v, fastest))
 }
 
 /// Vertex of the `v` nullcline, `m = −5/(2·0.04)` (mV).
@@ -272,6 +348,37 @@ fn advance_state<F: Real>(
         Integrator::Rk4 => pair(integrate::rk4([v, u], h, |x| derivative(k, x, i))),
         Integrator::Exact => unreachable!("rejected by prepare"),
     }
+}
+
+/// The clamps, threshold and reset of one neuron after its integrator's raw update
+/// `(v_raw, u_raw)`: `(v, u)` after the step, `u` before the reset, and the spike. One compare +
+/// select each: anything not below the peak (NaN and +∞ included) becomes the peak, and so a
+/// spike; `u` outside the finite range (NaN included) becomes a bound. The constants come as
+/// values, not through `k` (selects between values, not between addresses, which LLVM would
+/// turn into gathers).
+#[inline(always)]
+fn clamp_and_reset<F: Real>(
+    v_raw: F,
+    u_raw: F,
+    c: F,
+    d: F,
+    v_peak: F,
+    v_floor: F,
+) -> (F, F, F, bool) {
+    let (u_max, u_min) = (F::max_value(), F::min_value());
+    let v_new = if v_raw < v_peak { v_raw } else { v_peak };
+    let v_new = if v_new > v_floor { v_new } else { v_floor };
+    let u_new = if u_raw < u_max { u_raw } else { u_max };
+    let u_new = if u_new > u_min { u_new } else { u_min };
+    let spike = v_new >= v_peak;
+    let u_reset = u_new + d;
+    let u_reset = if u_reset < u_max { u_reset } else { u_max };
+    (
+        if spike { c } else { v_new },
+        if spike { u_reset } else { u_new },
+        u_new,
+        spike,
+    )
 }
 
 /// Advances one block by one step: fused update, clamp, threshold and reset, writing the
@@ -333,28 +440,19 @@ fn step_block_with<F: Real, const INTERPOLATE: bool>(
         v_floor,
         ..
     } = *k;
-    let (u_max, u_min) = (F::max_value(), F::min_value());
     let mut count = 0u32;
     for j in 0..n {
         let (v_old, u_old) = (v_prev[j], u_prev[j]);
         let i = input(j);
         let (v_raw, u_raw) = update(v_old, u_old, i);
-        // One compare + select each: anything not below the peak (NaN and +∞ included) becomes
-        // the peak, and so a spike; u outside the finite range (NaN included) becomes a bound.
-        let v_new = if v_raw < v_peak { v_raw } else { v_peak };
-        let v_new = if v_new > v_floor { v_new } else { v_floor };
-        let u_new = if u_raw < u_max { u_raw } else { u_max };
-        let u_new = if u_new > u_min { u_new } else { u_min };
-        let spike = v_new >= v_peak;
+        let (v_next, u_next, u_new, spike) = clamp_and_reset(v_raw, u_raw, c, d, v_peak, v_floor);
         if INTERPOLATE {
             let f = (v_peak - v_old) / (v_raw - v_old);
             phi[j] = if spike { f } else { F::one() };
             u_at_spike[j] = u_old + f * (u_new - u_old);
         }
-        let u_reset = u_new + d;
-        let u_reset = if u_reset < u_max { u_reset } else { u_max };
-        v[j] = if spike { c } else { v_new };
-        u[j] = if spike { u_reset } else { u_new };
+        v[j] = v_next;
+        u[j] = u_next;
         spiked[j] = spike as u8;
         count += spike as u32;
     }
@@ -385,32 +483,41 @@ fn diverged_spikes<F: Real>(
     update: &impl Fn(F, F, F) -> (F, F),
     input: impl Fn(usize) -> F,
 ) -> u64 {
-    let (m, g_offset, quad) = (F::of(V_NULLCLINE_MIN), F::of(G_AT_MIN_OFFSET), F::of(0.04));
-    let two_h = k.h + k.h;
-    let zero = F::zero();
     let mut diverged = 0u64;
     for_each_spike(spiked, |j| {
-        let (v_old, u_old, i) = (v_prev[j], u_prev[j], input(j));
-        let (v_raw, u_raw) = update(v_old, u_old, i);
-        if !(v_raw.is_finite() && u_raw.is_finite()) {
-            diverged += 1;
-            return;
-        }
-        if v_old > k.c {
-            return;
-        }
-        // A spike from at or below the reset that g(v) cannot carry to the peak.
-        let u_lo = if u_raw < u_old { u_raw } else { u_old };
-        let q = i - u_lo + g_offset;
-        let dv = v_old - m;
-        let g_old = quad * dv * dv + q;
-        let g_peak = k.peak_rate + q;
-        let g_max = if g_old > g_peak { g_old } else { g_peak };
-        let trapped = (q <= zero) & ((v_old < m) | (g_old < zero));
-        let too_far = k.v_peak - v_old > two_h * g_max;
-        diverged += u64::from(trapped | too_far);
+        diverged += u64::from(spike_diverged(k, v_prev[j], u_prev[j], input(j), update));
     });
     diverged
+}
+
+/// `true` when the spike of the step from `(v_old, u_old)` under input `i` diverged (module
+/// docs, Divergence): a non-finite update, or a spike from at or below the reset that `g(v)`
+/// cannot carry to the peak.
+fn spike_diverged<F: Real>(
+    k: &IzhikevichConstants<F>,
+    v_old: F,
+    u_old: F,
+    i: F,
+    update: &impl Fn(F, F, F) -> (F, F),
+) -> bool {
+    let (m, g_offset, quad) = (F::of(V_NULLCLINE_MIN), F::of(G_AT_MIN_OFFSET), F::of(0.04));
+    let (v_raw, u_raw) = update(v_old, u_old, i);
+    if !(v_raw.is_finite() && u_raw.is_finite()) {
+        return true;
+    }
+    if v_old > k.c {
+        return false;
+    }
+    let u_lo = if u_raw < u_old { u_raw } else { u_old };
+    let q = i - u_lo + g_offset;
+    let dv = v_old - m;
+    let g_old = quad * dv * dv + q;
+    let g_peak = k.peak_rate + q;
+    let g_max = if g_old > g_peak { g_old } else { g_peak };
+    let zero = F::zero();
+    let trapped = (q <= zero) & ((v_old < m) | (g_old < zero));
+    let too_far = k.v_peak - v_old > (k.h + k.h) * g_max;
+    trapped | too_far
 }
 
 /// The Izhikevich model's part of a [`BlockPopulation`] in precision `F`: parameters, block
@@ -463,6 +570,20 @@ impl<F: Real> IzhikevichModel<F> {
     }
 }
 
+/// The resting-point part of the constants at step `h` (ms).
+fn rest_constants<F: Real>(p: &IzhikevichParams, h: f64) -> IzhikevichConstants<F> {
+    let rest = resting_point(p.a, p.b)
+        .filter(|&(v, _, fastest)| h * fastest < 1.0 && v > p.v_min && v < p.v_peak);
+    let (v, u) = rest.map_or((0.0, 0.0), |(v, u, _)| (v, u));
+    IzhikevichConstants {
+        v_rest: F::of(v),
+        u_rest: F::of(u),
+        rest_tolerance: F::of(p.rest_tolerance),
+        holds_at_rest: rest.is_some() && p.rest_tolerance > 0.0,
+        ..IzhikevichConstants::default()
+    }
+}
+
 impl<F: Real> BlockModel for IzhikevichModel<F> {
     type Real = F;
     type Params = IzhikevichParams;
@@ -499,6 +620,7 @@ impl<F: Real> BlockModel for IzhikevichModel<F> {
             h: F::of(h),
             u_decay: F::of((-p.a * h).exp()),
             peak_rate: F::of(0.04 * (p.v_peak - V_NULLCLINE_MIN).powi(2)),
+            ..rest_constants(p, h)
         }
     }
 
@@ -561,6 +683,44 @@ impl<F: Real> BlockModel for IzhikevichModel<F> {
 
     fn spike_mask(s: &IzhikevichState<F>) -> &[u8] {
         &s.spiked
+    }
+
+    /// Izhikevich skips idle neurons when the resting point exists and is stable, the step
+    /// resolves its fastest decay, the tolerance is positive and spikes are on the grid (module
+    /// docs, Event-driven stepping).
+    fn skips_idle(
+        _params: &IzhikevichParams,
+        k: &IzhikevichConstants<F>,
+        _integrator: Integrator,
+        interpolate: bool,
+    ) -> bool {
+        k.holds_at_rest && !interpolate
+    }
+
+    /// Both `v` and `u` within the tolerance of the resting point.
+    fn settled(k: &IzhikevichConstants<F>, s: &IzhikevichState<F>, j: usize) -> bool {
+        (s.v[j] - k.v_rest).abs() <= k.rest_tolerance
+            && (s.u[j] - k.u_rest).abs() <= k.rest_tolerance
+    }
+
+    /// The fused loop's update, clamps, threshold, reset and divergence check for one neuron.
+    fn step_neuron(
+        k: &IzhikevichConstants<F>,
+        integrator: Integrator,
+        s: &mut IzhikevichState<F>,
+        j: usize,
+        input: f64,
+    ) -> BlockStep {
+        let (v_old, u_old, i) = (s.v[j], s.u[j], F::of(input));
+        let update = |v, u, i| advance_state(integrator, k, (v, u), i, k.h, k.u_decay);
+        let (v_raw, u_raw) = update(v_old, u_old, i);
+        let (v, u, _, spike) = clamp_and_reset(v_raw, u_raw, k.c, k.d, k.v_peak, k.v_floor);
+        s.v[j] = v;
+        s.u[j] = u;
+        BlockStep {
+            spikes: u64::from(spike),
+            diverged: u64::from(spike && spike_diverged(k, v_old, u_old, i, &update)),
+        }
     }
 
     fn spike_fractions(s: &IzhikevichState<F>) -> &[F] {

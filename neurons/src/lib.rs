@@ -42,8 +42,8 @@ pub use integrate::{Integrator, UnknownIntegrator};
 pub use izhikevich::{Izhikevich, IzhikevichModel, IzhikevichParams, IzhikevichState};
 pub use lif::{Lif, LifModel, LifParams, LifState};
 pub use population::{
-    ActiveNeurons, BlockModel, BlockPopulation, BlockStep, DIVERGENCE_CHECK_STEPS, Drive,
-    InitialPotential, Population,
+    ActiveNeurons, ActiveStep, BlockModel, BlockPopulation, BlockStep, DIVERGENCE_CHECK_STEPS,
+    Drive, InitialPotential, Population,
 };
 pub use real::Real;
 pub use run::{DEFAULT_MAX_STEPS, RunError, stream_spike_times, whole_steps};

@@ -57,8 +57,9 @@
 
 use crate::integrate::{self, Integrator};
 use crate::population::{
-    ActiveNeurons, BlockModel, BlockPopulation, BlockStep, DIVERGED_BIT, Drive, InitialPotential,
-    check_param, check_representable, for_each_spike, take_diverged, unit_fraction,
+    ActiveNeurons, ActiveStep, BlockModel, BlockPopulation, BlockStep, DIVERGED_BIT, Drive,
+    InitialPotential, check_param, check_representable, for_each_spike, take_diverged,
+    unit_fraction,
 };
 use crate::real::Real;
 use neurotac_core::ModelError;
@@ -511,10 +512,10 @@ impl<F: Real> BlockModel for LifModel<F> {
         s: &mut LifState<F>,
         j: usize,
         input: f64,
-    ) -> bool {
-        step_one(k, s, j, input, |v, v_inf| {
+    ) -> BlockStep {
+        BlockStep::one_neuron(step_one(k, s, j, input, |v, v_inf| {
             advance_potential(integrator, v, v_inf, k.h, k.decay)
-        })
+        }))
     }
 
     /// The exact step (the event-driven default) gets its own loop, the others share one.
@@ -522,17 +523,25 @@ impl<F: Real> BlockModel for LifModel<F> {
         k: &LifConstants<F>,
         integrator: Integrator,
         active: ActiveNeurons<'_, LifState<F>>,
-    ) {
+    ) -> ActiveStep {
         let idle = |s: &mut LifState<F>, j, steps| Self::advance_idle(k, s, j, steps);
+        // The closed form holds from any state: every neuron is settled.
+        let settled = |_: &LifState<F>, _| true;
         match integrator {
             Integrator::Exact | Integrator::ExponentialEuler => {
                 let update =
                     |v, v_inf| advance_potential(Integrator::Exact, v, v_inf, k.h, k.decay);
-                active.run(idle, |s, j, input| step_one(k, s, j, input, update))
+                active.run(
+                    idle,
+                    |s, j, input| BlockStep::one_neuron(step_one(k, s, j, input, update)),
+                    settled,
+                )
             }
-            _ => active.run(idle, |s, j, input| {
-                Self::step_neuron(k, integrator, s, j, input)
-            }),
+            _ => active.run(
+                idle,
+                |s, j, input| Self::step_neuron(k, integrator, s, j, input),
+                settled,
+            ),
         }
     }
 

@@ -185,6 +185,15 @@ pub struct BlockStep {
 }
 
 impl BlockStep {
+    /// One neuron's step ([`BlockModel::step_neuron`]) without a divergence flag: its spike.
+    #[inline(always)]
+    pub fn one_neuron(spiked: bool) -> BlockStep {
+        BlockStep {
+            spikes: u64::from(spiked),
+            diverged: 0,
+        }
+    }
+
     #[inline]
     fn add(self, other: BlockStep) -> BlockStep {
         BlockStep {
@@ -264,8 +273,8 @@ pub trait BlockModel: Send + Sync + 'static {
     fn variable(state: &Self::State, var: usize, j: usize) -> f64;
 
     /// Event-driven stepping ([`NeuronModel::event_driven`]): `true` when, with these settings, a
-    /// neuron whose input is 0 can be left alone and advanced later in closed form
-    /// ([`advance_idle`](Self::advance_idle)), and stepped alone
+    /// neuron whose input is 0 and that is [`settled`](Self::settled) can be left alone and
+    /// advanced later ([`advance_idle`](Self::advance_idle)), and stepped alone
     /// ([`step_neuron`](Self::step_neuron)) with the arithmetic of
     /// [`step_block`](Self::step_block). Default `false`: clock-driven only.
     fn skips_idle(
@@ -278,40 +287,61 @@ pub trait BlockModel: Send + Sync + 'static {
         false
     }
 
-    /// Advances neuron `j` of the block over `steps` steps of zero input in closed form. Called
-    /// only when [`skips_idle`](Self::skips_idle) holds; the default leaves the state alone.
+    /// `true` when neuron `j` of the block, left without input from now on, is followed by
+    /// [`advance_idle`](Self::advance_idle) (exactly, or within the model's stated tolerance).
+    /// A neuron that is not settled is stepped clock-driven at input 0 until it is. Default
+    /// `true` (a closed form exists from any state).
+    fn settled(k: &Self::Constants, state: &Self::State, j: usize) -> bool {
+        let _ = (k, state, j);
+        true
+    }
+
+    /// Advances settled neuron `j` of the block over `steps` steps of zero input. Called only
+    /// when [`skips_idle`](Self::skips_idle) holds; the default leaves the state alone (a
+    /// neuron held at its resting point).
     fn advance_idle(k: &Self::Constants, state: &mut Self::State, j: usize, steps: u64) {
         let _ = (k, state, j, steps);
     }
 
     /// One step of neuron `j` of the block under `input`, with the arithmetic of
-    /// [`step_block`](Self::step_block); `true` when it spiked. Called only when
-    /// [`skips_idle`](Self::skips_idle) holds; the default never spikes.
+    /// [`step_block`](Self::step_block): its spike (0 or 1) and whether the divergence criterion
+    /// flagged it. Called only when [`skips_idle`](Self::skips_idle) holds; the default never
+    /// spikes.
     fn step_neuron(
         k: &Self::Constants,
         integrator: Integrator,
         state: &mut Self::State,
         j: usize,
         input: f64,
-    ) -> bool {
+    ) -> BlockStep {
         let _ = (k, integrator, state, j, input);
-        false
+        BlockStep::default()
     }
 
-    /// One event-driven step of the neurons `active` ([`NeuronModel::step_active`]): each is
-    /// first brought up to step `now` ([`advance_idle`](Self::advance_idle)), then stepped
-    /// ([`step_neuron`](Self::step_neuron)). A model may override it to hoist its integrator
-    /// choice out of the loop.
+    /// One event-driven step of the neurons `active` and of the unsettled ones
+    /// ([`NeuronModel::step_active`]): each is first brought up to step `now`
+    /// ([`advance_idle`](Self::advance_idle)), then stepped ([`step_neuron`](Self::step_neuron)).
+    /// A model may override it to hoist its integrator choice out of the loop.
     fn step_neurons(
         k: &Self::Constants,
         integrator: Integrator,
         active: ActiveNeurons<'_, Self::State>,
-    ) {
+    ) -> ActiveStep {
         active.run(
             |s, j, idle| Self::advance_idle(k, s, j, idle),
             |s, j, input| Self::step_neuron(k, integrator, s, j, input),
-        );
+            |s, j| Self::settled(k, s, j),
+        )
     }
+}
+
+/// What one event-driven step did ([`ActiveNeurons::run`]).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct ActiveStep {
+    /// Neurons updated: the active ones and the unsettled ones.
+    pub updates: u64,
+    /// Their spikes and divergence flags.
+    pub step: BlockStep,
 }
 
 /// The neurons of one event-driven step and the bookkeeping around them
@@ -322,31 +352,85 @@ pub struct ActiveNeurons<'a, S> {
     now: u64,
     active: &'a [u32],
     inputs: &'a [f64],
+    /// Neurons stepped before and not settled yet (ascending): stepped at input 0 when not
+    /// active. Replaced by this step's unsettled neurons.
+    restless: &'a mut Vec<u32>,
+    restless_next: &'a mut Vec<u32>,
     spikes: &'a mut SpikeBuffer,
 }
 
 impl<S> ActiveNeurons<'_, S> {
-    /// For each active neuron: `idle(block, j, steps)` over the steps it was skipped, then
-    /// `step(block, j, input)`, pushing its spike when that returns `true`.
+    /// For each active or restless neuron, in ascending order: `idle(block, j, steps)` over
+    /// the steps it was skipped, then `step(block, j, input)` (input 0 for a restless neuron
+    /// without input), pushing its spike; the neurons that are not `settled(block, j)`
+    /// afterwards are stepped again next step.
     #[inline(always)]
     pub fn run(
         self,
         mut idle: impl FnMut(&mut S, usize, u64),
-        mut step: impl FnMut(&mut S, usize, f64) -> bool,
-    ) {
-        let now = self.now;
-        for (&i, &input) in self.active.iter().zip(self.inputs) {
-            let i = i as usize;
-            let (block, j) = (&mut self.blocks[i / BLOCK], i % BLOCK);
-            let to = &mut self.current_to[i];
+        mut step: impl FnMut(&mut S, usize, f64) -> BlockStep,
+        mut settled: impl FnMut(&S, usize) -> bool,
+    ) -> ActiveStep {
+        let Self {
+            blocks,
+            current_to,
+            now,
+            active,
+            inputs,
+            restless,
+            restless_next,
+            spikes,
+        } = self;
+        let mut out = ActiveStep::default();
+        restless_next.clear();
+        let mut visit = |i: u32, input: f64| {
+            let i_ = i as usize;
+            let (block, j) = (&mut blocks[i_ / BLOCK], i_ % BLOCK);
+            let to = &mut current_to[i_];
             if *to < now {
                 idle(block, j, now - *to);
             }
-            if step(block, j, input) {
-                self.spikes.push(i as u32);
+            let s = step(block, j, input);
+            if s.spikes > 0 {
+                spikes.push(i);
+            }
+            if !settled(block, j) {
+                restless_next.push(i);
             }
             *to = now + 1;
+            out.updates += 1;
+            out.step = out.step.add(s);
+        };
+        if restless.is_empty() {
+            // Every neuron settled (always so for LIF): the active ones only.
+            for (&i, &input) in active.iter().zip(inputs) {
+                visit(i, input);
+            }
+        } else {
+            // The two ascending lists merged, a neuron in both once.
+            let (mut a, mut r) = (0, 0);
+            loop {
+                let (i, input) = match (active.get(a), restless.get(r)) {
+                    (Some(&x), Some(&y)) if y < x => {
+                        r += 1;
+                        (y, 0.0)
+                    }
+                    (Some(&x), next) => {
+                        r += usize::from(next == Some(&x));
+                        a += 1;
+                        (x, inputs[a - 1])
+                    }
+                    (None, Some(&y)) => {
+                        r += 1;
+                        (y, 0.0)
+                    }
+                    (None, None) => break,
+                };
+                visit(i, input);
+            }
         }
+        std::mem::swap(restless, restless_next);
+        out
     }
 }
 
@@ -370,6 +454,10 @@ pub struct BlockPopulation<M: BlockModel> {
     /// Event-driven stepping: the step up to which each neuron's state is current (empty when
     /// the model cannot skip idle neurons with these settings).
     current_to: Vec<u64>,
+    /// Event-driven stepping: the neurons not settled after their last step (ascending), and
+    /// the buffer for the next step's.
+    restless: Vec<u32>,
+    restless_next: Vec<u32>,
 }
 
 impl<M: BlockModel> Clone for BlockPopulation<M> {
@@ -386,6 +474,8 @@ impl<M: BlockModel> Clone for BlockPopulation<M> {
             steps: self.steps,
             diverged_at: self.diverged_at,
             current_to: self.current_to.clone(),
+            restless: self.restless.clone(),
+            restless_next: Vec::new(),
         }
     }
 }
@@ -420,6 +510,8 @@ impl<M: BlockModel> BlockPopulation<M> {
             steps: 0,
             diverged_at: None,
             current_to: Vec::new(),
+            restless: Vec::new(),
+            restless_next: Vec::new(),
         }
     }
 
@@ -536,8 +628,15 @@ impl<M: BlockModel> NeuronModel for BlockPopulation<M> {
         self.steps = 0;
         self.diverged_at = None;
         self.current_to.clear();
+        self.restless.clear();
         if M::skips_idle(&self.params, &self.k, self.integrator, self.interpolate) {
             self.current_to.resize(self.n, 0);
+            let k = &self.k;
+            let blocks = &self.blocks;
+            self.restless.extend(
+                (0..self.n as u32)
+                    .filter(|&i| !M::settled(k, &blocks[i as usize / BLOCK], i as usize % BLOCK)),
+            );
         }
         Ok(())
     }
@@ -566,17 +665,23 @@ impl<M: BlockModel> NeuronModel for BlockPopulation<M> {
         self.current_to.len() == self.n && self.n > 0
     }
 
-    fn step_active(&mut self, active: &[u32], inputs: &[f64], spikes: &mut SpikeBuffer) {
+    fn step_active(&mut self, active: &[u32], inputs: &[f64], spikes: &mut SpikeBuffer) -> u64 {
         let neurons = ActiveNeurons {
             blocks: &mut self.blocks,
             current_to: &mut self.current_to,
             now: self.steps,
             active,
             inputs,
+            restless: &mut self.restless,
+            restless_next: &mut self.restless_next,
             spikes,
         };
-        M::step_neurons(&self.k, self.integrator, neurons);
+        let done = M::step_neurons(&self.k, self.integrator, neurons);
+        if done.step.diverged > 0 && self.diverged_at.is_none() {
+            self.diverged_at = Some(self.steps);
+        }
         self.steps += 1;
+        done.updates
     }
 
     fn settle(&mut self) {

@@ -3,9 +3,11 @@
 
 use neurotac_core::{
     Connectivity, ExpSynapse, MultiSpikeTrain, Network, NetworkBuilder, NetworkConfig, NeuronModel,
-    ReadoutId, SpikeArrayInput, SpikeRecorder,
+    ReadoutId, SpikeArrayInput, SpikeBuffer, SpikeRecorder,
 };
-use neurotac_neurons::{Integrator, Izhikevich, IzhikevichParams, Lif, LifParams};
+use neurotac_neurons::{
+    InitialPotential, Integrator, Izhikevich, IzhikevichParams, Lif, LifParams,
+};
 use rand::{RngExt, SeedableRng};
 
 const DT: f64 = 1e-4;
@@ -117,42 +119,158 @@ fn updates_scale_with_the_input_events() {
     assert_eq!((u2, u8), (2 * u1, 8 * u1));
 }
 
+/// The afferent pipeline with Izhikevich RS afferents starting at rest (`tolerance` in mV),
+/// run for 1 s: the network, its spikes and the afferents' final `(v, u)`.
+fn izhikevich_afferents(
+    input: &MultiSpikeTrain,
+    tolerance: f64,
+    event_driven: bool,
+) -> (Network, Vec<(u32, f64)>) {
+    let params = IzhikevichParams {
+        rest_tolerance: tolerance,
+        ..IzhikevichParams::rs()
+    };
+    let rest = params.resting_potential().unwrap();
+    let model = Izhikevich::<f64>::new(input.n_channels(), params)
+        .with_initial_potential(InitialPotential::Constant(rest));
+    let (mut net, spikes) = pipeline(input, model, event_driven, false);
+    net.run(1.0).unwrap();
+    let out = net.readout(spikes).spikes().to_vec();
+    (net, out)
+}
+
+#[test]
+fn event_driven_izhikevich_holds_neurons_at_rest_and_spikes_as_clock_driven() {
+    let input = taxels(1000, 10, 40.0, 0.9, 2);
+    let (clock, clock_spikes) = izhikevich_afferents(&input, 1e-3, false);
+    let (event, event_spikes) = izhikevich_afferents(&input, 1e-3, true);
+    assert!(clock.event_driven_populations().is_empty());
+    assert_eq!(event.event_driven_populations(), ["pop"]);
+    assert!(clock_spikes.len() > 20, "{}", clock_spikes.len());
+    assert_eq!(event_spikes, clock_spikes);
+    // The 10 driven neurons are stepped while they have input and while they settle back to
+    // rest; the 990 silent ones are never touched.
+    assert!(
+        event.neuron_updates() <= 10 * 10_000,
+        "{}",
+        event.neuron_updates()
+    );
+    assert!(
+        event.neuron_updates() > 10 * 1_000,
+        "{}",
+        event.neuron_updates()
+    );
+}
+
+#[test]
+fn izhikevich_state_held_at_rest_stays_within_the_tolerance() {
+    // One neuron driven for 5 ms (it spikes), then left alone for the rest of 1 s: once back
+    // within the tolerance it is held, and its state after `settle` is within the tolerance of
+    // the clock-driven one (which keeps converging to the resting point).
+    let params = IzhikevichParams::rs();
+    let (v_rest, u_rest) = (-70.0, -14.0);
+    assert!((params.resting_potential().unwrap() - v_rest).abs() < 1e-12);
+    for tolerance in [1e-1, 1e-3] {
+        let params = IzhikevichParams {
+            rest_tolerance: tolerance,
+            ..params
+        };
+        let mut clock = Izhikevich::<f64>::new(1, params)
+            .with_initial_potential(InitialPotential::Constant(v_rest));
+        let mut event = clock.clone();
+        clock.prepare(DT).unwrap();
+        event.prepare(DT).unwrap();
+        assert!(event.event_driven());
+        let (mut spikes, mut clock_spikes, mut event_spikes) = (SpikeBuffer::default(), 0, 0);
+        let mut updates = 0;
+        for k in 0..10_000 {
+            let input = if (500..550).contains(&k) { 20.0 } else { 0.0 };
+            spikes.clear();
+            clock.step(&[input], &mut spikes);
+            clock_spikes += spikes.len();
+            spikes.clear();
+            updates += if input != 0.0 {
+                event.step_active(&[0], &[input], &mut spikes)
+            } else {
+                event.step_active(&[], &[], &mut spikes)
+            };
+            event_spikes += spikes.len();
+        }
+        event.settle();
+        assert!(clock_spikes > 0);
+        assert_eq!(event_spikes, clock_spikes);
+        let ((v_c, u_c), (v_e, u_e)) = (clock.state_of(0), event.state_of(0));
+        assert!((v_e - v_rest).abs() <= tolerance && (u_e - u_rest).abs() <= tolerance);
+        assert!((v_e - v_c).abs() <= 2.0 * tolerance, "{v_e} vs {v_c}");
+        assert!((u_e - u_c).abs() <= 2.0 * tolerance, "{u_e} vs {u_c}");
+        // Stepped from the input until back within the tolerance, not for the whole second.
+        assert!(updates > 100 && updates < 9_000, "{tolerance}: {updates}");
+    }
+}
+
+#[test]
+fn izhikevich_updates_scale_with_the_input_events() {
+    let updates = |k: usize| {
+        let channels: Vec<Vec<f64>> = (0..100)
+            .map(|c| if c < k { vec![0.1] } else { Vec::new() })
+            .collect();
+        let input = MultiSpikeTrain::from_channels(channels).unwrap();
+        izhikevich_afferents(&input, 1e-3, true).0.neuron_updates()
+    };
+    let (u0, u1, u2, u8) = (updates(0), updates(1), updates(2), updates(8));
+    assert_eq!(u0, 0);
+    assert!(u1 > 0 && u1 < 10_000, "{u1}");
+    assert_eq!((u2, u8), (2 * u1, 8 * u1));
+}
+
+#[test]
+fn izhikevich_away_from_rest_is_stepped_until_it_settles() {
+    // From the default −65 mV every neuron is stepped, without input, until it reaches rest.
+    let input = MultiSpikeTrain::from_channels(vec![Vec::new(); 10]).unwrap();
+    let model = Izhikevich::<f64>::new(10, IzhikevichParams::rs());
+    let (mut clock, _) = pipeline(&input, model.clone(), false, false);
+    let (mut event, _) = pipeline(&input, model, true, false);
+    clock.run(1.0).unwrap();
+    event.run(1.0).unwrap();
+    let updates = event.neuron_updates();
+    assert!(
+        updates > 10 * 1_000 && updates < clock.neuron_updates(),
+        "{updates}"
+    );
+    assert_eq!(updates % 10, 0);
+}
+
 #[test]
 fn populations_that_cannot_skip_stay_clock_driven() {
-    let input = MultiSpikeTrain::from_channels(vec![vec![0.01], vec![]]).unwrap();
-    let build = |with_state: bool, izhikevich: bool, interpolate: bool| {
-        let network = if izhikevich {
-            pipeline(
-                &input,
-                Izhikevich::<f64>::new(2, IzhikevichParams::rs()),
-                true,
-                with_state,
-            )
-        } else {
-            let lif = Lif::<f64>::new(2, LifParams::default()).with_interpolation(interpolate);
-            pipeline(&input, lif, true, with_state)
+    let izhikevich = |tolerance: f64, interpolate: bool| {
+        let params = IzhikevichParams {
+            rest_tolerance: tolerance,
+            ..IzhikevichParams::rs()
         };
-        network.0
+        Izhikevich::<f64>::new(2, params).with_interpolation(interpolate)
     };
-    assert_eq!(
-        build(false, false, false).event_driven_populations(),
-        ["pop"]
-    );
-    // A state readout, an Izhikevich model (no closed form at rest here), interpolated spike
-    // times: clock-driven.
-    assert!(
-        build(true, false, false)
+    let lif = |interpolate: bool| {
+        Lif::<f64>::new(2, LifParams::default()).with_interpolation(interpolate)
+    };
+    fn event_driven(model: impl NeuronModel + 'static, with_state: bool) -> bool {
+        let input = MultiSpikeTrain::from_channels(vec![vec![0.01], vec![]]).unwrap();
+        !pipeline(&input, model, true, with_state)
+            .0
             .event_driven_populations()
             .is_empty()
-    );
-    assert!(
-        build(false, true, false)
-            .event_driven_populations()
-            .is_empty()
-    );
-    assert!(
-        build(false, false, true)
-            .event_driven_populations()
-            .is_empty()
-    );
+    }
+    assert!(event_driven(lif(false), false));
+    assert!(event_driven(izhikevich(1e-3, false), false));
+    // A state readout, interpolated spike times, Izhikevich without a tolerance, Izhikevich
+    // without decay (a = 0: no stable resting point):
+    // clock-driven.
+    assert!(!event_driven(lif(false), true));
+    assert!(!event_driven(lif(true), false));
+    assert!(!event_driven(izhikevich(1e-3, true), false));
+    assert!(!event_driven(izhikevich(0.0, false), false));
+    let no_decay = IzhikevichParams {
+        a: 0.0,
+        ..IzhikevichParams::rs()
+    };
+    assert!(!event_driven(Izhikevich::<f64>::new(2, no_decay), false));
 }

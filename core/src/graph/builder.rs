@@ -88,11 +88,15 @@ impl NetworkBuilder {
     /// [`FLUSH_TO_ZERO`](super::FLUSH_TO_ZERO)) is not touched in a step, and is advanced over
     /// the skipped steps in closed form when input next reaches it
     /// ([`NeuronModel::step_active`]), so work follows activity
-    /// ([`Network::neuron_updates`]). Applies to populations whose model supports it with its
-    /// settings ([`NeuronModel::event_driven`]: LIF with a contracting integrator and grid spike
-    /// times), with no injected current and no readout of their state; the others stay
-    /// clock-driven. Spikes equal the clock-driven ones except where the closed-form decay and
-    /// the step-by-step one round differently at a threshold crossing. Default: off.
+    /// ([`Network::neuron_updates`]). A model without a closed form (Izhikevich) keeps stepping
+    /// a neuron at input 0 after its input ends until it is back at its resting point within a
+    /// stated tolerance, and holds it there. Applies to populations whose model supports it
+    /// with its settings ([`NeuronModel::event_driven`]: LIF with a contracting integrator and
+    /// grid spike times; Izhikevich with a stable resting point and grid spike times), with no
+    /// injected current and no readout of their state; the others stay clock-driven. Spikes
+    /// equal the clock-driven ones except where the closed-form decay and the step-by-step one
+    /// round differently (LIF), or the held state's offset (Izhikevich, ≤ the tolerance)
+    /// decides, a threshold crossing. Default: off.
     pub fn event_driven(&mut self, on: bool) -> &mut Self {
         self.event_driven = on;
         self

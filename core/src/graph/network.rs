@@ -129,7 +129,8 @@ impl Network {
     }
 
     /// Neuron updates done since build or the last [`reset`](Self::reset): every neuron of a
-    /// clock-driven population each step, only the neurons with input of an event-driven one
+    /// clock-driven population each step, only the neurons with input (and those still settling
+    /// back to rest) of an event-driven one
     /// ([`NetworkBuilder::event_driven`](super::NetworkBuilder::event_driven)).
     pub fn neuron_updates(&self) -> u64 {
         self.neuron_updates
@@ -359,8 +360,8 @@ impl Network {
                 let slot = (k % n.history.len() as u64) as usize;
                 n.history[slot].clear();
                 // `input` holds the active neurons' inputs in list order (it has room for all).
-                m.step_active(list, &n.input[..list.len()], &mut n.history[slot]);
-                self.neuron_updates += list.len() as u64;
+                self.neuron_updates +=
+                    m.step_active(list, &n.input[..list.len()], &mut n.history[slot]);
                 std::mem::swap(list, next);
                 continue;
             }

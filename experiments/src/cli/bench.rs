@@ -2,6 +2,7 @@
 
 use crate::cli::args;
 use clap::{Args, Subcommand};
+use neurotac_experiments::afferents::AfferentConfig;
 use neurotac_experiments::bench::{CubaConfig, afferent_activity, cuba, neuron_throughput};
 use neurotac_experiments::neuron_setup::{NeuronKind, Precision};
 use neurotac_experiments::peers::run_brian2;
@@ -43,10 +44,10 @@ struct NeuronsArgs {
     /// Integrator (default: exact for LIF, izhikevich2003 for Izhikevich).
     #[arg(long)]
     integrator: Option<Integrator>,
-    /// Instead: the afferent pipeline (N taxels → exponential synapses → N LIF afferents,
-    /// exact, f64, one thread) with this fraction of the taxels firing (Poisson, --rate),
-    /// clock-driven against event-driven: effective throughput, speed-up, identical spikes
-    /// (--precision does not apply: the pipeline runs in f64).
+    /// Instead: the afferent pipeline (N taxels → exponential synapses → N afferents of
+    /// --model: LIF exact, or Izhikevich RS from rest; f64, one thread) with this fraction of
+    /// the taxels firing (Poisson, --rate), clock-driven against event-driven: effective
+    /// throughput, speed-up, identical spikes (--precision and --integrator do not apply).
     #[arg(value_parser = args::unit_interval, allow_negative_numbers = true, long)]
     activity: Option<f64>,
     /// Firing rate of the active taxels with --activity (Hz).
@@ -249,21 +250,28 @@ fn cuba_network(a: CubaArgs) -> anyhow::Result<()> {
 
 /// `bench neurons --activity F`: the afferent pipeline clock-driven against event-driven.
 fn activity_bench(a: &NeuronsArgs, activity: f64) -> anyhow::Result<()> {
-    if a.model != NeuronKind::Lif || a.integrator.is_some() {
+    if a.integrator.is_some() {
         anyhow::bail!(
-            "--activity runs the LIF afferent pipeline (exact integrator, f64; Izhikevich populations stay clock-driven): drop --model/--integrator"
+            "--activity runs the afferent pipeline with its own integrators (LIF exact, Izhikevich izhikevich2003): drop --integrator"
         );
     }
     if a.run.brian2.is_some() {
         anyhow::bail!("--activity has no Brian2 counterpart; drop --brian2");
     }
-    let r = afferent_activity(a.n, activity, a.rate, a.duration, a.dt, 1)?;
+    let (config, afferents) = match a.model {
+        NeuronKind::Lif => (AfferentConfig::lif(), "LIF afferents (exact, f64)"),
+        NeuronKind::Izhikevich => (
+            AfferentConfig::izhikevich(),
+            "Izhikevich RS afferents (izhikevich2003, f64, from rest, held at rest within 1e-3 mV)",
+        ),
+    };
+    let r = afferent_activity(config, a.n, activity, a.rate, a.duration, a.dt, 1)?;
     if a.run.json {
         println!("{}", serde_json::to_string(&r)?);
         return Ok(());
     }
     println!(
-        "afferent pipeline: {} taxels ({:.1} % firing at {} Hz) → {} LIF afferents (exact, f64), {} steps of {} s, one thread",
+        "afferent pipeline: {} taxels ({:.1} % firing at {} Hz) → {} {afferents}, {} steps of {} s, one thread",
         r.n,
         100.0 * r.active_fraction,
         r.rate_hz,
