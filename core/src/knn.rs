@@ -18,6 +18,14 @@
 //! assert_eq!(knn.leave_one_out(d.view(), &[7, 7, 2])?, vec![7, 7, 7]);
 //! # Ok::<(), neurotac_core::KnnError>(())
 //! ```
+//!
+//! # Fit, then classify new samples
+//! [`Knn::fit`] keeps the training labels in a [`FittedKnn`], which classifies new samples from
+//! their rectangular distances to the training set (`n_new × n_train`, e.g.
+//! [`euclidean_cross_matrix`](crate::distance::euclidean_cross_matrix) or
+//! [`PreparedVanRossum::cross_matrices`](crate::distance::PreparedVanRossum::cross_matrices)),
+//! with the same neighbour search and tie rules. A [`Decision`] also reports the winning class's
+//! share of the `k` votes.
 
 use crate::error::KnnError;
 use ndarray::ArrayView2;
@@ -71,6 +79,12 @@ impl<D: PartialOrd + Copy> TopK<D> {
 
 /// The majority label of `neighbour_labels`; ties go to the smallest label.
 pub fn vote(neighbour_labels: impl IntoIterator<Item = usize>) -> Option<usize> {
+    vote_count(neighbour_labels).map(|(label, _)| label)
+}
+
+/// The majority label of `neighbour_labels` and its number of votes, `(label, votes)`; ties go
+/// to the smallest label (the rule of [`vote`]).
+pub fn vote_count(neighbour_labels: impl IntoIterator<Item = usize>) -> Option<(usize, usize)> {
     let mut counts: Vec<(usize, usize)> = Vec::new();
     for l in neighbour_labels {
         match counts.iter_mut().find(|(label, _)| *label == l) {
@@ -81,7 +95,55 @@ pub fn vote(neighbour_labels: impl IntoIterator<Item = usize>) -> Option<usize> 
     counts
         .into_iter()
         .max_by(|a, b| a.1.cmp(&b.1).then(b.0.cmp(&a.0)))
-        .map(|(label, _)| label)
+}
+
+/// One classification: the majority class of the `k` nearest neighbours and how many of them
+/// voted for it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Decision {
+    /// The predicted class: the majority label of the neighbours (vote ties to the smallest).
+    pub class: usize,
+    /// Neighbours of that class.
+    pub votes: usize,
+    /// Neighbours that voted (the classifier's `k`).
+    pub k: usize,
+}
+
+impl Decision {
+    /// The winning class's share of the votes, `votes / k`, in `(0, 1]` (at least `1/k`; ties
+    /// can leave it at `1/2` or below).
+    pub fn vote_share(&self) -> f64 {
+        self.votes as f64 / self.k as f64
+    }
+}
+
+/// The decision of one row of distances among the columns `candidates` (module tie rules).
+fn decide_among(
+    k: usize,
+    row: &[f64],
+    candidates: impl Iterator<Item = usize>,
+    labels: &[usize],
+) -> Decision {
+    let mut top = TopK::new(k);
+    for j in candidates {
+        top.offer(row[j], j);
+    }
+    let neighbours = top.neighbours();
+    let (class, votes) =
+        vote_count(neighbours.iter().map(|&(_, j)| labels[j])).expect("k ≥ 1 neighbours");
+    Decision {
+        class,
+        votes,
+        k: neighbours.len(),
+    }
+}
+
+/// Rejects the first NaN or negative entry (row-major order), naming its row and column.
+fn check_values(d: &ArrayView2<'_, f64>) -> Result<(), KnnError> {
+    match d.indexed_iter().find(|(_, v)| v.is_nan() || **v < 0.0) {
+        Some(((row, col), &value)) => Err(KnnError::InvalidDistance { row, col, value }),
+        None => Ok(()),
+    }
 }
 
 /// A k-nearest-neighbour classifier on precomputed distances.
@@ -128,11 +190,7 @@ impl Knn {
         if self.k > n_train {
             return Err(KnnError::KTooLarge { k: self.k, n_train });
         }
-        if let Some(((row, col), &value)) = d.indexed_iter().find(|(_, v)| v.is_nan() || **v < 0.0)
-        {
-            return Err(KnnError::InvalidDistance { row, col, value });
-        }
-        Ok(())
+        check_values(d)
     }
 
     fn predict_row(
@@ -141,11 +199,24 @@ impl Knn {
         candidates: impl Iterator<Item = usize>,
         labels: &[usize],
     ) -> usize {
-        let mut top = TopK::new(self.k);
-        for j in candidates {
-            top.offer(row[j], j);
+        decide_among(self.k, row, candidates, labels).class
+    }
+
+    /// A classifier for new samples against the training set with these `labels` (one class per
+    /// training sample, in the order of the distance matrices' columns). Errors with
+    /// [`KnnError::KTooLarge`] when there are fewer than `k` training samples (an empty
+    /// training set is `n_train: 0`).
+    pub fn fit(&self, labels: &[usize]) -> Result<FittedKnn, KnnError> {
+        if self.k > labels.len() {
+            return Err(KnnError::KTooLarge {
+                k: self.k,
+                n_train: labels.len(),
+            });
         }
-        vote(top.neighbours().iter().map(|&(_, j)| labels[j])).expect("k ≥ 1 neighbours")
+        Ok(FittedKnn {
+            k: self.k,
+            labels: labels.to_vec(),
+        })
     }
 
     /// Predicts every sample from all the others (leave-one-out in one pass). `distances` is the
@@ -189,6 +260,131 @@ impl Knn {
         Ok(test
             .par_iter()
             .map(|&i| self.predict_row(&flat[i * n..(i + 1) * n], train.iter().copied(), labels))
+            .collect())
+    }
+}
+
+/// A KNN classifier fitted to a training set ([`Knn::fit`]): `k` and one label per training
+/// sample. It classifies new samples from their distances to the training samples, an
+/// `n_new × n_train` matrix (or one row of `n_train` distances), with the rules of
+/// [`Knn`]: the `k` nearest by `(distance, index)`, the majority label, vote ties to the
+/// smallest label. Distances must be numbers `≥ 0` ([`KnnError::InvalidDistance`] names the
+/// first that is not) in as many columns as there are labels ([`KnnError::Shape`]).
+///
+/// ```
+/// use neurotac_core::knn::Knn;
+/// use ndarray::array;
+/// let knn = Knn::new(3)?.fit(&[0, 0, 1, 1])?;
+/// // Distances of two live samples to the four training samples.
+/// let d = array![[0.1, 0.2, 0.3, 9.0], [5.0, 0.4, 0.3, 0.2]];
+/// assert_eq!(knn.predict(d.view())?, vec![0, 1]);
+/// let decision = knn.decide(&[0.1, 0.2, 0.3, 9.0])?;
+/// assert_eq!((decision.class, decision.votes, decision.k), (0, 2, 3));
+/// assert!((decision.vote_share() - 2.0 / 3.0).abs() < 1e-15);
+/// # Ok::<(), neurotac_core::KnnError>(())
+/// ```
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct FittedKnn {
+    k: usize,
+    labels: Vec<usize>,
+}
+
+impl FittedKnn {
+    /// The number of neighbours.
+    pub fn k(&self) -> usize {
+        self.k
+    }
+
+    /// The training labels, one per column of the distance matrices.
+    pub fn labels(&self) -> &[usize] {
+        &self.labels
+    }
+
+    /// The number of training samples.
+    pub fn n_train(&self) -> usize {
+        self.labels.len()
+    }
+
+    /// The decision for one new sample from its distances to the `n_train` training samples
+    /// (errors name row 0).
+    pub fn decide(&self, row: &[f64]) -> Result<Decision, KnnError> {
+        let n = self.labels.len();
+        if row.len() != n {
+            return Err(KnnError::Shape {
+                rows: 1,
+                cols: row.len(),
+                labels: n,
+            });
+        }
+        check_values(&ArrayView2::from_shape((1, n), row).expect("one row of n"))?;
+        Ok(decide_among(self.k, row, 0..n, &self.labels))
+    }
+
+    /// The decision for each new sample: row `i` of `distances` (`n_new × n_train`) holds the
+    /// distances of new sample `i` to the training samples. Rows run in parallel.
+    pub fn decisions(&self, distances: ArrayView2<'_, f64>) -> Result<Vec<Decision>, KnnError> {
+        let n = self.labels.len();
+        let (rows, cols) = distances.dim();
+        if cols != n {
+            return Err(KnnError::Shape {
+                rows,
+                cols,
+                labels: n,
+            });
+        }
+        check_values(&distances)?;
+        let d = distances.as_standard_layout();
+        let flat = d.as_slice().expect("standard layout is contiguous");
+        Ok(flat
+            .par_chunks(n)
+            .map(|row| decide_among(self.k, row, 0..n, &self.labels))
+            .collect())
+    }
+
+    /// The class of each new sample ([`decisions`](Self::decisions) without the votes).
+    pub fn predict(&self, distances: ArrayView2<'_, f64>) -> Result<Vec<usize>, KnnError> {
+        Ok(self.decisions(distances)?.iter().map(|d| d.class).collect())
+    }
+
+    /// The decision for each training sample from all the others: `distances` is the training
+    /// set's `n_train × n_train` matrix and row `i` skips column `i`, which is
+    /// [`Knn::leave_one_out`]. Errors with [`KnnError::KTooLarge`] when `k > n_train − 1`.
+    pub fn leave_one_out_decisions(
+        &self,
+        distances: ArrayView2<'_, f64>,
+    ) -> Result<Vec<Decision>, KnnError> {
+        let n = self.labels.len();
+        let (rows, cols) = distances.dim();
+        if rows != n || cols != n {
+            return Err(KnnError::Shape {
+                rows,
+                cols,
+                labels: n,
+            });
+        }
+        if self.k > n - 1 {
+            return Err(KnnError::KTooLarge {
+                k: self.k,
+                n_train: n - 1,
+            });
+        }
+        check_values(&distances)?;
+        let d = distances.as_standard_layout();
+        let flat = d.as_slice().expect("standard layout is contiguous");
+        Ok(flat
+            .par_chunks(n)
+            .enumerate()
+            .map(|(i, row)| decide_among(self.k, row, (0..n).filter(|&j| j != i), &self.labels))
+            .collect())
+    }
+
+    /// The class of each training sample from all the others
+    /// ([`leave_one_out_decisions`](Self::leave_one_out_decisions) without the votes).
+    pub fn leave_one_out(&self, distances: ArrayView2<'_, f64>) -> Result<Vec<usize>, KnnError> {
+        Ok(self
+            .leave_one_out_decisions(distances)?
+            .iter()
+            .map(|d| d.class)
             .collect())
     }
 }
@@ -254,6 +450,35 @@ mod tests {
     }
 
     #[test]
+    fn decisions_report_the_votes_and_the_tie_rules_of_vote() {
+        assert_eq!(vote_count([3, 1, 3, 1]), Some((1, 2)));
+        assert_eq!(vote_count([2, 2, 0, 1]), Some((2, 2)));
+        assert_eq!(vote_count([]), None);
+        let fitted = Knn::new(4).unwrap().fit(&[0, 4, 2, 4, 2, 7]).unwrap();
+        // Neighbours 1..=4 (index 5 is as near as 4 but has the higher index): 2–2 → label 2.
+        let row = [9.0, 1.0, 1.0, 1.0, 1.0, 1.0];
+        let tie = Decision {
+            class: 2,
+            votes: 2,
+            k: 4,
+        };
+        assert_eq!(fitted.decide(&row).unwrap(), tie);
+        assert_eq!(tie.vote_share(), 0.5);
+        let d = array![
+            [9.0, 1.0, 1.0, 1.0, 1.0, 1.0],
+            [0.0, 0.5, 3.0, 0.2, 3.0, 0.1]
+        ];
+        let all = fitted.decisions(d.view()).unwrap();
+        assert_eq!(all[0], tie);
+        assert_eq!((all[1].class, all[1].votes), (4, 2));
+        assert_eq!(fitted.predict(d.view()).unwrap(), vec![2, 4]);
+        // k = 1 on exact duplicates: the lowest index.
+        let one = Knn::new(1).unwrap().fit(&[5, 6]).unwrap();
+        assert_eq!(one.decide(&[0.0, 0.0]).unwrap().class, 5);
+        assert_eq!(one.decide(&[0.0, 0.0]).unwrap().vote_share(), 1.0);
+    }
+
+    #[test]
     fn bad_input_is_a_typed_error() {
         let d = array![[0.0, 1.0], [1.0, 0.0]];
         assert_eq!(Knn::new(0), Err(KnnError::ZeroK));
@@ -281,6 +506,47 @@ mod tests {
                 index: 2,
                 n: 2
             })
+        );
+        // Fitted: empty or too small training sets, wrong widths, NaN or negative distances.
+        let k2 = Knn::new(2).unwrap();
+        assert_eq!(k2.fit(&[]), Err(KnnError::KTooLarge { k: 2, n_train: 0 }));
+        assert_eq!(k2.fit(&[1]), Err(KnnError::KTooLarge { k: 2, n_train: 1 }));
+        let fitted = k2.fit(&[0, 1, 1]).unwrap();
+        let shape = |rows, cols| KnnError::Shape {
+            rows,
+            cols,
+            labels: 3,
+        };
+        assert_eq!(fitted.decide(&[0.0, 1.0]), Err(shape(1, 2)));
+        assert_eq!(fitted.predict(d.view()), Err(shape(2, 2)));
+        assert_eq!(fitted.leave_one_out(d.view()), Err(shape(2, 2)));
+        let bad = array![[0.0, 1.0, 2.0], [1.0, -0.5, 2.0]];
+        assert_eq!(
+            fitted.predict(bad.view()),
+            Err(KnnError::InvalidDistance {
+                row: 1,
+                col: 1,
+                value: -0.5
+            })
+        );
+        assert!(matches!(
+            fitted.decide(&[0.0, 1.0, f64::NAN]),
+            Err(KnnError::InvalidDistance { row: 0, col: 2, .. })
+        ));
+        let square = array![[0.0, 1.0, 2.0], [1.0, 0.0, 2.0], [2.0, 2.0, 0.0]];
+        assert_eq!(
+            Knn::new(3)
+                .unwrap()
+                .fit(&[0, 1, 1])
+                .unwrap()
+                .leave_one_out(square.view()),
+            Err(KnnError::KTooLarge { k: 3, n_train: 2 })
+        );
+        // 1–1 vote ties for samples 1 and 2 go to label 0.
+        assert_eq!(fitted.leave_one_out(square.view()), Ok(vec![1, 0, 0]));
+        assert_eq!(
+            fitted.leave_one_out(square.view()),
+            k2.leave_one_out(square.view(), &[0, 1, 1])
         );
     }
 }

@@ -63,7 +63,7 @@ pub use graph::{
     TraceRecorder, TraceSampler, one_spike_weight,
 };
 pub use io::{AtomicDir, AtomicFile};
-pub use knn::Knn;
+pub use knn::{Decision, FittedKnn, Knn};
 pub use model::{NeuronModel, SpikeBuffer};
 /// The `ndarray` version neurotac's matrices use (feature matrices, distance matrices), so user
 /// code needs no matching dependency of its own.

@@ -6,14 +6,20 @@
 //! | multi-unit Van Rossum (Houghton & Sen), exact, `D²(c) = (1 − c)·LL² + c·SP²` | spatiotemporal coding | [`van_rossum`] |
 //! | the same from traces sampled at a network step | the speed ↔ accuracy trade | [`trace_sampled`] |
 //!
-//! Every matrix is symmetric with a zero diagonal; each entry is computed from its two samples
-//! alone, in a fixed order, so matrices are bit-identical at any thread count.
+//! Every `N × N` matrix is symmetric with a zero diagonal; each entry is computed from its two
+//! samples alone, in a fixed order, so matrices are bit-identical at any thread count. The
+//! rectangular matrices between new samples and a training set
+//! ([`euclidean_cross_matrix`], [`PreparedVanRossum::cross_matrices`]), for classifying samples
+//! that are not in the training set, hold the entries the square matrix of both sets would.
 
 pub mod euclidean;
 pub mod trace_sampled;
 pub mod van_rossum;
 
-pub use euclidean::{euclidean_distance_matrix, squared_euclidean, squared_euclidean_matrix};
+pub use euclidean::{
+    euclidean_cross_matrix, euclidean_distance_matrix, squared_euclidean,
+    squared_euclidean_cross_matrix, squared_euclidean_matrix,
+};
 pub use trace_sampled::{TracePrecision, trace_matrices, trace_sampled_matrices};
 pub use van_rossum::{PreparedVanRossum, VanRossum, VanRossumMatrices, combine_squared};
 
@@ -46,6 +52,16 @@ pub fn check_cos(cos: f64) -> Result<f64, DistanceError> {
             expected: "in [0, 1]",
         })
     }
+}
+
+/// `M` matrices `rows × cols` whose row `i` is `row(i)` (`cols` entries); rows are computed in
+/// parallel, each by one call.
+pub(crate) fn row_matrices<const M: usize, F>(rows: usize, cols: usize, row: F) -> [Array2<f64>; M]
+where
+    F: Fn(usize) -> Vec<[f64; M]> + Sync + Send,
+{
+    let computed: Vec<Vec<[f64; M]>> = (0..rows).into_par_iter().map(row).collect();
+    std::array::from_fn(|m| Array2::from_shape_fn((rows, cols), |(i, j)| computed[i][j][m]))
 }
 
 /// `M` symmetric `n × n` matrices whose entries `(i, j)`, `i < j`, are `pair(i, j)`, with a zero

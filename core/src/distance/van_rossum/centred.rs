@@ -84,6 +84,17 @@ impl Grid {
     fn labelled_cell(&self, rank: u32, channel: usize) -> usize {
         (rank >> self.labelled_shift) as usize * self.channels + channel
     }
+
+    /// The channel of a probe (its labelled cell without the time cell).
+    #[inline(always)]
+    fn channel(&self, p: &Probe) -> usize {
+        p.labelled_cell as usize - self.labelled_cell(p.rank, 0)
+    }
+
+    /// Number of channels.
+    pub(super) fn channels(&self) -> usize {
+        self.channels
+    }
 }
 
 /// One spike of a column sample: what a lookup in a row sample's tables needs.
@@ -181,6 +192,15 @@ impl CentredSample {
             pooled,
             labelled_self,
         }
+    }
+
+    /// The spikes in time order (ties by channel) as `(channel, rank, e⁻, e⁺)`.
+    pub(super) fn spikes<'a>(
+        &'a self,
+        grid: &'a Grid,
+    ) -> impl ExactSizeIterator<Item = (usize, u32, f64, f64)> + 'a {
+        let spikes = self.probes.iter().zip(&self.pooled);
+        spikes.map(|(p, &(_, e_plus))| (grid.channel(p), p.rank, p.e_minus, e_plus))
     }
 }
 
@@ -366,7 +386,7 @@ fn merged_half_products<const STRICT: bool>(
     let mut channel_prefix = vec![0.0f64; next.len()];
     let (mut next_pooled, mut pooled_prefix) = (0, 0.0f64);
     for (j, p) in column.probes.iter().enumerate() {
-        let channel = p.labelled_cell as usize - grid.labelled_cell(p.rank, 0);
+        let channel = grid.channel(p);
         let end = row.offsets[channel + 1];
         let (at, prefix) = (&mut next[channel], &mut channel_prefix[channel]);
         while *at < end && counts(row.labelled[*at].0, p.rank) {

@@ -386,3 +386,257 @@ fn matrices_are_identical_at_any_thread_count() {
         assert_eq!(run(threads), one, "{threads} threads");
     }
 }
+
+/// Asserts that `cross` (new × prepared) equals the entries `(n_prepared + i, j)` of the
+/// `reference` matrices of the prepared samples, then the new ones, then an empty sample (at
+/// `empty`), to 1e-12 of `D²` or, where `D²` cancels, of the self products `⟨u,u⟩ + ⟨v,v⟩`.
+fn assert_cross_entries(
+    cross: &VanRossumMatrices,
+    reference: &VanRossumMatrices,
+    n_prepared: usize,
+    what: &str,
+) {
+    let empty = reference.ll2.nrows() - 1;
+    assert_eq!(cross.ll2.dim(), (empty - n_prepared, n_prepared), "{what}");
+    assert_eq!(cross.sp2.dim(), cross.ll2.dim(), "{what}");
+    for (name, c, r) in [
+        ("LL²", &cross.ll2, &reference.ll2),
+        ("SP²", &cross.sp2, &reference.sp2),
+    ] {
+        for ((i, j), &a) in c.indexed_iter() {
+            let row = n_prepared + i;
+            let b = r[[row, j]];
+            let scale = a.abs().max(b.abs()).max(r[[row, empty]] + r[[j, empty]]);
+            assert!(
+                (a - b).abs() <= 1e-12 * scale,
+                "{what} {name} ({i},{j}): {a} vs {b}"
+            );
+        }
+    }
+}
+
+/// The reference of [`assert_cross_entries`]: the square matrices of `prepared`, then `new`,
+/// then an empty sample, each cut to its spikes `t < t_end_s`.
+fn stacked_reference(
+    vr: &VanRossum,
+    prepared: &[MultiSpikeTrain],
+    new: &[MultiSpikeTrain],
+    t_end_s: f64,
+) -> VanRossumMatrices {
+    let channels = prepared[0].n_channels();
+    let stacked: Vec<MultiSpikeTrain> = prepared
+        .iter()
+        .chain(new)
+        .chain([&MultiSpikeTrain::empty(channels)])
+        .map(|o| o.window(f64::NEG_INFINITY, t_end_s).unwrap())
+        .collect();
+    vr.matrices(&stacked).unwrap()
+}
+
+/// New samples for the cross tests: random ones, an empty one, one with empty channels, and
+/// copies of prepared samples (identical samples).
+fn new_samples(prepared: &[MultiSpikeTrain], seed: u64) -> Vec<MultiSpikeTrain> {
+    let channels = prepared[0].n_channels();
+    let mut new = random_samples(4, channels, 12, 0.5, seed);
+    new.push(MultiSpikeTrain::empty(channels));
+    let mut sparse = vec![Vec::new(); channels];
+    sparse[channels - 1] = vec![0.25, 0.25, 0.3];
+    new.push(trains(sparse));
+    new.extend([prepared[3].clone(), prepared[prepared.len() - 1].clone()]);
+    new
+}
+
+#[test]
+fn cross_matrices_equal_the_stacked_square_matrices() {
+    for (seed, tau) in [(21, 0.002), (22, 0.02), (23, 0.3), (24, 5.0)] {
+        let prepared = crowded_samples(seed);
+        let new = new_samples(&prepared, seed);
+        let vr = VanRossum::new(tau).unwrap();
+        let reference = stacked_reference(&vr, &prepared, &new, f64::INFINITY);
+        for centred in [true, false] {
+            let p = vr.prepare_with(&prepared, centred).unwrap();
+            assert_eq!(p.is_centred(), centred);
+            let cross = p.cross_matrices(&new).unwrap();
+            assert_eq!(cross.tau_s, tau);
+            let what = format!("τ={tau}, centred {centred}");
+            assert_cross_entries(&cross, &reference, prepared.len(), &what);
+            // Identical samples: D² ≈ 0 (rounding of ⟨u,u⟩ + ⟨v,v⟩ − 2⟨u,v⟩ only).
+            let (n, last) = (new.len(), prepared.len() - 1);
+            for (i, j) in [(n - 2, 3), (n - 1, last)] {
+                let scale = reference.ll2[[j, prepared.len() + n]];
+                assert!(cross.ll2[[i, j]] <= 1e-12 * scale.max(1.0), "{what}");
+            }
+            // The empty new sample: D² = ⟨b,b⟩ exactly as the reference's distance to ∅.
+            for j in 0..prepared.len() {
+                let (a, b) = (cross.sp2[[4, j]], reference.sp2[[j, prepared.len() + n]]);
+                assert!((a - b).abs() <= 1e-12 * b, "{what}: {a} vs {b}");
+            }
+        }
+    }
+}
+
+#[test]
+fn cross_matrices_until_equal_preparing_the_prefixes_from_scratch() {
+    let prepared = crowded_samples(31);
+    let new = new_samples(&prepared, 31);
+    // Cut before every spike, between spikes, exactly at a spike time (excluded), after all.
+    let spike_time = prepared[5].channel(2)[0];
+    for tau in [0.004, 0.05] {
+        let vr = VanRossum::new(tau).unwrap();
+        for centred in [true, false] {
+            let p = vr.prepare_with(&prepared, centred).unwrap();
+            for t_end_s in [f64::NEG_INFINITY, 0.0, 0.1013, spike_time, 0.3, 0.5, 10.0] {
+                let reference = stacked_reference(&vr, &prepared, &new, t_end_s);
+                let cross = p.cross_matrices_until(&new, t_end_s).unwrap();
+                let what = format!("τ={tau}, centred {centred}, T={t_end_s}");
+                assert_cross_entries(&cross, &reference, prepared.len(), &what);
+            }
+            // Up to T = +∞ is the whole comparison, bit for bit.
+            assert_eq!(
+                p.cross_matrices_until(&new, f64::INFINITY).unwrap(),
+                p.cross_matrices(&new).unwrap()
+            );
+        }
+    }
+}
+
+#[test]
+fn cross_matrices_stay_exact_for_spike_times_far_apart() {
+    // Prepared over [0, 1) s with τ = 1 ms: span/(2τ) = 500, so centred.
+    let prepared = random_samples(8, 3, 10, 1.0, 41);
+    let vr = VanRossum::new(1e-3).unwrap();
+    let p = vr.prepare(&prepared).unwrap();
+    assert!(p.is_centred());
+    let shifted = |o: &MultiSpikeTrain, by: f64| {
+        MultiSpikeTrain::from_channels(
+            o.channels()
+                .map(|c| c.iter().map(|t| t + by).collect::<Vec<_>>()),
+        )
+        .unwrap()
+    };
+    let new = vec![
+        // Beyond the centred range on either side, and straddling it.
+        shifted(&prepared[1], 1e5),
+        shifted(&prepared[2], -1e9),
+        trains(vec![vec![0.5, 3.0], vec![-2.0], vec![0.999]]),
+        // Within it: the sweep, also before the first and after the last prepared spike.
+        shifted(&prepared[3], 0.0004),
+        trains(vec![vec![-0.15, 1.15], vec![], vec![1.1]]),
+        prepared[4].clone(),
+    ];
+    for t_end_s in [f64::INFINITY, 0.6, 1e6] {
+        let reference = stacked_reference(&vr, &prepared, &new, t_end_s);
+        let cross = p.cross_matrices_until(&new, t_end_s).unwrap();
+        assert!(
+            cross
+                .ll2
+                .iter()
+                .chain(&cross.sp2)
+                .all(|x| x.is_finite() && *x >= 0.0)
+        );
+        assert_cross_entries(&cross, &reference, prepared.len(), &format!("T={t_end_s}"));
+    }
+}
+
+#[test]
+fn cross_matrices_check_channels_and_the_cut() {
+    let prepared = random_samples(3, 2, 5, 1.0, 51);
+    let p = VanRossum::new(0.01).unwrap().prepare(&prepared).unwrap();
+    let two = MultiSpikeTrain::empty(2);
+    let three = trains(vec![vec![0.1], vec![], vec![]]);
+    assert_eq!(
+        p.cross_matrices(&[two.clone(), three.clone()]).unwrap_err(),
+        DistanceError::ChannelCount {
+            sample: 1,
+            expected: 2,
+            got: 3
+        }
+    );
+    assert!(matches!(
+        p.cross_matrices_until(std::slice::from_ref(&two), f64::NAN),
+        Err(DistanceError::InvalidParameter {
+            what: "t_end_s",
+            ..
+        })
+    ));
+    // No new sample; nothing prepared (then any channel count).
+    assert_eq!(p.cross_matrices(&[]).unwrap().ll2.dim(), (0, 3));
+    let nothing = VanRossum::new(0.01).unwrap().prepare(&[]).unwrap();
+    assert_eq!(
+        nothing.cross_matrices(&[two, three]).unwrap().sp2.dim(),
+        (2, 0)
+    );
+}
+
+#[test]
+fn cross_matrices_are_identical_at_any_thread_count() {
+    let prepared = crowded_samples(61);
+    let new = new_samples(&prepared, 61);
+    let p = VanRossum::new(0.01).unwrap().prepare(&prepared).unwrap();
+    let run = |threads: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(|| p.cross_matrices_until(&new, 0.3).unwrap())
+    };
+    let one = run(1);
+    for threads in [2, 3] {
+        assert_eq!(run(threads), one, "{threads} threads");
+    }
+}
+
+/// CPU time of the calling thread (s).
+fn thread_cpu_s() -> f64 {
+    let mut t = libc::timespec {
+        tv_sec: 0,
+        tv_nsec: 0,
+    };
+    // SAFETY: clock_gettime writes one timespec through a valid pointer.
+    unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &mut t) };
+    t.tv_sec as f64 + t.tv_nsec as f64 * 1e-9
+}
+
+/// One live sample (49 channels × ~35 spikes) against 1100 prepared samples of the same size
+/// over 4.5 s, τ = 76 ms, on one thread. Run by hand:
+/// `cargo test --release -p neurotac-core cross_matrices_timing -- --ignored --nocapture`.
+#[test]
+#[ignore = "timing, run by hand"]
+fn cross_matrices_timing() {
+    let prepared = random_samples(1100, 49, 70, 4.5, 71);
+    let live = random_samples(1, 49, 70, 4.5, 72);
+    let spikes: usize = prepared.iter().map(MultiSpikeTrain::total_spikes).sum();
+    let one_thread = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .unwrap();
+    one_thread.install(|| {
+        let cpu = thread_cpu_s();
+        let p = VanRossum::new(0.076).unwrap().prepare(&prepared).unwrap();
+        let prepared_cpu = thread_cpu_s();
+        p.cross_matrices(&[]).unwrap(); // indexes the prepared samples
+        eprintln!(
+            "prepare {:.3} s, index {:.3} s CPU ({:.1} spikes per channel, centred: {})",
+            prepared_cpu - cpu,
+            thread_cpu_s() - prepared_cpu,
+            spikes as f64 / (1100.0 * 49.0),
+            p.is_centred()
+        );
+        for t_end_s in [f64::INFINITY, 2.25, f64::NEG_INFINITY] {
+            let mut times: Vec<(f64, f64)> = (0..41)
+                .map(|_| {
+                    let (wall, cpu) = (std::time::Instant::now(), thread_cpu_s());
+                    let m = p.cross_matrices_until(&live, t_end_s).unwrap();
+                    std::hint::black_box(m);
+                    let wall = wall.elapsed().as_secs_f64();
+                    ((thread_cpu_s() - cpu) * 1e3, wall * 1e3)
+                })
+                .collect();
+            times.sort_by(|a, b| a.0.total_cmp(&b.0));
+            eprintln!(
+                "1 × 1100 until T = {t_end_s} s: CPU min {:.2} ms, median {:.2} ms (wall {:.2} ms)",
+                times[0].0, times[20].0, times[20].1
+            );
+        }
+    });
+}
