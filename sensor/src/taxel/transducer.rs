@@ -170,6 +170,28 @@ impl Transducer {
         })
     }
 
+    /// Checks a chunk as [`push`](Self::push) would (time order, continuing the previous chunk,
+    /// and every event on the sensor) without processing it: on failure, the position in the
+    /// chunk of the first bad event and the error `push` would give there, so a caller can
+    /// process the good events before it and nothing after.
+    pub fn check(&self, events: &EventBuffer) -> Result<(), (usize, TransductionError)> {
+        let mut last = self.last_t;
+        for (k, ((&t, &x), &y)) in events.t.iter().zip(&events.x).zip(&events.y).enumerate() {
+            let index = self.counts.events_in + k as u64;
+            if t < last {
+                let e = TransductionError::Backwards {
+                    index,
+                    previous_us: last,
+                    got_us: t,
+                };
+                return Err((k, e));
+            }
+            check_in_sensor(index, x, y, self.width, self.height).map_err(|e| (k, e))?;
+            last = t;
+        }
+        Ok(())
+    }
+
     /// Processes a chunk of events (time-ordered, continuing the previous chunk).
     pub fn push(&mut self, events: &EventBuffer) -> Result<(), TransductionError> {
         let (width, height) = (self.width, self.height);
