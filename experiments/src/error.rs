@@ -1,6 +1,7 @@
 //! The error type of `neurotac-experiments`.
 
 use neurotac_core::{CodingError, DatasetError, DistanceError, GraphError, KnnError};
+use neurotac_sensor::{DeviceError, FormatError, TransductionError};
 use thiserror::Error;
 
 /// Anything that stops an experiment, protocol or search.
@@ -53,6 +54,21 @@ pub enum ExperimentError {
         /// The missing parameter.
         what: &'static str,
     },
+    /// See [`TransductionError`] (pixel events out of order or off the sensor, bad settings).
+    #[error(transparent)]
+    Transduction(#[from] TransductionError),
+    /// See [`FormatError`] (an event file that cannot be read, naming file and offset).
+    #[error(transparent)]
+    Format(#[from] FormatError),
+    /// See [`DeviceError`] (the camera failed or was unplugged).
+    #[error(transparent)]
+    Device(#[from] DeviceError),
+    /// See [`DatasetsError`](crate::datasets::DatasetsError) (simulating or loading a texture set).
+    #[error(transparent)]
+    Datasets(#[from] Box<crate::datasets::DatasetsError>),
+    /// A stream ended before its first event: nothing to decide.
+    #[error("the event stream is empty: no event arrived, so there is nothing to recognise")]
+    EmptyStream,
     /// A stated sample duration is shorter than the data it should hold.
     #[error(
         "sample duration {stated_ms} ms is shorter than the data, whose latest spike needs {needed_ms} ms"

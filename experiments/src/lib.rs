@@ -43,6 +43,7 @@ pub mod coding;
 pub mod datasets;
 pub mod error;
 pub mod neuron_setup;
+pub mod online;
 pub mod peers;
 pub mod progress;
 pub mod protocols;

@@ -17,6 +17,7 @@ mod devices;
 mod distances;
 mod neuron;
 mod progress;
+mod recognise;
 mod record;
 mod reproduce;
 mod search;
@@ -79,6 +80,9 @@ enum Command {
     Record(record::RecordArgs),
     /// Simulate the texture datasets (or `check` / `calibrate` the NeuroTac simulator).
     Simulate(simulate::SimulateArgs),
+    /// Recognise a texture while the sensor slides (event file or live camera), a decision
+    /// every pooling window; or `--eval` accuracy against time on a simulated set.
+    Recognise(recognise::RecogniseArgs),
 }
 
 /// Runs the parsed command.
@@ -100,6 +104,27 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Devices(args) => devices::run(args),
         Command::Record(args) => record::run(args),
         Command::Simulate(args) => simulate::run(args),
+        Command::Recognise(args) => recognise::run(args),
+    }
+}
+
+/// `--afferents`: a population of afferent neurons between taxels and codings.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum AfferentArg {
+    /// Leaky integrate-and-fire afferents (weight 5, exact integrator).
+    Lif,
+    /// Izhikevich regular-spiking afferents (weight 20, Izhikevich's 2003 scheme).
+    Izhikevich,
+}
+
+impl AfferentArg {
+    /// The afferent network settings.
+    pub fn config(self) -> neurotac_experiments::afferents::AfferentConfig {
+        use neurotac_experiments::afferents::AfferentConfig;
+        match self {
+            AfferentArg::Lif => AfferentConfig::lif(),
+            AfferentArg::Izhikevich => AfferentConfig::izhikevich(),
+        }
     }
 }
 

@@ -2,11 +2,10 @@
 //! codings, the Δt sweep, the Bayesian optimisation, KNN tables against the paper's, and a
 //! report folder with its figures (see `neurotac_experiments::reproduce`).
 
-use super::SetArg;
 use super::progress::Bars;
+use super::{AfferentArg, SetArg};
 use crate::cli::args;
 use clap::{Args, ValueEnum};
-use neurotac_experiments::afferents::AfferentConfig;
 use neurotac_experiments::datasets::simulated::default_cache_dir;
 use neurotac_experiments::neuron_setup::Precision;
 use neurotac_experiments::progress::Progress;
@@ -23,14 +22,6 @@ use neurotac_experiments::threads::with_threads;
 use neurotac_experiments::timing::timed;
 use neurotac_sensor::sim::SimParams;
 use std::path::PathBuf;
-
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-enum AfferentArg {
-    /// Leaky integrate-and-fire afferents (weight 5, exact integrator).
-    Lif,
-    /// Izhikevich regular-spiking afferents (weight 20, Izhikevich's 2003 scheme).
-    Izhikevich,
-}
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 enum VrFromArg {
@@ -126,10 +117,7 @@ pub fn run(args: ReproduceArgs) -> anyhow::Result<()> {
             precision: args.trace_precision,
         },
     };
-    config.afferents = args.afferents.map(|a| match a {
-        AfferentArg::Lif => AfferentConfig::lif(),
-        AfferentArg::Izhikevich => AfferentConfig::izhikevich(),
-    });
+    config.afferents = args.afferents.map(AfferentArg::config);
     let sources: Vec<Source> = match &args.dataset {
         Some(dir) => vec![Source::Recorded(dir.clone())],
         None => args.set.sets().into_iter().map(Source::Simulated).collect(),

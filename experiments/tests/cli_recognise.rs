@@ -1,0 +1,192 @@
+//! `neurotac recognise` as a user runs it (issue 17): replaying an event file against a
+//! training set, `--json`, bad input, and `--eval`.
+
+mod common;
+
+use common::neurotac;
+use neurotac_core::SpikeDataset;
+use std::path::{Path, PathBuf};
+
+/// `neurotac simulate` of 2 slides per artificial texture with their pixel events.
+fn simulated(dir: &Path) -> (PathBuf, PathBuf) {
+    let out = dir.join("sim");
+    let (ok, _, stderr) = neurotac(&[
+        "simulate",
+        "--set",
+        "artificial",
+        "--trials",
+        "2",
+        "--pixel-events",
+        "--out",
+        out.to_str().unwrap(),
+        "--cache",
+        dir.join("cache").to_str().unwrap(),
+    ]);
+    assert!(ok, "{stderr}");
+    (
+        out.join("artificial.bin"),
+        out.join("events/05-grid_2.5_mm/001.aedat4"),
+    )
+}
+
+#[test]
+fn recognise_replays_an_event_file_and_reports_every_window_and_bad_input_in_one_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let (train, events) = simulated(dir.path());
+    let (train_s, events_s) = (train.to_str().unwrap(), events.to_str().unwrap());
+
+    // Text: one line per decision change, a final line with the latency.
+    let (ok, stdout, stderr) = neurotac(&["recognise", "--train", train_s, "--input", events_s]);
+    assert!(ok, "{stderr}");
+    assert!(
+        stdout.starts_with("training: 22 slides of 11 textures"),
+        "{stdout}"
+    );
+    let last = stdout.lines().last().unwrap();
+    assert!(
+        last.starts_with("final: grid ") && last.contains("decision latency p50"),
+        "{stdout}"
+    );
+
+    // JSON: every window's decision, then the final one.
+    for coding in ["intensive", "spatial", "temporal", "spatiotemporal"] {
+        let (ok, stdout, stderr) = neurotac(&[
+            "recognise",
+            "--train",
+            train_s,
+            "--input",
+            events_s,
+            "--coding",
+            coding,
+            "--json",
+        ]);
+        assert!(ok, "{coding}: {stderr}");
+        let lines: Vec<serde_json::Value> = stdout
+            .lines()
+            .map(|l| serde_json::from_str(l).unwrap())
+            .collect();
+        let (windows, last) = lines.split_at(lines.len() - 1);
+        // 4.55 s slides: 228 windows of 20 ms.
+        assert_eq!(windows.len(), 228, "{coding}");
+        assert!((windows[0]["t_s"].as_f64().unwrap() - 0.02).abs() < 1e-12);
+        assert!(
+            last[0]["final"]["class_name"]
+                .as_str()
+                .unwrap()
+                .starts_with("grid ")
+        );
+    }
+
+    // A training set made for another sensor.
+    let mut data = SpikeDataset::load(&train).unwrap();
+    data.meta_mut()["transduction"]["width"] = 346.into();
+    let other = dir.path().join("other.bin");
+    data.save_binary(&other).unwrap();
+    let (ok, _, stderr) = neurotac(&[
+        "recognise",
+        "--train",
+        other.to_str().unwrap(),
+        "--input",
+        events_s,
+    ]);
+    assert!(!ok);
+    assert!(
+        stderr.contains("346×180 sensor") && stderr.contains("240×180"),
+        "{stderr}"
+    );
+    assert_eq!(stderr.trim().lines().count(), 1, "{stderr}");
+
+    // Spike times in other units.
+    let mut data = SpikeDataset::load(&train).unwrap();
+    data.meta_mut().insert("time_unit".into(), "ms".into());
+    data.save_binary(&other).unwrap();
+    let (ok, _, stderr) = neurotac(&[
+        "recognise",
+        "--train",
+        other.to_str().unwrap(),
+        "--input",
+        events_s,
+    ]);
+    assert!(!ok && stderr.contains("'ms'"), "{stderr}");
+
+    // An empty stream.
+    let empty = dir.path().join("empty.csv");
+    std::fs::write(&empty, "t,x,y,on\n").unwrap();
+    let (ok, _, stderr) = neurotac(&[
+        "recognise",
+        "--train",
+        train_s,
+        "--input",
+        empty.to_str().unwrap(),
+    ]);
+    assert!(
+        !ok && stderr.contains("the event stream is empty"),
+        "{stderr}"
+    );
+
+    // Events out of order after 0.1 s: the error names the event; what was decided is said.
+    let backwards = dir.path().join("backwards.csv");
+    let mut csv = String::from("t,x,y,on\n");
+    for k in 0..400 {
+        csv.push_str(&format!("{},120,90,1\n", k * 300));
+    }
+    csv.push_str("5,120,90,1\n");
+    std::fs::write(&backwards, csv).unwrap();
+    let (ok, _, stderr) = neurotac(&[
+        "recognise",
+        "--train",
+        train_s,
+        "--input",
+        backwards.to_str().unwrap(),
+    ]);
+    assert!(!ok, "{stderr}");
+    assert!(stderr.contains("decided so far:"), "{stderr}");
+    assert!(stderr.contains("earlier than the previous"), "{stderr}");
+}
+
+#[test]
+fn recognise_eval_writes_accuracy_against_time_for_every_coding() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("eval");
+    let (ok, stdout, stderr) = neurotac(&[
+        "recognise",
+        "--eval",
+        "--set",
+        "artificial",
+        "--trials",
+        "5",
+        "--out",
+        out.to_str().unwrap(),
+        "--cache",
+        dir.path().join("cache").to_str().unwrap(),
+    ]);
+    assert!(ok, "{stderr}");
+    assert!(stdout.contains("| spatiotemporal |"), "{stdout}");
+    for f in [
+        "summary.md",
+        "summary.json",
+        "accuracy_vs_time.csv",
+        "accuracy_vs_time.svg",
+        "accuracy_vs_time.png",
+    ] {
+        assert!(out.join(f).is_file(), "{f}");
+    }
+    let csv = std::fs::read_to_string(out.join("accuracy_vs_time.csv")).unwrap();
+    assert!(csv.starts_with("t_s,intensive,spatial,temporal,spatiotemporal\n0.020,"));
+    assert_eq!(csv.lines().count(), 1 + 228);
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(summary["n_test"], 11);
+    // An existing report is refused without --force.
+    let (ok, _, stderr) = neurotac(&[
+        "recognise",
+        "--eval",
+        "--set",
+        "artificial",
+        "--trials",
+        "5",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(!ok && stderr.contains("exists"), "{stderr}");
+}
