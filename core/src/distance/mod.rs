@@ -21,7 +21,9 @@ pub use euclidean::{
     squared_euclidean_cross_matrix, squared_euclidean_matrix,
 };
 pub use trace_sampled::{TracePrecision, trace_matrices, trace_sampled_matrices};
-pub use van_rossum::{PreparedVanRossum, VanRossum, VanRossumMatrices, combine_squared};
+pub use van_rossum::{
+    GrowingLive, GrowingVanRossum, PreparedVanRossum, VanRossum, VanRossumMatrices, combine_squared,
+};
 
 use crate::error::DistanceError;
 use ndarray::Array2;

@@ -51,6 +51,9 @@
 
 mod centred;
 mod cross;
+mod growing;
+
+pub use growing::{GrowingLive, GrowingVanRossum};
 
 use super::{check_cos, check_tau, row_matrices, symmetric_matrices};
 use crate::error::DistanceError;

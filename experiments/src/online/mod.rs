@@ -13,9 +13,12 @@
 //! live sample's prefix `[0, T)` is compared with every training sample's prefix over the same
 //! `[0, T)`: spike counts before `T` (intensive, spatial), the rolling-window features whose
 //! windows end by `T` (temporal), or the multi-unit Van Rossum distance of the prefixes
-//! ([`PreparedVanRossum::cross_matrices_until`], spatiotemporal). The training features of
-//! whole samples are computed once; the temporal distances grow window by window in the
-//! lanes of [`squared_euclidean`], so the last one equals the offline distance bit for bit.
+//! (spatiotemporal). The training side is prepared once ([`OnlineClassifier`]); each window
+//! then costs work in proportion to its new spikes: counts move on by cursors, the temporal
+//! distances grow in the lanes of [`squared_euclidean`] (so the last one equals the offline
+//! distance bit for bit), the Van Rossum sums grow spike by spike ([`GrowingVanRossum`]; within
+//! 10⁻⁹ of [`PreparedVanRossum::cross_matrices_until`]). The final decision compares whole
+//! samples exactly as the offline classifier does.
 //!
 //! **Bounded memory.** The live sample is kept only up to the training samples' duration `D`
 //! (rounded up to a whole window): later events are counted and dropped, and the decision at
@@ -28,7 +31,9 @@ use crate::error::ExperimentError;
 use crate::readouts::{EncodedSet, VrFrom, encode_through_graph};
 use ndarray::Array2;
 use neurotac_core::coding::{SpatiotemporalCoding, write_window_features};
-use neurotac_core::distance::{PreparedVanRossum, VanRossum, combine_squared, squared_euclidean};
+use neurotac_core::distance::{
+    GrowingLive, GrowingVanRossum, PreparedVanRossum, VanRossum, combine_squared, squared_euclidean,
+};
 use neurotac_core::knn::FittedKnn;
 use neurotac_core::{
     EventBuffer, InputId, MultiSpikeTrain, Network, NetworkBuilder, NetworkConfig, ReadoutId,
@@ -173,7 +178,11 @@ enum Prepared {
         train: Array2<f64>,
     },
     VanRossum {
+        /// Whole samples and prefixes from scratch (the final decision, and windows when the
+        /// spans are too long for the growing sums).
         prepared: PreparedVanRossum,
+        /// Prefixes window by window.
+        growing: Option<GrowingVanRossum>,
         cos: f64,
     },
 }
@@ -219,10 +228,9 @@ impl<'a> OnlineClassifier<'a> {
             }
             OnlineCoding::Spatiotemporal { tau_s, cos } => {
                 let prepared = VanRossum::new(tau_s)?.prepare(training.trains())?;
-                // Builds the cross-distance index now, not in the first window.
-                prepared.cross_matrices(&[])?;
                 Prepared::VanRossum {
                     prepared,
+                    growing: GrowingVanRossum::new(training.trains(), tau_s)?,
                     cos: neurotac_core::distance::check_cos(cos)?,
                 }
             }
@@ -264,6 +272,10 @@ pub struct Recogniser<'a> {
     /// last decision's time (a cursor into its train) and their count.
     cursors: Vec<usize>,
     counts: Vec<f64>,
+    /// Spatiotemporal coding: the live side of the growing Van Rossum sums, and how many live
+    /// spikes of each channel it holds.
+    growing: Option<GrowingLive>,
+    live_given: Vec<usize>,
     /// Windows closed so far.
     windows: u64,
     /// Last window that is kept (the training duration rounded up to a window).
@@ -310,6 +322,13 @@ impl<'a> Recogniser<'a> {
             features_done: 0,
             cursors: vec![0; cells],
             counts: vec![0.0; cells],
+            growing: match &classifier.prepared {
+                Prepared::VanRossum {
+                    growing: Some(g), ..
+                } => Some(g.live()),
+                _ => None,
+            },
+            live_given: vec![0; training.n_channels()],
             stable_windows: stable_windows.max(1),
             transducer,
             window_us,
@@ -495,14 +514,37 @@ impl<'a> Recogniser<'a> {
                     }
                     lanes.iter().map(|l| l.iter().sum::<f64>().sqrt()).collect()
                 }
-                Prepared::VanRossum { prepared, cos } => {
-                    let m = prepared.cross_matrices_until(std::slice::from_ref(&live), t_end_s)?;
-                    m.ll2
-                        .iter()
-                        .zip(&m.sp2)
-                        .map(|(&ll, &sp)| combine_squared(ll, sp, *cos).sqrt())
-                        .collect()
-                }
+                Prepared::VanRossum {
+                    prepared,
+                    growing,
+                    cos,
+                } => match (growing, &mut self.growing) {
+                    (Some(g), Some(state)) if t_end_s.is_finite() => {
+                        // The live spikes of this window, per channel.
+                        let new: Vec<&[f64]> = (live.channels())
+                            .zip(&mut self.live_given)
+                            .map(|(c, given)| {
+                                let (from, to) = (*given, before(c, t_end_s).len());
+                                *given = to;
+                                &c[from..to]
+                            })
+                            .collect();
+                        g.advance(state, &new, t_end_s)?;
+                        (0..training.len())
+                            .map(|i| {
+                                let (ll, sp) = g.squared_parts(state, i);
+                                combine_squared(ll, sp, *cos).sqrt()
+                            })
+                            .collect()
+                    }
+                    _ => {
+                        let live = std::slice::from_ref(&live);
+                        let m = prepared.cross_matrices_until(live, t_end_s)?;
+                        (m.ll2.iter().zip(&m.sp2))
+                            .map(|(&ll, &sp)| combine_squared(ll, sp, *cos).sqrt())
+                            .collect()
+                    }
+                },
             };
         let knn = self.classifier.knn.decide(&distances)?;
         let class = knn.class;

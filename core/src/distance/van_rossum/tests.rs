@@ -640,3 +640,58 @@ fn cross_matrices_timing() {
         }
     });
 }
+
+#[test]
+fn growing_live_sample_equals_the_prefix_cross_matrices_at_every_window() {
+    // Training samples and a live one on a coarse time grid (many coincident spikes across
+    // samples), the live one advanced in 20 ms windows, some empty.
+    let train = random_samples(12, 5, 9, 1.0, 41);
+    let live = random_samples(1, 5, 9, 1.0, 42).remove(0);
+    for tau in [0.004, 0.05, 0.8] {
+        let prepared = VanRossum::new(tau).unwrap().prepare(&train).unwrap();
+        let growing = GrowingVanRossum::new(&train, tau).unwrap().unwrap();
+        let mut state = growing.live();
+        let mut previous = f64::NEG_INFINITY;
+        for w in 1..=60 {
+            let t_end = w as f64 * 0.02;
+            let new: Vec<&[f64]> = live
+                .channels()
+                .map(|c| {
+                    let from = c.partition_point(|&t| t < previous);
+                    &c[from..c.partition_point(|&t| t < t_end)]
+                })
+                .collect();
+            growing.advance(&mut state, &new, t_end).unwrap();
+            previous = t_end;
+            let m = prepared
+                .cross_matrices_until(std::slice::from_ref(&live), t_end)
+                .unwrap();
+            for i in 0..train.len() {
+                let (ll, sp) = growing.squared_parts(&state, i);
+                let scale = 1.0 + m.ll2[[0, i]].max(m.sp2[[0, i]]);
+                assert!(
+                    (ll - m.ll2[[0, i]]).abs() <= 1e-9 * scale,
+                    "τ {tau}, T {t_end}, {i}: LL² {ll} vs {}",
+                    m.ll2[[0, i]]
+                );
+                assert!(
+                    (sp - m.sp2[[0, i]]).abs() <= 1e-9 * scale,
+                    "τ {tau}, T {t_end}, {i}: SP² {sp} vs {}",
+                    m.sp2[[0, i]]
+                );
+            }
+        }
+    }
+    // Going back in time, or a spike outside the window, changes nothing and is refused.
+    let growing = GrowingVanRossum::new(&train, 0.05).unwrap().unwrap();
+    let mut state = growing.live();
+    let empty: Vec<&[f64]> = vec![&[]; 5];
+    growing.advance(&mut state, &empty, 0.5).unwrap();
+    assert!(growing.advance(&mut state, &empty, 0.4).is_err());
+    let mut late: Vec<&[f64]> = vec![&[]; 5];
+    late[2] = &[0.3];
+    assert!(growing.advance(&mut state, &late, 0.6).is_err());
+    // A span the centred exponentials cannot hold: None, use the prefix cross matrices.
+    let far = vec![trains(vec![vec![0.0], vec![2000.0]])];
+    assert!(GrowingVanRossum::new(&far, 1.0).unwrap().is_none());
+}
