@@ -1,65 +1,63 @@
 //! The multi-unit Van Rossum distance between a growing live sample and every training sample,
-//! both cut at the same elapsed time `T`, updated as `T` advances: each window costs one
-//! multiply-add per new spike per training sample, not a sweep of the whole prefixes.
+//! both cut at the same elapsed time `T`, updated as `T` advances: a window costs one
+//! multiply-add per new spike (live or training) per training sample, not a sweep of the whole
+//! prefixes.
 //!
 //! The sums of the module docs with centred exponentials (`E^∓ = e^{∓(t − c₀)/τ}`, `c₀` the
-//! middle of the training spikes' span): a live spike `a` at `t` adds
-//! `E⁻(t)·Σ_{b < t} E⁺(b)` to `⟨a, b⟩` and a training spike `b` at `t` adds
-//! `E⁻(t)·Σ_{a ≤ t} E⁺(a)`, merged in time order (a live spike before an equal training spike, as
-//! the offline sums), so each pair of spikes is counted once. Self products are running sums of
-//! `1 + 2·E⁻(t_k)·Σ_{l<k} E⁺(t_l)`. Only sums of positive terms, so nothing cancels; available while
-//! every exponent stays within ±[`CENTRED_EXP_LIMIT`](super::CENTRED_EXP_LIMIT) (live spikes
-//! beyond it are refused, [`GrowingVanRossum::advance`]).
+//! middle of the training spikes' span), walked in time order: a live spike of channel `n` at
+//! `t` adds `E⁻(t)·Σ E⁺(b)` over the training spikes `b` before it (of channel `n` to `⟨·,·⟩_LL`,
+//! of every channel to `⟨·,·⟩_SP`), and a training spike likewise with the live spikes before it,
+//! so each pair is counted once (a coincident pair adds `E⁻·E⁺ = 1` whichever comes first).
+//! Self products are running sums of `1 + 2·E⁻(t_k)·Σ_{l<k} E⁺(t_l)`. Only sums of positive terms:
+//! nothing cancels until `d² = ⟨a,a⟩ + ⟨b,b⟩ − 2⟨a,b⟩`, as offline. Available while every
+//! exponent stays within ±[`CENTRED_EXP_LIMIT`](super::CENTRED_EXP_LIMIT).
 
 use super::{CENTRED_EXP_LIMIT, squared_from_products};
 use crate::distance::check_tau;
 use crate::error::DistanceError;
 use crate::spikes::MultiSpikeTrain;
 
-/// One unit's spikes (a channel, or all channels pooled) in time order, with `E⁻` of each,
-/// the running sums of `E⁺` (`plus[k] = Σ_{l<k} E⁺_l`, one more entry than spikes) and of the
-/// self products (`own[k]`, the self product of the first `k` spikes).
+/// One sample's spikes, all channels merged in time order, with what the walk needs of each.
 #[derive(Debug, Clone, Default)]
-struct Unit {
-    times: Vec<f64>,
+struct Spikes {
+    t: Vec<f64>,
+    channel: Vec<u32>,
     minus: Vec<f64>,
     plus: Vec<f64>,
-    own: Vec<f64>,
+    /// Self products of the first `k` spikes, per channel summed (`own_ll[k]`) and pooled
+    /// (`own_sp[k]`); one more entry than spikes.
+    own_ll: Vec<f64>,
+    own_sp: Vec<f64>,
 }
 
-impl Unit {
+/// Running sums `Σ E⁺` of one side: per channel, and over every channel (the last entry).
+type Sums = Vec<f64>;
+
+impl Spikes {
     fn new() -> Self {
         Self {
-            plus: vec![0.0],
-            own: vec![0.0],
+            own_ll: vec![0.0],
+            own_sp: vec![0.0],
             ..Self::default()
         }
     }
 
-    /// Appends a spike at `t` (not before the last).
-    fn push(&mut self, t: f64, centre: f64, inv_tau: f64) {
-        let x = (t - centre) * inv_tau;
+    /// Appends a spike of `channel` at `t` (not before the last), updating `sums`.
+    fn push(&mut self, t: f64, channel: u32, x: f64, sums: &mut Sums) {
         let (plus, minus) = (x.exp(), (-x).exp());
-        let k = self.times.len();
-        self.times.push(t);
+        let k = self.t.len();
+        let c = channel as usize;
+        let all = sums.len() - 1;
+        self.own_ll
+            .push(self.own_ll[k] + 1.0 + 2.0 * minus * sums[c]);
+        self.own_sp
+            .push(self.own_sp[k] + 1.0 + 2.0 * minus * sums[all]);
+        sums[c] += plus;
+        sums[all] += plus;
+        self.t.push(t);
+        self.channel.push(channel);
         self.minus.push(minus);
-        self.own
-            .push(self.own[k] + 1.0 + 2.0 * minus * self.plus[k]);
-        self.plus.push(self.plus[k] + plus);
-    }
-}
-
-/// The channels and the pooled unit of one sample.
-#[derive(Debug, Clone)]
-struct Sample {
-    units: Vec<Unit>,
-}
-
-impl Sample {
-    fn empty(channels: usize) -> Self {
-        Self {
-            units: vec![Unit::new(); channels + 1],
-        }
+        self.plus.push(plus);
     }
 }
 
@@ -70,22 +68,24 @@ pub struct GrowingVanRossum {
     centre: f64,
     inv_tau: f64,
     channels: usize,
-    train: Vec<Sample>,
+    train: Vec<Spikes>,
 }
 
-/// Where one (live, training) pair of units stands: spikes of each side merged so far and
-/// their cross product.
-#[derive(Debug, Clone, Copy, Default)]
+/// Where the live sample stands against one training sample: training spikes walked, their
+/// running sums, and the cross products so far.
+#[derive(Debug, Clone)]
 struct PairState {
-    live: u32,
-    train: u32,
-    cross: f64,
+    walked: usize,
+    sums: Sums,
+    cross_ll: f64,
+    cross_sp: f64,
 }
 
 /// The live side and its pairs with every training sample, advanced window by window.
 #[derive(Debug, Clone)]
 pub struct GrowingLive {
-    sample: Sample,
+    spikes: Spikes,
+    sums: Sums,
     pairs: Vec<PairState>,
     t_end_s: f64,
 }
@@ -118,16 +118,10 @@ impl GrowingVanRossum {
         let train = training
             .iter()
             .map(|o| {
-                let mut s = Sample::empty(channels);
-                for (c, train) in o.channels().enumerate() {
-                    for &t in train {
-                        s.units[c].push(t, centre, inv_tau);
-                    }
-                }
-                let mut pooled: Vec<f64> = o.channels().flatten().copied().collect();
-                pooled.sort_by(f64::total_cmp);
-                for t in pooled {
-                    s.units[channels].push(t, centre, inv_tau);
+                let mut s = Spikes::new();
+                let mut sums = vec![0.0; channels + 1];
+                for (c, t) in merged(o) {
+                    s.push(t, c, (t - centre) * inv_tau, &mut sums);
                 }
                 s
             })
@@ -148,16 +142,24 @@ impl GrowingVanRossum {
 
     /// A live sample with no spike yet, at `T = −∞`.
     pub fn live(&self) -> GrowingLive {
+        let pair = PairState {
+            walked: 0,
+            sums: vec![0.0; self.channels + 1],
+            cross_ll: 0.0,
+            cross_sp: 0.0,
+        };
         GrowingLive {
-            sample: Sample::empty(self.channels),
-            pairs: vec![PairState::default(); self.train.len() * (self.channels + 1)],
+            spikes: Spikes::new(),
+            sums: vec![0.0; self.channels + 1],
+            pairs: vec![pair; self.train.len()],
             t_end_s: f64::NEG_INFINITY,
         }
     }
 
     /// Advances `live` to `T = t_end_s`: `new` holds, per channel, its spikes in
-    /// `[previous T, T)`, sorted. Spikes out of that range, out of order, or beyond the centred
-    /// range are an [`InvalidParameter`](DistanceError::InvalidParameter) error (nothing changes).
+    /// `[previous T, T)`, sorted. Spikes out of that range or beyond the centred range, a
+    /// wrong channel count or `T` going back are an
+    /// [`InvalidParameter`](DistanceError::InvalidParameter) error (nothing changes).
     pub fn advance(
         &self,
         live: &mut GrowingLive,
@@ -172,7 +174,8 @@ impl GrowingVanRossum {
         if new.len() != self.channels || t_end_s.is_nan() || t_end_s < live.t_end_s {
             return Err(bad(t_end_s, "one train per channel, T not going back"));
         }
-        for train in new {
+        let mut window: Vec<(u32, f64)> = Vec::new();
+        for (c, train) in new.iter().enumerate() {
             let mut last = live.t_end_s;
             for &t in *train {
                 if !(t >= last && t < t_end_s) {
@@ -181,86 +184,78 @@ impl GrowingVanRossum {
                 if ((t - self.centre) * self.inv_tau).abs() > CENTRED_EXP_LIMIT {
                     return Err(bad(t, "within 690 τ of the training spikes' centre"));
                 }
+                window.push((c as u32, t));
                 last = t;
             }
         }
-        let mut pooled: Vec<f64> = new.iter().flat_map(|c| c.iter().copied()).collect();
-        pooled.sort_by(f64::total_cmp);
-        for (c, train) in new.iter().enumerate() {
-            for &t in *train {
-                live.sample.units[c].push(t, self.centre, self.inv_tau);
-            }
-        }
-        for t in pooled {
-            live.sample.units[self.channels].push(t, self.centre, self.inv_tau);
+        window.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
+        let first = live.spikes.t.len();
+        let start_sums = live.sums.clone();
+        for &(c, t) in &window {
+            let x = (t - self.centre) * self.inv_tau;
+            live.spikes.push(t, c, x, &mut live.sums);
         }
         live.t_end_s = t_end_s;
-        let units = self.channels + 1;
-        for (b, pairs) in self.train.iter().zip(live.pairs.chunks_exact_mut(units)) {
-            for ((a, b), pair) in live.sample.units.iter().zip(&b.units).zip(pairs) {
-                merge(a, b, pair, t_end_s);
+        let a = &live.spikes;
+        let all = self.channels;
+        let mut a_sums = start_sums.clone();
+        for (b, pair) in self.train.iter().zip(&mut live.pairs) {
+            // The two sides' spikes of this window in time order.
+            let (mut i, mut j) = (first, pair.walked);
+            let a_end = a.t.len();
+            let mut both = false;
+            loop {
+                let b_next = b.t.get(j).filter(|&&t| t < t_end_s);
+                let take_live = match (i < a_end, b_next) {
+                    (true, Some(&tb)) => a.t[i] <= tb,
+                    (true, None) => true,
+                    (false, Some(_)) => false,
+                    (false, None) => break,
+                };
+                if take_live {
+                    let (c, m, p) = (a.channel[i] as usize, a.minus[i], a.plus[i]);
+                    pair.cross_ll += m * pair.sums[c];
+                    pair.cross_sp += m * pair.sums[all];
+                    if !both {
+                        a_sums.copy_from_slice(&start_sums);
+                        both = true;
+                    }
+                    a_sums[c] += p;
+                    a_sums[all] += p;
+                    i += 1;
+                } else {
+                    let (c, m, p) = (b.channel[j] as usize, b.minus[j], b.plus[j]);
+                    let sums = if both { &a_sums } else { &start_sums };
+                    pair.cross_ll += m * sums[c];
+                    pair.cross_sp += m * sums[all];
+                    pair.sums[c] += p;
+                    pair.sums[all] += p;
+                    j += 1;
+                }
             }
+            pair.walked = j;
         }
         Ok(())
     }
 
     /// `(LL², SP²)` between `live` and training sample `i`, both cut at the live `T`.
     pub fn squared_parts(&self, live: &GrowingLive, i: usize) -> (f64, f64) {
-        let units = self.channels + 1;
-        let pairs = &live.pairs[i * units..(i + 1) * units];
-        let own = |u: &Unit, n: u32| u.own[n as usize];
-        let (mut own_a, mut own_b, mut cross) = (0.0, 0.0, 0.0);
-        for ((a, b), p) in live
-            .sample
-            .units
-            .iter()
-            .zip(&self.train[i].units)
-            .zip(pairs)
-            .take(self.channels)
-        {
-            own_a += own(a, p.live);
-            own_b += own(b, p.train);
-            cross += p.cross;
-        }
-        let (a, b, p) = (
-            &live.sample.units[self.channels],
-            &self.train[i].units[self.channels],
-            &pairs[self.channels],
-        );
+        let (a, b, p) = (&live.spikes, &self.train[i], &live.pairs[i]);
+        let n = a.t.len();
         (
-            squared_from_products(own_a, own_b, cross),
-            squared_from_products(own(a, p.live), own(b, p.train), p.cross),
+            squared_from_products(a.own_ll[n], b.own_ll[p.walked], p.cross_ll),
+            squared_from_products(a.own_sp[n], b.own_sp[p.walked], p.cross_sp),
         )
     }
 }
 
-/// Merges the spikes of `a` (live) and `b` (training) before `t_end` not yet in `pair`, in time
-/// order (a live spike before an equal training spike).
-#[inline]
-fn merge(a: &Unit, b: &Unit, pair: &mut PairState, t_end: f64) {
-    let (mut i, mut j) = (pair.live as usize, pair.train as usize);
-    let mut cross = pair.cross;
-    loop {
-        let b_next = b.times.get(j).filter(|&&t| t < t_end);
-        match (a.times.get(i), b_next) {
-            (Some(ta), Some(tb)) if ta <= tb => {
-                cross += a.minus[i] * b.plus[j];
-                i += 1;
-            }
-            (Some(_), None) => {
-                cross += a.minus[i] * b.plus[j];
-                i += 1;
-            }
-            (_, Some(_)) => {
-                cross += b.minus[j] * a.plus[i];
-                j += 1;
-            }
-            (None, None) => break,
-        }
-    }
-    *pair = PairState {
-        live: i as u32,
-        train: j as u32,
-        cross,
-    };
+/// Every spike of `o` as `(channel, t)`, in time order (channel order among equal times).
+fn merged(o: &MultiSpikeTrain) -> Vec<(u32, f64)> {
+    let mut all: Vec<(u32, f64)> = o
+        .channels()
+        .enumerate()
+        .flat_map(|(c, train)| train.iter().map(move |&t| (c as u32, t)))
+        .collect();
+    all.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
+    all
 }
