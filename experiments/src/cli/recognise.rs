@@ -392,10 +392,7 @@ fn accuracy_csv(e: &OnlineEval) -> String {
 
 fn accuracy_chart(e: &OnlineEval) -> Chart {
     Chart {
-        title: format!(
-            "{} set: online accuracy vs time since slide start ({} held-out slides)",
-            e.set, e.n_test
-        ),
+        title: format!("{}: online accuracy ({} held-out slides)", e.set, e.n_test),
         x: Axis::linear("time since slide start (s)"),
         y: Axis::linear("accuracy (%)"),
         series: e
