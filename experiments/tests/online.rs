@@ -5,6 +5,7 @@ use neurotac_core::distance::{VanRossum, euclidean_distance_matrix};
 use neurotac_core::ndarray::Array2;
 use neurotac_core::{EventBuffer, Knn, SpikeDataset};
 use neurotac_experiments::datasets::simulated::{TextureSet, simulate_set};
+use neurotac_experiments::online::eval::subset;
 use neurotac_experiments::online::{OnlineClassifier, OnlineCoding, OnlineTraining, Recogniser};
 use neurotac_experiments::readouts::{VrFrom, encode_offline};
 use neurotac_sensor::sim::{SimParams, paper_transduction};
@@ -50,17 +51,7 @@ fn final_online_decisions_equal_the_offline_predictions() {
         }
     }
     let order: Vec<usize> = train.iter().chain(&test).copied().collect();
-    let pick = |idx: &[usize]| {
-        SpikeDataset::new(
-            idx.iter()
-                .map(|&i| data.observations()[i].clone())
-                .collect(),
-            idx.iter().map(|&i| data.labels()[i]).collect(),
-            data.class_names().to_vec(),
-            data.meta().clone(),
-        )
-        .unwrap()
-    };
+    let pick = |idx: &[usize]| subset(&data, idx).unwrap();
     let (all, training) = (pick(&order), pick(&train));
     let (train_idx, test_idx): (Vec<usize>, Vec<usize>) = (
         (0..train.len()).collect(),

@@ -104,6 +104,20 @@ pub fn combine_squared(ll2: f64, sp2: f64, cos: f64) -> f64 {
     ((1.0 - cos) * ll2 + cos * sp2).max(0.0)
 }
 
+/// The channel count shared by every sample ([`DistanceError::ChannelCount`] names the first
+/// that differs); 0 without samples.
+fn common_channels(observations: &[MultiSpikeTrain]) -> Result<usize, DistanceError> {
+    let channels = observations.first().map_or(0, MultiSpikeTrain::n_channels);
+    match observations.iter().position(|o| o.n_channels() != channels) {
+        Some(sample) => Err(DistanceError::ChannelCount {
+            sample,
+            expected: channels,
+            got: observations[sample].n_channels(),
+        }),
+        None => Ok(channels),
+    }
+}
+
 /// `d² = ⟨u,u⟩ + ⟨v,v⟩ − 2⟨u,v⟩`, clamped at 0.
 #[inline]
 fn squared_from_products(self_u: f64, self_v: f64, cross: f64) -> f64 {
@@ -201,14 +215,7 @@ impl VanRossum {
         observations: &[MultiSpikeTrain],
         allow_centred: bool,
     ) -> Result<PreparedVanRossum, DistanceError> {
-        let channels = observations.first().map_or(0, MultiSpikeTrain::n_channels);
-        if let Some(sample) = observations.iter().position(|o| o.n_channels() != channels) {
-            return Err(DistanceError::ChannelCount {
-                sample,
-                expected: channels,
-                got: observations[sample].n_channels(),
-            });
-        }
+        let channels = common_channels(observations)?;
         let spikes: Vec<Vec<(u32, f64)>> = observations
             .par_iter()
             .map(MultiSpikeTrain::pooled_with_channels)

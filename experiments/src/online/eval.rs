@@ -219,8 +219,8 @@ fn replay_slide(
     })
 }
 
-/// The samples `idx` of `data`, in that order.
-fn subset(data: &SpikeDataset, idx: &[usize]) -> Result<SpikeDataset, ExperimentError> {
+/// The samples `idx` of `data`, in that order (labels, class names and metadata kept).
+pub fn subset(data: &SpikeDataset, idx: &[usize]) -> Result<SpikeDataset, ExperimentError> {
     Ok(SpikeDataset::new(
         idx.iter()
             .map(|&i| data.observations()[i].clone())

@@ -180,9 +180,9 @@ enum Prepared {
     VanRossum {
         /// Whole samples and prefixes from scratch (the final decision, and windows when the
         /// spans are too long for the growing sums).
-        prepared: PreparedVanRossum,
+        prepared: Box<PreparedVanRossum>,
         /// Prefixes window by window.
-        growing: Option<GrowingVanRossum>,
+        growing: Option<Box<GrowingVanRossum>>,
         cos: f64,
     },
 }
@@ -229,8 +229,8 @@ impl<'a> OnlineClassifier<'a> {
             OnlineCoding::Spatiotemporal { tau_s, cos } => {
                 let prepared = VanRossum::new(tau_s)?.prepare(training.trains())?;
                 Prepared::VanRossum {
-                    prepared,
-                    growing: GrowingVanRossum::new(training.trains(), tau_s)?,
+                    prepared: Box::new(prepared),
+                    growing: GrowingVanRossum::new(training.trains(), tau_s)?.map(Box::new),
                     cos: neurotac_core::distance::check_cos(cos)?,
                 }
             }

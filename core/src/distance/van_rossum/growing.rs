@@ -12,7 +12,7 @@
 //! nothing cancels until `d² = ⟨a,a⟩ + ⟨b,b⟩ − 2⟨a,b⟩`, as offline. Available while every
 //! exponent stays within ±[`CENTRED_EXP_LIMIT`](super::CENTRED_EXP_LIMIT).
 
-use super::{CENTRED_EXP_LIMIT, squared_from_products};
+use super::{CENTRED_EXP_LIMIT, common_channels, squared_from_products};
 use crate::distance::check_tau;
 use crate::error::DistanceError;
 use crate::spikes::MultiSpikeTrain;
@@ -96,14 +96,7 @@ impl GrowingVanRossum {
     /// [`PreparedVanRossum::cross_matrices_until`](super::PreparedVanRossum::cross_matrices_until)).
     pub fn new(training: &[MultiSpikeTrain], tau_s: f64) -> Result<Option<Self>, DistanceError> {
         let tau_s = check_tau(tau_s)?;
-        let channels = training.first().map_or(0, MultiSpikeTrain::n_channels);
-        if let Some(sample) = training.iter().position(|o| o.n_channels() != channels) {
-            return Err(DistanceError::ChannelCount {
-                sample,
-                expected: channels,
-                got: training[sample].n_channels(),
-            });
-        }
+        let channels = common_channels(training)?;
         let (lo, hi) = training
             .iter()
             .filter_map(MultiSpikeTrain::time_range)
