@@ -35,8 +35,18 @@ fn recognise_replays_an_event_file_and_reports_every_window_and_bad_input_in_one
     let (train, events) = simulated(dir.path());
     let (train_s, events_s) = (train.to_str().unwrap(), events.to_str().unwrap());
 
+    let recognise = |train: &Path, input: &Path| {
+        neurotac(&[
+            "recognise",
+            "--train",
+            train.to_str().unwrap(),
+            "--input",
+            input.to_str().unwrap(),
+        ])
+    };
+
     // Text: one line per decision change, a final line with the latency.
-    let (ok, stdout, stderr) = neurotac(&["recognise", "--train", train_s, "--input", events_s]);
+    let (ok, stdout, stderr) = recognise(&train, &events);
     assert!(ok, "{stderr}");
     assert!(
         stdout.starts_with("training: 22 slides of 11 textures"),
@@ -82,13 +92,7 @@ fn recognise_replays_an_event_file_and_reports_every_window_and_bad_input_in_one
     data.meta_mut()["transduction"]["width"] = 346.into();
     let other = dir.path().join("other.bin");
     data.save_binary(&other).unwrap();
-    let (ok, _, stderr) = neurotac(&[
-        "recognise",
-        "--train",
-        other.to_str().unwrap(),
-        "--input",
-        events_s,
-    ]);
+    let (ok, _, stderr) = recognise(&other, &events);
     assert!(!ok);
     assert!(
         stderr.contains("346×180 sensor") && stderr.contains("240×180"),
@@ -100,25 +104,13 @@ fn recognise_replays_an_event_file_and_reports_every_window_and_bad_input_in_one
     let mut data = SpikeDataset::load(&train).unwrap();
     data.meta_mut().insert("time_unit".into(), "ms".into());
     data.save_binary(&other).unwrap();
-    let (ok, _, stderr) = neurotac(&[
-        "recognise",
-        "--train",
-        other.to_str().unwrap(),
-        "--input",
-        events_s,
-    ]);
+    let (ok, _, stderr) = recognise(&other, &events);
     assert!(!ok && stderr.contains("'ms'"), "{stderr}");
 
     // An empty stream.
     let empty = dir.path().join("empty.csv");
     std::fs::write(&empty, "t,x,y,on\n").unwrap();
-    let (ok, _, stderr) = neurotac(&[
-        "recognise",
-        "--train",
-        train_s,
-        "--input",
-        empty.to_str().unwrap(),
-    ]);
+    let (ok, _, stderr) = recognise(&train, &empty);
     assert!(
         !ok && stderr.contains("the event stream is empty"),
         "{stderr}"
@@ -132,13 +124,7 @@ fn recognise_replays_an_event_file_and_reports_every_window_and_bad_input_in_one
     }
     csv.push_str("5,120,90,1\n");
     std::fs::write(&backwards, csv).unwrap();
-    let (ok, _, stderr) = neurotac(&[
-        "recognise",
-        "--train",
-        train_s,
-        "--input",
-        backwards.to_str().unwrap(),
-    ]);
+    let (ok, _, stderr) = recognise(&train, &backwards);
     assert!(!ok, "{stderr}");
     assert!(stderr.contains("decided so far:"), "{stderr}");
     assert!(stderr.contains("earlier than the previous"), "{stderr}");

@@ -178,9 +178,9 @@ pub fn run(a: RecogniseArgs) -> anyhow::Result<()> {
             return;
         }
         // One line per change of class, and one when the class becomes stable.
-        if last_class != Some((d.class, d.stable))
-            && (last_class.map(|l| l.0) != Some(d.class) || d.stable)
-        {
+        let changed = last_class.map(|l| l.0) != Some(d.class);
+        let newly_stable = d.stable && last_class != Some((d.class, true));
+        if changed || newly_stable {
             println!(
                 "{:8.3} s  {:<24} vote {:>3.0} %{}",
                 d.t_s,

@@ -136,15 +136,11 @@ pub fn evaluate_online(
     .into_iter()
     .collect::<Result<Vec<Vec<SlideRun>>, ExperimentError>>()?;
     let duration_s = training.duration_ms() as f64 * 1e-3;
-    let windows = runs
-        .first()
-        .and_then(|r| r.first())
-        .map_or(0, |r| r.decisions.len());
-    let window_end_s = runs
-        .first()
-        .and_then(|r| r.first())
+    // Every slide has the same windows (the training duration).
+    let window_end_s: Vec<f64> = (runs.first().and_then(|r| r.first()))
         .map(|r| r.decisions.iter().map(|d| d.t_s).collect())
         .unwrap_or_default();
+    let windows = window_end_s.len();
     let truth: Vec<usize> = jobs.iter().map(|j| j.class).collect();
     let codings = config
         .codings

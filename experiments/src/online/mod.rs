@@ -264,18 +264,7 @@ pub struct Recogniser<'a> {
     network: Network,
     input: InputId,
     readout: ReadoutId<SpatiotemporalCoding>,
-    /// Temporal coding: per training sample, the lanes of [`squared_euclidean`] over the
-    /// features so far, and how many features that is.
-    lanes: Vec<[f64; 8]>,
-    features_done: usize,
-    /// Intensive and spatial codings: per training sample and channel, its spikes before the
-    /// last decision's time (a cursor into its train) and their count.
-    cursors: Vec<usize>,
-    counts: Vec<f64>,
-    /// Spatiotemporal coding: the live side of the growing Van Rossum sums, and how many live
-    /// spikes of each channel it holds.
-    growing: Option<GrowingLive>,
-    live_given: Vec<usize>,
+    live: LiveSide,
     /// Windows closed so far.
     windows: u64,
     /// Last window that is kept (the training duration rounded up to a window).
@@ -284,6 +273,21 @@ pub struct Recogniser<'a> {
     events_dropped: u64,
     decisions: Vec<Decision>,
     final_decision: Option<Decision>,
+}
+
+/// The live side of a coding, grown window by window.
+enum LiveSide {
+    /// Intensive and spatial: per training sample and channel, its spikes before the last
+    /// decision's time (also where its next one starts).
+    Counts { counts: Vec<f64> },
+    /// Per training sample, the lanes of [`squared_euclidean`] over the first `done` features.
+    Temporal { lanes: Vec<[f64; 8]>, done: usize },
+    /// The growing Van Rossum sums (when the spans allow them), and how many live spikes of
+    /// each channel they hold.
+    VanRossum {
+        growing: Option<GrowingLive>,
+        given: Vec<usize>,
+    },
 }
 
 impl<'a> Recogniser<'a> {
@@ -308,27 +312,23 @@ impl<'a> Recogniser<'a> {
         let (network, input, readout) = live_network(training)?;
         let window_us = transduction.pool_window_us;
         let last_window = (training.duration_ms() as u64 * 1000).div_ceil(window_us as u64);
-        let lanes = match classifier.prepared {
-            Prepared::Temporal { .. } => vec![[0.0; 8]; training.len()],
-            _ => Vec::new(),
-        };
-        let cells = match classifier.prepared {
-            Prepared::Counts { .. } => training.len() * training.n_channels(),
-            _ => 0,
+        let n_train = training.len();
+        let live = match &classifier.prepared {
+            Prepared::Counts { .. } => LiveSide::Counts {
+                counts: vec![0.0; n_train * training.n_channels()],
+            },
+            Prepared::Temporal { .. } => LiveSide::Temporal {
+                lanes: vec![[0.0; 8]; n_train],
+                done: 0,
+            },
+            Prepared::VanRossum { growing, .. } => LiveSide::VanRossum {
+                growing: growing.as_ref().map(|g| g.live()),
+                given: vec![0; training.n_channels()],
+            },
         };
         Ok(Self {
             classifier,
-            lanes,
-            features_done: 0,
-            cursors: vec![0; cells],
-            counts: vec![0.0; cells],
-            growing: match &classifier.prepared {
-                Prepared::VanRossum {
-                    growing: Some(g), ..
-                } => Some(g.live()),
-                _ => None,
-            },
-            live_given: vec![0; training.n_channels()],
+            live,
             stable_windows: stable_windows.max(1),
             transducer,
             window_us,
@@ -385,7 +385,7 @@ impl<'a> Recogniser<'a> {
     fn push_checked(&mut self, events: &EventBuffer, len: usize) -> Result<(), ExperimentError> {
         let mut i = 0;
         while i < len {
-            if self.windows >= self.last_window {
+            if self.is_done() {
                 self.events_dropped += (len - i) as u64;
                 break;
             }
@@ -413,7 +413,7 @@ impl<'a> Recogniser<'a> {
         if self.transducer.counts().events_in == 0 {
             return Err(ExperimentError::EmptyStream);
         }
-        if self.windows < self.last_window {
+        if !self.is_done() {
             self.close_window()?;
         }
         let start = Instant::now();
@@ -464,88 +464,92 @@ impl<'a> Recogniser<'a> {
         let live = self.network.readout(self.readout).trains();
         let training = self.classifier.training;
         let n = training.n_channels();
-        let distances: Vec<f64> =
-            match &self.classifier.prepared {
-                Prepared::Counts { spatial } => {
-                    // Each training sample's counts before T, its cursors only ever moving on.
-                    for (o, (cursors, counts)) in training.trains().iter().zip(
-                        (self.cursors.chunks_exact_mut(n)).zip(self.counts.chunks_exact_mut(n)),
-                    ) {
-                        for ((train, cursor), count) in o.channels().zip(cursors).zip(counts) {
-                            while train.get(*cursor).is_some_and(|&t| t < t_end_s) {
-                                *cursor += 1;
-                            }
-                            *count = *cursor as f64;
+        let distances: Vec<f64> = match (&self.classifier.prepared, &mut self.live) {
+            (Prepared::Counts { spatial }, LiveSide::Counts { counts }) => {
+                // Each training sample's counts before T, which only ever move on.
+                for (o, counts) in training.trains().iter().zip(counts.chunks_exact_mut(n)) {
+                    for (train, count) in o.channels().zip(counts.iter_mut()) {
+                        let mut k = *count as usize;
+                        while train.get(k).is_some_and(|&t| t < t_end_s) {
+                            k += 1;
+                        }
+                        *count = k as f64;
+                    }
+                }
+                let live: Vec<f64> = live
+                    .channels()
+                    .map(|c| before(c, t_end_s).len() as f64)
+                    .collect();
+                let mean = |counts: &[f64]| [counts.iter().sum::<f64>() / n as f64];
+                counts
+                    .chunks_exact(n)
+                    .map(|counts| match spatial {
+                        true => squared_euclidean(&live, counts).sqrt(),
+                        false => squared_euclidean(&mean(&live), &mean(counts)).sqrt(),
+                    })
+                    .collect()
+            }
+            (Prepared::Temporal { window_ms, train }, LiveSide::Temporal { lanes, done }) => {
+                let d = training.duration_ms();
+                let t_ms = if t_end_s.is_finite() {
+                    ((t_end_s * 1e3).round() as u32).min(d)
+                } else {
+                    d
+                };
+                let width = (t_ms + 1).saturating_sub(*window_ms) as usize;
+                if width > *done {
+                    let bins = neurotac_core::coding::pooled_bin_counts(&live, t_ms);
+                    let mut x = vec![0.0; width];
+                    write_window_features(&bins, *window_ms, n, &mut x);
+                    for (row, lanes) in train.rows().into_iter().zip(lanes.iter_mut()) {
+                        for f in *done..width {
+                            let diff = x[f] - row[f];
+                            lanes[f % 8] += diff * diff;
                         }
                     }
-                    let live: Vec<f64> = live
-                        .channels()
-                        .map(|c| before(c, t_end_s).len() as f64)
-                        .collect();
-                    let mean = |counts: &[f64]| [counts.iter().sum::<f64>() / n as f64];
-                    self.counts
-                        .chunks_exact(n)
-                        .map(|counts| match spatial {
-                            true => squared_euclidean(&live, counts).sqrt(),
-                            false => squared_euclidean(&mean(&live), &mean(counts)).sqrt(),
-                        })
-                        .collect()
+                    *done = width;
                 }
-                Prepared::Temporal { window_ms, train } => {
-                    let (lanes, done) = (&mut self.lanes, &mut self.features_done);
-                    let d = training.duration_ms();
-                    let t_ms = if t_end_s.is_finite() {
-                        ((t_end_s * 1e3).round() as u32).min(d)
-                    } else {
-                        d
-                    };
-                    let width = (t_ms + 1).saturating_sub(*window_ms) as usize;
-                    if width > *done {
-                        let bins = neurotac_core::coding::pooled_bin_counts(&live, t_ms);
-                        let mut x = vec![0.0; width];
-                        write_window_features(&bins, *window_ms, n, &mut x);
-                        for (row, lanes) in train.rows().into_iter().zip(lanes.iter_mut()) {
-                            for f in *done..width {
-                                let diff = x[f] - row[f];
-                                lanes[f % 8] += diff * diff;
-                            }
-                        }
-                        *done = width;
-                    }
-                    lanes.iter().map(|l| l.iter().sum::<f64>().sqrt()).collect()
-                }
+                lanes.iter().map(|l| l.iter().sum::<f64>().sqrt()).collect()
+            }
+            (
                 Prepared::VanRossum {
                     prepared,
                     growing,
                     cos,
-                } => match (growing, &mut self.growing) {
-                    (Some(g), Some(state)) if t_end_s.is_finite() => {
-                        // The live spikes of this window, per channel.
-                        let new: Vec<&[f64]> = (live.channels())
-                            .zip(&mut self.live_given)
-                            .map(|(c, given)| {
-                                let (from, to) = (*given, before(c, t_end_s).len());
-                                *given = to;
-                                &c[from..to]
-                            })
-                            .collect();
-                        g.advance(state, &new, t_end_s)?;
-                        (0..training.len())
-                            .map(|i| {
-                                let (ll, sp) = g.squared_parts(state, i);
-                                combine_squared(ll, sp, *cos).sqrt()
-                            })
-                            .collect()
-                    }
-                    _ => {
-                        let live = std::slice::from_ref(&live);
-                        let m = prepared.cross_matrices_until(live, t_end_s)?;
-                        (m.ll2.iter().zip(&m.sp2))
-                            .map(|(&ll, &sp)| combine_squared(ll, sp, *cos).sqrt())
-                            .collect()
-                    }
                 },
-            };
+                LiveSide::VanRossum {
+                    growing: state,
+                    given,
+                },
+            ) => match (growing, state) {
+                (Some(g), Some(state)) if t_end_s.is_finite() => {
+                    // The live spikes of this window, per channel.
+                    let new: Vec<&[f64]> = (live.channels())
+                        .zip(given.iter_mut())
+                        .map(|(c, given)| {
+                            let (from, to) = (*given, before(c, t_end_s).len());
+                            *given = to;
+                            &c[from..to]
+                        })
+                        .collect();
+                    g.advance(state, &new, t_end_s)?;
+                    (0..training.len())
+                        .map(|i| {
+                            let (ll, sp) = g.squared_parts(state, i);
+                            combine_squared(ll, sp, *cos).sqrt()
+                        })
+                        .collect()
+                }
+                _ => {
+                    let live = std::slice::from_ref(&live);
+                    let m = prepared.cross_matrices_until(live, t_end_s)?;
+                    (m.ll2.iter().zip(&m.sp2))
+                        .map(|(&ll, &sp)| combine_squared(ll, sp, *cos).sqrt())
+                        .collect()
+                }
+            },
+            _ => unreachable!("the live side is built for the classifier's coding"),
+        };
         let knn = self.classifier.knn.decide(&distances)?;
         let class = knn.class;
         let same_for_windows = match self.decisions.last() {
