@@ -15,6 +15,7 @@
 //! | the paper's four codings (readouts, or direct on trains) | [`coding`]: [`IntensiveCoding`], [`SpatialCoding`], [`TemporalCoding`], [`SpatiotemporalCoding`] |
 //! | distances and N×N matrices | [`distance`]: Euclidean, exact multi-unit [`VanRossum`], trace-sampled |
 //! | the KNN head | [`knn`]: [`Knn`] (leave-one-out in one pass, documented tie rules) |
+//! | several processes (MPI ranks, or threads in tests) | [`ranks`]: [`Ranks`], [`OneProcess`], [`ranks::balanced_blocks`] |
 //! | special functions | [`special`]: `erfc` |
 //! | outputs never half-written | [`io`]: [`AtomicFile`], [`AtomicDir`], [`io::check_distinct`] (input ≠ output) |
 //! | errors | [`SpikeError`], [`DatasetError`], [`GraphError`], [`ModelError`], [`CodingError`], [`DistanceError`], [`KnnError`], [`SameFileError`], [`CoreError`] |
@@ -41,6 +42,7 @@ pub mod graph;
 pub mod io;
 pub mod knn;
 pub mod model;
+pub mod ranks;
 pub mod special;
 pub mod spikes;
 #[doc(hidden)]
@@ -65,6 +67,7 @@ pub use graph::{
 pub use io::{AtomicDir, AtomicFile};
 pub use knn::{Decision, FittedKnn, Knn};
 pub use model::{NeuronModel, SpikeBuffer};
+pub use ranks::{OneProcess, Ranks, RanksError};
 /// The `ndarray` version neurotac's matrices use (feature matrices, distance matrices), so user
 /// code needs no matching dependency of its own.
 pub use ndarray;
