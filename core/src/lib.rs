@@ -67,9 +67,9 @@ pub use graph::{
 pub use io::{AtomicDir, AtomicFile};
 pub use knn::{Decision, FittedKnn, Knn};
 pub use model::{NeuronModel, SpikeBuffer};
-pub use ranks::{OneProcess, Ranks, RanksError};
 /// The `ndarray` version neurotac's matrices use (feature matrices, distance matrices), so user
 /// code needs no matching dependency of its own.
 pub use ndarray;
+pub use ranks::{OneProcess, Ranks, RanksError};
 pub use spikes::{MultiSpikeTrain, SpikeTrain};
 pub use time::{Timestamp, s_to_us, us_to_s};

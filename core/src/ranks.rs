@@ -255,7 +255,10 @@ mod tests {
         for parts in [2, 3, 8] {
             for b in balanced_blocks(&costs, parts) {
                 let share: f64 = costs[b].iter().sum();
-                assert!((share / total - 1.0 / parts as f64).abs() < 0.002, "{share} of {total}");
+                assert!(
+                    (share / total - 1.0 / parts as f64).abs() < 0.002,
+                    "{share} of {total}"
+                );
             }
         }
         // Equal costs give equal blocks, more parts than items give empty ones.

@@ -23,7 +23,7 @@ fn exit_quietly_on_closed_pipes() {
 fn main() -> ExitCode {
     exit_quietly_on_closed_pipes();
     let args = cli::Cli::parse();
-    match cli::run(args) {
+    match cli::run(args, &neurotac_core::OneProcess) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("error: {e:#}");

@@ -130,7 +130,8 @@ fn print(report: &Value, json: bool, line: String) {
     }
 }
 
-pub fn run(args: BenchArgs) -> anyhow::Result<()> {
+pub fn run(args: BenchArgs, ranks: &dyn neurotac_core::Ranks) -> anyhow::Result<()> {
+    let _ = ranks;
     match args.what {
         BenchCommand::Neurons(a) => neurons(a),
         BenchCommand::Cuba(a) => cuba_network(a),

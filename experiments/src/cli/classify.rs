@@ -59,7 +59,8 @@ pub struct ClassifyArgs {
     json: bool,
 }
 
-pub fn run(args: ClassifyArgs) -> anyhow::Result<()> {
+pub fn run(args: ClassifyArgs, ranks: &dyn neurotac_core::Ranks) -> anyhow::Result<()> {
+    let _ = ranks;
     let data = load_labelled(&args.input)?;
     let knn = Knn::new(args.k)?;
     let protocol = match args.protocol {

@@ -51,7 +51,8 @@ pub struct DistancesArgs {
     force: bool,
 }
 
-pub fn run(args: DistancesArgs) -> anyhow::Result<()> {
+pub fn run(args: DistancesArgs, ranks: &dyn neurotac_core::Ranks) -> anyhow::Result<()> {
+    let _ = ranks;
     neurotac_core::io::check_distinct(&args.input, &args.output)?;
     super::refuse_existing([args.output.as_path()], args.force)?;
     let data = load_dataset(&args.input)?;

@@ -4,7 +4,7 @@
 //! a subcommand to a group (`tradeoff`, `search`), do the same inside the group's `mod.rs`.
 
 use clap::{Parser, Subcommand, ValueEnum};
-use neurotac_core::SpikeDataset;
+use neurotac_core::{Ranks, SpikeDataset};
 use neurotac_experiments::datasets::simulated::TextureSet;
 use std::path::Path;
 
@@ -85,26 +85,43 @@ enum Command {
     Recognise(recognise::RecogniseArgs),
 }
 
-/// Runs the parsed command.
-pub fn run(cli: Cli) -> anyhow::Result<()> {
+/// Runs the parsed command on `ranks` (one process, or the MPI ranks it was started on).
+///
+/// The distributed commands (`simulate`, `distances`, `classify`, `search`, `reproduce`,
+/// `bench cuba`) split their work over the ranks and give the same output as one process;
+/// rank 0 writes and prints. The others run on one process only.
+pub fn run(cli: Cli, ranks: &dyn Ranks) -> anyhow::Result<()> {
+    let single = |name: &str| -> anyhow::Result<()> {
+        if ranks.size() > 1 {
+            anyhow::bail!(
+                "`neurotac {name}` runs on one process; it was started on {} MPI ranks \
+                 (run it without mpirun, or see README \"Running on several machines\" for \
+                 the commands that distribute)",
+                ranks.size()
+            );
+        }
+        Ok(())
+    };
     match cli.command {
-        Command::Reproduce(args) => reproduce::run(args),
-        Command::Demo(args) => demo::run(args),
-        Command::Bench(args) => bench::run(args),
-        Command::Neuron(args) => neuron::run(args),
-        Command::Distances(args) => distances::run(args),
-        Command::Classify(args) => classify::run(args),
-        Command::Tradeoff(args) => tradeoff::run(args),
-        Command::Search(command) => search::run(command),
-        Command::Synth(args) => synth::run(args),
-        Command::Transduce(args) => transduce::run_transduce(args),
-        Command::Filter(args) => transduce::run_filter(args),
-        Command::Layout(args) => transduce::run_layout(args),
-        Command::Convert(args) => convert::run(args),
-        Command::Devices(args) => devices::run(args),
-        Command::Record(args) => record::run(args),
-        Command::Simulate(args) => simulate::run(args),
-        Command::Recognise(args) => recognise::run(args),
+        Command::Reproduce(args) => reproduce::run(args, ranks),
+        Command::Bench(args) => bench::run(args, ranks),
+        Command::Distances(args) => distances::run(args, ranks),
+        Command::Classify(args) => classify::run(args, ranks),
+        Command::Search(command) => search::run(command, ranks),
+        Command::Simulate(args) => simulate::run(args, ranks),
+        Command::Demo(args) => single("demo").and_then(|()| demo::run(args)),
+        Command::Neuron(args) => single("neuron").and_then(|()| neuron::run(args)),
+        Command::Tradeoff(args) => single("tradeoff").and_then(|()| tradeoff::run(args)),
+        Command::Synth(args) => single("synth").and_then(|()| synth::run(args)),
+        Command::Transduce(args) => {
+            single("transduce").and_then(|()| transduce::run_transduce(args))
+        }
+        Command::Filter(args) => single("filter").and_then(|()| transduce::run_filter(args)),
+        Command::Layout(args) => single("layout").and_then(|()| transduce::run_layout(args)),
+        Command::Convert(args) => single("convert").and_then(|()| convert::run(args)),
+        Command::Devices(args) => single("devices").and_then(|()| devices::run(args)),
+        Command::Record(args) => single("record").and_then(|()| record::run(args)),
+        Command::Recognise(args) => single("recognise").and_then(|()| recognise::run(args)),
     }
 }
 

@@ -89,7 +89,8 @@ pub struct ReproduceArgs {
     params: Option<PathBuf>,
 }
 
-pub fn run(args: ReproduceArgs) -> anyhow::Result<()> {
+pub fn run(args: ReproduceArgs, ranks: &dyn neurotac_core::Ranks) -> anyhow::Result<()> {
+    let _ = ranks;
     check_destination(&args.out, args.force)?;
     let cache = args.cache.clone().unwrap_or_else(default_cache_dir);
     let mut config = match args.quick {

@@ -139,7 +139,8 @@ fn progress_bar(total: usize, what: &str) -> indicatif::ProgressBar {
     bar(what, total as u64, "trials ")
 }
 
-pub fn run(args: SimulateArgs) -> anyhow::Result<()> {
+pub fn run(args: SimulateArgs, ranks: &dyn neurotac_core::Ranks) -> anyhow::Result<()> {
+    let _ = ranks;
     match args.command {
         Some(SimulateCommand::Check(a)) => check(a),
         Some(SimulateCommand::Calibrate(a)) => calibrate_command(a),

@@ -32,7 +32,8 @@ pub struct DtArgs {
     json: bool,
 }
 
-pub fn run(args: DtArgs) -> anyhow::Result<()> {
+pub fn run(args: DtArgs, ranks: &dyn neurotac_core::Ranks) -> anyhow::Result<()> {
+    let _ = ranks;
     let data = load_labelled(&args.input)?;
     let t = sample_duration_ms(&data, args.duration)?;
     let knn = Knn::new(args.k)?;

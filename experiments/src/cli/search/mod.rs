@@ -4,6 +4,7 @@
 //! `run(args) -> anyhow::Result<()>`, one variant in [`SearchCommand`] and one arm in [`run`].
 
 use clap::Subcommand;
+use neurotac_core::Ranks;
 
 mod dt;
 mod vr;
@@ -18,9 +19,9 @@ pub enum SearchCommand {
 }
 
 /// Runs one search subcommand.
-pub fn run(command: SearchCommand) -> anyhow::Result<()> {
+pub fn run(command: SearchCommand, ranks: &dyn Ranks) -> anyhow::Result<()> {
     match command {
-        SearchCommand::Dt(args) => dt::run(args),
-        SearchCommand::Vr(args) => vr::run(args),
+        SearchCommand::Dt(args) => dt::run(args, ranks),
+        SearchCommand::Vr(args) => vr::run(args, ranks),
     }
 }

@@ -54,7 +54,8 @@ pub struct VrArgs {
     json: bool,
 }
 
-pub fn run(args: VrArgs) -> anyhow::Result<()> {
+pub fn run(args: VrArgs, ranks: &dyn neurotac_core::Ranks) -> anyhow::Result<()> {
+    let _ = ranks;
     if let Some(trace) = &args.trace {
         neurotac_core::io::check_distinct(&args.input, trace)?;
         crate::cli::refuse_existing([trace.as_path()], args.force)?;
