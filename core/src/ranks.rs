@@ -40,7 +40,10 @@ pub enum RanksError {
 }
 
 /// A group of processes computing one result together (see the [module docs](self)).
-pub trait Ranks {
+///
+/// `Sync`, so a command running inside a thread pool can hold it; the collectives of one
+/// group are still called one at a time, in the same order on every rank.
+pub trait Ranks: Sync {
     /// This process's rank, `0 … size−1`.
     fn rank(&self) -> usize;
 

@@ -6,6 +6,7 @@ use super::progress::{Bars, bar};
 use crate::cli::args;
 use anyhow::Context;
 use clap::{Args, Subcommand};
+use neurotac_core::Ranks;
 use neurotac_experiments::datasets::simulated::{
     GenerateConfig, PixelEventFiles, default_cache_dir,
 };
@@ -139,8 +140,13 @@ fn progress_bar(total: usize, what: &str) -> indicatif::ProgressBar {
     bar(what, total as u64, "trials ")
 }
 
-pub fn run(args: SimulateArgs, ranks: &dyn neurotac_core::Ranks) -> anyhow::Result<()> {
-    let _ = ranks;
+pub fn run(args: SimulateArgs, ranks: &dyn Ranks) -> anyhow::Result<()> {
+    if args.command.is_some() && ranks.size() > 1 {
+        anyhow::bail!(
+            "`neurotac simulate check|calibrate|params` runs on one process; only dataset \
+             generation (`neurotac simulate --set …`) splits over MPI ranks"
+        );
+    }
     match args.command {
         Some(SimulateCommand::Check(a)) => check(a),
         Some(SimulateCommand::Calibrate(a)) => calibrate_command(a),
@@ -148,11 +154,11 @@ pub fn run(args: SimulateArgs, ranks: &dyn neurotac_core::Ranks) -> anyhow::Resu
             println!("{}", SimParams::default().to_json_string());
             Ok(())
         }
-        None => generate(args.generate),
+        None => generate(args.generate, ranks),
     }
 }
 
-fn generate(a: GenerateArgs) -> anyhow::Result<()> {
+fn generate(a: GenerateArgs, ranks: &dyn Ranks) -> anyhow::Result<()> {
     let out = a.out.context("--out is required")?;
     let params = load_params(a.params.as_deref())?;
     let pixel_events = a.pixel_events.then(|| match a.labels {
@@ -188,16 +194,23 @@ fn generate(a: GenerateArgs) -> anyhow::Result<()> {
         let start = Instant::now();
         let bars = Bars::new();
         let made = with_threads(a.threads, || {
-            neurotac_experiments::datasets::simulated::generate(&config, &bars)
+            neurotac_experiments::datasets::simulated::generate(&config, &bars, ranks)
         })??;
+        if !ranks.is_root() {
+            continue;
+        }
         let wall = start.elapsed().as_secs_f64();
         let data = &made.dataset;
         let how = match made.from_cache {
             true => "loaded from the cache".to_owned(),
             false => format!("{:.1} trials/s", data.len() as f64 / wall),
         };
+        let on = match ranks.size() {
+            1 => String::new(),
+            k => format!(" on {k} ranks"),
+        };
         println!(
-            "{} set: {} textures × {} slides = {} trials in {wall:.1} s ({how})",
+            "{} set: {} textures × {} slides = {} trials in {wall:.1} s{on} ({how})",
             set.name(),
             set.textures().len(),
             config.trials,

@@ -11,7 +11,10 @@ use super::metadata::write_metadata;
 use crate::coding::class_means;
 use crate::progress::Progress;
 use crate::threads::ThreadPoolError;
-use neurotac_core::{DatasetError, EventBuffer, MultiSpikeTrain, SpikeDataset};
+use neurotac_core::ranks::even_block;
+use neurotac_core::{
+    DatasetError, EventBuffer, MultiSpikeTrain, OneProcess, Ranks, RanksError, SpikeDataset,
+};
 use neurotac_sensor::sim::{
     Camera, EventLabel, GRID_SIZES_MM, NATURAL_TEXTURES, PreparedTexture, SimParams,
     SimulatedTrial, SimulationError, Simulator, Texture, paper_transduction, taxel_spikes,
@@ -51,6 +54,9 @@ pub enum DatasetsError {
     /// The thread pool could not start.
     #[error(transparent)]
     Threads(#[from] ThreadPoolError),
+    /// The ranks sharing the simulation could not exchange their trials.
+    #[error(transparent)]
+    Ranks(#[from] RanksError),
 }
 
 /// Which texture set.
@@ -248,6 +254,23 @@ pub fn simulate_set(
     each: &(dyn Fn(&TrialJob, &SimulatedTrial) -> Result<(), DatasetsError> + Sync),
     progress: &(dyn Fn() + Sync),
 ) -> Result<SimulatedSet, DatasetsError> {
+    simulate_set_on(set, trials, seed, params, each, progress, &OneProcess)
+}
+
+/// [`simulate_set`] split over `ranks`: rank `r` simulates its contiguous block of the
+/// (class, trial) jobs ([`even_block`]; every trial costs about the same), `each` sees only
+/// the rank's own trials, and the blocks are all-gathered in rank order, so every rank returns
+/// the dataset one process makes with the same seed, bit for bit (a trial depends only on its
+/// own seed). Collective: every rank must call it.
+pub fn simulate_set_on(
+    set: TextureSet,
+    trials: usize,
+    seed: u64,
+    params: &SimParams,
+    each: &(dyn Fn(&TrialJob, &SimulatedTrial) -> Result<(), DatasetsError> + Sync),
+    progress: &(dyn Fn() + Sync),
+    ranks: &dyn Ranks,
+) -> Result<SimulatedSet, DatasetsError> {
     if trials == 0 {
         return Err(SimulationError::ZeroTrials.into());
     }
@@ -256,7 +279,9 @@ pub fn simulate_set(
     let camera = Camera::new(params, camera_seed(seed));
     let classes: Vec<usize> = (0..textures.len()).collect();
     let jobs = jobs_for(set, seed, &classes, 0, trials);
-    let outcomes = run_trials(params, &camera, &textures, &jobs, each, progress)?;
+    let block = even_block(jobs.len(), ranks.rank(), ranks.size());
+    let outcomes = run_trials(params, &camera, &textures, &jobs[block], each, progress)?;
+    let outcomes = gather_outcomes(outcomes, set, ranks)?;
     let n = outcomes.len() as f64;
     let mean_pixel_events = outcomes.iter().map(|o| o.pixel_events as f64).sum::<f64>() / n;
     let mean_noise_events = outcomes.iter().map(|o| o.noise_events as f64).sum::<f64>() / n;
@@ -271,6 +296,69 @@ pub fn simulate_set(
         mean_pixel_events,
         mean_noise_events,
     })
+}
+
+/// Every rank's trial outcomes, in rank order. A block travels as a binary spike dataset (the
+/// checksummed format of the cache) whose metadata carries the jobs and event counts.
+fn gather_outcomes(
+    local: Vec<TrialOutcome>,
+    set: TextureSet,
+    ranks: &dyn Ranks,
+) -> Result<Vec<TrialOutcome>, DatasetsError> {
+    if ranks.size() == 1 {
+        return Ok(local);
+    }
+    let column = |f: &dyn Fn(&TrialOutcome) -> u64| -> serde_json::Value {
+        local.iter().map(f).collect::<Vec<u64>>().into()
+    };
+    let mut meta = serde_json::Map::new();
+    meta.insert("class".into(), column(&|o| o.job.class as u64));
+    meta.insert("trial".into(), column(&|o| o.job.trial as u64));
+    meta.insert("seed".into(), column(&|o| o.job.seed));
+    meta.insert("pixel_events".into(), column(&|o| o.pixel_events as u64));
+    meta.insert("noise_events".into(), column(&|o| o.noise_events as u64));
+    let labels = local.iter().map(|o| o.job.class).collect();
+    let observations = local.into_iter().map(|o| o.spikes).collect();
+    let block = SpikeDataset::new(observations, labels, set.class_names(), meta)?;
+    let mut all = Vec::new();
+    for (rank, bytes) in ranks
+        .all_gather_bytes(&block.to_binary())?
+        .into_iter()
+        .enumerate()
+    {
+        let name = PathBuf::from(format!("<trials of rank {rank}>"));
+        let block = SpikeDataset::from_binary(&bytes, &name)?;
+        let column = |key: &'static str| -> Result<Vec<u64>, DatasetsError> {
+            let values = block.meta().get(key).and_then(|v| v.as_array());
+            let values: Option<Vec<u64>> = values
+                .map(|a| a.iter().map(serde_json::Value::as_u64).collect())
+                .unwrap_or(None);
+            match values {
+                Some(v) if v.len() == block.len() => Ok(v),
+                _ => Err(RanksError::Malformed {
+                    rank,
+                    during: "gathering simulated trials",
+                    reason: format!("metadata field '{key}' is not one integer per trial"),
+                }
+                .into()),
+            }
+        };
+        let (class, trial, seed) = (column("class")?, column("trial")?, column("seed")?);
+        let (pixel, noise) = (column("pixel_events")?, column("noise_events")?);
+        for (i, spikes) in block.observations().iter().enumerate() {
+            all.push(TrialOutcome {
+                job: TrialJob {
+                    class: class[i] as usize,
+                    trial: trial[i] as usize,
+                    seed: seed[i],
+                },
+                spikes: spikes.clone(),
+                pixel_events: pixel[i] as usize,
+                noise_events: noise[i] as usize,
+            });
+        }
+    }
+    Ok(all)
 }
 
 /// Everything that determines a simulated dataset, as stored in its metadata, with the typed
@@ -375,7 +463,21 @@ pub fn load_or_simulate_with(
     if trials == 0 {
         return Err(SimulationError::ZeroTrials.into());
     }
-    Ok(load_or_simulate_cached(set, trials, seed, params, cache_dir, progress)?.0)
+    load_or_simulate_on(set, trials, seed, params, cache_dir, progress, &OneProcess)
+}
+
+/// [`load_or_simulate_with`] on `ranks`: every rank reads the cache, or the ranks simulate the
+/// dataset together ([`simulate_set_on`]) and rank 0 stores it. Collective.
+pub fn load_or_simulate_on(
+    set: TextureSet,
+    trials: usize,
+    seed: u64,
+    params: &SimParams,
+    cache_dir: &Path,
+    progress: &(dyn Fn() + Sync),
+    ranks: &dyn Ranks,
+) -> Result<SpikeDataset, DatasetsError> {
+    Ok(load_or_simulate_cached(set, trials, seed, params, cache_dir, progress, ranks)?.0)
 }
 
 /// [`load_or_simulate_with`], also saying whether the dataset came from the cache (the cache
@@ -387,14 +489,20 @@ fn load_or_simulate_cached(
     params: &SimParams,
     cache_dir: &Path,
     progress: &(dyn Fn() + Sync),
+    ranks: &dyn Ranks,
 ) -> Result<(SpikeDataset, bool), DatasetsError> {
     params.validate()?;
     let path = cache_path(set, trials, seed, params, cache_dir);
-    if let Some(cached) = read_cached(&path, &dataset_meta(set, trials, seed, params)) {
+    // Every rank must take the same branch: they agree on whether the cache was usable.
+    let cached = read_cached(&path, &dataset_meta(set, trials, seed, params));
+    let usable = ranks.all_gather_bytes(&[u8::from(cached.is_some())])?;
+    if let Some(cached) = cached.filter(|_| usable.iter().all(|b| b == &[1])) {
         return Ok((cached, true));
     }
-    let simulated = simulate_set(set, trials, seed, params, &|_, _| Ok(()), progress)?;
-    store(&simulated.dataset, cache_dir, &path)?;
+    let simulated = simulate_set_on(set, trials, seed, params, &|_, _| Ok(()), progress, ranks)?;
+    if ranks.is_root() {
+        store(&simulated.dataset, cache_dir, &path)?;
+    }
     Ok((simulated.dataset, false))
 }
 
@@ -475,9 +583,14 @@ pub struct Generated {
 
 /// Simulates (or reads from the cache) the dataset of `config` and writes its files; `progress`
 /// sees one stage with one step per simulated trial. Runs on the current rayon pool.
+///
+/// On several `ranks` the trials are split over them ([`simulate_set_on`]); each rank writes
+/// its own trials' pixel-event files and rank 0 writes the datasets (and the cache), which are
+/// byte-identical to a one-process run's. Collective.
 pub fn generate(
     config: &GenerateConfig,
     progress: &dyn Progress,
+    ranks: &dyn Ranks,
 ) -> Result<Generated, DatasetsError> {
     let GenerateConfig {
         set,
@@ -501,7 +614,7 @@ pub fn generate(
     progress.stage(set.name(), (trials * set.textures().len()) as u64);
     let advance = || progress.advance(1);
     let (dataset, from_cache) = match &config.pixel_events {
-        None => load_or_simulate_cached(set, trials, seed, params, cache, &advance)?,
+        None => load_or_simulate_cached(set, trials, seed, params, cache, &advance, ranks)?,
         Some(files) => {
             let names = set.class_names();
             let dir = out.join("events");
@@ -523,18 +636,25 @@ pub fn generate(
                     }
                 }
             };
-            let simulated = simulate_set(set, trials, seed, params, &each, &advance)?;
+            let simulated = simulate_set_on(set, trials, seed, params, &each, &advance, ranks)?;
             // Cache it too, so experiments find it.
-            store(&simulated.dataset, cache, &cache_file)?;
+            if ranks.is_root() {
+                store(&simulated.dataset, cache, &cache_file)?;
+            }
             (simulated.dataset, false)
         }
     };
     progress.finish();
     let binary = out.join(format!("{}.bin", set.name()));
-    dataset.save_binary(&binary)?;
+    let root = ranks.is_root();
+    if root {
+        dataset.save_binary(&binary)?;
+    }
     let json = if config.json {
         let path = out.join(format!("{}.json", set.name()));
-        dataset.save_json(&path)?;
+        if root {
+            dataset.save_json(&path)?;
+        }
         Some(path)
     } else {
         None
