@@ -39,3 +39,37 @@ pub fn small_reproduce(out: &Path, cache: &Path, extra: &[&str]) -> (bool, Strin
     args.extend_from_slice(extra);
     neurotac(&args)
 }
+
+/// `mpirun` when it is on the PATH (Open MPI), else `None` with the reason printed.
+pub fn mpirun() -> Option<std::path::PathBuf> {
+    let found = std::env::var_os("PATH").and_then(|paths| {
+        std::env::split_paths(&paths)
+            .map(|dir| dir.join("mpirun"))
+            .find(|p| p.is_file())
+    });
+    if found.is_none() {
+        eprintln!("skipped: mpirun is not installed (Debian: apt-get install openmpi-bin libopenmpi-dev)");
+    }
+    found
+}
+
+/// The `mpirun -n RANKS --oversubscribe neurotac ARGS` command (allowed as root, as in CI).
+pub fn mpirun_command(mpirun: &Path, ranks: usize, args: &[&str]) -> Command {
+    let mut c = Command::new(mpirun);
+    c.env("OMPI_ALLOW_RUN_AS_ROOT", "1")
+        .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
+        .args(["-n", &ranks.to_string(), "--oversubscribe"])
+        .arg(env!("CARGO_BIN_EXE_neurotac"))
+        .args(args);
+    c
+}
+
+/// `(success, stdout, stderr)` of `mpirun -n RANKS neurotac ARGS`.
+pub fn neurotac_on_ranks(mpirun: &Path, ranks: usize, args: &[&str]) -> (bool, String, String) {
+    let out = mpirun_command(mpirun, ranks, args).output().unwrap();
+    (
+        out.status.success(),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}

@@ -1,0 +1,172 @@
+//! The distributed commands under `mpirun -n 1|2|3` (issue 18): byte-identical outputs to one
+//! process, bad input and faults. Built only with the `mpi` feature
+//! (`cargo test --release -p neurotac-experiments --features mpi --test mpi`); skipped with a
+//! reason when `mpirun` is not installed.
+#![cfg(feature = "mpi")]
+
+mod common;
+
+use common::{mpirun, mpirun_command, neurotac, neurotac_on_ranks};
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+/// `simulate --set artificial` arguments writing to `out` with its own cache.
+fn simulate_args(out: &Path, trials: usize, extra: &[&str]) -> Vec<String> {
+    let mut args: Vec<String> = [
+        "simulate",
+        "--set",
+        "artificial",
+        "--trials",
+        &trials.to_string(),
+        "--seed",
+        "7",
+        "--threads",
+        "1",
+        "--json",
+        "--out",
+        out.to_str().unwrap(),
+        "--cache",
+        out.with_extension("cache").to_str().unwrap(),
+    ]
+    .map(String::from)
+    .to_vec();
+    args.extend(extra.iter().map(|s| s.to_string()));
+    args
+}
+
+fn strs(args: &[String]) -> Vec<&str> {
+    args.iter().map(String::as_str).collect()
+}
+
+#[test]
+fn simulate_on_1_2_and_3_ranks_writes_the_one_process_dataset_byte_for_byte() {
+    let Some(mpirun) = mpirun() else { return };
+    let dir = tempfile::tempdir().unwrap();
+    let one = dir.path().join("one");
+    let (ok, _, stderr) = neurotac(&strs(&simulate_args(&one, 2, &["--pixel-events"])));
+    assert!(ok, "{stderr}");
+    for ranks in [1, 2, 3] {
+        let out = dir.path().join(format!("ranks{ranks}"));
+        let args = simulate_args(&out, 2, &["--pixel-events"]);
+        let (ok, stdout, stderr) = neurotac_on_ranks(&mpirun, ranks, &strs(&args));
+        assert!(ok, "{ranks} ranks: {stderr}");
+        // Rank 0 alone reports.
+        assert_eq!(stdout.matches("artificial set:").count(), 1, "{stdout}");
+        for file in ["artificial.bin", "artificial.json"] {
+            let (a, b) = (read(&one.join(file)), read(&out.join(file)));
+            assert!(a == b, "{file} differs on {ranks} ranks");
+        }
+        // Every rank wrote its own trials' pixel events: all of them are there, identical.
+        let events = |root: &Path| {
+            let mut files: Vec<PathBuf> = walk(&root.join("events"));
+            files.sort();
+            files
+                .into_iter()
+                .map(|f| (f.strip_prefix(root).unwrap().to_owned(), read(&f)))
+                .collect::<Vec<_>>()
+        };
+        let (a, b) = (events(&one), events(&out));
+        assert_eq!(a.len(), 22);
+        assert!(a == b, "pixel events differ on {ranks} ranks");
+    }
+}
+
+#[test]
+fn bad_input_on_several_ranks_is_one_line_from_rank_0() {
+    let Some(mpirun) = mpirun() else { return };
+    let dir = tempfile::tempdir().unwrap();
+    let missing = dir.path().join("missing.bin");
+    let out = dir.path().join("d.json");
+    let (ok, _, stderr) = neurotac_on_ranks(
+        &mpirun,
+        2,
+        &[
+            "distances",
+            "--input",
+            missing.to_str().unwrap(),
+            "--metric",
+            "van-rossum",
+            "--tau",
+            "0.01",
+            "--cos",
+            "0.5",
+            "--output",
+            out.to_str().unwrap(),
+        ],
+    );
+    assert!(!ok);
+    let ours: Vec<&str> = stderr.lines().filter(|l| l.contains("error")).collect();
+    assert!(ours[0].starts_with("error: ") && ours[0].contains("missing.bin"), "{stderr}");
+    assert!(!stderr.contains("rank 1 of 2"), "{stderr}");
+    assert!(!out.exists());
+    // A command that does not distribute says so.
+    let (ok, _, stderr) = neurotac_on_ranks(&mpirun, 2, &["demo"]);
+    assert!(!ok);
+    assert!(stderr.contains("`neurotac demo` runs on one process"), "{stderr}");
+}
+
+#[test]
+fn a_rank_killed_mid_run_leaves_no_dataset_behind() {
+    let Some(mpirun) = mpirun() else { return };
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("killed");
+    let marker = dir.path().to_str().unwrap().to_owned();
+    let mut child = mpirun_command(&mpirun, 2, &strs(&simulate_args(&out, 40, &[])))
+        .env("NEUROTAC_TEST_MARKER", &marker)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    // Find rank 1 by its environment and kill it once it runs.
+    let start = Instant::now();
+    let victim = loop {
+        if let Some(pid) = find_rank(&marker, 1) {
+            break pid;
+        }
+        assert!(start.elapsed() < Duration::from_secs(30), "rank 1 never started");
+        std::thread::sleep(Duration::from_millis(50));
+    };
+    std::thread::sleep(Duration::from_millis(700));
+    let killed = std::process::Command::new("kill")
+        .args(["-9", &victim.to_string()])
+        .status()
+        .unwrap();
+    assert!(killed.success());
+    let status = child.wait().unwrap();
+    assert!(!status.success(), "mpirun reported success after a rank was killed");
+    assert!(!out.join("artificial.bin").exists());
+    assert!(!out.join("artificial.json").exists());
+}
+
+/// The pid of the process with `NEUROTAC_TEST_MARKER=marker` and `OMPI_COMM_WORLD_RANK=rank`.
+fn find_rank(marker: &str, rank: usize) -> Option<u32> {
+    let want = [
+        format!("NEUROTAC_TEST_MARKER={marker}"),
+        format!("OMPI_COMM_WORLD_RANK={rank}"),
+    ];
+    std::fs::read_dir("/proc").ok()?.flatten().find_map(|e| {
+        let pid: u32 = e.file_name().to_str()?.parse().ok()?;
+        let env = std::fs::read(e.path().join("environ")).ok()?;
+        let vars: Vec<&[u8]> = env.split(|&b| b == 0).collect();
+        let comm = std::fs::read_to_string(e.path().join("comm")).ok()?;
+        (comm.trim() == "neurotac" && want.iter().all(|w| vars.contains(&w.as_bytes())))
+            .then_some(pid)
+    })
+}
+
+fn read(path: &Path) -> Vec<u8> {
+    std::fs::read(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+}
+
+fn walk(dir: &Path) -> Vec<PathBuf> {
+    let mut files = Vec::new();
+    for e in std::fs::read_dir(dir).unwrap().flatten() {
+        let p = e.path();
+        if p.is_dir() {
+            files.extend(walk(&p));
+        } else {
+            files.push(p);
+        }
+    }
+    files
+}
