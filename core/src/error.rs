@@ -225,6 +225,69 @@ pub enum GraphError {
     /// Two nodes with the same name.
     #[error("duplicate node name '{0}'")]
     DuplicateName(String),
+    /// A rank outside its group, or a group of no rank
+    /// ([`NetworkBuilder::build_partitioned`](crate::NetworkBuilder::build_partitioned)).
+    #[error("rank {rank} of {size} ranks: expected at least one rank and rank < size")]
+    InvalidPartition {
+        /// The rank given.
+        rank: usize,
+        /// The number of ranks given.
+        size: usize,
+    },
+    /// A population whose model cannot be split over ranks
+    /// ([`NeuronModel::restrict`](crate::NeuronModel::restrict) returned `None`).
+    #[error(
+        "population '{population}' cannot be partitioned over ranks: its model ({model}) does not restrict to a block of neurons"
+    )]
+    ModelNotPartitionable {
+        /// Population name.
+        population: String,
+        /// Model name.
+        model: &'static str,
+    },
+    /// A readout that needs what only one rank holds (a population's state, a projection's
+    /// synaptic currents) in a network partitioned over several ranks.
+    #[error("the readout of {node} cannot run partitioned over {ranks} ranks: {reason}")]
+    ReadoutNotPartitionable {
+        /// The readout's source (a node or a projection).
+        node: String,
+        /// The number of ranks.
+        ranks: usize,
+        /// Why.
+        reason: &'static str,
+    },
+    /// A network run on a group of ranks other than the one it was built for (a partitioned
+    /// network run with [`Network::run`](crate::Network::run) counts as rank 0 of 1).
+    #[error(
+        "network built for rank {built_rank} of {built_size} ranks, run as rank {rank} of {size}"
+    )]
+    RanksMismatch {
+        /// The rank the network was built for.
+        built_rank: usize,
+        /// The number of ranks it was built for.
+        built_size: usize,
+        /// The rank of the group it was run on.
+        rank: usize,
+        /// The size of that group.
+        size: usize,
+    },
+    /// The spike exchange between ranks failed (communication error or a malformed message).
+    #[error("spike exchange of the steps before step {step} failed: {reason}")]
+    Exchange {
+        /// The first step after the exchanged epoch.
+        step: u64,
+        /// What went wrong.
+        reason: String,
+    },
+    /// Another rank's population diverged (that rank's own error names the population); every
+    /// rank stops at the same exchange.
+    #[error("rank {rank} reported a numerical divergence before step {step}")]
+    PeerDiverged {
+        /// The first rank that reported one.
+        rank: usize,
+        /// The first step after the exchanged epoch.
+        step: u64,
+    },
 }
 
 /// A neuron model that rejects its parameters, integrator or time step.
@@ -353,7 +416,7 @@ pub enum CodingError {
 }
 
 /// A distance that cannot be computed as asked.
-#[derive(Debug, Clone, PartialEq, Error)]
+#[derive(Debug, Error)]
 pub enum DistanceError {
     /// A parameter outside its domain (τ ≤ 0 or not finite, cos θ outside [0, 1], dt ≤ 0 …).
     #[error("{what} = {value}: {expected}")]
@@ -422,6 +485,10 @@ pub enum DistanceError {
         /// Given shape.
         got: (usize, usize),
     },
+    /// The ranks sharing a matrix could not exchange their rows (the `…_on` functions of
+    /// [`distance`](crate::distance)).
+    #[error("exchanging distance-matrix rows between ranks")]
+    Ranks(#[from] crate::ranks::RanksError),
 }
 
 /// A KNN classification or protocol that cannot run as asked.

@@ -13,6 +13,7 @@
 //! inside the step. Spike sources (inputs) give the spike's own time within the step.
 
 use crate::error::ModelError;
+use std::ops::Range;
 
 /// The spikes of one node in one time step: neuron indices and in-step fractions.
 ///
@@ -72,6 +73,12 @@ impl SpikeBuffer {
     #[inline]
     pub fn fractions(&self) -> &[f64] {
         &self.fractions
+    }
+
+    /// Adds `by` to every index: a rank's block-local indices become global ones.
+    #[inline]
+    pub(crate) fn shift_indices(&mut self, by: u32) {
+        self.indices.iter_mut().for_each(|i| *i += by);
     }
 }
 
@@ -149,4 +156,20 @@ pub trait NeuronModel: Send {
     /// (the network calls it at the end of each run, so state reads after a run are current).
     /// Default: nothing to do.
     fn settle(&mut self) {}
+
+    /// This population cut down to its neurons `range` (indices of this population), for a
+    /// network partitioned over ranks
+    /// ([`NetworkBuilder::build_partitioned`](crate::NetworkBuilder::build_partitioned)):
+    /// neuron `range.start + i` here is neuron `i` of the result, with exactly the parameters
+    /// and initial state it has in the whole population (seeded initial values included), so
+    /// that every rank steps its block as one process steps the whole. Called on the unprepared
+    /// model, before `prepare`. Spikes must be pushed in ascending neuron order (as LIF and
+    /// Izhikevich do) for the gathered spikes to be in one process's order. `None` when the
+    /// range does not lie inside the population, or (the default) when the model cannot be
+    /// split: building it over more than one rank is then a
+    /// [`GraphError::ModelNotPartitionable`](crate::GraphError::ModelNotPartitionable).
+    fn restrict(&self, range: Range<usize>) -> Option<Box<dyn NeuronModel>> {
+        let _ = range;
+        None
+    }
 }

@@ -8,9 +8,10 @@
 use crate::afferents::{AfferentConfig, AfferentModel, afferent_population};
 use crate::neuron_setup::{NeuronKind, NeuronSetup, Precision};
 use crate::threads::{ThreadPoolError, with_threads};
+use neurotac_core::ranks::all_gather_f64;
 use neurotac_core::{
     Connectivity, ExpSynapse, GraphError, ModelError, MultiSpikeTrain, Network, NetworkBuilder,
-    NetworkConfig, ReadoutId, SpikeArrayInput, SpikeRecorder,
+    NetworkConfig, OneProcess, Ranks, RanksError, ReadoutId, SpikeArrayInput, SpikeRecorder,
 };
 use neurotac_neurons::{InitialPotential, Integrator, Lif, LifParams};
 use rand::{RngExt, SeedableRng};
@@ -39,6 +40,9 @@ pub enum BenchError {
     /// The thread pool could not be created.
     #[error(transparent)]
     Threads(#[from] ThreadPoolError),
+    /// A collective operation between ranks failed.
+    #[error(transparent)]
+    Ranks(#[from] RanksError),
 }
 
 /// What a neuron-throughput run measured.
@@ -195,12 +199,30 @@ pub fn afferent_network(
     dt_s: f64,
     event_driven: bool,
 ) -> Result<(Network, ReadoutId<SpikeRecorder>), GraphError> {
+    afferent_network_on(taxels, config, dt_s, event_driven, 0, 1)
+}
+
+/// [`afferent_network`] for rank `rank` of `size` ranks
+/// ([`NetworkBuilder::build_partitioned`]: the taxels replicated, the afferents split into
+/// blocks); run it with [`Network::run_on`] on that group. Every rank's recorder ends with
+/// every afferent's spikes.
+pub fn afferent_network_on(
+    taxels: &MultiSpikeTrain,
+    config: AfferentConfig,
+    dt_s: f64,
+    event_driven: bool,
+    rank: usize,
+    size: usize,
+) -> Result<(Network, ReadoutId<SpikeRecorder>), GraphError> {
     let mut b = NetworkBuilder::new();
     b.event_driven(event_driven);
     let input = b.add_spike_input("taxels", SpikeArrayInput::new(taxels.clone()))?;
     let afferents = afferent_population(&mut b, input, taxels.n_channels(), config)?;
     let spikes = b.record_spikes(afferents)?;
-    Ok((b.build(NetworkConfig { dt_s })?, spikes))
+    Ok((
+        b.build_partitioned(NetworkConfig { dt_s }, rank, size)?,
+        spikes,
+    ))
 }
 
 /// The afferent pipeline (`n` taxels → exponential synapses → `n` afferents of `config`, f64)
@@ -324,13 +346,13 @@ impl Default for CubaConfig {
 pub struct CubaResult {
     /// Neurons.
     pub neurons: usize,
-    /// Synapses.
+    /// Synapses (of the whole network, summed over the ranks).
     pub synapses: usize,
     /// Simulated time (s).
     pub duration_s: f64,
-    /// Wall time to build the network, connectivity included (s).
+    /// Wall time to build the network, connectivity included (s; this rank's).
     pub build_s: f64,
-    /// Wall time of the run (s).
+    /// Wall time of the run (s; this rank's, exchanges included).
     pub run_s: f64,
     /// Run wall time per simulated second.
     pub wall_s: f64,
@@ -338,11 +360,30 @@ pub struct CubaResult {
     pub spikes: usize,
     /// Mean firing rate (Hz).
     pub rate_hz: f64,
+    /// Ranks the network was partitioned over (1 in one process).
+    pub ranks: usize,
+    /// Wall time of this rank's spike exchanges during the run (s; part of `run_s`, 0 in one
+    /// process; see [`Network::exchange_s`]).
+    pub exchange_s: f64,
+    /// Spike exchanges done (one per epoch; the CUBA epoch is its one-step delay).
+    pub exchanges: u64,
 }
 
-/// Builds and runs the CUBA network.
-pub fn cuba(config: CubaConfig) -> Result<CubaResult, BenchError> {
-    let start = Instant::now();
+/// Every spike of a CUBA run as `(neuron, time_s)`, in recording order (the same on every rank,
+/// and the same as in one process).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct CubaSpikes {
+    /// Spikes of the excitatory population.
+    pub excitatory: Vec<(u32, f64)>,
+    /// Spikes of the inhibitory population.
+    pub inhibitory: Vec<(u32, f64)>,
+}
+
+/// The CUBA network of `config`, described but not built: the builder and the spike recorders
+/// of its excitatory and inhibitory populations.
+pub fn cuba_builder(
+    config: &CubaConfig,
+) -> Result<(NetworkBuilder, [ReadoutId<SpikeRecorder>; 2]), GraphError> {
     let params = LifParams {
         tau_m_s: 0.02,
         v_rest: -49.0,
@@ -388,23 +429,81 @@ pub fn cuba(config: CubaConfig) -> Result<CubaResult, BenchError> {
             syn,
         )?;
     }
-    let (re, ri) = (b.record_spikes(exc)?, b.record_spikes(inh)?);
-    let mut net = b.build(NetworkConfig { dt_s: config.dt_s })?;
+    let recorders = [b.record_spikes(exc)?, b.record_spikes(inh)?];
+    Ok((b, recorders))
+}
+
+/// Builds and runs the CUBA network in one process.
+pub fn cuba(config: CubaConfig) -> Result<CubaResult, BenchError> {
+    cuba_on(config, &OneProcess)
+}
+
+/// Builds and runs the CUBA network partitioned over `ranks` (each rank builds and steps its
+/// block of each population; see [`NetworkBuilder::build_partitioned`]). Every rank of the
+/// group must call it; each returns the same spikes and synapse count, and its own timings.
+pub fn cuba_on(config: CubaConfig, ranks: &dyn Ranks) -> Result<CubaResult, BenchError> {
+    run_cuba(config, ranks).map(|(result, _, _)| result)
+}
+
+impl CubaSpikes {
+    /// FNV-1a 64 of every spike (excitatory, then inhibitory; neuron index and the time's
+    /// bits, little-endian): equal checksums mean identical spikes, to compare runs on
+    /// different rank counts.
+    pub fn checksum(&self) -> u64 {
+        let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+        for &(i, t) in self.excitatory.iter().chain(&self.inhibitory) {
+            for b in i.to_le_bytes().into_iter().chain(t.to_bits().to_le_bytes()) {
+                h = (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3);
+            }
+        }
+        h
+    }
+}
+
+/// [`cuba_on`], with every spike of the run.
+pub fn cuba_spikes_on(
+    config: CubaConfig,
+    ranks: &dyn Ranks,
+) -> Result<(CubaResult, CubaSpikes), BenchError> {
+    let (result, net, [re, ri]) = run_cuba(config, ranks)?;
+    let spikes = CubaSpikes {
+        excitatory: net.readout(re).spikes().to_vec(),
+        inhibitory: net.readout(ri).spikes().to_vec(),
+    };
+    Ok((result, spikes))
+}
+
+fn run_cuba(
+    config: CubaConfig,
+    ranks: &dyn Ranks,
+) -> Result<(CubaResult, Network, [ReadoutId<SpikeRecorder>; 2]), BenchError> {
+    let start = Instant::now();
+    let (b, [re, ri]) = cuba_builder(&config)?;
+    let config_net = NetworkConfig { dt_s: config.dt_s };
+    let mut net = b.build_partitioned(config_net, ranks.rank(), ranks.size())?;
     let build_s = start.elapsed().as_secs_f64();
     let start = Instant::now();
-    let summary = net.run(config.duration_s)?;
+    let summary = net.run_on(config.duration_s, ranks)?;
     let run_s = start.elapsed().as_secs_f64();
     let spikes = net.readout(re).spikes().len() + net.readout(ri).spikes().len();
     let neurons = config.n_exc + config.n_inh;
     let simulated = summary.steps as f64 * config.dt_s;
-    Ok(CubaResult {
+    // Each rank holds the synapses onto its own neurons.
+    let synapses = all_gather_f64(ranks, &[net.n_synapses() as f64])?
+        .iter()
+        .sum::<f64>() as usize;
+    let result = CubaResult {
         neurons,
-        synapses: net.n_synapses(),
+        synapses,
         duration_s: simulated,
         build_s,
         run_s,
         wall_s: run_s / simulated,
         spikes,
         rate_hz: spikes as f64 / neurons as f64 / simulated,
-    })
+        ranks: ranks.size(),
+        exchange_s: net.exchange_s(),
+        exchanges: net.exchanges(),
+    };
+    Ok((result, net, [re, ri]))
 }

@@ -1,6 +1,7 @@
 //! The paper's four codings by name ([`CodingName`]), the distance matrix of a coding
-//! ([`coding_distances`]) and the sample duration the temporal coding windows
-//! ([`sample_duration_ms`]). The CLI's `--coding` is [`CodingName`] itself.
+//! ([`coding_distances`], or [`coding_distances_on`] split over ranks) and the sample duration
+//! the temporal coding windows ([`sample_duration_ms`]). The CLI's `--coding` is
+//! [`CodingName`] itself.
 //!
 //! | coding | features / distance | parameters |
 //! |---|---|---|
@@ -14,8 +15,8 @@ use ndarray::Array2;
 use neurotac_core::coding::{
     IntensiveCoding, SpatialCoding, TemporalCoding, duration_ms_of, feature_matrix, whole_ms,
 };
-use neurotac_core::distance::{VanRossum, check_cos, euclidean_distance_matrix};
-use neurotac_core::{MultiSpikeTrain, SpikeDataset};
+use neurotac_core::distance::{VanRossum, check_cos, euclidean_distance_matrix_on};
+use neurotac_core::{MultiSpikeTrain, OneProcess, Ranks, SpikeDataset};
 use serde::Serialize;
 
 /// The paper's four codings, in its order.
@@ -89,6 +90,20 @@ pub fn coding_distances(
     coding: CodingName,
     parameters: &CodingParameters,
 ) -> Result<Array2<f64>, ExperimentError> {
+    coding_distances_on(observations, coding, parameters, &OneProcess)
+}
+
+/// [`coding_distances`] split over `ranks`: every rank computes the features (cheap), the
+/// rows of the matrix are split over the ranks ([`euclidean_distance_matrix_on`],
+/// [`PreparedVanRossum::matrices_on`](neurotac_core::distance::PreparedVanRossum::matrices_on))
+/// and every rank returns the whole matrix, bit for bit the one-process one. Collective: every
+/// rank must call it.
+pub fn coding_distances_on(
+    observations: &[MultiSpikeTrain],
+    coding: CodingName,
+    parameters: &CodingParameters,
+    ranks: &dyn Ranks,
+) -> Result<Array2<f64>, ExperimentError> {
     let features = match coding {
         CodingName::Intensive => feature_matrix(&IntensiveCoding::new(), observations)?,
         CodingName::Spatial => feature_matrix(&SpatialCoding::new(), observations)?,
@@ -113,11 +128,11 @@ pub fn coding_distances(
                 .ok_or_else(|| missing(coding, "cos θ in [0, 1] (--cos C)"))?;
             check_cos(cos)?;
             return Ok(VanRossum::new(tau_s)?
-                .matrices(observations)?
+                .matrices_on(observations, ranks)?
                 .distances(cos)?);
         }
     };
-    Ok(euclidean_distance_matrix(features.view())?)
+    Ok(euclidean_distance_matrix_on(features.view(), ranks)?)
 }
 
 /// The sample duration in whole ms that the temporal coding windows: `given_s` if given, else

@@ -1,6 +1,6 @@
 //! The error type of `neurotac-experiments`.
 
-use neurotac_core::{CodingError, DatasetError, DistanceError, GraphError, KnnError};
+use neurotac_core::{CodingError, DatasetError, DistanceError, GraphError, KnnError, RanksError};
 use neurotac_sensor::{DeviceError, FormatError, TransductionError};
 use thiserror::Error;
 
@@ -22,6 +22,9 @@ pub enum ExperimentError {
     /// See [`KnnError`].
     #[error(transparent)]
     Knn(#[from] KnnError),
+    /// See [`RanksError`] (the ranks sharing a computation could not exchange their parts).
+    #[error(transparent)]
+    Ranks(#[from] RanksError),
     /// A stratified split would leave a class out of the training or the test set.
     #[error(
         "class {class} has {samples} sample(s): the {percent}/{rest} split needs every class in both the training and the test set (use leave-one-out, which is defined for any class size)",

@@ -42,6 +42,7 @@ pub mod bench;
 pub mod coding;
 pub mod datasets;
 pub mod error;
+pub mod export;
 pub mod neuron_setup;
 pub mod online;
 pub mod peers;

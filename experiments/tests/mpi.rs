@@ -96,13 +96,19 @@ fn bad_input_on_several_ranks_is_one_line_from_rank_0() {
     );
     assert!(!ok);
     let ours: Vec<&str> = stderr.lines().filter(|l| l.contains("error")).collect();
-    assert!(ours[0].starts_with("error: ") && ours[0].contains("missing.bin"), "{stderr}");
+    assert!(
+        ours[0].starts_with("error: ") && ours[0].contains("missing.bin"),
+        "{stderr}"
+    );
     assert!(!stderr.contains("rank 1 of 2"), "{stderr}");
     assert!(!out.exists());
     // A command that does not distribute says so.
     let (ok, _, stderr) = neurotac_on_ranks(&mpirun, 2, &["demo"]);
     assert!(!ok);
-    assert!(stderr.contains("`neurotac demo` runs on one process"), "{stderr}");
+    assert!(
+        stderr.contains("`neurotac demo` runs on one process"),
+        "{stderr}"
+    );
 }
 
 #[test]
@@ -123,7 +129,10 @@ fn a_rank_killed_mid_run_leaves_no_dataset_behind() {
         if let Some(pid) = find_rank(&marker, 1) {
             break pid;
         }
-        assert!(start.elapsed() < Duration::from_secs(30), "rank 1 never started");
+        assert!(
+            start.elapsed() < Duration::from_secs(30),
+            "rank 1 never started"
+        );
         std::thread::sleep(Duration::from_millis(50));
     };
     std::thread::sleep(Duration::from_millis(700));
@@ -133,7 +142,10 @@ fn a_rank_killed_mid_run_leaves_no_dataset_behind() {
         .unwrap();
     assert!(killed.success());
     let status = child.wait().unwrap();
-    assert!(!status.success(), "mpirun reported success after a rank was killed");
+    assert!(
+        !status.success(),
+        "mpirun reported success after a rank was killed"
+    );
     assert!(!out.join("artificial.bin").exists());
     assert!(!out.join("artificial.json").exists());
 }

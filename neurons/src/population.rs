@@ -17,6 +17,7 @@ use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
 use std::fmt;
+use std::ops::Range;
 
 /// Neurons per block.
 pub const BLOCK: usize = 4096;
@@ -43,22 +44,39 @@ pub enum InitialPotential {
 }
 
 impl InitialPotential {
-    /// The values for `n` neurons, validated (finite; a list must have `n` entries).
-    pub(crate) fn values(&self, model: &'static str, n: usize) -> Result<Vec<f64>, ModelError> {
+    /// The values of neurons `block` of a population of `n`, validated as for all `n` (finite;
+    /// a list must have `n` entries); computed for the block only, each neuron's value as in
+    /// the whole population (a uniform draw seeks to the block's place in the seeded stream).
+    pub(crate) fn values(
+        &self,
+        model: &'static str,
+        n: usize,
+        block: Range<usize>,
+    ) -> Result<Vec<f64>, ModelError> {
         let bad = |field, value, expected| ModelError::InvalidParameter {
             model,
             field,
             value,
             expected,
         };
+        if block.start > block.end || block.end > n {
+            return Err(bad(
+                "neuron block (end)",
+                block.end as f64,
+                "a block of the population's neurons",
+            ));
+        }
         let v = match self {
-            InitialPotential::Constant(v) => vec![*v; n],
+            InitialPotential::Constant(v) => vec![*v; block.len()],
             InitialPotential::Uniform { low, high, seed } => {
                 if !(low.is_finite() && high.is_finite() && low <= high) {
                     return Err(bad("initial potential range", *low, "finite low ≤ high"));
                 }
                 let mut rng = ChaCha8Rng::seed_from_u64(*seed);
-                (0..n)
+                // Each draw is one 64-bit output, two 32-bit words of the stream.
+                rng.set_word_pos(2 * block.start as u128);
+                block
+                    .clone()
                     .map(|_| low + (high - low) * rng.random::<f64>())
                     .collect()
             }
@@ -70,7 +88,11 @@ impl InitialPotential {
                         "one value per neuron",
                     ));
                 }
-                v.clone()
+                // Every value is checked, not only the block's: each rank refuses the same list.
+                if let Some(&x) = v.iter().find(|x| !x.is_finite()) {
+                    return Err(bad("initial potential", x, "finite"));
+                }
+                v[block].to_vec()
             }
         };
         match v.iter().find(|x| !x.is_finite()) {
@@ -440,6 +462,11 @@ impl<S> ActiveNeurons<'_, S> {
 /// Use it through the model aliases, [`Lif`](crate::Lif) and [`Izhikevich`](crate::Izhikevich).
 pub struct BlockPopulation<M: BlockModel> {
     n: usize,
+    /// The whole population this one is a block of ([`NeuronModel::restrict`]), and the index
+    /// there of this one's first neuron (`n` and 0 when it is whole): initial values are those
+    /// of the whole population's neurons `first..first + n`.
+    whole: usize,
+    first: usize,
     params: M::Params,
     integrator: Integrator,
     interpolate: bool,
@@ -464,6 +491,8 @@ impl<M: BlockModel> Clone for BlockPopulation<M> {
     fn clone(&self) -> Self {
         Self {
             n: self.n,
+            whole: self.whole,
+            first: self.first,
             params: self.params,
             integrator: self.integrator,
             interpolate: self.interpolate,
@@ -500,6 +529,8 @@ impl<M: BlockModel> BlockPopulation<M> {
     pub fn new(n: usize, params: M::Params) -> Self {
         Self {
             n,
+            whole: n,
+            first: 0,
             params,
             integrator: M::DEFAULT_INTEGRATOR,
             interpolate: false,
@@ -617,7 +648,8 @@ impl<M: BlockModel> NeuronModel for BlockPopulation<M> {
             });
         }
         self.k = M::constants(&self.params, dt_s);
-        let v0 = self.initial.values(M::NAME, self.n)?;
+        let block = self.first..self.first + self.n;
+        let v0 = self.initial.values(M::NAME, self.whole, block)?;
         self.blocks = (0..n_blocks(self.n))
             .map(|b| {
                 let v0 = &v0[b * BLOCK..b * BLOCK + block_len(self.n, b)];
@@ -692,6 +724,22 @@ impl<M: BlockModel> NeuronModel for BlockPopulation<M> {
                 *to = now;
             }
         }
+    }
+
+    /// The neurons `range` as a population of their own, with the parameters, integrator,
+    /// interpolation and initial potentials they have here (a seeded uniform draw gives each
+    /// neuron the value it gets in the whole population), unprepared.
+    fn restrict(&self, range: Range<usize>) -> Option<Box<dyn NeuronModel>> {
+        if range.start > range.end || range.end > self.n {
+            return None;
+        }
+        let mut part = Self::new(range.len(), self.params)
+            .with_integrator(self.integrator)
+            .with_interpolation(self.interpolate)
+            .with_initial_potential(self.initial.clone());
+        part.whole = self.whole;
+        part.first = self.first + range.start;
+        Some(Box::new(part))
     }
 
     fn check_divergence(&self) -> Result<(), ModelError> {
@@ -840,4 +888,94 @@ pub fn check_param(
         });
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{Izhikevich, IzhikevichParams, Lif, LifParams};
+
+    /// Steps `whole` and its blocks `cuts` (each restricted from `whole` before `prepare`)
+    /// under the same random inputs in `[0, drive)`; the blocks' spikes (shifted to global indices) and states must
+    /// be the whole population's.
+    fn blocks_step_as_the_whole(whole: &dyn NeuronModel, cuts: &[usize], drive: f64) {
+        let n = whole.len();
+        let mut full = whole.restrict(0..n).expect("LIF and Izhikevich restrict");
+        let mut parts: Vec<_> = cuts
+            .windows(2)
+            .map(|w| {
+                (
+                    w[0],
+                    whole
+                        .restrict(w[0]..w[1])
+                        .expect("a block of the population"),
+                )
+            })
+            .collect();
+        full.prepare(1e-4).unwrap();
+        parts.iter_mut().for_each(|(_, p)| p.prepare(1e-4).unwrap());
+        let mut rng = ChaCha8Rng::seed_from_u64(5);
+        let (mut spikes, mut part_spikes) = (SpikeBuffer::new(), SpikeBuffer::new());
+        let states = |full: &dyn NeuronModel, parts: &[(usize, Box<dyn NeuronModel>)]| {
+            let mut a = Vec::new();
+            full.read_variable(0, &(0..n as u32).collect::<Vec<_>>(), &mut a);
+            let mut b = Vec::new();
+            for (_, p) in parts {
+                p.read_variable(0, &(0..p.len() as u32).collect::<Vec<_>>(), &mut b);
+            }
+            let first = a.iter().zip(&b).position(|(x, y)| x != y);
+            assert!(
+                a.len() == b.len() && first.is_none(),
+                "states differ at {first:?}"
+            );
+        };
+        states(full.as_ref(), &parts);
+        let mut total = 0;
+        for _ in 0..1000 {
+            let input: Vec<f64> = (0..n).map(|_| drive * rng.random::<f64>()).collect();
+            spikes.clear();
+            full.step(&input, &mut spikes);
+            let mut gathered = Vec::new();
+            for (first, p) in &mut parts {
+                part_spikes.clear();
+                p.step(&input[*first..*first + p.len()], &mut part_spikes);
+                gathered.extend(part_spikes.indices().iter().map(|&i| i + *first as u32));
+            }
+            assert_eq!(spikes.indices(), gathered.as_slice());
+            total += gathered.len();
+        }
+        assert!(total >= n, "{total} spikes: the test must exercise spiking");
+        states(full.as_ref(), &parts);
+    }
+
+    #[test]
+    fn restricted_populations_step_as_their_block_of_the_whole() {
+        let params = LifParams {
+            v_th: 10.0,
+            t_ref_s: 2e-3,
+            ..LifParams::default()
+        };
+        let lif = Lif::<f64>::new(9000, params).with_initial_potential(InitialPotential::Uniform {
+            low: 0.0,
+            high: 10.0,
+            seed: 3,
+        });
+        // Blocks that cut through the 4096-neuron state blocks, an empty one, a restriction of
+        // a restriction.
+        blocks_step_as_the_whole(&lif, &[0, 1, 4000, 4000, 6001, 9000], 30.0);
+        let tail = lif.restrict(3000..9000).unwrap();
+        let mut direct = lif.restrict(5000..9000).unwrap();
+        let mut nested = tail.restrict(2000..6000).unwrap();
+        direct.prepare(1e-4).unwrap();
+        nested.prepare(1e-4).unwrap();
+        let (mut a, mut b) = (Vec::new(), Vec::new());
+        direct.read_variable(0, &[0, 1, 3999], &mut a);
+        nested.read_variable(0, &[0, 1, 3999], &mut b);
+        assert_eq!(a, b);
+        let v0: Vec<f64> = (0..50).map(|i| -70.0 + 0.3 * i as f64).collect();
+        let rs = Izhikevich::<f32>::new(50, IzhikevichParams::rs())
+            .with_initial_potential(InitialPotential::Values(v0));
+        blocks_step_as_the_whole(&rs, &[0, 17, 18, 50], 100.0);
+        assert!(lif.restrict(10..9001).is_none());
+    }
 }

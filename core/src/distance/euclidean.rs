@@ -1,8 +1,9 @@
 //! Euclidean distances between feature rows (intensive, spatial and temporal codings):
 //! `d(x, y) = √(Σ_f (x_f − y_f)²)`.
 
-use super::{row_matrices, symmetric_matrices};
+use super::{row_matrices, symmetric_matrices_on};
 use crate::error::DistanceError;
+use crate::ranks::{OneProcess, Ranks};
 use ndarray::{Array2, ArrayView2};
 
 /// `Σ_f (x_f − y_f)²`, summed in eight fixed lanes then in lane order (vectorises; the order,
@@ -38,12 +39,31 @@ fn check_features(features: &ArrayView2<'_, f64>) -> Result<(), DistanceError> {
 pub fn squared_euclidean_matrix(
     features: ArrayView2<'_, f64>,
 ) -> Result<Array2<f64>, DistanceError> {
+    squared_euclidean_matrix_on(features, &OneProcess)
+}
+
+/// [`squared_euclidean_matrix`] split over `ranks`: each rank computes a block of
+/// upper-triangle rows balanced by pair count, then the blocks are all-gathered, so every rank
+/// returns the one-process matrix, bit for bit. Collective: every rank must call it.
+///
+/// ```
+/// use neurotac_core::distance::{squared_euclidean_matrix, squared_euclidean_matrix_on};
+/// use neurotac_core::ranks::ThreadRanks;
+/// let f = ndarray::array![[0.0, 0.0], [3.0, 4.0], [6.0, 8.0]];
+/// let on_two = ThreadRanks::run(2, |r| squared_euclidean_matrix_on(f.view(), r).unwrap());
+/// assert!(on_two.iter().all(|m| *m == squared_euclidean_matrix(f.view()).unwrap()));
+/// ```
+pub fn squared_euclidean_matrix_on(
+    features: ArrayView2<'_, f64>,
+    ranks: &dyn Ranks,
+) -> Result<Array2<f64>, DistanceError> {
     check_features(&features)?;
     let rows = features.as_standard_layout();
     let width = rows.ncols();
     let flat = rows.as_slice().expect("standard layout is contiguous");
     let row = |i: usize| &flat[i * width..(i + 1) * width];
-    let [d2] = symmetric_matrices(rows.nrows(), |i, j| [squared_euclidean(row(i), row(j))]);
+    let pair = |i: usize, j: usize| [squared_euclidean(row(i), row(j))];
+    let [d2] = symmetric_matrices_on(rows.nrows(), pair, ranks)?;
     Ok(d2)
 }
 
@@ -51,7 +71,16 @@ pub fn squared_euclidean_matrix(
 pub fn euclidean_distance_matrix(
     features: ArrayView2<'_, f64>,
 ) -> Result<Array2<f64>, DistanceError> {
-    Ok(squared_euclidean_matrix(features)?.mapv_into(f64::sqrt))
+    euclidean_distance_matrix_on(features, &OneProcess)
+}
+
+/// [`euclidean_distance_matrix`] split over `ranks` (as [`squared_euclidean_matrix_on`]).
+/// Collective.
+pub fn euclidean_distance_matrix_on(
+    features: ArrayView2<'_, f64>,
+    ranks: &dyn Ranks,
+) -> Result<Array2<f64>, DistanceError> {
+    Ok(squared_euclidean_matrix_on(features, ranks)?.mapv_into(f64::sqrt))
 }
 
 /// The `n_new × n_train` matrix of squared Euclidean distances `‖x_i − y_j‖²` between the rows
@@ -171,14 +200,14 @@ mod tests {
     fn cross_matrix_errors_are_typed() {
         let train = array![[0.0, 1.0], [2.0, 3.0]];
         let wide = array![[0.0, 1.0, 2.0]];
-        assert_eq!(
+        assert!(matches!(
             euclidean_cross_matrix(wide.view(), train.view()),
             Err(DistanceError::Shape {
                 what: "new feature rows (new samples × features of the training rows)",
                 expected: (1, 2),
                 got: (1, 3)
             })
-        );
+        ));
         let nan = array![[0.0, 1.0], [f64::INFINITY, 0.0]];
         assert!(matches!(
             euclidean_cross_matrix(nan.view(), train.view()),

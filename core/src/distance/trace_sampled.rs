@@ -25,12 +25,13 @@
 //! `f64` or `f32` ([`TracePrecision`]), the trade a network storing `f32` traces makes.
 
 use super::van_rossum::VanRossumMatrices;
-use super::{check_tau, symmetric_matrices};
+use super::{check_tau, symmetric_matrices_on};
 use crate::coding::TraceRecord;
 #[cfg(test)]
 use crate::error::CodingError;
 use crate::error::DistanceError;
 use crate::graph::FLUSH_TO_ZERO;
+use crate::ranks::{OneProcess, Ranks};
 use crate::spikes::MultiSpikeTrain;
 use rayon::prelude::*;
 use std::ops::{Add, Mul};
@@ -168,6 +169,17 @@ pub fn trace_matrices<R: TracePrecision>(
     records: &[TraceRecord],
     tau_s: f64,
 ) -> Result<VanRossumMatrices, DistanceError> {
+    trace_matrices_on::<R>(records, tau_s, &OneProcess)
+}
+
+/// [`trace_matrices`] split over `ranks`: each rank computes a block of upper-triangle rows
+/// balanced by pair count, then the blocks are all-gathered, so every rank returns the
+/// one-process matrices, bit for bit. Collective: every rank must call it.
+pub fn trace_matrices_on<R: TracePrecision>(
+    records: &[TraceRecord],
+    tau_s: f64,
+    ranks: &dyn Ranks,
+) -> Result<VanRossumMatrices, DistanceError> {
     check_tau(tau_s)?;
     let first = records.first();
     let (n_channels, step_us) = first.map_or((0, 1), |r| (r.n_channels(), r.trace_step_us()));
@@ -215,7 +227,7 @@ pub fn trace_matrices<R: TracePrecision>(
         .collect();
     let squared =
         |own_a: R, own_b: R, cross: R| (own_a.f64() + own_b.f64() - 2.0 * cross.f64()).max(0.0);
-    let [ll2, sp2] = symmetric_matrices(records.len(), |i, j| {
+    let pair = |i: usize, j: usize| {
         let (a, b) = (&prepared[i], &prepared[j]);
         let ll2 = (0..n_channels)
             .map(|c| {
@@ -232,7 +244,8 @@ pub fn trace_matrices<R: TracePrecision>(
             product(&a.pooled, &b.pooled, &table),
         );
         [ll2, sp2]
-    });
+    };
+    let [ll2, sp2] = symmetric_matrices_on(records.len(), pair, ranks)?;
     Ok(VanRossumMatrices { tau_s, ll2, sp2 })
 }
 

@@ -47,7 +47,8 @@
 //!
 //! `D²` smaller than 0 by rounding (about 10⁻¹⁵ for identical samples) is clamped to 0, as
 //! pymuvr does. Every entry is computed in a fixed order from its two samples alone, so the
-//! matrices are identical at any thread count.
+//! matrices are identical at any thread count, and at any rank count when their rows are split
+//! over several processes ([`PreparedVanRossum::matrices_on`]).
 
 mod centred;
 mod cross;
@@ -55,8 +56,11 @@ mod growing;
 
 pub use growing::{GrowingLive, GrowingVanRossum};
 
-use super::{check_cos, check_tau, row_matrices, symmetric_matrices};
+use super::{
+    check_cos, check_tau, row_matrices, rows_on, symmetric_matrices, symmetric_matrices_on,
+};
 use crate::error::DistanceError;
+use crate::ranks::Ranks;
 use crate::spikes::MultiSpikeTrain;
 use centred::{CentredSample, Grid};
 use cross::{CrossIndex, NewSample, prepared_trains};
@@ -270,6 +274,16 @@ impl VanRossum {
         observations: &[MultiSpikeTrain],
     ) -> Result<VanRossumMatrices, DistanceError> {
         Ok(self.prepare(observations)?.matrices())
+    }
+
+    /// [`matrices`](Self::matrices) split over `ranks`
+    /// ([`PreparedVanRossum::matrices_on`]; every rank prepares the samples). Collective.
+    pub fn matrices_on(
+        &self,
+        observations: &[MultiSpikeTrain],
+        ranks: &dyn Ranks,
+    ) -> Result<VanRossumMatrices, DistanceError> {
+        self.prepare(observations)?.matrices_on(ranks)
     }
 
     /// `D²(c)` between two samples with the same channel count.
@@ -547,27 +561,12 @@ impl PreparedVanRossum {
     pub fn matrices(&self) -> VanRossumMatrices {
         let [ll2, sp2] = match &self.evaluation {
             Evaluation::Centred { grid, samples, .. } => {
-                let mut halves = centred::half_product_matrices(samples, grid);
-                let self_products = [
-                    samples.iter().map(|s| s.labelled_self).collect::<Vec<_>>(),
-                    samples.iter().map(|s| s.pooled_self).collect(),
-                ];
-                for (m, own) in halves.iter_mut().zip(&self_products) {
-                    // ⟨a, b⟩ = (a, b) + (b, a); d² written to both.
-                    for a in 0..own.len() {
-                        for b in a + 1..own.len() {
-                            let d2 = squared_from_products(own[a], own[b], m[[a, b]] + m[[b, a]]);
-                            m[[a, b]] = d2;
-                            m[[b, a]] = d2;
-                        }
-                    }
-                }
-                halves
+                let halves = centred::half_product_rows(samples, grid, 0..samples.len());
+                centred_matrices(samples, &halves)
             }
-            Evaluation::Decayed(samples) => symmetric_matrices(samples.len(), |i, j| {
-                let (ll, sp) = decayed_parts(&samples[i], &samples[j], self.tau_s);
-                [ll, sp]
-            }),
+            Evaluation::Decayed(samples) => {
+                symmetric_matrices(samples.len(), decayed_pair(samples, self.tau_s))
+            }
         };
         VanRossumMatrices {
             tau_s: self.tau_s,
@@ -575,6 +574,72 @@ impl PreparedVanRossum {
             sp2,
         }
     }
+
+    /// [`matrices`](Self::matrices) split over `ranks`: each rank computes a contiguous block
+    /// of rows (parallel within the rank), then the blocks are all-gathered, so every rank
+    /// returns the one-process matrices, bit for bit, at any rank count. The centred
+    /// evaluation computes whole rows of half products, so its rows are split evenly; the
+    /// decayed sums compute the upper triangle, whose row `i` costs `N − i − 1` pairs, so
+    /// those rows are split by [`balanced_blocks`](crate::ranks::balanced_blocks). Collective:
+    /// every rank must call it, on the same prepared samples.
+    ///
+    /// ```
+    /// use neurotac_core::{MultiSpikeTrain, distance::VanRossum, ranks::ThreadRanks};
+    /// let samples: Vec<MultiSpikeTrain> = (0..5)
+    ///     .map(|i| MultiSpikeTrain::from_channels(vec![vec![0.01 * i as f64], vec![0.2]]))
+    ///     .collect::<Result<_, _>>()?;
+    /// let prepared = VanRossum::new(0.05)?.prepare(&samples)?;
+    /// let on_three = ThreadRanks::run(3, |r| prepared.matrices_on(r).unwrap());
+    /// assert!(on_three.iter().all(|m| *m == prepared.matrices()));
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn matrices_on(&self, ranks: &dyn Ranks) -> Result<VanRossumMatrices, DistanceError> {
+        let [ll2, sp2] = match &self.evaluation {
+            Evaluation::Centred { grid, samples, .. } => {
+                let n = samples.len();
+                let halves = rows_on(ranks, &vec![2 * n; n], |rows| {
+                    centred::half_product_rows(samples, grid, rows)
+                })?;
+                centred_matrices(samples, &halves)
+            }
+            Evaluation::Decayed(samples) => {
+                symmetric_matrices_on(samples.len(), decayed_pair(samples, self.tau_s), ranks)?
+            }
+        };
+        Ok(VanRossumMatrices {
+            tau_s: self.tau_s,
+            ll2,
+            sp2,
+        })
+    }
+}
+
+/// `[LL², SP²]` of the centred samples from the [`half_product_rows`](centred::half_product_rows)
+/// of every row: `⟨a, b⟩ = (a, b) + (b, a)`, `d²` written to both entries.
+fn centred_matrices(samples: &[CentredSample], halves: &[f64]) -> [Array2<f64>; 2] {
+    let n = samples.len();
+    let own = [
+        samples.iter().map(|s| s.labelled_self).collect::<Vec<_>>(),
+        samples.iter().map(|s| s.pooled_self).collect(),
+    ];
+    std::array::from_fn(|m| {
+        let half = |a: usize, b: usize| halves[a * 2 * n + m * n + b];
+        Array2::from_shape_fn((n, n), |(i, j)| {
+            let (a, b) = (i.min(j), i.max(j));
+            match a == b {
+                true => 0.0,
+                false => squared_from_products(own[m][a], own[m][b], half(a, b) + half(b, a)),
+            }
+        })
+    })
+}
+
+/// The decayed-sum `[LL², SP²]` of prepared samples `i` and `j`.
+fn decayed_pair(
+    samples: &[DecayedSample],
+    tau_s: f64,
+) -> impl Fn(usize, usize) -> [f64; 2] + Sync + '_ {
+    move |i, j| decayed_parts(&samples[i], &samples[j], tau_s).into()
 }
 
 /// `(LL², SP²)` of two samples by decayed-sum merges.

@@ -6,12 +6,17 @@ use super::ids::{
     ReadoutSource, SpikingNode,
 };
 use super::input::{CurrentInput, SpikeSource};
-use super::network::{ActiveSet, Network, RunningKind, RunningNode, RunningSource};
+use super::network::{
+    ActiveSet, DEFAULT_EPOCH_STEPS, ExchangeStats, Network, Partition, RunningKind, RunningNode,
+    RunningSource,
+};
 use super::readout::{Readout, SpikeRecorder, StateRecorder, SynapticTraceRecorder};
 use super::synapse::{Connectivity, ExpSynapse, RunningProjection};
 use crate::error::GraphError;
 use crate::model::{NeuronModel, SpikeBuffer};
+use crate::ranks::even_block;
 use std::marker::PhantomData;
+use std::ops::Range;
 
 enum NodeKind {
     Spikes(Box<dyn SpikeSource>),
@@ -319,8 +324,34 @@ impl NetworkBuilder {
     }
 
     /// Checks the description, drops whatever no readout depends on, prepares the rest for
-    /// `config.dt_s` and returns the runnable network.
+    /// `config.dt_s` and returns the runnable network (one process: every neuron here).
     pub fn build(self, config: NetworkConfig) -> Result<Network, GraphError> {
+        self.build_partitioned(config, 0, 1)
+    }
+
+    /// [`build`](Self::build), for rank `rank` of `size` ranks that compute the network
+    /// together ([`Network::run_on`]; the scheme of NEST and Arbor):
+    /// - every population of `N` neurons is split into contiguous blocks
+    ///   ([`even_block`](crate::ranks::even_block)`(N, rank, size)`), and this rank instantiates
+    ///   only its block ([`NeuronModel::restrict`]; a model that cannot be restricted is a
+    ///   [`GraphError::ModelNotPartitionable`]). A block may be empty (more ranks than neurons);
+    /// - spike sources and current sources are replicated: every rank computes them in full;
+    /// - each projection keeps only the synapses onto this rank's neurons: exactly those of the
+    ///   whole network (random pairs are drawn from the same seeded stream, which every rank
+    ///   walks in full, keeping only its own), so memory holds only the local synapses;
+    /// - readouts see every rank's spikes (global indices), so each rank's readouts end as in
+    ///   one process; readouts that need state held by one rank (a population's state,
+    ///   [`Readout::reads_population_state`]; a projection's synaptic currents) are a
+    ///   [`GraphError::ReadoutNotPartitionable`] when `size > 1`.
+    ///
+    /// With `size == 1` this is [`build`](Self::build). `rank ≥ size` or `size == 0` is a
+    /// [`GraphError::InvalidPartition`].
+    pub fn build_partitioned(
+        self,
+        config: NetworkConfig,
+        rank: usize,
+        size: usize,
+    ) -> Result<Network, GraphError> {
         let dt_s = config.dt_s;
         if !(dt_s.is_finite() && dt_s > 0.0) {
             return Err(GraphError::InvalidParameter {
@@ -328,6 +359,13 @@ impl NetworkBuilder {
                 value: dt_s,
                 expected: "finite and > 0",
             });
+        }
+        if size == 0 || rank >= size {
+            return Err(GraphError::InvalidPartition { rank, size });
+        }
+        let partitioned = size > 1;
+        if partitioned {
+            self.check_partitionable_readouts(size)?;
         }
         // Walk back from the readouts.
         let mut node_needed = vec![false; self.nodes.len()];
@@ -360,8 +398,9 @@ impl NetworkBuilder {
             );
         }
 
-        // Renumber the needed nodes and prepare them.
+        // Renumber the needed nodes, restrict populations to this rank's block, prepare them.
         let sizes: Vec<usize> = self.nodes.iter().map(|n| n.size).collect();
+        let block = |n: usize| even_block(n, rank, size);
         let mut runtime_index = vec![None; self.nodes.len()];
         let mut nodes = Vec::new();
         let mut currents = Vec::new();
@@ -371,17 +410,28 @@ impl NetworkBuilder {
                 pruned.push(spec.name);
                 continue;
             }
+            let mut local = 0..spec.size;
             let kind = match spec.kind {
                 NodeKind::Current(c) => {
                     runtime_index[i] = Some(currents.len());
-                    currents.push(c);
+                    currents.push(if partitioned {
+                        c.restrict(block(c.len()))
+                    } else {
+                        c
+                    });
                     continue;
                 }
                 NodeKind::Spikes(mut s) => {
                     s.prepare(dt_s)?;
                     RunningKind::Spikes(s)
                 }
-                NodeKind::Population(mut m) => {
+                NodeKind::Population(m) => {
+                    let mut m = if partitioned {
+                        local = block(spec.size);
+                        Self::restricted(m, local.clone(), &spec.name)?
+                    } else {
+                        m
+                    };
                     m.prepare(dt_s).map_err(|source| GraphError::Model {
                         population: spec.name.clone(),
                         source,
@@ -393,9 +443,10 @@ impl NetworkBuilder {
             nodes.push(RunningNode {
                 name: spec.name,
                 size: spec.size,
+                input: vec![0.0; local.len()],
+                local,
                 kind,
                 history: vec![SpikeBuffer::new()],
-                input: vec![0.0; spec.size],
                 incoming: Vec::new(),
                 currents: Vec::new(),
                 active: None,
@@ -404,6 +455,9 @@ impl NetworkBuilder {
         let mut projections = Vec::new();
         let mut untargeted = Vec::new();
         let mut projection_index = vec![None; self.projections.len()];
+        // The epoch: the smallest delay of a population → population projection (spikes of a
+        // population reach no one sooner), or DEFAULT_EPOCH_STEPS.
+        let mut epoch_steps = DEFAULT_EPOCH_STEPS;
         for (i, p) in self.projections.iter().enumerate() {
             if !proj_needed[i] {
                 continue;
@@ -411,6 +465,9 @@ impl NetworkBuilder {
             let pre =
                 runtime_index[p.pre].expect("a needed projection's presynaptic node is needed");
             let delay = p.synapse.delay_steps as usize;
+            if matches!(nodes[pre].kind, RunningKind::Population(_)) {
+                epoch_steps = epoch_steps.min(delay as u64);
+            }
             let history = &mut nodes[pre].history;
             if history.len() < delay + 1 {
                 history.resize(delay + 1, SpikeBuffer::new());
@@ -420,15 +477,26 @@ impl NetworkBuilder {
                 Some(post) => nodes[post].incoming.push(projections.len()),
                 None => untargeted.push(projections.len()),
             }
+            let post_block = block(sizes[p.post]);
             projection_index[i] = Some(projections.len());
             projections.push(RunningProjection {
                 pre,
                 post: runtime_index[p.post],
                 delay,
                 decay: (-dt_s / p.synapse.tau_s).exp(),
-                wiring: p.connectivity.compile(sizes[p.pre], sizes[p.post]),
-                current: vec![0.0; sizes[p.post]],
+                current: vec![0.0; post_block.len()],
+                wiring: p
+                    .connectivity
+                    .compile(sizes[p.pre], sizes[p.post], post_block),
             });
+        }
+        if partitioned {
+            // An epoch's spikes stay in the rings until they are exchanged and read out.
+            for n in &mut nodes {
+                if n.history.len() < epoch_steps as usize {
+                    n.history.resize(epoch_steps as usize, SpikeBuffer::new());
+                }
+            }
         }
         for (c, pop) in self.injections {
             if let (Some(c), Some(pop)) = (runtime_index[c], runtime_index[pop]) {
@@ -448,7 +516,7 @@ impl NetworkBuilder {
                         && r.reads_population_state()
                 });
                 if m.event_driven() && node.currents.is_empty() && !state_read {
-                    node.active = Some(ActiveSet::new(node.size));
+                    node.active = Some(ActiveSet::new(node.local.len()));
                 }
             }
         }
@@ -467,6 +535,13 @@ impl NetworkBuilder {
                 (source, readout)
             })
             .collect();
+        let exchanged = if partitioned {
+            (0..nodes.len())
+                .filter(|&i| matches!(nodes[i].kind, RunningKind::Population(_)))
+                .collect()
+        } else {
+            Vec::new()
+        };
         Ok(Network {
             dt_s,
             step: 0,
@@ -480,6 +555,72 @@ impl NetworkBuilder {
             neuron_updates: 0,
             scratch: Vec::new(),
             untargeted,
+            partition: Partition {
+                rank,
+                size,
+                epoch_steps,
+                exchanged,
+            },
+            exchange: ExchangeStats::default(),
+            packed: Vec::new(),
         })
+    }
+
+    /// `model` cut to `block` (see [`NeuronModel::restrict`]).
+    fn restricted(
+        model: Box<dyn NeuronModel>,
+        block: Range<usize>,
+        name: &str,
+    ) -> Result<Box<dyn NeuronModel>, GraphError> {
+        let not_partitionable = || GraphError::ModelNotPartitionable {
+            population: name.to_owned(),
+            model: model.model_name(),
+        };
+        let part = model
+            .restrict(block.clone())
+            .ok_or_else(not_partitionable)?;
+        if part.len() != block.len() {
+            return Err(GraphError::SizeMismatch {
+                what: format!("population '{name}' restricted to neurons {block:?}"),
+                expected: block.len(),
+                got: part.len(),
+            });
+        }
+        Ok(part)
+    }
+
+    /// Refuses the readouts that need state only one rank holds (see
+    /// [`build_partitioned`](Self::build_partitioned)).
+    fn check_partitionable_readouts(&self, size: usize) -> Result<(), GraphError> {
+        for (source, r) in &self.readouts {
+            let (node, reason) = match *source {
+                ReadoutSource::Projection(p) => {
+                    let p = &self.projections[p.0];
+                    (
+                        format!(
+                            "projection '{}' → '{}'",
+                            self.nodes[p.pre].name, self.nodes[p.post].name
+                        ),
+                        "it reads synaptic currents, which each rank holds only for its own neurons",
+                    )
+                }
+                ReadoutSource::Node(n) => {
+                    let n = &self.nodes[n.0];
+                    if !(matches!(n.kind, NodeKind::Population(_)) && r.reads_population_state()) {
+                        continue;
+                    }
+                    (
+                        format!("population '{}'", n.name),
+                        "it reads the population's state, which each rank holds only for its own neurons",
+                    )
+                }
+            };
+            return Err(GraphError::ReadoutNotPartitionable {
+                node,
+                ranks: size,
+                reason,
+            });
+        }
+        Ok(())
     }
 }

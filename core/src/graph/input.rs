@@ -223,6 +223,17 @@ impl CurrentInput {
         Ok(())
     }
 
+    /// The part of this source that feeds the neurons `block` of its populations (a rank's
+    /// block): per-neuron amplitudes are cut to the block, broadcast values stay as they are.
+    pub(crate) fn restrict(&self, block: std::ops::Range<usize>) -> CurrentInput {
+        match self {
+            CurrentInput::Constant { amplitude } if amplitude.len() > 1 => CurrentInput::Constant {
+                amplitude: amplitude[block].to_vec(),
+            },
+            other => other.clone(),
+        }
+    }
+
     /// Adds this source's current at step start time `t_s` into `out` (one entry per neuron).
     pub(crate) fn add_into(&self, t_s: f64, out: &mut [f64]) {
         match self {

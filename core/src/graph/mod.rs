@@ -23,6 +23,16 @@
 //! 4. **threshold/reset**: inside the model's step, which pushes this step's spikes;
 //! 5. **readouts**: each sees this step's spikes of its source, the population state at
 //!    `t_k + dt`, or the projection currents at `t_k + dt` (decayed, before the next delivery).
+//!    In a run over several ranks, the readouts see an epoch's steps after its spike exchange
+//!    (spikes only; see [`Network::run_steps_on`]).
+//!
+//! # Partitioned over ranks
+//! [`NetworkBuilder::build_partitioned`] builds one rank's share of a network that several
+//! ranks ([`Ranks`](crate::Ranks): MPI processes, or threads in tests) compute together: each
+//! population is split into contiguous blocks of neurons, one per rank, inputs are replicated,
+//! and each rank keeps the synapses onto its own neurons. [`Network::run_on`] steps the local
+//! neurons and exchanges spikes once per epoch (the smallest population → population delay),
+//! so readouts see, and end with, exactly the spikes of one process.
 //!
 //! ```
 //! use neurotac_core::{ExpSynapse, Connectivity, MultiSpikeTrain, NetworkBuilder, NetworkConfig, SpikeArrayInput};
@@ -51,6 +61,7 @@
 //! ```
 
 mod builder;
+mod exchange;
 mod ids;
 mod input;
 mod network;
@@ -64,7 +75,7 @@ pub use ids::{
     ReadoutSource, SpikingNode,
 };
 pub use input::{CurrentInput, PoissonInput, SpikeArrayInput, SpikeSource};
-pub use network::{Network, RunSummary};
+pub use network::{DEFAULT_EPOCH_STEPS, Network, RunSummary};
 pub use readout::{
     Readout, ReadoutContext, SpikeRecorder, StateRecorder, StateSampler, StepView,
     SynapticCurrentSampler, SynapticTraceRecorder, TraceRecorder, TraceSampler,

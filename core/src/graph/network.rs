@@ -1,14 +1,21 @@
 //! [`Network`]: a built network and its run loop, one step in the documented phase order (see
 //! the [module docs](super)).
 
+use super::exchange::{pack_epoch, unpack_epoch};
 use super::ids::{InputId, NodeId, ReadoutId};
 use super::input::{CurrentInput, SpikeSource};
 use super::readout::{Readout, ReadoutContext, StepView};
 use super::synapse::{RunningProjection, flush};
 use crate::error::GraphError;
 use crate::model::{NeuronModel, SpikeBuffer};
+use crate::ranks::Ranks;
 use std::any::Any;
-use std::ops::ControlFlow;
+use std::ops::{ControlFlow, Range};
+use std::time::Instant;
+
+/// Steps per epoch of a network partitioned over ranks that has no population → population
+/// projection (otherwise the epoch is the smallest delay of such a projection, in steps).
+pub const DEFAULT_EPOCH_STEPS: u64 = 64;
 
 pub(super) enum RunningKind {
     Spikes(Box<dyn SpikeSource>),
@@ -17,11 +24,14 @@ pub(super) enum RunningKind {
 
 pub(super) struct RunningNode {
     pub(super) name: String,
+    /// Neurons (channels) of the whole node.
     pub(super) size: usize,
+    /// The neurons this rank computes (`0..size` in one process; spike sources always whole).
+    pub(super) local: Range<usize>,
     pub(super) kind: RunningKind,
     /// Ring of this node's spikes, one buffer per step, long enough for its largest delay.
     pub(super) history: Vec<SpikeBuffer>,
-    /// Summed input current (populations).
+    /// Summed input current of the local neurons (populations).
     pub(super) input: Vec<f64>,
     /// Projections targeting this node.
     pub(super) incoming: Vec<usize>,
@@ -68,6 +78,23 @@ impl ActiveSet {
     }
 }
 
+/// Which rank of how many a network was built for, and its epoch.
+pub(super) struct Partition {
+    pub(super) rank: usize,
+    pub(super) size: usize,
+    /// Steps between two spike exchanges (see [`Network::epoch_steps`]).
+    pub(super) epoch_steps: u64,
+    /// The nodes whose spikes are exchanged: every population when `size > 1`, else none.
+    pub(super) exchanged: Vec<usize>,
+}
+
+/// The cost of the spike exchanges since build or the last reset.
+#[derive(Debug, Clone, Copy, Default)]
+pub(super) struct ExchangeStats {
+    pub(super) seconds: f64,
+    pub(super) count: u64,
+}
+
 pub(super) enum RunningSource {
     Node(usize),
     Projection(usize),
@@ -99,6 +126,10 @@ pub struct Network {
     pub(super) neuron_updates: u64,
     /// Presynaptic spikes of one delivery (reused, so a step allocates nothing).
     pub(super) scratch: Vec<u32>,
+    pub(super) partition: Partition,
+    pub(super) exchange: ExchangeStats,
+    /// This rank's message of one exchange (reused).
+    pub(super) packed: Vec<u8>,
 }
 
 impl Network {
@@ -136,6 +167,39 @@ impl Network {
         self.neuron_updates
     }
 
+    /// The rank this network was built for ([`NetworkBuilder::build_partitioned`]; 0 in one
+    /// process).
+    ///
+    /// [`NetworkBuilder::build_partitioned`]: super::NetworkBuilder::build_partitioned
+    pub fn rank(&self) -> usize {
+        self.partition.rank
+    }
+
+    /// The number of ranks this network was built for (1 in one process).
+    pub fn n_ranks(&self) -> usize {
+        self.partition.size
+    }
+
+    /// Steps per epoch of a partitioned run ([`run_on`](Self::run_on)): the smallest delay of
+    /// a kept population → population projection, or [`DEFAULT_EPOCH_STEPS`] without one.
+    /// Ranks exchange spikes once per epoch.
+    pub fn epoch_steps(&self) -> u64 {
+        self.partition.epoch_steps
+    }
+
+    /// Wall time (s) spent in spike exchanges since build or the last [`reset`](Self::reset):
+    /// packing this rank's spikes, the all-gather (waiting for the other ranks included) and
+    /// unpacking every rank's. 0 in one process.
+    pub fn exchange_s(&self) -> f64 {
+        self.exchange.seconds
+    }
+
+    /// Spike exchanges done since build or the last [`reset`](Self::reset) (one per epoch, and
+    /// one at the end of each run; 0 in one process).
+    pub fn exchanges(&self) -> u64 {
+        self.exchange.count
+    }
+
     /// Names of the populations stepped event-driven.
     pub fn event_driven_populations(&self) -> Vec<&str> {
         self.nodes
@@ -145,7 +209,8 @@ impl Network {
             .collect()
     }
 
-    /// Total number of synapses in the kept projections.
+    /// Total number of synapses in the kept projections (on this rank: the synapses onto its
+    /// own neurons, when partitioned).
     pub fn n_synapses(&self) -> usize {
         self.projections
             .iter()
@@ -211,6 +276,7 @@ impl Network {
             }
         }
         self.neuron_updates = 0;
+        self.exchange = ExchangeStats::default();
         for p in &mut self.projections {
             p.current.iter_mut().for_each(|c| *c = 0.0);
         }
@@ -232,7 +298,10 @@ impl Network {
     /// Runs `steps` steps (fewer if a readout asks to stop), then calls every readout's `finish`.
     /// Every 256 steps and at the end, each population's
     /// [`check_divergence`](NeuronModel::check_divergence) runs; a divergence is an error.
+    /// A network partitioned over several ranks runs with [`run_steps_on`](Self::run_steps_on)
+    /// only ([`GraphError::RanksMismatch`] here).
     pub fn run_steps(&mut self, steps: u64) -> Result<RunSummary, GraphError> {
+        self.check_ranks(0, 1)?;
         if !self.begun {
             self.begin_readouts();
         }
@@ -267,6 +336,132 @@ impl Network {
         })
     }
 
+    /// [`run`](Self::run) on the group of ranks the network was built for
+    /// ([`NetworkBuilder::build_partitioned`](super::NetworkBuilder::build_partitioned)); every
+    /// rank of the group must call it with the same duration.
+    pub fn run_on(&mut self, duration_s: f64, ranks: &dyn Ranks) -> Result<RunSummary, GraphError> {
+        let steps = duration_s / self.dt_s;
+        if !(steps.is_finite() && steps >= 0.0) {
+            return Err(GraphError::InvalidParameter {
+                what: "run duration_s".into(),
+                value: duration_s,
+                expected: "finite and ≥ 0",
+            });
+        }
+        self.run_steps_on(steps.round() as u64, ranks)
+    }
+
+    /// [`run_steps`](Self::run_steps) on the group of ranks the network was built for; every
+    /// rank of the group must call it with the same `steps`. A group other than the build's
+    /// is a [`GraphError::RanksMismatch`]. On one rank this is `run_steps`.
+    ///
+    /// # Epochs
+    /// Over several ranks the run advances in epochs of [`epoch_steps`](Self::epoch_steps)
+    /// steps `E` (the last one of a run may be shorter). Within an epoch each rank steps its
+    /// own neurons and writes their spikes, with global indices, into its populations' spike
+    /// histories; deliveries need no other rank's spikes, since they read spikes at least
+    /// `delay ≥ E` steps old, all exchanged in earlier epochs. At the end of the epoch every
+    /// rank all-gathers its spikes of the epoch's steps (indices, with in-step fractions when
+    /// any is not 1) and the histories of those steps are refilled with every rank's spikes in
+    /// rank order: ascending global index, as in one process. Then the readouts see the epoch's
+    /// steps one by one (deferred), so each rank's readouts end as in one process (they see
+    /// spikes only: [`StepView::population`] is `None`, since each rank holds a block of the
+    /// state); a readout's stop request takes effect at the end of the epoch (the readouts still see its remaining
+    /// steps, and [`RunSummary::steps`] counts them). Divergence is checked before every
+    /// exchange on each rank, and reported to all: the rank that diverged returns its
+    /// [`GraphError::Model`], the others [`GraphError::PeerDiverged`].
+    pub fn run_steps_on(
+        &mut self,
+        steps: u64,
+        ranks: &dyn Ranks,
+    ) -> Result<RunSummary, GraphError> {
+        self.check_ranks(ranks.rank(), ranks.size())?;
+        if self.partition.size == 1 {
+            return self.run_steps(steps);
+        }
+        if !self.begun {
+            self.begin_readouts();
+        }
+        let (mut done, mut stop) = (0, false);
+        while done < steps && !stop {
+            let from = self.step;
+            let epoch = self.partition.epoch_steps.min(steps - done);
+            for _ in 0..epoch {
+                self.advance();
+            }
+            done += epoch;
+            self.exchange_epoch(from, ranks)?;
+            for k in from..self.step {
+                stop |= self.read_out(k, false);
+            }
+        }
+        for n in &mut self.nodes {
+            if let (RunningKind::Population(m), Some(_)) = (&mut n.kind, &n.active) {
+                m.settle();
+            }
+        }
+        self.readouts.iter_mut().for_each(|(_, r)| r.finish());
+        Ok(RunSummary {
+            steps: done,
+            stopped_early: stop && done < steps,
+        })
+    }
+
+    fn check_ranks(&self, rank: usize, size: usize) -> Result<(), GraphError> {
+        let Partition {
+            rank: built_rank,
+            size: built_size,
+            ..
+        } = self.partition;
+        if (rank, size) == (built_rank, built_size) {
+            return Ok(());
+        }
+        Err(GraphError::RanksMismatch {
+            built_rank,
+            built_size,
+            rank,
+            size,
+        })
+    }
+
+    /// Exchanges the spikes of steps `from..self.step` of every partitioned population between
+    /// the ranks (see [`run_steps_on`](Self::run_steps_on)), timing it.
+    fn exchange_epoch(&mut self, from: u64, ranks: &dyn Ranks) -> Result<(), GraphError> {
+        let start = Instant::now();
+        let to = self.step;
+        let mut diverged = None;
+        for n in &self.nodes {
+            if let RunningKind::Population(m) = &n.kind {
+                if let Err(source) = m.check_divergence() {
+                    let population = n.name.clone();
+                    diverged = Some(GraphError::Model { population, source });
+                    break;
+                }
+            }
+        }
+        let steps = from..to;
+        pack_epoch(
+            &self.nodes,
+            &self.partition.exchanged,
+            steps.clone(),
+            diverged.is_some(),
+            &mut self.packed,
+        );
+        let blocks = ranks
+            .all_gather_bytes(&self.packed)
+            .map_err(|e| GraphError::Exchange {
+                step: to,
+                reason: e.to_string(),
+            })?;
+        if let Some(e) = diverged {
+            return Err(e);
+        }
+        unpack_epoch(&mut self.nodes, &self.partition.exchanged, steps, &blocks)?;
+        self.exchange.seconds += start.elapsed().as_secs_f64();
+        self.exchange.count += 1;
+        Ok(())
+    }
+
     fn begin_readouts(&mut self) {
         for (source, r) in &mut self.readouts {
             let (source_name, source_size) = match *source {
@@ -287,6 +482,13 @@ impl Network {
 
     /// One step in the documented phase order; returns `true` when a readout asked to stop.
     fn step_once(&mut self) -> bool {
+        let k = self.step;
+        self.advance();
+        self.read_out(k, true)
+    }
+
+    /// Phases 1–4 of one step (everything but the readouts), then the next step.
+    fn advance(&mut self) {
         let k = self.step;
         let t_k = k as f64 * self.dt_s;
         // 1. inputs
@@ -363,10 +565,13 @@ impl Network {
                 self.neuron_updates +=
                     m.step_active(list, &n.input[..list.len()], &mut n.history[slot]);
                 std::mem::swap(list, next);
+                if n.local.start > 0 {
+                    n.history[slot].shift_indices(n.local.start as u32);
+                }
                 continue;
             }
             if let RunningKind::Population(m) = &mut n.kind {
-                self.neuron_updates += n.size as u64;
+                self.neuron_updates += n.input.len() as u64;
                 if n.incoming.is_empty() {
                     n.input.iter_mut().for_each(|x| *x = 0.0);
                 }
@@ -395,12 +600,22 @@ impl Network {
                 let slot = (k % n.history.len() as u64) as usize;
                 n.history[slot].clear();
                 m.step(&n.input, &mut n.history[slot]);
+                if n.local.start > 0 {
+                    n.history[slot].shift_indices(n.local.start as u32);
+                }
             }
         }
         for &p in &self.untargeted {
             self.projections[p].decay();
         }
-        // 5. readouts
+        self.step += 1;
+    }
+
+    /// Phase 5 of step `k`, whose spikes are still in the histories: every readout sees it
+    /// (the population's state only when `with_state`: in one process, right after the step).
+    /// Returns `true` when a readout asked to stop.
+    fn read_out(&mut self, k: u64, with_state: bool) -> bool {
+        let t_k = k as f64 * self.dt_s;
         let mut stop = false;
         let empty = SpikeBuffer::new();
         for (source, r) in &mut self.readouts {
@@ -413,8 +628,8 @@ impl Network {
                         dt_s: self.dt_s,
                         spikes: &n.history[(k % n.history.len() as u64) as usize],
                         population: match &n.kind {
-                            RunningKind::Population(m) => Some(m.as_ref()),
-                            RunningKind::Spikes(_) => None,
+                            RunningKind::Population(m) if with_state => Some(m.as_ref()),
+                            _ => None,
                         },
                         synaptic_current: None,
                     }
@@ -430,7 +645,6 @@ impl Network {
             };
             stop |= r.on_step(&view) == ControlFlow::Break(());
         }
-        self.step += 1;
         stop
     }
 }

@@ -48,7 +48,9 @@ pub trait Readout: Any + Send {
     }
 
     /// Called after every step; return `ControlFlow::Break(())` to stop the run cleanly after
-    /// this step.
+    /// this step. (Over several ranks, called for each step of an epoch after the epoch's
+    /// spike exchange, and a stop takes effect at the end of the epoch; see
+    /// [`Network::run_steps_on`](crate::Network::run_steps_on).)
     fn on_step(&mut self, view: &StepView<'_>) -> ControlFlow<()>;
 
     /// Called when a run ends (normally or by a stop request).
@@ -56,8 +58,9 @@ pub trait Readout: Any + Send {
 
     /// `true` when the readout looks at its source population's state
     /// ([`StepView::population`]). An event-driven population skips neurons without input, so
-    /// a population with such a readout is stepped clock-driven. Default `true` (the safe
-    /// answer); spike readouts say `false`.
+    /// a population with such a readout is stepped clock-driven, and cannot be built
+    /// partitioned over several ranks (each holds only a block of the state). Default `true`
+    /// (the safe answer); spike readouts say `false`.
     fn reads_population_state(&self) -> bool {
         true
     }

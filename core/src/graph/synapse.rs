@@ -14,6 +14,7 @@
 use crate::error::GraphError;
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
+use std::ops::Range;
 
 /// Magnitude below which a decaying synaptic current is set to exactly 0.
 pub const FLUSH_TO_ZERO: f64 = 1e-30;
@@ -191,48 +192,79 @@ impl Connectivity {
         Ok(())
     }
 
-    /// Compiles into run-time wiring (random pairs are drawn here, only for needed projections).
-    pub(crate) fn compile(&self, n_pre: usize, n_post: usize) -> Wiring {
-        // Row offsets of a list sorted by presynaptic neuron.
-        let offsets = |pre: &mut dyn Iterator<Item = u32>| {
-            let mut offsets = vec![0usize; n_pre + 1];
-            for i in pre {
-                offsets[i as usize + 1] += 1;
-            }
+    /// Compiles into run-time wiring (random pairs are drawn here, only for needed projections),
+    /// keeping only the synapses onto the postsynaptic neurons `post_block`, renumbered from
+    /// `post_block.start` (the whole `0..n_post` in one process). The synapses kept are exactly
+    /// those of the whole projection: random pairs are drawn from the same stream whatever the
+    /// block, and the others skipped (so every rank walks the whole stream, and keeps in memory
+    /// only its own block's synapses).
+    pub(crate) fn compile(&self, n_pre: usize, n_post: usize, post_block: Range<usize>) -> Wiring {
+        let whole = post_block == (0..n_post);
+        // Row offsets from per-row counts (`counts[i + 1]` = synapses of row i).
+        let offsets = |mut counts: Vec<usize>| {
             for i in 0..n_pre {
-                offsets[i + 1] += offsets[i];
+                counts[i + 1] += counts[i];
             }
-            offsets
+            counts
         };
-        let csr = |mut list: Vec<(u32, u32, f64)>| {
-            list.sort_by_key(|s| (s.0, s.1));
-            Wiring::Csr {
-                offsets: offsets(&mut list.iter().map(|s| s.0)),
-                post: list.iter().map(|s| s.1).collect(),
-                weight: list.iter().map(|s| s.2).collect(),
-            }
+        let local = |j: usize| {
+            post_block
+                .contains(&j)
+                .then(|| (j - post_block.start) as u32)
         };
         match self {
-            Connectivity::OneToOne { weight } => Wiring::OneToOne(*weight),
+            Connectivity::OneToOne { weight } if whole => Wiring::OneToOne(*weight),
             Connectivity::AllToAll { weight } => Wiring::AllToAll(*weight),
+            Connectivity::OneToOne { weight } => {
+                let mut counts = vec![0usize; n_pre + 1];
+                post_block.clone().for_each(|i| counts[i + 1] = 1);
+                Wiring::UniformCsr {
+                    offsets: offsets(counts),
+                    post: (0..post_block.len() as u32).collect(),
+                    weight: *weight,
+                }
+            }
             Connectivity::Sparse(list) => {
-                csr(list.iter().map(|s| (s.pre, s.post, s.weight)).collect())
+                let mut list: Vec<(u32, u32, f64)> = list
+                    .iter()
+                    .filter_map(|s| local(s.post as usize).map(|j| (s.pre, j, s.weight)))
+                    .collect();
+                list.sort_by_key(|s| (s.0, s.1));
+                let mut counts = vec![0usize; n_pre + 1];
+                list.iter().for_each(|s| counts[s.0 as usize + 1] += 1);
+                Wiring::Csr {
+                    offsets: offsets(counts),
+                    post: list.iter().map(|s| s.1).collect(),
+                    weight: list.iter().map(|s| s.2).collect(),
+                }
             }
             Connectivity::Random {
                 probability,
                 weight,
                 seed,
             } => {
-                // Pairs are drawn in (pre, post) order, so the list is already sorted.
-                let mut list: Vec<(u32, u32)> = Vec::new();
+                // Pairs are drawn in (pre, post) order, so rows come out sorted.
+                let mut counts = vec![0usize; n_pre + 1];
+                let expected = n_pre as f64 * post_block.len() as f64 * probability.clamp(0.0, 1.0);
+                // Room for the expected count plus 6 σ: one allocation, no doubling.
+                let mut post =
+                    Vec::with_capacity((expected + 6.0 * expected.sqrt() + 16.0) as usize);
+                let mut keep = |i: usize, j: usize| {
+                    if let Some(j) = local(j) {
+                        counts[i + 1] += 1;
+                        post.push(j);
+                    }
+                };
                 let mut rng = ChaCha8Rng::seed_from_u64(*seed);
                 let total = n_pre * n_post;
                 if *probability >= 1.0 {
-                    list.extend((0..total).map(|k| ((k / n_post) as u32, (k % n_post) as u32)));
+                    (0..n_pre).for_each(|i| (0..n_post).for_each(|j| keep(i, j)));
                 } else if *probability > 0.0 {
-                    // Geometric skipping: the gap to the next chosen pair is Geometric(p).
+                    // Geometric skipping: the gap to the next chosen pair is Geometric(p). The
+                    // pair `k` is `(i, j) = (k / n_post, k % n_post)`, followed incrementally
+                    // (a division only when a gap crosses a row's end).
                     let log_q = (1.0 - probability).ln();
-                    let mut k = 0usize;
+                    let (mut k, mut i, mut j) = (0usize, 0usize, 0usize);
                     loop {
                         let u: f64 = rng.random::<f64>();
                         let gap = ((1.0 - u).ln() / log_q).floor();
@@ -240,13 +272,19 @@ impl Connectivity {
                             break;
                         }
                         k += gap as usize;
-                        list.push(((k / n_post) as u32, (k % n_post) as u32));
+                        j += gap as usize;
+                        if j >= n_post {
+                            i += j / n_post;
+                            j %= n_post;
+                        }
+                        keep(i, j);
                         k += 1;
+                        j += 1;
                     }
                 }
                 Wiring::UniformCsr {
-                    offsets: offsets(&mut list.iter().map(|s| s.0)),
-                    post: list.iter().map(|s| s.1).collect(),
+                    offsets: offsets(counts),
+                    post,
                     weight: *weight,
                 }
             }
@@ -392,7 +430,10 @@ mod tests {
             Wiring::Csr { post, .. } | Wiring::UniformCsr { post, .. } => post.len(),
             _ => unreachable!(),
         };
-        let (a, b) = (c.compile(1000, 1000), c.compile(1000, 1000));
+        let (a, b) = (
+            c.compile(1000, 1000, 0..1000),
+            c.compile(1000, 1000, 0..1000),
+        );
         let n = count(&a);
         // 20 000 expected, σ ≈ 140.
         assert!((n as f64 - 20_000.0).abs() < 700.0, "{n}");
@@ -402,19 +443,140 @@ mod tests {
             weight: 1.0,
             seed: 4,
         };
-        assert_ne!(format!("{:?}", other.compile(1000, 1000)), format!("{a:?}"));
+        assert_ne!(
+            format!("{:?}", other.compile(1000, 1000, 0..1000)),
+            format!("{a:?}")
+        );
         let none = Connectivity::Random {
             probability: 0.0,
             weight: 1.0,
             seed: 0,
         };
-        assert_eq!(count(&none.compile(10, 10)), 0);
+        assert_eq!(count(&none.compile(10, 10, 0..10)), 0);
         let all = Connectivity::Random {
             probability: 1.0,
             weight: 1.0,
             seed: 0,
         };
-        assert_eq!(count(&all.compile(10, 7)), 70);
+        assert_eq!(count(&all.compile(10, 7, 0..7)), 70);
+    }
+
+    /// Row `i` of a wiring as `(global post, weight)` in delivery order.
+    fn rows(w: &Wiring, n_pre: usize, block: Range<usize>) -> Vec<Vec<(usize, f64)>> {
+        (0..n_pre)
+            .map(|i| match w {
+                Wiring::OneToOne(x) => vec![(i, *x)],
+                Wiring::AllToAll(x) => block.clone().map(|j| (j, *x)).collect(),
+                Wiring::Csr {
+                    offsets,
+                    post,
+                    weight,
+                } => (offsets[i]..offsets[i + 1])
+                    .map(|s| (block.start + post[s] as usize, weight[s]))
+                    .collect(),
+                Wiring::UniformCsr {
+                    offsets,
+                    post,
+                    weight,
+                } => (offsets[i]..offsets[i + 1])
+                    .map(|s| (block.start + post[s] as usize, *weight))
+                    .collect(),
+            })
+            .collect()
+    }
+
+    /// The random pairs as first written (`(k / n_post, k % n_post)` for each drawn `k`): the
+    /// connectivity of every network built before must not change.
+    fn reference_pairs(
+        probability: f64,
+        seed: u64,
+        n_pre: usize,
+        n_post: usize,
+    ) -> Vec<(usize, f64)> {
+        let mut rng = ChaCha8Rng::seed_from_u64(seed);
+        let (total, log_q) = (n_pre * n_post, (1.0 - probability).ln());
+        let (mut k, mut out) = (0usize, Vec::new());
+        loop {
+            let u: f64 = rng.random::<f64>();
+            let gap = ((1.0 - u).ln() / log_q).floor();
+            if gap >= (total - k) as f64 {
+                break;
+            }
+            k += gap as usize;
+            out.push((k / n_post, k % n_post));
+            k += 1;
+        }
+        out.into_iter()
+            .map(|(i, j)| (i * n_post + j, 0.5))
+            .collect()
+    }
+
+    #[test]
+    fn random_pairs_are_those_drawn_before() {
+        for (probability, n_pre, n_post) in
+            [(0.02, 300, 400), (0.3, 17, 5), (0.001, 50, 30), (0.9, 3, 1)]
+        {
+            let c = Connectivity::Random {
+                probability,
+                weight: 0.5,
+                seed: 9,
+            };
+            let got: Vec<(usize, f64)> =
+                rows(&c.compile(n_pre, n_post, 0..n_post), n_pre, 0..n_post)
+                    .into_iter()
+                    .enumerate()
+                    .flat_map(|(i, row)| row.into_iter().map(move |(j, w)| (i * n_post + j, w)))
+                    .collect();
+            assert_eq!(got, reference_pairs(probability, 9, n_pre, n_post));
+        }
+    }
+
+    #[test]
+    fn blocks_of_postsynaptic_neurons_keep_exactly_their_synapses() {
+        let (n_pre, n_post) = (40, 13);
+        let mut rng = ChaCha8Rng::seed_from_u64(1);
+        let sparse = (0..200)
+            .map(|k| Synapse {
+                pre: rng.random_range(0..n_pre as u32),
+                post: rng.random_range(0..n_post as u32),
+                weight: k as f64,
+            })
+            .collect();
+        for c in [
+            Connectivity::Random {
+                probability: 0.3,
+                weight: 0.5,
+                seed: 7,
+            },
+            Connectivity::Random {
+                probability: 1.0,
+                weight: 0.5,
+                seed: 7,
+            },
+            Connectivity::Sparse(sparse),
+            Connectivity::AllToAll { weight: 2.0 },
+        ] {
+            let whole = rows(&c.compile(n_pre, n_post, 0..n_post), n_pre, 0..n_post);
+            assert!(whole.iter().map(Vec::len).sum::<usize>() > 100);
+            for size in 1..=15 {
+                let mut joined = vec![Vec::new(); n_pre];
+                for rank in 0..size {
+                    let block = crate::ranks::even_block(n_post, rank, size);
+                    let part = rows(&c.compile(n_pre, n_post, block.clone()), n_pre, block);
+                    joined.iter_mut().zip(part).for_each(|(j, p)| j.extend(p));
+                }
+                assert_eq!(joined, whole, "{c:?} over {size} ranks");
+            }
+        }
+        let one = Connectivity::OneToOne { weight: 3.0 };
+        let whole = rows(&one.compile(n_post, n_post, 0..n_post), n_post, 0..n_post);
+        let mut joined = vec![Vec::new(); n_post];
+        for rank in 0..4 {
+            let block = crate::ranks::even_block(n_post, rank, 4);
+            let part = rows(&one.compile(n_post, n_post, block.clone()), n_post, block);
+            joined.iter_mut().zip(part).for_each(|(j, p)| j.extend(p));
+        }
+        assert_eq!(joined, whole);
     }
 
     #[test]

@@ -2,8 +2,11 @@
 
 use crate::cli::args;
 use clap::{Args, Subcommand};
+use neurotac_core::Ranks;
 use neurotac_experiments::afferents::AfferentConfig;
-use neurotac_experiments::bench::{CubaConfig, afferent_activity, cuba, neuron_throughput};
+use neurotac_experiments::bench::{
+    CubaConfig, afferent_activity, cuba_on, cuba_spikes_on, neuron_throughput,
+};
 use neurotac_experiments::neuron_setup::{NeuronKind, Precision};
 use neurotac_experiments::peers::run_brian2;
 use neurotac_neurons::Integrator;
@@ -86,6 +89,12 @@ struct CubaArgs {
     /// Seed of the connectivity and initial potentials.
     #[arg(long, default_value_t = 1)]
     seed: u64,
+    /// Neurons (80 % excitatory, 20 % inhibitory; Brian2's benchmark: 4000).
+    #[arg(value_parser = args::positive_count, allow_negative_numbers = true, long, default_value_t = 4000)]
+    neurons: usize,
+    /// Connection probability.
+    #[arg(value_parser = args::unit_interval, allow_negative_numbers = true, long, default_value_t = 0.02)]
+    probability: f64,
     #[command(flatten)]
     run: RunOptions,
 }
@@ -130,11 +139,16 @@ fn print(report: &Value, json: bool, line: String) {
     }
 }
 
-pub fn run(args: BenchArgs, ranks: &dyn neurotac_core::Ranks) -> anyhow::Result<()> {
-    let _ = ranks;
+/// `bench cuba` splits its populations over the ranks (spikes exchanged every one-step epoch);
+/// `bench neurons` runs on one process.
+pub fn run(args: BenchArgs, ranks: &dyn Ranks) -> anyhow::Result<()> {
     match args.what {
+        BenchCommand::Neurons(_) if ranks.size() > 1 => anyhow::bail!(
+            "`neurotac bench neurons` runs on one process; under mpirun only `bench cuba` splits \
+             its network over the ranks"
+        ),
         BenchCommand::Neurons(a) => neurons(a),
-        BenchCommand::Cuba(a) => cuba_network(a),
+        BenchCommand::Cuba(a) => cuba_network(a, ranks),
     }
 }
 
@@ -198,25 +212,39 @@ fn neurons(a: NeuronsArgs) -> anyhow::Result<()> {
     Ok(())
 }
 
-fn cuba_network(a: CubaArgs) -> anyhow::Result<()> {
+fn cuba_network(a: CubaArgs, ranks: &dyn Ranks) -> anyhow::Result<()> {
+    if a.run.brian2.is_some() && ranks.size() > 1 {
+        anyhow::bail!("--brian2 compares one process with Brian2: run it without mpirun");
+    }
+    let n_exc = a.neurons * 4 / 5;
     let config = CubaConfig {
         duration_s: a.duration,
         dt_s: a.dt,
         seed: a.seed,
-        ..CubaConfig::default()
+        n_exc,
+        n_inh: a.neurons - n_exc,
+        probability: a.probability,
     };
-    let (r, threads) = neurotac_experiments::threads::with_threads(a.run.threads, || {
-        let mut best = cuba(config)?;
+    let (r, spikes, threads) = neurotac_experiments::threads::with_threads(a.run.threads, || {
+        let (mut best, spikes) = cuba_spikes_on(config, ranks)?;
         for _ in 1..a.run.repeats {
-            let again = cuba(config)?;
+            let again = cuba_on(config, ranks)?;
             if again.run_s < best.run_s {
                 best = again;
             }
         }
-        Ok::<_, neurotac_experiments::bench::BenchError>((best, rayon::current_num_threads()))
+        Ok::<_, neurotac_experiments::bench::BenchError>((
+            best,
+            spikes,
+            rayon::current_num_threads(),
+        ))
     })??;
+    if !ranks.is_root() {
+        return Ok(());
+    }
     let mut report = serde_json::to_value(&r)?;
     report["threads"] = json!(threads);
+    report["spike_checksum"] = json!(format!("{:016x}", spikes.checksum()));
     if let Some(python) = &a.run.brian2 {
         let peer_args = vec![
             "cuba".into(),
@@ -233,7 +261,7 @@ fn cuba_network(a: CubaArgs) -> anyhow::Result<()> {
             a.run.repeats,
         )?;
     }
-    let line = format!(
+    let mut line = format!(
         "CUBA: {} neurons, {} synapses, {} s simulated in {:.4} s ({:.4} s per simulated second, {} threads; build {:.3} s), {} spikes ({:.1} Hz)",
         r.neurons,
         r.synapses,
@@ -245,6 +273,18 @@ fn cuba_network(a: CubaArgs) -> anyhow::Result<()> {
         r.spikes,
         r.rate_hz
     );
+    if r.ranks > 1 {
+        line += &format!(
+            "\non {} ranks ({} threads each): spike exchange {:.4} s of rank 0's run ({:.1} %, {} exchanges of {} step(s)); spike checksum {:016x}",
+            r.ranks,
+            threads,
+            r.exchange_s,
+            100.0 * r.exchange_s / r.run_s,
+            r.exchanges,
+            (r.duration_s / r.exchanges.max(1) as f64 / a.dt).round(),
+            spikes.checksum()
+        );
+    }
     print(&report, a.run.json, line);
     Ok(())
 }

@@ -3,8 +3,9 @@
 use super::load_labelled;
 use crate::cli::args;
 use clap::{Args, ValueEnum};
-use neurotac_core::Knn;
-use neurotac_experiments::coding::{CodingName, coding_distances};
+use neurotac_core::{Knn, Ranks};
+use neurotac_experiments::coding::{CodingName, coding_distances_on};
+use neurotac_experiments::export::{MATRIX_FORMATS, OutputFormat, write_matrix};
 use neurotac_experiments::protocols::{Protocol, evaluate};
 use neurotac_experiments::timing::timed;
 use std::path::PathBuf;
@@ -57,10 +58,23 @@ pub struct ClassifyArgs {
     /// Print one JSON object instead of text.
     #[arg(long)]
     json: bool,
+    /// Also write the N×N distance matrix the KNN used; format by extension: `.json`, `.npy`
+    /// or `.npz` (member `matrix`).
+    #[arg(long)]
+    matrix: Option<PathBuf>,
+    /// Replace an existing `--matrix` file.
+    #[arg(long)]
+    force: bool,
 }
 
-pub fn run(args: ClassifyArgs, ranks: &dyn neurotac_core::Ranks) -> anyhow::Result<()> {
-    let _ = ranks;
+/// On several ranks the distance matrix's rows are split over them ([`coding_distances_on`]);
+/// rank 0 alone runs the protocol on it and prints.
+pub fn run(args: ClassifyArgs, ranks: &dyn Ranks) -> anyhow::Result<()> {
+    if let Some(path) = &args.matrix {
+        neurotac_core::io::check_distinct(&args.input, path)?;
+        OutputFormat::from_path(path, &MATRIX_FORMATS)?;
+        super::refuse_existing([path.as_path()], args.force)?;
+    }
     let data = load_labelled(&args.input)?;
     let knn = Knn::new(args.k)?;
     let protocol = match args.protocol {
@@ -77,8 +91,14 @@ pub fn run(args: ClassifyArgs, ranks: &dyn neurotac_core::Ranks) -> anyhow::Resu
     let coding =
         super::distances::coding_parameters(&data, args.dt, args.duration, args.tau, args.cos)?;
     let (distances, distance_time) =
-        timed(|| coding_distances(data.observations(), args.coding, &coding));
+        timed(|| coding_distances_on(data.observations(), args.coding, &coding, ranks));
     let distances = distances?;
+    if !ranks.is_root() {
+        return Ok(());
+    }
+    if let Some(path) = &args.matrix {
+        write_matrix(path, distances.view())?;
+    }
     let (evaluation, knn_time) = timed(|| {
         evaluate(
             distances.view(),

@@ -1,14 +1,16 @@
-//! `neurotac distances`: the N×N distance matrix of a spike dataset, as `{"matrix": [[…]]}`.
+//! `neurotac distances`: the N×N distance matrix of a spike dataset, as JSON
+//! (`{"matrix": [[…]]}`), `.npy` or `.npz` by the output's extension.
 
 use super::load_dataset;
 use crate::cli::args;
-use anyhow::{Context, bail};
+use anyhow::bail;
 use clap::{Args, ValueEnum};
-use neurotac_core::SpikeDataset;
 use neurotac_core::coding::whole_ms;
+use neurotac_core::{Ranks, SpikeDataset};
 use neurotac_experiments::coding::{
-    CodingName, CodingParameters, coding_distances, mean_spikes_per_channel, sample_duration_ms,
+    CodingName, CodingParameters, coding_distances_on, mean_spikes_per_channel, sample_duration_ms,
 };
+use neurotac_experiments::export::{MATRIX_FORMATS, OutputFormat, write_matrix};
 use neurotac_experiments::timing::timed;
 use std::path::PathBuf;
 
@@ -43,7 +45,8 @@ pub struct DistancesArgs {
     /// Sample duration (s, whole ms); default: meta.duration_s, else one ms past the latest spike.
     #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long)]
     duration: Option<f64>,
-    /// Output JSON file.
+    /// Output file, format by extension: `.json` ({"matrix": [[…]]}), `.npy` (float64 N×N)
+    /// or `.npz` (member `matrix`).
     #[arg(long)]
     output: PathBuf,
     /// Replace existing output files (without it, an existing output is refused).
@@ -51,9 +54,11 @@ pub struct DistancesArgs {
     force: bool,
 }
 
-pub fn run(args: DistancesArgs, ranks: &dyn neurotac_core::Ranks) -> anyhow::Result<()> {
-    let _ = ranks;
+/// On several ranks the matrix's rows are split over them ([`coding_distances_on`]); every
+/// rank checks the output path first, rank 0 alone writes the matrix and prints.
+pub fn run(args: DistancesArgs, ranks: &dyn Ranks) -> anyhow::Result<()> {
     neurotac_core::io::check_distinct(&args.input, &args.output)?;
+    OutputFormat::from_path(&args.output, &MATRIX_FORMATS)?;
     super::refuse_existing([args.output.as_path()], args.force)?;
     let data = load_dataset(&args.input)?;
     let coding = match (args.metric, args.coding) {
@@ -64,12 +69,13 @@ pub fn run(args: DistancesArgs, ranks: &dyn neurotac_core::Ranks) -> anyhow::Res
         (Metric::Euclidean, Some(coding)) => coding,
     };
     let parameters = coding_parameters(&data, args.dt, args.duration, args.tau, args.cos)?;
-    let (matrix, timing) = timed(|| coding_distances(data.observations(), coding, &parameters));
+    let (matrix, timing) =
+        timed(|| coding_distances_on(data.observations(), coding, &parameters, ranks));
     let matrix = matrix?;
-    let rows: Vec<Vec<f64>> = matrix.outer_iter().map(|r| r.to_vec()).collect();
-    let text = serde_json::to_string(&serde_json::json!({ "matrix": rows }))?;
-    neurotac_core::io::write(&args.output, text)
-        .with_context(|| format!("writing {}", args.output.display()))?;
+    if !ranks.is_root() {
+        return Ok(());
+    }
+    write_matrix(&args.output, matrix.view())?;
     let n = data.len();
     println!(
         "{n}×{n} {:?} distance matrix of {} channels (mean {:.1} spikes/channel) → {} in {timing}",

@@ -6,18 +6,17 @@ use super::progress::Bars;
 use super::{AfferentArg, SetArg};
 use crate::cli::args;
 use clap::{Args, ValueEnum};
+use neurotac_core::Ranks;
 use neurotac_experiments::datasets::simulated::default_cache_dir;
 use neurotac_experiments::neuron_setup::Precision;
-use neurotac_experiments::progress::Progress;
+use neurotac_experiments::progress::{NoProgress, Progress};
 use neurotac_experiments::readouts::VrFrom;
 use neurotac_experiments::report::folder::check_destination;
 use neurotac_experiments::report::tables::{
     accuracy_table, afferent_table, intensive_table, parameter_table,
 };
 use neurotac_experiments::report::write_report;
-use neurotac_experiments::reproduce::{
-    ReproduceConfig, SetReport, Source, run as run_reproduction,
-};
+use neurotac_experiments::reproduce::{ReproduceConfig, SetReport, Source, run_on};
 use neurotac_experiments::threads::with_threads;
 use neurotac_experiments::timing::timed;
 use neurotac_sensor::sim::SimParams;
@@ -89,8 +88,10 @@ pub struct ReproduceArgs {
     params: Option<PathBuf>,
 }
 
-pub fn run(args: ReproduceArgs, ranks: &dyn neurotac_core::Ranks) -> anyhow::Result<()> {
-    let _ = ranks;
+/// On several ranks the simulation, the distance matrices and the searches are split over them
+/// ([`run_on`]); every rank checks the report folder first, rank 0 alone shows progress,
+/// prints and writes the report.
+pub fn run(args: ReproduceArgs, ranks: &dyn Ranks) -> anyhow::Result<()> {
     check_destination(&args.out, args.force)?;
     let cache = args.cache.clone().unwrap_or_else(default_cache_dir);
     let mut config = match args.quick {
@@ -124,8 +125,15 @@ pub fn run(args: ReproduceArgs, ranks: &dyn neurotac_core::Ranks) -> anyhow::Res
         None => args.set.sets().into_iter().map(Source::Simulated).collect(),
     };
     let bars = Bars::new();
+    let progress: &dyn Progress = match ranks.is_root() {
+        true => &bars,
+        false => &NoProgress,
+    };
     let (written, total) = timed(|| -> anyhow::Result<()> {
-        let report = with_threads(args.threads, || run_reproduction(&config, &sources, &bars))??;
+        let report = with_threads(args.threads, || run_on(&config, &sources, progress, ranks))??;
+        if !ranks.is_root() {
+            return Ok(());
+        }
         report.sets.iter().for_each(print_set);
         bars.stage("writing the report (SVG, PNG, CSV, JSON, Markdown)", 0);
         let written = write_report(&args.out, &report, args.force);
@@ -133,6 +141,9 @@ pub fn run(args: ReproduceArgs, ranks: &dyn neurotac_core::Ranks) -> anyhow::Res
         Ok(written?)
     });
     written?;
+    if !ranks.is_root() {
+        return Ok(());
+    }
     println!(
         "report: {} (report.md, report.json, CSV tables, SVG and PNG figures)",
         args.out.display()

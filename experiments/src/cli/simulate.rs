@@ -5,11 +5,12 @@ use super::SetArg;
 use super::progress::{Bars, bar};
 use crate::cli::args;
 use anyhow::Context;
-use clap::{Args, Subcommand};
+use clap::{Args, Subcommand, ValueEnum};
 use neurotac_core::Ranks;
 use neurotac_experiments::datasets::simulated::{
     GenerateConfig, PixelEventFiles, default_cache_dir,
 };
+use neurotac_experiments::export::OutputFormat;
 use neurotac_experiments::simulator_check::{
     CheckConfig, calibrate, check_trial_count, simulator_check, to_markdown,
 };
@@ -55,9 +56,14 @@ struct GenerateArgs {
     /// Simulator parameter file (JSON, every field; see `neurotac simulate params`).
     #[arg(long)]
     params: Option<PathBuf>,
-    /// Also write the dataset as JSON.
+    /// Also write the dataset as JSON (the same as `--format json`).
     #[arg(long)]
     json: bool,
+    /// Also write the dataset in these forms, comma-separated: `json` (`<set>.json`), `npz`
+    /// (`<set>.npz`: flat numpy arrays `times`, `units`, `offsets`, `labels` and `meta.json`).
+    /// `<set>.bin` is always written.
+    #[arg(long, value_enum, value_delimiter = ',')]
+    format: Vec<AlsoFormat>,
     /// Also write every trial's pixel events under `<out>/events/<class>/<trial>.<format>`.
     #[arg(long)]
     pixel_events: bool,
@@ -77,6 +83,15 @@ struct GenerateArgs {
     /// Replace existing output files (without it, an existing output is refused).
     #[arg(long)]
     force: bool,
+}
+
+/// `--format`: the forms written besides `<set>.bin`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum AlsoFormat {
+    /// `<set>.json`.
+    Json,
+    /// `<set>.npz` (numpy).
+    Npz,
 }
 
 #[derive(Debug, Args)]
@@ -166,15 +181,26 @@ fn generate(a: GenerateArgs, ranks: &dyn Ranks) -> anyhow::Result<()> {
         false => PixelEventFiles::Format(a.event_format.clone()),
     });
     let sets = a.set.context("--set is required")?.sets();
-    let mut outputs: Vec<PathBuf> = sets
-        .iter()
-        .map(|set| out.join(format!("{}.bin", set.name())))
-        .collect();
-    if a.json {
-        outputs.extend(
-            sets.iter()
-                .map(|set| out.join(format!("{}.json", set.name()))),
-        );
+    let mut also: Vec<OutputFormat> = Vec::new();
+    for format in a
+        .json
+        .then_some(AlsoFormat::Json)
+        .into_iter()
+        .chain(a.format)
+    {
+        let format = match format {
+            AlsoFormat::Json => OutputFormat::Json,
+            AlsoFormat::Npz => OutputFormat::Npz,
+        };
+        if !also.contains(&format) {
+            also.push(format);
+        }
+    }
+    let mut outputs: Vec<PathBuf> = Vec::new();
+    for set in &sets {
+        for ext in std::iter::once("bin").chain(also.iter().map(|f| f.extensions()[0])) {
+            outputs.push(out.join(format!("{}.{ext}", set.name())));
+        }
     }
     if a.pixel_events {
         outputs.push(out.join("events"));
@@ -188,7 +214,7 @@ fn generate(a: GenerateArgs, ranks: &dyn Ranks) -> anyhow::Result<()> {
             params,
             out: out.clone(),
             cache: a.cache.clone().unwrap_or_else(default_cache_dir),
-            json: a.json,
+            also: also.clone(),
             pixel_events: pixel_events.clone(),
         };
         let start = Instant::now();

@@ -1,14 +1,14 @@
 //! `neurotac synth`: writes a seeded synthetic NeuroTac-like texture dataset.
 
 use crate::cli::args;
-use anyhow::Context;
 use clap::Args;
 use neurotac_experiments::datasets::synthetic::{SyntheticConfig, synthetic_dataset};
 use std::path::PathBuf;
 
 #[derive(Debug, Args)]
 pub struct SynthArgs {
-    /// Output file: `.json` for the JSON form, anything else for the compact binary form.
+    /// Output file, format by extension: `.json`, `.bin` (or `.ntspk`, compact binary) or
+    /// `.npz` (numpy arrays).
     #[arg(long)]
     output: PathBuf,
     /// Number of samples.
@@ -35,6 +35,10 @@ pub struct SynthArgs {
 }
 
 pub fn run(args: SynthArgs) -> anyhow::Result<()> {
+    neurotac_experiments::export::OutputFormat::from_path(
+        &args.output,
+        &neurotac_experiments::export::DATASET_FORMATS,
+    )?;
     super::refuse_existing([args.output.as_path()], args.force)?;
     anyhow::ensure!(
         args.spikes_per_unit.is_finite()
@@ -51,13 +55,7 @@ pub fn run(args: SynthArgs) -> anyhow::Result<()> {
         duration_s: args.duration,
         seed: args.seed,
     });
-    let json = args.output.extension().is_some_and(|e| e == "json");
-    if json {
-        data.save_json(&args.output)
-    } else {
-        data.save_binary(&args.output)
-    }
-    .with_context(|| format!("writing {}", args.output.display()))?;
+    neurotac_experiments::export::write_dataset(&data, &args.output)?;
     println!(
         "{} samples × {} channels, {} classes → {}",
         data.len(),

@@ -5,6 +5,7 @@ use crate::cli::args;
 use anyhow::{Context, bail};
 use clap::Args;
 use neurotac_core::io::{AtomicFile, check_distinct};
+use neurotac_experiments::export::{DATASET_FORMATS, OutputFormat, dataset_bytes};
 use neurotac_experiments::report::figures::spike_train_figure;
 use neurotac_experiments::report::png::PngRenderer;
 use neurotac_experiments::transduce::{LayoutSpec, filter_file, resolve_layout, transduce_file};
@@ -76,7 +77,8 @@ pub struct TransduceArgs {
     /// Class label name stored in the dataset.
     #[arg(long)]
     label: Option<String>,
-    /// Output spike dataset (JSON, or compact binary with any other extension).
+    /// Output spike dataset, format by extension: `.json`, `.bin` (or `.ntspk`, compact
+    /// binary) or `.npz` (numpy arrays).
     #[arg(long)]
     out: PathBuf,
     /// Also write a raster plot with spatial and temporal distributions: SVG at this path and
@@ -92,6 +94,7 @@ pub fn run_transduce(a: TransduceArgs) -> anyhow::Result<()> {
     // Every output is checked against the input and created (hidden) before any work, and all
     // are renamed into place together at the end: a failure leaves none of them.
     check_distinct(&a.input, &a.out)?;
+    let format = OutputFormat::from_path(&a.out, &DATASET_FORMATS)?;
     super::refuse_existing(
         [a.out.as_path()].into_iter().chain(a.raster.as_deref()),
         a.force,
@@ -125,10 +128,7 @@ pub fn run_transduce(a: TransduceArgs) -> anyhow::Result<()> {
     if let Some(warning) = t.read.warning(&a.input) {
         eprintln!("{warning}");
     }
-    let bytes = match a.out.extension().is_some_and(|e| e == "json") {
-        true => t.dataset.to_json_string().into_bytes(),
-        false => t.dataset.to_binary(),
-    };
+    let bytes = dataset_bytes(&t.dataset, format)?;
     out_file
         .write_all(&bytes)
         .with_context(|| format!("writing {}", a.out.display()))?;

@@ -9,6 +9,7 @@
 
 use super::metadata::write_metadata;
 use crate::coding::class_means;
+use crate::export::{OutputFormat, dataset_bytes};
 use crate::progress::Progress;
 use crate::threads::ThreadPoolError;
 use neurotac_core::ranks::even_block;
@@ -556,12 +557,13 @@ pub struct GenerateConfig {
     pub seed: u64,
     /// Simulator parameters.
     pub params: SimParams,
-    /// Output folder: `<set>.bin`, optionally `<set>.json` and `events/<class>/<trial>.<ext>`.
+    /// Output folder: `<set>.bin`, optionally `<set>.json`, `<set>.npz` and
+    /// `events/<class>/<trial>.<ext>`.
     pub out: PathBuf,
     /// Cache folder of simulated datasets.
     pub cache: PathBuf,
-    /// Also write the dataset as JSON.
-    pub json: bool,
+    /// Also write the dataset in these forms (JSON, numpy `.npz`; see [`crate::export`]).
+    pub also: Vec<OutputFormat>,
     /// Also write every trial's pixel events (the dataset is then always simulated, and cached).
     pub pixel_events: Option<PixelEventFiles>,
 }
@@ -575,8 +577,8 @@ pub struct Generated {
     pub from_cache: bool,
     /// The binary dataset written (`<out>/<set>.bin`).
     pub binary: PathBuf,
-    /// The JSON dataset written, if asked for.
-    pub json: Option<PathBuf>,
+    /// The other forms written ([`GenerateConfig::also`]), in that order.
+    pub also: Vec<PathBuf>,
     /// Mean spikes per taxel of each class (index = label).
     pub class_means: Vec<f64>,
 }
@@ -650,21 +652,21 @@ pub fn generate(
     if root {
         dataset.save_binary(&binary)?;
     }
-    let json = if config.json {
-        let path = out.join(format!("{}.json", set.name()));
+    let mut also = Vec::new();
+    for &format in &config.also {
+        let path = out.join(format!("{}.{}", set.name(), format.extensions()[0]));
         if root {
-            dataset.save_json(&path)?;
+            let bytes = dataset_bytes(&dataset, format).map_err(io(&path))?;
+            neurotac_core::io::write(&path, bytes).map_err(io(&path))?;
         }
-        Some(path)
-    } else {
-        None
-    };
+        also.push(path);
+    }
     let class_means = class_means(&dataset).1;
     Ok(Generated {
         dataset,
         from_cache,
         binary,
-        json,
+        also,
         class_means,
     })
 }
@@ -832,23 +834,29 @@ mod tests {
             params: short_params(),
             out: dir.path().join("out"),
             cache: dir.path().join("cache"),
-            json: true,
+            also: vec![OutputFormat::Json, OutputFormat::Npz],
             pixel_events: None,
         };
-        let first = generate(&config, &NoProgress).unwrap();
+        let first = generate(&config, &NoProgress, &OneProcess).unwrap();
         assert!(!first.from_cache);
         assert_eq!(first.binary, dir.path().join("out/artificial.bin"));
         assert_eq!(SpikeDataset::load(&first.binary).unwrap(), first.dataset);
-        assert!(first.json.as_ref().unwrap().is_file());
+        assert_eq!(first.also.len(), 2);
+        assert!(first.also.iter().all(|p| p.is_file()));
+        let npz = std::fs::read(&first.also[1]).unwrap();
+        assert_eq!(
+            npz,
+            crate::export::dataset_npz_bytes(&first.dataset).unwrap()
+        );
         assert_eq!(first.class_means.len(), 11);
-        let again = generate(&config, &NoProgress).unwrap();
+        let again = generate(&config, &NoProgress, &OneProcess).unwrap();
         assert!(again.from_cache);
         assert_eq!(again.dataset, first.dataset);
         let with_events = GenerateConfig {
             pixel_events: Some(PixelEventFiles::LabelledCsv),
             ..config.clone()
         };
-        let made = generate(&with_events, &NoProgress).unwrap();
+        let made = generate(&with_events, &NoProgress, &OneProcess).unwrap();
         assert!(!made.from_cache);
         assert!(
             dir.path()
@@ -861,7 +869,7 @@ mod tests {
             ..config
         };
         assert!(matches!(
-            generate(&zero, &NoProgress),
+            generate(&zero, &NoProgress, &OneProcess),
             Err(DatasetsError::Simulation(SimulationError::ZeroTrials))
         ));
     }

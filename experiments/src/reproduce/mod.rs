@@ -9,7 +9,9 @@
 //! the search (optimistic, like the paper's).
 //!
 //! [`run`] is a whole reproduction (datasets from each [`Source`], the pipeline, the afferent
-//! variant) into one [`Report`]; [`run_set`] is one labelled set through the pipeline;
+//! variant) into one [`Report`] ([`run_on`]: its simulation, distance matrices and searches
+//! split over ranks, every rank ending with the one-process report); [`run_set`] is one
+//! labelled set through the pipeline;
 //! [`paper`] holds the paper's numbers to compare with; [`crate::report`] writes a run's
 //! folder (JSON, CSV, SVG and PNG figures, `report.md`).
 //!
@@ -28,7 +30,7 @@ mod run;
 
 pub use run::{
     AFFERENT_TAIL_S, AfferentRun, Report, ReproduceConfig, ReproduceError, SetReport, Source,
-    example_samples, run,
+    example_samples, run, run_on,
 };
 
 use crate::coding::{CodingName, class_means_of};
@@ -37,12 +39,12 @@ use crate::progress::Progress;
 use crate::protocols::{Evaluation, Protocol, evaluate};
 use crate::readouts::{EncodedSet, VrFrom, encode_offline};
 use crate::search::bayes::{BayesConfig, BayesResult, VanRossumObjective, bayes_optimise};
-use crate::search::dt_sweep::{DtSweep, dt_sweep_of_bins};
+use crate::search::dt_sweep::{DtSweep, dt_sweep_of_bins_on};
 use crate::timing::{Timing, timed};
 use ndarray::Array2;
 use neurotac_core::coding::write_window_features;
-use neurotac_core::distance::euclidean_distance_matrix;
-use neurotac_core::{Knn, KnnError, SpikeDataset};
+use neurotac_core::distance::euclidean_distance_matrix_on;
+use neurotac_core::{Knn, KnnError, OneProcess, Ranks, SpikeDataset};
 use serde::Serialize;
 
 /// Settings of the pipeline; [`PipelineConfig::paper`] is the paper's protocol.
@@ -250,6 +252,21 @@ pub fn run_encoded(
     config: &PipelineConfig,
     progress: &dyn Progress,
 ) -> Result<SetResult, ExperimentError> {
+    run_encoded_on(name, set, config, progress, &OneProcess)
+}
+
+/// [`run_encoded`] split over `ranks`: the distance matrices
+/// ([`euclidean_distance_matrix_on`], [`VanRossumObjective::on_ranks`]) and the Δt sweep
+/// ([`dt_sweep_of_bins_on`]) are computed by all ranks together, the rest (KNN protocols, the
+/// optimiser) by every rank alike, so every rank returns the one-process result. Collective:
+/// every rank must call it.
+pub fn run_encoded_on(
+    name: &str,
+    set: &EncodedSet,
+    config: &PipelineConfig,
+    progress: &dyn Progress,
+    ranks: &dyn Ranks,
+) -> Result<SetResult, ExperimentError> {
     let labels = &set.labels[..];
     let n_classes = set.n_classes();
     if n_classes < 2 {
@@ -276,7 +293,7 @@ pub fn run_encoded(
             labels,
             n_classes,
             config,
-            || Ok(euclidean_distance_matrix(set.intensive.view())?),
+            || Ok(euclidean_distance_matrix_on(set.intensive.view(), ranks)?),
         )?;
         progress.advance(1);
         let spatial = score(
@@ -285,7 +302,7 @@ pub fn run_encoded(
             labels,
             n_classes,
             config,
-            || Ok(euclidean_distance_matrix(set.spatial.view())?),
+            || Ok(euclidean_distance_matrix_on(set.spatial.view(), ranks)?),
         )?;
         progress.finish();
 
@@ -294,7 +311,8 @@ pub fn run_encoded(
             &format!("{name}: Δt sweep 1…{max_window} ms (LOO at each)"),
             0,
         );
-        let (sweep, dt_sweep_time) = timed(|| dt_sweep_of_bins(&set.bins, labels, max_window, knn));
+        let (sweep, dt_sweep_time) =
+            timed(|| dt_sweep_of_bins_on(&set.bins, labels, max_window, knn, ranks));
         let sweep = sweep?;
         progress.finish();
         let dt = sweep.best_window_ms;
@@ -309,9 +327,8 @@ pub fn run_encoded(
             n_classes,
             config,
             || {
-                Ok(euclidean_distance_matrix(
-                    temporal_features(set, dt).view(),
-                )?)
+                let features = temporal_features(set, dt);
+                Ok(euclidean_distance_matrix_on(features.view(), ranks)?)
             },
         )?;
 
@@ -321,7 +338,8 @@ pub fn run_encoded(
             config.bayes.epochs as u64,
         );
         let mut objective =
-            VanRossumObjective::new(set.van_rossum_input(), labels, knn, config.vr_cache);
+            VanRossumObjective::new(set.van_rossum_input(), labels, knn, config.vr_cache)
+                .on_ranks(ranks);
         let (bayes, bayes_time) = timed(|| {
             bayes_optimise(&config.bayes, |i, tau, cos| {
                 let a = objective.accuracy(i, tau, cos);

@@ -2,15 +2,15 @@
 //! afferent variant when asked) → one [`Report`], ready for [`crate::report::write_report`].
 
 use super::paper;
-use super::{PipelineConfig, SetResult, run_encoded};
+use super::{PipelineConfig, SetResult, run_encoded_on};
 use crate::afferents::{AfferentConfig, AfferentModel};
 use crate::datasets::recorded::{RecordedError, list_recorded, load_recorded, skipped_entries};
-use crate::datasets::simulated::{DatasetsError, TextureSet, load_or_simulate_with};
+use crate::datasets::simulated::{DatasetsError, TextureSet, load_or_simulate_on};
 use crate::error::ExperimentError;
 use crate::progress::Progress;
 use crate::readouts::{EncodedSet, encode_through_graph};
 use crate::timing::{Timing, timed};
-use neurotac_core::{MultiSpikeTrain, SpikeDataset};
+use neurotac_core::{MultiSpikeTrain, OneProcess, Ranks, SpikeDataset};
 use neurotac_sensor::filter::MapStart;
 use neurotac_sensor::sim::{CalibratedParameter, SimParams};
 use neurotac_sensor::taxel::{TaxelLayout, TransductionConfig};
@@ -178,13 +178,28 @@ pub fn run(
     sources: &[Source],
     progress: &dyn Progress,
 ) -> Result<Report, ReproduceError> {
+    run_on(config, sources, progress, &OneProcess)
+}
+
+/// [`run`] split over `ranks`: the simulated datasets
+/// ([`load_or_simulate_on`]), the distance matrices and the searches
+/// ([`run_encoded_on`](super::run_encoded_on)) are computed by all ranks together, and every
+/// rank returns the one-process report (timings aside). The readout and afferent networks
+/// and the transduction of recorded datasets run on every rank alike. Nothing is written but
+/// the dataset cache, by rank 0. Collective: every rank must call it.
+pub fn run_on(
+    config: &ReproduceConfig,
+    sources: &[Source],
+    progress: &dyn Progress,
+    ranks: &dyn Ranks,
+) -> Result<Report, ReproduceError> {
     if config.trials == Some(0) {
         return Err(ReproduceError::ZeroTrials);
     }
     let (sets, time) = timed(|| {
         sources
             .iter()
-            .map(|source| run_source(source, config, progress))
+            .map(|source| run_source(source, config, progress, ranks))
             .collect::<Result<Vec<_>, _>>()
     });
     Ok(Report {
@@ -205,6 +220,7 @@ fn load_source(
     source: &Source,
     config: &ReproduceConfig,
     progress: &dyn Progress,
+    ranks: &dyn Ranks,
 ) -> Result<(String, String, SpikeDataset), ReproduceError> {
     match source {
         Source::Simulated(set) => {
@@ -214,13 +230,13 @@ fn load_source(
                 (trials * set.textures().len()) as u64,
             );
             let (seed, cache) = (config.seed, &config.cache);
-            let data = load_or_simulate_with(*set, trials, seed, &config.params, cache, &|| {
-                progress.advance(1)
-            })
-            .map_err(|source| ReproduceError::Simulated {
-                set: set.name(),
-                source,
-            })?;
+            let advance = || progress.advance(1);
+            let data =
+                load_or_simulate_on(*set, trials, seed, &config.params, cache, &advance, ranks)
+                    .map_err(|source| ReproduceError::Simulated {
+                        set: set.name(),
+                        source,
+                    })?;
             progress.finish();
             let how = format!(
                 "simulated, {trials} slides per texture, seed {seed}, cache {}",
@@ -277,8 +293,9 @@ fn run_source(
     source: &Source,
     config: &ReproduceConfig,
     progress: &dyn Progress,
+    ranks: &dyn Ranks,
 ) -> Result<SetReport, ReproduceError> {
-    let (loaded, dataset_time) = timed(|| load_source(source, config, progress));
+    let (loaded, dataset_time) = timed(|| load_source(source, config, progress, ranks));
     let (name, source_text, data) = loaded?;
     progress.note(&format!(
         "{name}: {} samples, {} classes, dataset ready in {:.1} s",
@@ -300,7 +317,7 @@ fn run_source(
         out
     };
     let pipeline = |set: &EncodedSet, what: &'static str| {
-        run_encoded(&name, set, &config.pipeline, progress).map_err(|source| {
+        run_encoded_on(&name, set, &config.pipeline, progress, ranks).map_err(|source| {
             ReproduceError::Pipeline {
                 name: name.clone(),
                 what,

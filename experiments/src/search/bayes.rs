@@ -15,16 +15,18 @@
 //!   per epoch, `epochs` evaluations in all (paper: 1000), fewer if the grid is exhausted.
 //!
 //! Everything is sequential except inside the objective, so the trace is the same for a seed
-//! at any thread count. [`VanRossumObjective`] caches `LL²`/`SP²` per τ (least recently used
-//! first out), so every cos θ at a known τ costs only a matrix combination and a LOO pass.
+//! at any thread count, and at any rank count when the objective's matrices are split over
+//! ranks ([`VanRossumObjective::on_ranks`]): the optimiser runs identically on every rank.
+//! [`VanRossumObjective`] caches `LL²`/`SP²` per τ (least recently used first out), so every
+//! cos θ at a known τ costs only a matrix combination and a LOO pass.
 
 use crate::error::ExperimentError;
 use crate::neuron_setup::Precision;
 use crate::protocols::Accuracy;
 use neurotac_core::coding::TraceRecord;
-use neurotac_core::distance::{VanRossum, VanRossumMatrices, trace_matrices};
+use neurotac_core::distance::{VanRossum, VanRossumMatrices, trace_matrices_on};
 use neurotac_core::special::erfc;
-use neurotac_core::{Knn, MultiSpikeTrain};
+use neurotac_core::{Knn, MultiSpikeTrain, OneProcess, Ranks};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use serde::Serialize;
@@ -314,7 +316,8 @@ pub enum VanRossumInput<'a> {
     /// The exact distance from the spike trains ([`VanRossum::matrices`]).
     Exact(&'a [MultiSpikeTrain]),
     /// The trace-sampled distance from the samples' synaptic trace records
-    /// ([`trace_matrices`]), with its arithmetic in `precision`.
+    /// ([`trace_matrices`](neurotac_core::distance::trace_matrices)), with its arithmetic in
+    /// `precision`.
     Traces {
         /// One record per sample, all at the same trace step.
         records: &'a [TraceRecord],
@@ -326,27 +329,44 @@ pub enum VanRossumInput<'a> {
 impl VanRossumInput<'_> {
     /// `LL²` and `SP²` at `tau_s`.
     pub fn matrices(&self, tau_s: f64) -> Result<VanRossumMatrices, ExperimentError> {
+        self.matrices_on(tau_s, &OneProcess)
+    }
+
+    /// [`matrices`](Self::matrices) split over `ranks` ([`VanRossum::matrices_on`],
+    /// [`trace_matrices_on`]): every rank returns the one-process matrices. Collective.
+    pub fn matrices_on(
+        &self,
+        tau_s: f64,
+        ranks: &dyn Ranks,
+    ) -> Result<VanRossumMatrices, ExperimentError> {
         Ok(match *self {
-            VanRossumInput::Exact(trains) => VanRossum::new(tau_s)?.matrices(trains)?,
+            VanRossumInput::Exact(trains) => VanRossum::new(tau_s)?.matrices_on(trains, ranks)?,
             VanRossumInput::Traces {
                 records,
                 precision: Precision::F64,
-            } => trace_matrices::<f64>(records, tau_s)?,
+            } => trace_matrices_on::<f64>(records, tau_s, ranks)?,
             VanRossumInput::Traces {
                 records,
                 precision: Precision::F32,
-            } => trace_matrices::<f32>(records, tau_s)?,
+            } => trace_matrices_on::<f32>(records, tau_s, ranks)?,
         })
     }
 }
 
 /// Leave-one-out KNN accuracy of the Van Rossum distance at (τ, cos θ), with `LL²`/`SP²`
 /// cached per τ grid index (at most `capacity` matrices, least recently used evicted).
+///
+/// On several ranks ([`on_ranks`](Self::on_ranks)) every matrix is computed by all of them
+/// together ([`VanRossumInput::matrices_on`]) and every rank gets the same matrices, so the
+/// same accuracies: [`bayes_optimise`] then runs identically on every rank, and the ranks stay
+/// in lock step (every rank misses the cache at the same evaluations, so they all join the
+/// same collectives).
 pub struct VanRossumObjective<'a> {
     input: VanRossumInput<'a>,
     labels: &'a [usize],
     knn: Knn,
     capacity: usize,
+    ranks: &'a dyn Ranks,
     /// `(tau index, matrices)`, most recently used last.
     cache: Vec<(usize, Arc<VanRossumMatrices>)>,
     /// Matrices computed so far (cache misses).
@@ -355,16 +375,23 @@ pub struct VanRossumObjective<'a> {
 
 impl<'a> VanRossumObjective<'a> {
     /// An objective over `input`'s samples labelled `labels`, keeping up to `capacity` τ
-    /// matrices.
+    /// matrices, computed in this process alone.
     pub fn new(input: VanRossumInput<'a>, labels: &'a [usize], knn: Knn, capacity: usize) -> Self {
         Self {
             input,
             labels,
             knn,
             capacity: capacity.max(1),
+            ranks: &OneProcess,
             cache: Vec::new(),
             matrices_computed: 0,
         }
+    }
+
+    /// The objective with its matrices computed over `ranks`: every rank must then make the
+    /// same calls, in the same order (as [`bayes_optimise`] does for a seed).
+    pub fn on_ranks(self, ranks: &'a dyn Ranks) -> Self {
+        Self { ranks, ..self }
     }
 
     /// The `LL²`/`SP²` matrices at grid τ index `tau_index` (value `tau_s`), from the cache or
@@ -380,7 +407,7 @@ impl<'a> VanRossumObjective<'a> {
             self.cache.push(entry);
             return Ok(m);
         }
-        let m = Arc::new(self.input.matrices(tau_s)?);
+        let m = Arc::new(self.input.matrices_on(tau_s, self.ranks)?);
         self.matrices_computed += 1;
         if self.cache.len() == self.capacity {
             self.cache.remove(0);

@@ -34,18 +34,24 @@
 //! offered, for a block of [`LANES`] windows (one block covers the paper's 200) at once, to both
 //! samples' `k` nearest (one vector comparison against the current `k`-th distances; the few
 //! that pass are inserted), so no distance is stored. Rows are split into chunks that run in
-//! parallel, each with its own neighbour lists; the lists of all chunks are then merged with
-//! [`TopK`] under the `(distance, index)` order of [`neurotac_core::knn`], which gives the same
+//! parallel, each with its own neighbour lists; the lists of all chunks are then merged under
+//! the `(distance, index)` order of [`neurotac_core::knn::TopK`], which gives the same
 //! neighbours for any chunking (thread count), and voted on with its tie rules.
+//!
+//! Over several ranks ([`dt_sweep_on`]) each rank takes a block of rows balanced by pair
+//! count, merges its chunks' lists, and the ranks' lists are all-gathered and merged the same
+//! way: the same neighbours, so the same predictions, at any rank count.
 
 use crate::error::ExperimentError;
 use crate::protocols::Accuracy;
 use neighbours::Neighbours;
 use neurotac_core::coding::pooled_bin_counts;
-use neurotac_core::knn::{TopK, vote};
-use neurotac_core::{Knn, KnnError, MultiSpikeTrain};
+use neurotac_core::knn::vote;
+use neurotac_core::ranks::balanced_blocks;
+use neurotac_core::{Knn, KnnError, MultiSpikeTrain, OneProcess, Ranks, RanksError};
 use rayon::prelude::*;
 use serde::Serialize;
+use std::ops::Range;
 
 mod neighbours;
 
@@ -83,6 +89,7 @@ trait Lane: Copy + Default + PartialOrd + Send + Sync + 'static {
     fn wsub(self, o: Self) -> Self;
     fn wmul(self, o: Self) -> Self;
     fn from_i64(x: i64) -> Self;
+    fn to_i64(self) -> i64;
 }
 
 macro_rules! lane {
@@ -98,6 +105,8 @@ macro_rules! lane {
             fn wmul(self, o: Self) -> Self { self.wrapping_mul(o) }
             #[inline(always)]
             fn from_i64(x: i64) -> Self { x as $t }
+            #[inline(always)]
+            fn to_i64(self) -> i64 { self as i64 }
         }
     )*};
 }
@@ -341,11 +350,31 @@ pub fn dt_sweep(
     max_window_ms: u32,
     knn: Knn,
 ) -> Result<DtSweep, ExperimentError> {
-    dt_sweep_of_bins(
+    dt_sweep_on(
+        observations,
+        labels,
+        duration_ms,
+        max_window_ms,
+        knn,
+        &OneProcess,
+    )
+}
+
+/// [`dt_sweep`] split over `ranks` ([`dt_sweep_of_bins_on`]). Collective.
+pub fn dt_sweep_on(
+    observations: &[MultiSpikeTrain],
+    labels: &[usize],
+    duration_ms: u32,
+    max_window_ms: u32,
+    knn: Knn,
+    ranks: &dyn Ranks,
+) -> Result<DtSweep, ExperimentError> {
+    dt_sweep_of_bins_on(
         &bins_of(observations, duration_ms),
         labels,
         max_window_ms,
         knn,
+        ranks,
     )
 }
 
@@ -358,7 +387,21 @@ pub fn dt_sweep_of_bins(
     max_window_ms: u32,
     knn: Knn,
 ) -> Result<DtSweep, ExperimentError> {
-    let predictions = leave_one_out_predictions_of_bins(bins, labels, max_window_ms, knn)?;
+    dt_sweep_of_bins_on(bins, labels, max_window_ms, knn, &OneProcess)
+}
+
+/// [`dt_sweep_of_bins`] split over `ranks`: the pairs of samples are split over the ranks
+/// ([`leave_one_out_predictions_of_bins_on`]), and every rank returns the one-process sweep.
+/// Collective: every rank must call it.
+pub fn dt_sweep_of_bins_on(
+    bins: &[Vec<u32>],
+    labels: &[usize],
+    max_window_ms: u32,
+    knn: Knn,
+    ranks: &dyn Ranks,
+) -> Result<DtSweep, ExperimentError> {
+    let predictions =
+        leave_one_out_predictions_of_bins_on(bins, labels, max_window_ms, knn, ranks)?;
     let n = labels.len();
     let accuracy: Vec<f64> = predictions
         .iter()
@@ -404,6 +447,26 @@ pub fn leave_one_out_predictions_of_bins(
     labels: &[usize],
     max_window_ms: u32,
     knn: Knn,
+) -> Result<Vec<Vec<usize>>, ExperimentError> {
+    leave_one_out_predictions_of_bins_on(counts, labels, max_window_ms, knn, &OneProcess)
+}
+
+/// [`leave_one_out_predictions_of_bins`] split over `ranks`: each rank computes the pairs
+/// `(a, b)`, `a < b`, of a block of rows `a` balanced by pair count (row `a` has `N − a − 1`),
+/// for every window at once; the ranks' `k` nearest of every sample at every window are
+/// all-gathered and merged in the `(distance, index)` order, so every rank returns the
+/// one-process predictions. Collective: every rank must call it.
+///
+/// The pairs are split rather than the windows because one pair's distances at every window
+/// come from one correlogram over all lags `|d| < Δ_max` (module docs): a rank given only some
+/// windows would still pay for nearly all of it, while a block of pairs costs its share, and
+/// only the neighbour lists (`N × Δ_max × k` entries) travel.
+pub fn leave_one_out_predictions_of_bins_on(
+    counts: &[Vec<u32>],
+    labels: &[usize],
+    max_window_ms: u32,
+    knn: Knn,
+    ranks: &dyn Ranks,
 ) -> Result<Vec<Vec<usize>>, ExperimentError> {
     let n = counts.len();
     if labels.len() != n {
@@ -464,9 +527,9 @@ pub fn leave_one_out_predictions_of_bins(
     let max_count = counts.iter().flatten().copied().max().unwrap_or(0);
     let shape = Shape::new(duration_ms as usize, max_window_ms as usize, max_count);
     if 4 * bound < i32::MAX as u128 {
-        Ok(sweep::<i32>(counts, labels, &shape, knn))
+        Ok(sweep::<i32>(counts, labels, &shape, knn, ranks)?)
     } else if 4 * bound < i64::MAX as u128 {
-        Ok(sweep::<i64>(counts, labels, &shape, knn))
+        Ok(sweep::<i64>(counts, labels, &shape, knn, ranks)?)
     } else {
         Err(ExperimentError::InvalidParameter {
             what: "duration_ms",
@@ -481,7 +544,8 @@ fn sweep<L: Lane>(
     labels: &[usize],
     shape: &Shape,
     knn: Knn,
-) -> Vec<Vec<usize>> {
+    ranks: &dyn Ranks,
+) -> Result<Vec<Vec<usize>>, RanksError> {
     let n = counts.len();
     let lanes = shape.blocks() * LANES;
     let prepared: Vec<Prepared<L>> = counts.par_iter().map(|c| prepare(c, shape)).collect();
@@ -493,11 +557,12 @@ fn sweep<L: Lane>(
             out
         })
         .collect();
-    let chunks = balanced_row_chunks(n, rayon::current_num_threads() * CHUNKS_PER_THREAD);
-    let lists: Vec<Neighbours<L>> = chunks
+    let new_lists = || Neighbours::new(n, shape.blocks(), shape.delta_max, knn.k());
+    let parts = rayon::current_num_threads() * CHUNKS_PER_THREAD;
+    let lists: Vec<Neighbours<L>> = row_chunks(n, ranks.rank(), ranks.size(), parts)
         .into_par_iter()
         .map(|rows| {
-            let mut lists = Neighbours::new(n, shape.blocks(), shape.delta_max, knn.k());
+            let mut lists = new_lists();
             let (mut ab, mut lags) = (vec![L::default(); lanes], Vec::new());
             for first in rows.clone().step_by(ROW_BLOCK) {
                 let block = first..(first + ROW_BLOCK).min(rows.end);
@@ -525,50 +590,57 @@ fn sweep<L: Lane>(
             lists
         })
         .collect();
-    // Merge the chunks' lists per sample and window, and vote.
+    // Merge the chunks' lists per sample and window, then the ranks'.
+    let merge = |lists: &[Neighbours<L>]| {
+        Neighbours::merged(lists, n, shape.blocks(), shape.delta_max, knn.k())
+    };
+    let mut nearest = merge(&lists);
+    if ranks.size() > 1 {
+        let gathered = ranks.all_gather_bytes(&nearest.to_bytes())?;
+        let all = (gathered.iter().enumerate())
+            .map(|(rank, bytes)| {
+                let lists =
+                    Neighbours::from_bytes(bytes, n, shape.blocks(), shape.delta_max, knn.k());
+                lists.ok_or_else(|| RanksError::Malformed {
+                    rank,
+                    during: "gathering the Δt sweep's neighbour lists",
+                    reason: format!(
+                        "{} bytes that are not {n} samples × {} windows × {} neighbours",
+                        bytes.len(),
+                        shape.delta_max,
+                        knn.k()
+                    ),
+                })
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        nearest = merge(&all);
+    }
     let by_sample: Vec<Vec<usize>> = (0..n)
         .into_par_iter()
-        .map_init(
-            || TopK::new(knn.k()),
-            |top, s| {
-                (0..shape.delta_max)
-                    .map(|lane| {
-                        top.clear();
-                        for l in &lists {
-                            for (d, j) in l.neighbours(s, lane) {
-                                top.offer(d, j);
-                            }
-                        }
-                        vote(top.neighbours().iter().map(|&(_, j)| labels[j]))
-                            .expect("k ≥ 1 and n > k")
-                    })
-                    .collect()
-            },
-        )
+        .map(|s| {
+            (0..shape.delta_max)
+                .map(|lane| {
+                    vote(nearest.neighbours(s, lane).map(|(_, j)| labels[j]))
+                        .expect("k ≥ 1 and n > k")
+                })
+                .collect()
+        })
         .collect();
-    (0..shape.delta_max)
+    Ok((0..shape.delta_max)
         .map(|lane| by_sample.iter().map(|p| p[lane]).collect())
-        .collect()
+        .collect())
 }
 
-/// At most `parts` contiguous row ranges of `0..n` with about equal numbers of pairs `(a, b)`,
-/// `a < b` (row `a` has `n − a − 1`).
-fn balanced_row_chunks(n: usize, parts: usize) -> Vec<std::ops::Range<usize>> {
-    let parts = parts.max(1);
-    let per = (n * n.saturating_sub(1) / 2).div_ceil(parts).max(1);
-    let mut chunks = Vec::with_capacity(parts);
-    let (mut start, mut pairs) = (0, 0);
-    for a in 0..n {
-        pairs += n - a - 1;
-        if pairs >= per && chunks.len() + 1 < parts {
-            chunks.push(start..a + 1);
-            (start, pairs) = (a + 1, 0);
-        }
-    }
-    if start < n {
-        chunks.push(start..n);
-    }
-    chunks
+/// The rows `a` whose pairs `(a, b)`, `a < b < n`, rank `rank` of `size` computes (a block of
+/// [`balanced_blocks`] by pair count, row `a` having `n − a − 1`), in at most `parts` non-empty
+/// contiguous chunks with about equal numbers of pairs.
+fn row_chunks(n: usize, rank: usize, size: usize, parts: usize) -> Vec<Range<usize>> {
+    let pairs: Vec<f64> = (0..n).map(|a| (n - a - 1) as f64).collect();
+    let mine = balanced_blocks(&pairs, size)[rank].clone();
+    (balanced_blocks(&pairs[mine.clone()], parts).into_iter())
+        .filter(|c| !c.is_empty())
+        .map(|c| mine.start + c.start..mine.start + c.end)
+        .collect()
 }
 
 #[cfg(test)]

@@ -48,7 +48,9 @@ pub fn mpirun() -> Option<std::path::PathBuf> {
             .find(|p| p.is_file())
     });
     if found.is_none() {
-        eprintln!("skipped: mpirun is not installed (Debian: apt-get install openmpi-bin libopenmpi-dev)");
+        eprintln!(
+            "skipped: mpirun is not installed (Debian: apt-get install openmpi-bin libopenmpi-dev)"
+        );
     }
     found
 }

@@ -26,9 +26,9 @@
 //! tabulating would cost more than it saves, finds the same prefixes by walking the row's trains
 //! alongside the column's spikes (the same sums in the same order: the same bits).
 
-use ndarray::Array2;
 use rayon::prelude::*;
 use std::cmp::Ordering;
+use std::ops::Range;
 
 /// Target number of table cells per spike of a mean sample (pooled) or channel (labelled): the
 /// grid is the next power of two at or above, so cells hold at most one spike of a row sample
@@ -363,7 +363,7 @@ fn fill_train(
 }
 
 /// `Σ_n ⟨u_n, v_n⟩` and `⟨∪u, ∪v⟩` between two samples, as the sum of the two entries of
-/// [`half_product_matrices`], bit for bit, without tabulating either sample.
+/// [`half_product_rows`], bit for bit, without tabulating either sample.
 pub(super) fn cross_pair(a: &CentredSample, b: &CentredSample, grid: &Grid) -> (f64, f64) {
     let (ll_ab, sp_ab) = merged_half_products::<false>(a, b, grid);
     let (ll_ba, sp_ba) = merged_half_products::<true>(b, a, grid);
@@ -429,33 +429,37 @@ fn probe<const STRICT: bool, const B: usize>(
 /// Rows tabulated together, each column read once for all of them.
 const ROW_BLOCK: usize = 2;
 
-/// `[Σ_n ⟨u_n, v_n⟩, ⟨∪u, ∪v⟩]` halves for every ordered pair: entry `(a, b)` is the row `a`'s
-/// `P(≤ t)` sum over column `b` above the diagonal and its `P(< t)` sum below, so the cross
-/// products of `a < b` are `(a, b) + (b, a)`. Blocks of [`ROW_BLOCK`] rows run in parallel, each
-/// row from its own table and each column read once per block; an entry does not depend on the
-/// blocking (the same sums in the same order), so neither on the thread count.
-pub(super) fn half_product_matrices(samples: &[CentredSample], grid: &Grid) -> [Array2<f64>; 2] {
+/// `[Σ_n ⟨u_n, v_n⟩, ⟨∪u, ∪v⟩]` halves of the rows `rows` against every column: entry
+/// `(a, b)` is the row `a`'s `P(≤ t)` sum over column `b` above the diagonal and its `P(< t)`
+/// sum below (0 on it), so the cross products of `a < b` are `(a, b) + (b, a)`. Row `a` is
+/// `2N` values, the labelled-line halves of every column then the pooled ones; rows follow each
+/// other. Blocks of [`ROW_BLOCK`] rows run in parallel, each row from its own table and each
+/// column read once per block; an entry does not depend on the blocking (the same sums in the
+/// same order), so neither on the thread count nor on which rows are asked for.
+pub(super) fn half_product_rows(
+    samples: &[CentredSample],
+    grid: &Grid,
+    rows: Range<usize>,
+) -> Vec<f64> {
     let n = samples.len();
-    let mut ll = vec![0.0; n * n];
-    let mut sp = vec![0.0; n * n];
-    let width = ROW_BLOCK * n.max(1);
-    ll.par_chunks_mut(width)
-        .zip(sp.par_chunks_mut(width))
+    let row_width = 2 * n.max(1);
+    let mut out = vec![0.0; rows.len() * 2 * n];
+    out.par_chunks_mut(ROW_BLOCK * row_width)
         .enumerate()
         .for_each_init(
             || std::array::from_fn::<_, ROW_BLOCK, _>(|_| PrefixTables::default()),
-            |tables, (block, (ll_rows, sp_rows))| {
-                let first = block * ROW_BLOCK;
-                let rows = ll_rows.len() / n;
-                for (t, table) in tables.iter_mut().enumerate().take(rows) {
+            |tables, (block, values)| {
+                let first = rows.start + block * ROW_BLOCK;
+                let count = values.len() / row_width;
+                for (t, table) in tables.iter_mut().enumerate().take(count) {
                     table.fill(&samples[first + t], grid);
                 }
                 let mut store = |t: usize, b: usize, (l, s): (f64, f64)| {
-                    ll_rows[t * n + b] = l;
-                    sp_rows[t * n + b] = s;
+                    values[t * row_width + b] = l;
+                    values[t * row_width + n + b] = s;
                 };
                 for (b, column) in samples.iter().enumerate() {
-                    if rows == ROW_BLOCK && !(first..first + ROW_BLOCK).contains(&b) {
+                    if count == ROW_BLOCK && !(first..first + ROW_BLOCK).contains(&b) {
                         // The column is on the same side of every row of the block.
                         let all = std::array::from_fn(|t| &tables[t]);
                         let values = if b < first {
@@ -468,7 +472,7 @@ pub(super) fn half_product_matrices(samples: &[CentredSample], grid: &Grid) -> [
                         }
                         continue;
                     }
-                    for (t, table) in tables.iter().enumerate().take(rows) {
+                    for (t, table) in tables.iter().enumerate().take(count) {
                         let [v] = match b.cmp(&(first + t)) {
                             Ordering::Greater => half_products::<false, 1>([table], column, grid),
                             Ordering::Less => half_products::<true, 1>([table], column, grid),
@@ -479,5 +483,5 @@ pub(super) fn half_product_matrices(samples: &[CentredSample], grid: &Grid) -> [
                 }
             },
         );
-    [ll, sp].map(|m| Array2::from_shape_vec((n, n), m).expect("n × n values"))
+    out
 }

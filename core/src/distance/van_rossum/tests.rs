@@ -309,14 +309,14 @@ fn bad_parameters_and_shapes_are_typed_errors() {
         ));
     }
     let three = trains(vec![vec![], vec![], vec![0.2]]);
-    assert_eq!(
+    assert!(matches!(
         vr.matrices(&[a.clone(), a, three]).unwrap_err(),
         DistanceError::ChannelCount {
             sample: 2,
             expected: 2,
             got: 3
         }
-    );
+    ));
 }
 
 /// Random samples on a coarse time grid (many coincidences, crowded table cells), with varying
@@ -544,14 +544,14 @@ fn cross_matrices_check_channels_and_the_cut() {
     let p = VanRossum::new(0.01).unwrap().prepare(&prepared).unwrap();
     let two = MultiSpikeTrain::empty(2);
     let three = trains(vec![vec![0.1], vec![], vec![]]);
-    assert_eq!(
+    assert!(matches!(
         p.cross_matrices(&[two.clone(), three.clone()]).unwrap_err(),
         DistanceError::ChannelCount {
             sample: 1,
             expected: 2,
             got: 3
         }
-    );
+    ));
     assert!(matches!(
         p.cross_matrices_until(std::slice::from_ref(&two), f64::NAN),
         Err(DistanceError::InvalidParameter {

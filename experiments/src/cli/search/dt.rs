@@ -3,9 +3,9 @@
 use crate::cli::args;
 use crate::cli::load_labelled;
 use clap::Args;
-use neurotac_core::Knn;
+use neurotac_core::{Knn, Ranks};
 use neurotac_experiments::coding::sample_duration_ms;
-use neurotac_experiments::search::dt_sweep::dt_sweep;
+use neurotac_experiments::search::dt_sweep::dt_sweep_on;
 use neurotac_experiments::timing::timed;
 use std::path::PathBuf;
 
@@ -32,21 +32,26 @@ pub struct DtArgs {
     json: bool,
 }
 
-pub fn run(args: DtArgs, ranks: &dyn neurotac_core::Ranks) -> anyhow::Result<()> {
-    let _ = ranks;
+/// On several ranks the pairs of samples are split over them ([`dt_sweep_on`]); rank 0 alone
+/// prints.
+pub fn run(args: DtArgs, ranks: &dyn Ranks) -> anyhow::Result<()> {
     let data = load_labelled(&args.input)?;
     let t = sample_duration_ms(&data, args.duration)?;
     let knn = Knn::new(args.k)?;
     let (sweep, timing) = timed(|| {
-        dt_sweep(
+        dt_sweep_on(
             data.observations(),
             data.labels(),
             t,
             args.max_window_ms,
             knn,
+            ranks,
         )
     });
     let sweep = sweep?;
+    if !ranks.is_root() {
+        return Ok(());
+    }
     if args.json {
         println!(
             "{}",

@@ -4,7 +4,7 @@ use crate::cli::args;
 use crate::cli::load_labelled;
 use anyhow::Context;
 use clap::Args;
-use neurotac_core::Knn;
+use neurotac_core::{Knn, Ranks};
 use neurotac_experiments::search::bayes::{
     BayesConfig, VanRossumInput, VanRossumObjective, bayes_optimise,
 };
@@ -54,8 +54,10 @@ pub struct VrArgs {
     json: bool,
 }
 
-pub fn run(args: VrArgs, ranks: &dyn neurotac_core::Ranks) -> anyhow::Result<()> {
-    let _ = ranks;
+/// On several ranks every Van Rossum matrix is computed by all of them together and the
+/// optimiser runs identically on each ([`VanRossumObjective::on_ranks`]); every rank checks the
+/// trace path first, rank 0 alone writes the trace and prints.
+pub fn run(args: VrArgs, ranks: &dyn Ranks) -> anyhow::Result<()> {
     if let Some(trace) = &args.trace {
         neurotac_core::io::check_distinct(&args.input, trace)?;
         crate::cli::refuse_existing([trace.as_path()], args.force)?;
@@ -76,10 +78,14 @@ pub fn run(args: VrArgs, ranks: &dyn neurotac_core::Ranks) -> anyhow::Result<()>
         data.labels(),
         Knn::new(args.k)?,
         args.matrix_cache,
-    );
+    )
+    .on_ranks(ranks);
     let (result, timing) =
         timed(|| bayes_optimise(&config, |i, tau, cos| objective.accuracy(i, tau, cos)));
     let result = result?;
+    if !ranks.is_root() {
+        return Ok(());
+    }
     if let Some(path) = &args.trace {
         neurotac_core::io::write(path, serde_json::to_string(&result.trace)?)
             .with_context(|| format!("writing {}", path.display()))?;

@@ -1,6 +1,7 @@
 //! The fused leave-one-out's neighbour lists: every sample's `k` nearest at every window.
 
 use super::{LANES, Lane};
+use rayon::prelude::*;
 
 /// The `k` nearest seen so far of every sample at every window, ordered by `(distance, index)`
 /// as [`TopK`](neurotac_core::knn::TopK), in flat arrays: slot `(sample, lane)` holds `k` entries, unfilled ones
@@ -56,20 +57,86 @@ impl<L: Lane> Neighbours<L> {
 
     /// Inserts `(d, candidate)` into slot `slot` when it precedes the slot's `k`-th entry.
     fn insert(&mut self, slot: usize, d: L, candidate: u32) {
-        let first = slot * self.k;
-        let mut p = first + self.k - 1;
-        let precedes = |dist: L, index: u32| d < dist || (d == dist && candidate < index);
-        if !precedes(self.distance[p], self.index[p]) {
-            return;
+        let entries = slot * self.k..(slot + 1) * self.k;
+        self.threshold[slot] = insert_sorted(
+            &mut self.distance[entries.clone()],
+            &mut self.index[entries],
+            d,
+            candidate,
+        );
+    }
+
+    /// The `k` nearest of every slot among all of `lists` (each of shape `(n, blocks, windows,
+    /// k)`, which the result has too): the lists' entries are inserted in turn, in the
+    /// `(distance, index)` order, so the result does not depend on how candidates were split
+    /// between the lists. Samples in parallel.
+    pub(super) fn merged(
+        lists: &[Self],
+        n: usize,
+        blocks: usize,
+        windows: usize,
+        k: usize,
+    ) -> Self {
+        let mut out = Self::new(n, blocks, windows, k);
+        let lanes = out.lanes;
+        (out.distance.par_chunks_mut(lanes * k))
+            .zip(out.index.par_chunks_mut(lanes * k))
+            .zip(out.threshold.par_chunks_mut(lanes))
+            .enumerate()
+            .for_each(|(sample, ((distance, index), threshold))| {
+                for (lane, threshold) in threshold.iter_mut().enumerate().take(windows) {
+                    let entries = lane * k..(lane + 1) * k;
+                    for (d, j) in lists.iter().flat_map(|l| l.neighbours(sample, lane)) {
+                        *threshold = insert_sorted(
+                            &mut distance[entries.clone()],
+                            &mut index[entries.clone()],
+                            d,
+                            j as u32,
+                        );
+                    }
+                }
+            });
+        out
+    }
+
+    /// The lists as bytes, to send to other ranks: every distance as a little-endian `i64`, then
+    /// every index as a little-endian `u32`.
+    pub(super) fn to_bytes(&self) -> Vec<u8> {
+        let distances = self.distance.iter().flat_map(|d| d.to_i64().to_le_bytes());
+        let indices = self.index.iter().flat_map(|i| i.to_le_bytes());
+        distances.chain(indices).collect()
+    }
+
+    /// Lists of shape `(n, blocks, windows, k)` from [`to_bytes`](Self::to_bytes); `None` when
+    /// the length does not match the shape or an index is not a sample's (nor empty).
+    pub(super) fn from_bytes(
+        bytes: &[u8],
+        n: usize,
+        blocks: usize,
+        windows: usize,
+        k: usize,
+    ) -> Option<Self> {
+        let mut out = Self::new(n, blocks, windows, k);
+        let entries = out.distance.len();
+        if bytes.len() != entries * 12 {
+            return None;
         }
-        while p > first && precedes(self.distance[p - 1], self.index[p - 1]) {
-            self.distance[p] = self.distance[p - 1];
-            self.index[p] = self.index[p - 1];
-            p -= 1;
+        let (distances, indices) = bytes.split_at(entries * 8);
+        for (d, b) in out.distance.iter_mut().zip(distances.chunks_exact(8)) {
+            *d = L::from_i64(i64::from_le_bytes(b.try_into().ok()?));
         }
-        self.distance[p] = d;
-        self.index[p] = candidate;
-        self.threshold[slot] = self.distance[first + self.k - 1];
+        for (i, b) in out.index.iter_mut().zip(indices.chunks_exact(4)) {
+            *i = u32::from_le_bytes(b.try_into().ok()?);
+            if *i != u32::MAX && *i as usize >= n {
+                return None;
+            }
+        }
+        for (slot, threshold) in out.threshold.iter_mut().enumerate() {
+            if slot % out.lanes < windows {
+                *threshold = out.distance[(slot + 1) * k - 1];
+            }
+        }
+        Some(out)
     }
 
     /// The filled entries of `(sample, lane)` as `(distance, index)`.
@@ -83,4 +150,22 @@ impl<L: Lane> Neighbours<L> {
             .filter(|&e| self.index[e] != u32::MAX)
             .map(|e| (self.distance[e], self.index[e] as usize))
     }
+}
+
+/// Inserts `(d, candidate)` into the `k` entries `distance`, `index` (sorted by `(distance,
+/// index)`) when it precedes the last, which drops out; returns the `k`-th distance after.
+fn insert_sorted<L: Lane>(distance: &mut [L], index: &mut [u32], d: L, candidate: u32) -> L {
+    let last = distance.len() - 1;
+    let precedes = |dist: L, at: u32| d < dist || (d == dist && candidate < at);
+    if precedes(distance[last], index[last]) {
+        let mut p = last;
+        while p > 0 && precedes(distance[p - 1], index[p - 1]) {
+            distance[p] = distance[p - 1];
+            index[p] = index[p - 1];
+            p -= 1;
+        }
+        distance[p] = d;
+        index[p] = candidate;
+    }
+    distance[last]
 }

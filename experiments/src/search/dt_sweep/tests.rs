@@ -192,12 +192,18 @@ fn the_best_window_is_the_first_with_the_highest_accuracy() {
 }
 
 #[test]
-fn row_chunks_cover_every_row_once() {
+fn row_chunks_of_all_ranks_cover_every_row_once() {
     for (n, parts) in [(0, 3), (1, 4), (2, 1), (33, 4), (1100, 4), (5, 64)] {
-        let chunks = balanced_row_chunks(n, parts);
-        assert!(chunks.len() <= parts.max(1), "{n} {parts}");
-        let rows: Vec<usize> = chunks.into_iter().flatten().collect();
-        assert_eq!(rows, (0..n).collect::<Vec<_>>());
+        for size in [1, 2, 3, 7] {
+            let mut rows = Vec::new();
+            for rank in 0..size {
+                let chunks = row_chunks(n, rank, size, parts);
+                assert!(chunks.len() <= parts.max(1), "{n} {parts}");
+                assert!(chunks.iter().all(|c| !c.is_empty()), "{n} {parts}");
+                rows.extend(chunks.into_iter().flatten());
+            }
+            assert_eq!(rows, (0..n).collect::<Vec<_>>(), "{n} rows, {size} ranks");
+        }
     }
 }
 
