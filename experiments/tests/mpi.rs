@@ -71,6 +71,196 @@ fn simulate_on_1_2_and_3_ranks_writes_the_one_process_dataset_byte_for_byte() {
     }
 }
 
+/// Removes the keys that hold wall times (and the rank count and exchanges) from a JSON report.
+fn without_timing(text: &str) -> serde_json::Value {
+    let mut v: serde_json::Value = serde_json::from_str(text.trim()).unwrap_or_else(|e| {
+        panic!("not JSON ({e}): {text}");
+    });
+    if let Some(o) = v.as_object_mut() {
+        o.retain(|k, _| {
+            !(k.contains("timing")
+                || k.ends_with("_s")
+                || ["time", "ranks", "exchanges"].contains(&k.as_str()))
+        });
+    }
+    v
+}
+
+#[test]
+fn distances_classify_search_and_cuba_on_2_and_3_ranks_equal_one_process() {
+    let Some(mpirun) = mpirun() else { return };
+    let dir = tempfile::tempdir().unwrap();
+    let data = dir.path().join("d.bin");
+    let tiny = dir.path().join("tiny.bin");
+    for (path, samples) in [(&data, "44"), (&tiny, "2")] {
+        let (ok, _, stderr) = neurotac(&[
+            "synth",
+            "--output",
+            path.to_str().unwrap(),
+            "--samples",
+            samples,
+            "--classes",
+            "2",
+            "--channels",
+            "49",
+            "--spikes-per-unit",
+            "8",
+            "--seed",
+            "3",
+        ]);
+        assert!(ok, "{stderr}");
+    }
+    let d = data.to_str().unwrap().to_owned();
+    // (command line with OUT for an output file, output extension or "" for stdout JSON)
+    let cases: Vec<(Vec<String>, &str)> = vec![
+        (
+            vec![
+                "distances",
+                "--input",
+                &d,
+                "--metric",
+                "van-rossum",
+                "--tau",
+                "0.02",
+                "--cos",
+                "0.4",
+                "--output",
+                "OUT",
+            ]
+            .into_iter()
+            .map(String::from)
+            .collect(),
+            "npy",
+        ),
+        (
+            vec![
+                "distances",
+                "--input",
+                &d,
+                "--metric",
+                "euclidean",
+                "--coding",
+                "temporal",
+                "--dt",
+                "0.05",
+                "--output",
+                "OUT",
+            ]
+            .into_iter()
+            .map(String::from)
+            .collect(),
+            "npz",
+        ),
+        (
+            vec![
+                "distances",
+                "--input",
+                tiny.to_str().unwrap(),
+                "--metric",
+                "van-rossum",
+                "--tau",
+                "0.02",
+                "--cos",
+                "1",
+                "--output",
+                "OUT",
+            ]
+            .into_iter()
+            .map(String::from)
+            .collect(),
+            "json",
+        ),
+        (
+            vec![
+                "classify",
+                "--input",
+                &d,
+                "--coding",
+                "spatiotemporal",
+                "--tau",
+                "0.02",
+                "--cos",
+                "0.4",
+                "--json",
+                "--matrix",
+                "OUT",
+            ]
+            .into_iter()
+            .map(String::from)
+            .collect(),
+            "npy",
+        ),
+        (
+            vec![
+                "search",
+                "dt",
+                "--input",
+                &d,
+                "--max-window-ms",
+                "40",
+                "--json",
+            ]
+            .into_iter()
+            .map(String::from)
+            .collect(),
+            "",
+        ),
+        (
+            vec![
+                "bench",
+                "cuba",
+                "--duration",
+                "0.03",
+                "--threads",
+                "1",
+                "--json",
+            ]
+            .into_iter()
+            .map(String::from)
+            .collect(),
+            "",
+        ),
+    ];
+    for (i, (args, ext)) in cases.iter().enumerate() {
+        let run = |ranks: usize| {
+            let out = dir.path().join(format!("case{i}-{ranks}.{ext}"));
+            let args: Vec<&str> = args
+                .iter()
+                .map(|a| {
+                    if a == "OUT" {
+                        out.to_str().unwrap()
+                    } else {
+                        a.as_str()
+                    }
+                })
+                .collect();
+            let (ok, stdout, stderr) = match ranks {
+                0 => neurotac(&args),
+                k => neurotac_on_ranks(&mpirun, k, &args),
+            };
+            assert!(ok, "{args:?} on {ranks} ranks: {stderr}");
+            let file = (!ext.is_empty()).then(|| read(&out));
+            let json = stdout
+                .trim_start()
+                .starts_with('{')
+                .then(|| without_timing(&stdout));
+            (file, json, stdout)
+        };
+        let lines = |s: &str| s.lines().filter(|l| !l.trim().is_empty()).count();
+        let (one_file, one_json, one_stdout) = run(0);
+        for ranks in [2, 3] {
+            let (file, json, stdout) = run(ranks);
+            assert!(
+                file == one_file,
+                "{args:?}: output file differs on {ranks} ranks"
+            );
+            assert_eq!(json, one_json, "{args:?} on {ranks} ranks");
+            // Rank 0 alone prints.
+            assert_eq!(lines(&stdout), lines(&one_stdout), "{stdout}");
+        }
+    }
+}
+
 #[test]
 fn bad_input_on_several_ranks_is_one_line_from_rank_0() {
     let Some(mpirun) = mpirun() else { return };
