@@ -12,7 +12,6 @@ use crate::coding::class_means;
 use crate::export::{OutputFormat, dataset_bytes};
 use crate::progress::Progress;
 use crate::threads::ThreadPoolError;
-use neurotac_core::ranks::even_block;
 use neurotac_core::{
     DatasetError, EventBuffer, MultiSpikeTrain, OneProcess, Ranks, RanksError, SpikeDataset,
 };
@@ -258,11 +257,12 @@ pub fn simulate_set(
     simulate_set_on(set, trials, seed, params, each, progress, &OneProcess)
 }
 
-/// [`simulate_set`] split over `ranks`: rank `r` simulates its contiguous block of the
-/// (class, trial) jobs ([`even_block`]; every trial costs about the same), `each` sees only
-/// the rank's own trials, and the blocks are all-gathered in rank order, so every rank returns
-/// the dataset one process makes with the same seed, bit for bit (a trial depends only on its
-/// own seed). Collective: every rank must call it.
+/// [`simulate_set`] split over `ranks`: rank `r` of `P` simulates the jobs `r, r+P, r+2P, …`
+/// of the class-major (class, trial) list — dealt round-robin, since a trial's cost grows with
+/// its texture's spike count — and `each` sees only the rank's own trials. The trials are
+/// all-gathered and put back in job order, so every rank returns the dataset one process makes
+/// with the same seed, bit for bit (a trial depends only on its own seed). Collective: every
+/// rank must call it.
 pub fn simulate_set_on(
     set: TextureSet,
     trials: usize,
@@ -280,8 +280,13 @@ pub fn simulate_set_on(
     let camera = Camera::new(params, camera_seed(seed));
     let classes: Vec<usize> = (0..textures.len()).collect();
     let jobs = jobs_for(set, seed, &classes, 0, trials);
-    let block = even_block(jobs.len(), ranks.rank(), ranks.size());
-    let outcomes = run_trials(params, &camera, &textures, &jobs[block], each, progress)?;
+    let mine: Vec<TrialJob> = jobs
+        .iter()
+        .copied()
+        .skip(ranks.rank())
+        .step_by(ranks.size())
+        .collect();
+    let outcomes = run_trials(params, &camera, &textures, &mine, each, progress)?;
     let outcomes = gather_outcomes(outcomes, set, ranks)?;
     let n = outcomes.len() as f64;
     let mean_pixel_events = outcomes.iter().map(|o| o.pixel_events as f64).sum::<f64>() / n;
@@ -299,8 +304,9 @@ pub fn simulate_set_on(
     })
 }
 
-/// Every rank's trial outcomes, in rank order. A block travels as a binary spike dataset (the
-/// checksummed format of the cache) whose metadata carries the jobs and event counts.
+/// Every rank's trial outcomes, in job order (class, then trial). A rank's trials travel as a
+/// binary spike dataset (the checksummed format of the cache) whose metadata carries the jobs
+/// and event counts.
 fn gather_outcomes(
     local: Vec<TrialOutcome>,
     set: TextureSet,
@@ -359,6 +365,7 @@ fn gather_outcomes(
             });
         }
     }
+    all.sort_by_key(|o| (o.job.class, o.job.trial));
     Ok(all)
 }
 
