@@ -15,6 +15,7 @@ mod convert;
 mod demo;
 mod devices;
 mod distances;
+mod export;
 mod neuron;
 mod progress;
 mod recognise;
@@ -54,10 +55,12 @@ enum Command {
     Bench(bench::BenchArgs),
     /// Simulate one neuron under a constant current and print its spike times.
     Neuron(neuron::NeuronArgs),
-    /// Write the N×N distance matrix of a spike dataset as {"matrix": [[…]]}.
+    /// Write the N×N distance matrix of a spike dataset (.json, .npy or .npz by extension).
     Distances(distances::DistancesArgs),
     /// Classify a spike dataset with KNN under one coding and protocol.
     Classify(classify::ClassifyArgs),
+    /// Convert a spike dataset to numpy's .npz (flat arrays), JSON or binary, by extension.
+    Export(export::ExportArgs),
     /// Speed ↔ accuracy reports (tables and SVG plots); without a subcommand, all of them and
     /// a summary (tradeoff.md).
     Tradeoff(tradeoff::TradeoffArgs),
@@ -113,6 +116,7 @@ pub fn run(cli: Cli, ranks: &dyn Ranks) -> anyhow::Result<()> {
         Command::Neuron(args) => single("neuron").and_then(|()| neuron::run(args)),
         Command::Tradeoff(args) => single("tradeoff").and_then(|()| tradeoff::run(args)),
         Command::Synth(args) => single("synth").and_then(|()| synth::run(args)),
+        Command::Export(args) => single("export").and_then(|()| export::run(args)),
         Command::Transduce(args) => {
             single("transduce").and_then(|()| transduce::run_transduce(args))
         }

@@ -1,0 +1,36 @@
+//! `neurotac export`: a spike dataset (JSON or binary) into another form, chosen by the
+//! output's extension — `.npz` for numpy (flat arrays, see `neurotac_experiments::export`),
+//! `.json` or `.bin`.
+
+use super::load_dataset;
+use clap::Args;
+use neurotac_experiments::export::{DATASET_FORMATS, OutputFormat, write_dataset};
+use std::path::PathBuf;
+
+#[derive(Debug, Args)]
+pub struct ExportArgs {
+    /// Spike dataset to read (JSON or binary).
+    dataset: PathBuf,
+    /// Output file, format by extension: `.npz` (numpy: `times`, `units`, `offsets`, `labels`,
+    /// `meta.json`), `.json` or `.bin`.
+    out: PathBuf,
+    /// Replace an existing output file.
+    #[arg(long)]
+    force: bool,
+}
+
+pub fn run(args: ExportArgs) -> anyhow::Result<()> {
+    neurotac_core::io::check_distinct(&args.dataset, &args.out)?;
+    OutputFormat::from_path(&args.out, &DATASET_FORMATS)?;
+    super::refuse_existing([args.out.as_path()], args.force)?;
+    let data = load_dataset(&args.dataset)?;
+    write_dataset(&data, &args.out)?;
+    let spikes: usize = data.observations().iter().map(|o| o.total_spikes()).sum();
+    println!(
+        "{} samples × {} units, {spikes} spikes → {}",
+        data.len(),
+        data.n_channels(),
+        args.out.display()
+    );
+    Ok(())
+}
