@@ -1,0 +1,109 @@
+"""neurotac: spiking neural networks for neuromorphic touch (NeuroTac), from Python.
+
+The work is done in Rust (the neurotac crates); this package is a thin layer over the extension
+module ``neurotac._native``.
+
+- Event files: :func:`read_events`, :func:`write_events` (AEDAT 2.0 / 3.1 / 4.0, ECD text, CSV),
+  as NumPy structured arrays of :data:`EVENT_DTYPE`.
+- Taxel spike trains: :func:`transduce` (pixel events → 49 taxels), :func:`simulate` (the
+  simulated texture sets), :func:`load_dataset`, :func:`save_dataset`.
+- A spike dataset is a dict of flat NumPy arrays: ``times`` (float64 s), ``units`` (uint32),
+  ``offsets`` (int64, ``n_samples + 1``), ``n_units``, ``labels`` (int64), ``class_names``,
+  ``meta``; :func:`to_pymuvr` / :func:`from_pymuvr` convert to and from pymuvr's nested lists.
+- :mod:`neurotac.van_rossum`: pymuvr's ``square_distance_matrix`` and ``distance_matrix``.
+- :mod:`neurotac.coding`: the paper's four codings; :class:`Knn`: the KNN head.
+- Errors: :class:`NeurotacError` (and its subclasses :class:`NeurotacValueError`, also a
+  ``ValueError``, and :class:`NeurotacOSError`, also an ``OSError``), carrying the message the
+  ``neurotac`` CLI prints.
+"""
+
+import os as _os
+
+import numpy as _np
+
+from . import _native
+from ._native import (
+    Knn,
+    NeurotacError,
+    NeurotacOSError,
+    NeurotacValueError,
+    __version__,
+    from_pymuvr,
+    load_dataset,
+    save_dataset,
+    simulate,
+    to_pymuvr,
+)
+from . import coding, van_rossum
+
+#: The structured dtype of events: t (int64 µs), x and y (uint16, top-left), p (bool, ON).
+EVENT_DTYPE = _np.dtype([("t", "<i8"), ("x", "<u2"), ("y", "<u2"), ("p", "?")])
+
+__all__ = [
+    "EVENT_DTYPE",
+    "Knn",
+    "NeurotacError",
+    "NeurotacOSError",
+    "NeurotacValueError",
+    "coding",
+    "from_pymuvr",
+    "load_dataset",
+    "read_events",
+    "save_dataset",
+    "simulate",
+    "to_pymuvr",
+    "transduce",
+    "van_rossum",
+    "write_events",
+]
+
+
+def read_events(path):
+    """Read every event of an event file as a structured array of :data:`EVENT_DTYPE`.
+
+    The format (AEDAT 2.0, 3.1, 4.0, ECD text or CSV) is detected from the file's first bytes.
+    Events the reader skips (outside the sensor, non-polarity records) or timestamps going
+    backwards are reported by a ``UserWarning``, as the CLI reports them.
+    """
+    t, x, y, p = _native.read_event_arrays(path)
+    events = _np.empty(len(t), dtype=EVENT_DTYPE)
+    events["t"], events["x"], events["y"], events["p"] = t, x, y, p
+    return events
+
+
+def _fields(events):
+    """The arrays (t, x, y, p) of a structured array or a mapping with those keys."""
+    try:
+        return tuple(_np.asarray(events[k]) for k in ("t", "x", "y", "p"))
+    except (KeyError, ValueError, IndexError, TypeError) as e:
+        raise NeurotacValueError(
+            "events must be a structured array (or a dict) with fields t, x, y, p"
+        ) from e
+
+
+def write_events(path, events):
+    """Write events (a structured array or a dict with t, x, y, p) to ``path``.
+
+    The format comes from the extension: ``.aedat``/``.aedat2`` AEDAT 2.0, ``.aedat3`` AEDAT 3.1,
+    ``.aedat4`` AEDAT 4.0 (LZ4), ``.txt`` ECD text, ``.csv`` CSV. The file is replaced
+    atomically. ``p`` may be bool or any integer type (non-zero is ON).
+    """
+    t, x, y, p = _fields(events)
+    _native.write_event_arrays(path, t, x, y, p != 0)
+
+
+def transduce(source, layout=None, **settings):
+    """The 49 taxel spike trains of pixel events, as a one-sample dataset dict.
+
+    ``source`` is an event-file path (as ``neurotac transduce FILE``) or events in memory (a
+    structured array or a dict with t, x, y, p). ``layout``: ``None``/``"default"`` (the
+    NeuroTac pins), ``"auto"`` (detected from the head of a file) or a JSON file of ``[x, y]``
+    centres. Keyword settings, with the CLI's defaults: ``label=None``, ``ba_window_us=5000``
+    (0 disables the background-activity filter), ``ba_empty_start=False``,
+    ``rf_radius_px=3.0``, ``pool_ms=20.0``, ``gain=0.5`` (re-centring) and, for files,
+    ``calibration_ms=500.0`` (``layout="auto"``).
+    """
+    if isinstance(source, (str, bytes, _os.PathLike)):
+        return _native.transduce_path(source, layout, **settings)
+    t, x, y, p = _fields(source)
+    return _native.transduce_events(t, x, y, p != 0, layout, **settings)
