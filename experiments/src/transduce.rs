@@ -180,8 +180,38 @@ pub fn transduce_file(
     let (transducing, read) = (t.transduce_time, t.read);
     let wall = start.elapsed();
     let (counts, trains) = (t.counts, t.spike_trains);
+    let dataset = transduced_dataset(
+        &transducer,
+        trains.clone(),
+        input,
+        layout_name,
+        config,
+        label,
+    )?;
+    Ok(TransducedFile {
+        dataset,
+        trains,
+        counts,
+        transducing,
+        wall,
+        read,
+    })
+}
+
+/// The one-sample dataset of a finished transduction of `trains` from `source`, labelled
+/// `label` when given; `meta` holds `source`, `layout` (`layout_name`), the transduction
+/// settings, `origin_us` and the stage counts of `transducer`.
+pub fn transduced_dataset(
+    transducer: &Transducer,
+    trains: MultiSpikeTrain,
+    source: &Path,
+    layout_name: &str,
+    config: TransductionConfig,
+    label: Option<&str>,
+) -> Result<SpikeDataset, DatasetError> {
+    let counts = transducer.counts();
     let mut meta = serde_json::Map::new();
-    meta.insert("source".into(), input.display().to_string().into());
+    meta.insert("source".into(), source.display().to_string().into());
     meta.insert("layout".into(), layout_name.into());
     write_metadata(&mut meta, &config, None);
     meta.insert(
@@ -195,15 +225,7 @@ pub fn transduce_file(
         Some(name) => (vec![0], vec![name.to_owned()]),
         None => (Vec::new(), Vec::new()),
     };
-    let dataset = SpikeDataset::new(vec![trains.clone()], labels, names, meta)?;
-    Ok(TransducedFile {
-        dataset,
-        trains,
-        counts,
-        transducing,
-        wall,
-        read,
-    })
+    SpikeDataset::new(vec![trains], labels, names, meta)
 }
 
 /// What [`filter_file`] kept.

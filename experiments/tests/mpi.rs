@@ -112,7 +112,7 @@ fn distances_classify_search_and_cuba_on_2_and_3_ranks_equal_one_process() {
     }
     let d = data.to_str().unwrap().to_owned();
     // (command line with OUT for an output file, output extension or "" for stdout JSON)
-    let cases: Vec<(Vec<String>, &str)> = vec![
+    let cases: Vec<(Vec<&str>, &str)> = vec![
         (
             vec![
                 "distances",
@@ -126,10 +126,7 @@ fn distances_classify_search_and_cuba_on_2_and_3_ranks_equal_one_process() {
                 "0.4",
                 "--output",
                 "OUT",
-            ]
-            .into_iter()
-            .map(String::from)
-            .collect(),
+            ],
             "npy",
         ),
         (
@@ -145,10 +142,7 @@ fn distances_classify_search_and_cuba_on_2_and_3_ranks_equal_one_process() {
                 "0.05",
                 "--output",
                 "OUT",
-            ]
-            .into_iter()
-            .map(String::from)
-            .collect(),
+            ],
             "npz",
         ),
         (
@@ -164,10 +158,7 @@ fn distances_classify_search_and_cuba_on_2_and_3_ranks_equal_one_process() {
                 "1",
                 "--output",
                 "OUT",
-            ]
-            .into_iter()
-            .map(String::from)
-            .collect(),
+            ],
             "json",
         ),
         (
@@ -184,10 +175,7 @@ fn distances_classify_search_and_cuba_on_2_and_3_ranks_equal_one_process() {
                 "--json",
                 "--matrix",
                 "OUT",
-            ]
-            .into_iter()
-            .map(String::from)
-            .collect(),
+            ],
             "npy",
         ),
         (
@@ -199,10 +187,7 @@ fn distances_classify_search_and_cuba_on_2_and_3_ranks_equal_one_process() {
                 "--max-window-ms",
                 "40",
                 "--json",
-            ]
-            .into_iter()
-            .map(String::from)
-            .collect(),
+            ],
             "",
         ),
         (
@@ -214,10 +199,7 @@ fn distances_classify_search_and_cuba_on_2_and_3_ranks_equal_one_process() {
                 "--threads",
                 "1",
                 "--json",
-            ]
-            .into_iter()
-            .map(String::from)
-            .collect(),
+            ],
             "",
         ),
     ];
@@ -226,13 +208,7 @@ fn distances_classify_search_and_cuba_on_2_and_3_ranks_equal_one_process() {
             let out = dir.path().join(format!("case{i}-{ranks}.{ext}"));
             let args: Vec<&str> = args
                 .iter()
-                .map(|a| {
-                    if a == "OUT" {
-                        out.to_str().unwrap()
-                    } else {
-                        a.as_str()
-                    }
-                })
+                .map(|&a| if a == "OUT" { out.to_str().unwrap() } else { a })
                 .collect();
             let (ok, stdout, stderr) = match ranks {
                 0 => neurotac(&args),

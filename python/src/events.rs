@@ -7,8 +7,9 @@ use crate::dataset::{array_vec, dataset_to_py};
 use crate::errors::{OrRaise, invalid};
 use neurotac_core::time::s_to_us;
 use neurotac_core::{EventBuffer, SpikeDataset};
-use neurotac_experiments::datasets::metadata::write_metadata;
-use neurotac_experiments::transduce::{LayoutSpec, TransduceError, resolve_layout, transduce_file};
+use neurotac_experiments::transduce::{
+    LayoutSpec, TransduceError, resolve_layout, transduce_file, transduced_dataset,
+};
 use neurotac_sensor::filter::MapStart;
 use neurotac_sensor::format::{ReadStats, read_file, write_file};
 use neurotac_sensor::taxel::{Transducer, TransductionConfig};
@@ -218,27 +219,14 @@ pub(crate) fn transduce_events<'py>(
             let mut transducer = Transducer::new(&layout, config).map_err(transduction)?;
             transducer.push(&events).map_err(transduction)?;
             transducer.finish();
-            let counts = transducer.counts();
-            let mut meta = serde_json::Map::new();
-            meta.insert("source".into(), source.display().to_string().into());
-            meta.insert("layout".into(), layout_name.into());
-            write_metadata(&mut meta, &config, None);
-            meta.insert(
-                "origin_us".into(),
-                transducer.origin_us().unwrap_or(0).into(),
-            );
-            meta.insert("pixel_events".into(), counts.events_in.into());
-            meta.insert("after_filters".into(), counts.after_filters.into());
-            meta.insert("in_fields".into(), counts.in_fields.into());
-            let (labels, names) = match label {
-                Some(name) => (vec![0], vec![name]),
-                None => (Vec::new(), Vec::new()),
-            };
-            Ok(SpikeDataset::new(
-                vec![transducer.spike_trains()],
-                labels,
-                names,
-                meta,
+            let trains = transducer.spike_trains();
+            Ok(transduced_dataset(
+                &transducer,
+                trains,
+                source,
+                &layout_name,
+                config,
+                label.as_deref(),
             )?)
         })
         .or_raise()?;

@@ -324,16 +324,21 @@ impl Network {
                 break;
             }
         }
+        Ok(self.end_run(done, stopped_early))
+    }
+
+    /// The end of every run: event-driven populations brought up to date, readouts finished.
+    fn end_run(&mut self, steps: u64, stopped_early: bool) -> RunSummary {
         for n in &mut self.nodes {
             if let (RunningKind::Population(m), Some(_)) = (&mut n.kind, &n.active) {
                 m.settle();
             }
         }
         self.readouts.iter_mut().for_each(|(_, r)| r.finish());
-        Ok(RunSummary {
-            steps: done,
+        RunSummary {
+            steps,
             stopped_early,
-        })
+        }
     }
 
     /// [`run`](Self::run) on the group of ranks the network was built for
@@ -395,16 +400,7 @@ impl Network {
                 stop |= self.read_out(k, false);
             }
         }
-        for n in &mut self.nodes {
-            if let (RunningKind::Population(m), Some(_)) = (&mut n.kind, &n.active) {
-                m.settle();
-            }
-        }
-        self.readouts.iter_mut().for_each(|(_, r)| r.finish());
-        Ok(RunSummary {
-            steps: done,
-            stopped_early: stop && done < steps,
-        })
+        Ok(self.end_run(done, stop && done < steps))
     }
 
     fn check_ranks(&self, rank: usize, size: usize) -> Result<(), GraphError> {
