@@ -378,7 +378,12 @@ pub fn open_reader(path: &Path) -> Result<Box<dyn EventReader>, FormatError> {
     let len = file.metadata().ok().map(|m| m.len());
     let mut buffered = BufReader::with_capacity(READ_BLOCK, file);
     let head = buffered.fill_buf().map_err(io_error(path))?;
-    let format = detect_or_error(head, path, len == Some(head.len() as u64))?;
+    let format = match Format::from_extension(path) {
+        // An empty ECD text file is a recording of no events (the text formats have no header
+        // to detect; an empty CSV lacks its header and stays an error).
+        Ok(Format::EcdText) if len == Some(0) => Format::EcdText,
+        _ => detect_or_error(head, path, len == Some(head.len() as u64))?,
+    };
     open_detected(format, buffered, path.to_path_buf(), len)
 }
 
@@ -533,6 +538,23 @@ pub fn write_file(path: &Path, events: &EventBuffer) -> Result<(), FormatError> 
 mod tests {
     use super::*;
     use neurotac_core::testing::folder_names;
+
+    #[test]
+    fn an_empty_recording_reads_back_empty_in_every_format_but_a_headerless_csv_is_refused() {
+        let dir = tempfile::tempdir().unwrap();
+        for ext in ["aedat", "aedat3", "aedat4", "txt", "csv"] {
+            let path = dir.path().join(format!("empty.{ext}"));
+            write_file(&path, &EventBuffer::new()).unwrap();
+            let (events, _) = read_file(&path).unwrap_or_else(|e| panic!("{ext}: {e}"));
+            assert!(events.is_empty(), "{ext}");
+        }
+        let bare = dir.path().join("bare.csv");
+        std::fs::write(&bare, b"").unwrap();
+        assert!(matches!(
+            read_file(&bare),
+            Err(FormatError::UnknownFormat { .. })
+        ));
+    }
 
     #[test]
     fn detection_by_magic_and_first_line() {
