@@ -79,41 +79,36 @@ impl Ranks for OneProcess {
 
 /// Every rank's `f64` values concatenated in rank order, on every rank. Collective.
 pub fn all_gather_f64(ranks: &dyn Ranks, local: &[f64]) -> Result<Vec<f64>, RanksError> {
-    let bytes: Vec<u8> = local.iter().flat_map(|v| v.to_le_bytes()).collect();
-    let mut out = Vec::with_capacity(local.len() * ranks.size());
-    for (rank, block) in ranks.all_gather_bytes(&bytes)?.into_iter().enumerate() {
-        if block.len() % 8 != 0 {
-            return Err(RanksError::Malformed {
-                rank,
-                during: "all-gather of f64 values",
-                reason: format!("{} bytes is not a whole number of f64", block.len()),
-            });
-        }
-        out.extend(
-            block
-                .chunks_exact(8)
-                .map(|c| f64::from_le_bytes(c.try_into().expect("chunks of 8"))),
-        );
-    }
-    Ok(out)
+    all_gather_words(ranks, local, f64::to_le_bytes, f64::from_le_bytes, "f64")
 }
 
 /// Every rank's `u32` values concatenated in rank order, on every rank. Collective.
 pub fn all_gather_u32(ranks: &dyn Ranks, local: &[u32]) -> Result<Vec<u32>, RanksError> {
-    let bytes: Vec<u8> = local.iter().flat_map(|v| v.to_le_bytes()).collect();
+    all_gather_words(ranks, local, u32::to_le_bytes, u32::from_le_bytes, "u32")
+}
+
+/// Values of `W` little-endian bytes each, all-gathered.
+fn all_gather_words<T: Copy, const W: usize>(
+    ranks: &dyn Ranks,
+    local: &[T],
+    to_bytes: fn(T) -> [u8; W],
+    from_bytes: fn([u8; W]) -> T,
+    name: &'static str,
+) -> Result<Vec<T>, RanksError> {
+    let bytes: Vec<u8> = local.iter().flat_map(|&v| to_bytes(v)).collect();
     let mut out = Vec::with_capacity(local.len() * ranks.size());
     for (rank, block) in ranks.all_gather_bytes(&bytes)?.into_iter().enumerate() {
-        if block.len() % 4 != 0 {
+        if block.len() % W != 0 {
             return Err(RanksError::Malformed {
                 rank,
-                during: "all-gather of u32 values",
-                reason: format!("{} bytes is not a whole number of u32", block.len()),
+                during: "all-gather of values",
+                reason: format!("{} bytes is not a whole number of {name}", block.len()),
             });
         }
         out.extend(
             block
-                .chunks_exact(4)
-                .map(|c| u32::from_le_bytes(c.try_into().expect("chunks of 4"))),
+                .chunks_exact(W)
+                .map(|c| from_bytes(c.try_into().expect("chunks of W bytes"))),
         );
     }
     Ok(out)

@@ -8,7 +8,7 @@ use super::readout::{Readout, ReadoutContext, StepView};
 use super::synapse::{RunningProjection, flush};
 use crate::error::GraphError;
 use crate::model::{NeuronModel, SpikeBuffer};
-use crate::ranks::Ranks;
+use crate::ranks::{OneProcess, Ranks};
 use std::any::Any;
 use std::ops::{ControlFlow, Range};
 use std::time::Instant;
@@ -284,15 +284,7 @@ impl Network {
 
     /// Runs for `duration_s` (rounded to whole steps), then calls every readout's `finish`.
     pub fn run(&mut self, duration_s: f64) -> Result<RunSummary, GraphError> {
-        let steps = duration_s / self.dt_s;
-        if !(steps.is_finite() && steps >= 0.0) {
-            return Err(GraphError::InvalidParameter {
-                what: "run duration_s".into(),
-                value: duration_s,
-                expected: "finite and ≥ 0",
-            });
-        }
-        self.run_steps(steps.round() as u64)
+        self.run_on(duration_s, &OneProcess)
     }
 
     /// Runs `steps` steps (fewer if a readout asks to stop), then calls every readout's `finish`.
