@@ -219,12 +219,18 @@ pub fn write_dataset(dataset: &SpikeDataset, path: &Path) -> Result<(), ExportEr
     neurotac_core::io::write(path, bytes).map_err(io_error(path))
 }
 
-/// A spike dataset's bytes in `format` (binary, JSON or `.npz`; others are written as binary).
+/// A spike dataset's bytes in `format` (binary, JSON or `.npz`; a `.npy` holds one array, not
+/// a dataset, and is refused).
 pub fn dataset_bytes(dataset: &SpikeDataset, format: OutputFormat) -> io::Result<Vec<u8>> {
     Ok(match format {
         OutputFormat::Json => dataset.to_json_string().into_bytes(),
         OutputFormat::Npz => dataset_npz_bytes(dataset)?,
-        OutputFormat::Binary | OutputFormat::Npy => dataset.to_binary(),
+        OutputFormat::Binary => dataset.to_binary(),
+        OutputFormat::Npy => {
+            return Err(io::Error::other(
+                "a .npy file holds one array; write a spike dataset as .npz",
+            ));
+        }
     })
 }
 

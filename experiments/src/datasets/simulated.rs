@@ -468,9 +468,6 @@ pub fn load_or_simulate_with(
     cache_dir: &Path,
     progress: &(dyn Fn() + Sync),
 ) -> Result<SpikeDataset, DatasetsError> {
-    if trials == 0 {
-        return Err(SimulationError::ZeroTrials.into());
-    }
     load_or_simulate_on(set, trials, seed, params, cache_dir, progress, &OneProcess)
 }
 
@@ -499,6 +496,9 @@ fn load_or_simulate_cached(
     progress: &(dyn Fn() + Sync),
     ranks: &dyn Ranks,
 ) -> Result<(SpikeDataset, bool), DatasetsError> {
+    if trials == 0 {
+        return Err(SimulationError::ZeroTrials.into());
+    }
     params.validate()?;
     let path = cache_path(set, trials, seed, params, cache_dir);
     // Every rank must take the same branch: they agree on whether the cache was usable.
