@@ -58,11 +58,11 @@ pub use error::{
 };
 pub use event::{Event, EventBuffer};
 pub use graph::{
-    Connectivity, CurrentId, CurrentInput, ExpSynapse, InputId, Network, NetworkBuilder,
-    NetworkConfig, NodeId, PoissonInput, PopulationId, ProjectionId, Readout, ReadoutContext,
-    ReadoutId, ReadoutSource, RunSummary, SpikeArrayInput, SpikeRecorder, SpikeSource,
-    StateRecorder, StateSampler, StepView, Synapse, SynapticCurrentSampler, SynapticTraceRecorder,
-    TraceRecorder, TraceSampler, one_spike_weight,
+    Connectivity, CurrentId, CurrentInput, DecayingCurrents, ExpSynapse, InputId, Network,
+    NetworkBuilder, NetworkConfig, NodeId, PoissonInput, PopulationId, ProjectionId, Readout,
+    ReadoutContext, ReadoutId, ReadoutSource, RunSummary, SpikeArrayInput, SpikeRecorder,
+    SpikeSource, StateRecorder, StateSampler, StepView, Synapse, SynapticCurrentSampler,
+    SynapticDrive, SynapticTraceRecorder, TraceRecorder, TraceSampler, one_spike_weight,
 };
 pub use io::{AtomicDir, AtomicFile};
 pub use knn::{Decision, FittedKnn, Knn};

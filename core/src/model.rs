@@ -2,8 +2,10 @@
 //! per-step [`SpikeBuffer`].
 //!
 //! Models live in `neurotac-neurons` (LIF, Izhikevich) or in user code. The graph makes one
-//! dynamic call per population per step ([`NeuronModel::step`]); everything inside a step is
-//! the model's own, statically dispatched, structure-of-arrays loop.
+//! dynamic call per population per step ([`NeuronModel::step`], or
+//! [`NeuronModel::step_synaptic`] when the input is one or two projections' synaptic
+//! currents); everything inside a step is the model's own, statically dispatched,
+//! structure-of-arrays loop.
 //!
 //! # Spike-time stamp convention
 //! A step advances the state from `t_k` to `t_k + dt`. A spike found in that step is pushed with
@@ -13,6 +15,7 @@
 //! inside the step. Spike sources (inputs) give the spike's own time within the step.
 
 use crate::error::ModelError;
+use crate::graph::SynapticDrive;
 use std::ops::Range;
 
 /// The spikes of one node in one time step: neuron indices and in-step fractions.
@@ -114,6 +117,24 @@ pub trait NeuronModel: Send {
     /// membrane potential per unit of the model's time constant, e.g. `R·I` for LIF), held
     /// constant over the step. Spikes are pushed into `spikes` (already cleared).
     fn step(&mut self, current: &[f64], spikes: &mut SpikeBuffer);
+
+    /// One step whose input is the exponential synaptic currents of the population's
+    /// projections ([`SynapticDrive`]): neuron `i`'s input is `Σ_p I_p[i]`, and the step leaves
+    /// every current decayed by one step, as the network's own drain would. The network calls
+    /// this instead of [`step`](Self::step) for a clock-driven population fed by one or two
+    /// projections and nothing else. The default drains the currents into `input` (one value
+    /// per neuron, the network's buffer) and calls `step`; a model may instead sum and decay
+    /// them inside its own update loop, which must give exactly the same state, spikes and
+    /// currents (LIF does, see `neurotac_neurons::lif`).
+    fn step_synaptic(
+        &mut self,
+        drive: SynapticDrive<'_>,
+        input: &mut [f64],
+        spikes: &mut SpikeBuffer,
+    ) {
+        drive.drain_into(input);
+        self.step(input, spikes);
+    }
 
     /// Reports a numerical divergence detected since `prepare`/`reset` (a typed
     /// [`ModelError::Diverged`] naming the first step flagged). The step itself stays infallible

@@ -39,6 +39,15 @@
 //! below the smallest normal number in magnitude are flushed to 0, so a long silence never
 //! leaves subnormal numbers in the loop.
 //!
+//! ## Synaptic input
+//! In a network, a clock-driven LIF population fed by one or two projections and nothing else
+//! ([`NeuronModel::step_synaptic`]) sums and decays their currents inside the fused loop, so
+//! the input never goes through memory (not with interpolation, which reads the input again
+//! after the loop, nor for the steps that carry a divergence check). When the floor and the
+//! flush provably change nothing (exact step, `v_min = −∞`, a threshold below 0 and a proven
+//! bound on the currents, as in CUBA; see `floor_and_flush_are_no_ops`) the loop leaves them
+//! out. States, spikes and currents are bit for bit those of the unfused step.
+//!
 //! ## Divergence
 //! From `v < v_th` the solution approaches `v∞` monotonically, so it can reach `v_th` only if
 //! `v∞ ≥ v_th`. A step is flagged as diverged when a neuron spikes from `v_old < v_th` under a
@@ -62,9 +71,9 @@ use crate::population::{
     unit_fraction,
 };
 use crate::real::Real;
-use neurotac_core::ModelError;
 #[cfg(doc)]
 use neurotac_core::NeuronModel;
+use neurotac_core::{DecayingCurrents, ModelError, SynapticDrive};
 use std::marker::PhantomData;
 
 const MODEL: &str = "lif";
@@ -184,8 +193,11 @@ impl LifParams {
 pub struct LifState<F> {
     /// Membrane potentials.
     pub v: Vec<F>,
-    /// Remaining refractory steps (empty when `t_ref = 0`): whole numbers held in `F`, the
-    /// width of `v`, so that the fused loop vectorises (exact up to 2²⁴ steps in f32).
+    /// Refractory steps left (empty when `t_ref = 0`): the neuron is held at `v_reset` while
+    /// this is positive. Set to the refractory period at a spike and decreased by one every
+    /// step, through 0 and below (a clamp at 0 would cost the fused loop two operations per
+    /// neuron; a value ≤ 0 means not refractory). Whole numbers held in `F`, the width of `v`,
+    /// so that the fused loop vectorises (exact to ±2²⁴ in f32, where the count then stays).
     pub refractory_steps: Vec<F>,
     /// In-step spike fractions of the last step (empty unless interpolating).
     phi: Vec<F>,
@@ -223,18 +235,18 @@ fn step_block<F: Real, const REFRACTORY: bool, const INTERPOLATE: bool>(
         Drive::Constant(c) => {
             let v_inf = k.v_rest + F::of(c);
             if guarded {
-                step_block_with::<F, REFRACTORY, INTERPOLATE, true>(s, k, update, |_| v_inf)
+                step_block_with::<F, REFRACTORY, INTERPOLATE, true, true>(s, k, update, |_| v_inf)
             } else {
-                step_block_with::<F, REFRACTORY, INTERPOLATE, false>(s, k, update, |_| v_inf)
+                step_block_with::<F, REFRACTORY, INTERPOLATE, false, true>(s, k, update, |_| v_inf)
             }
         }
         Drive::PerNeuron(x) => {
             let x = &x[..s.v.len()];
             let v_inf = |j: usize| k.v_rest + F::of(x[j]);
             if guarded {
-                step_block_with::<F, REFRACTORY, INTERPOLATE, true>(s, k, update, v_inf)
+                step_block_with::<F, REFRACTORY, INTERPOLATE, true, true>(s, k, update, v_inf)
             } else {
-                step_block_with::<F, REFRACTORY, INTERPOLATE, false>(s, k, update, v_inf)
+                step_block_with::<F, REFRACTORY, INTERPOLATE, false, true>(s, k, update, v_inf)
             }
         }
     }
@@ -256,17 +268,20 @@ fn contracts(integrator: Integrator, h: f64) -> bool {
     }
 }
 
+/// The fused loop. `CHECKED` keeps the floor and the subnormal flush (module docs, Extremes);
+/// without it they are left out, which [`floor_and_flush_are_no_ops`] proves harmless.
 #[inline(always)]
 fn step_block_with<
     F: Real,
     const REFRACTORY: bool,
     const INTERPOLATE: bool,
     const GUARDED: bool,
+    const CHECKED: bool,
 >(
     s: &mut LifState<F>,
     k: &LifConstants<F>,
     update: &impl Fn(F, F) -> F,
-    v_inf: impl Fn(usize) -> F,
+    mut v_inf: impl FnMut(usize) -> F,
 ) -> BlockStep {
     let n = s.v.len();
     let LifState {
@@ -304,17 +319,21 @@ fn step_block_with<
         let v_old = v[i];
         let v_target = v_inf(i);
         let v_raw = update(v_old, v_target);
-        // One compare + select: NaN and −∞ (unstable Euler) become the floor, never the state.
-        let v_new = if v_raw > v_floor { v_raw } else { v_floor };
-        // Flush subnormals to 0: a long silence decays v towards v_rest = 0 through the
-        // subnormal range, where x86 arithmetic is 10–100× slower.
-        let mut v_new = if v_new.abs() >= tiny {
-            v_new
-        } else {
-            F::zero()
-        };
+        let mut v_new = v_raw;
+        if CHECKED {
+            // One compare + select: NaN and −∞ (unstable Euler) become the floor, never the
+            // state.
+            v_new = if v_new > v_floor { v_new } else { v_floor };
+            // Flush subnormals to 0: a long silence decays v towards v_rest = 0 through the
+            // subnormal range, where x86 arithmetic is 10–100× slower.
+            v_new = if v_new.abs() >= tiny {
+                v_new
+            } else {
+                F::zero()
+            };
+        }
         if REFRACTORY {
-            v_new = if refractory_steps[i] == F::zero() {
+            v_new = if refractory_steps[i] <= F::zero() {
                 v_new
             } else {
                 v_reset
@@ -337,13 +356,7 @@ fn step_block_with<
         v[i] = if spike { v_reset } else { v_new };
         if REFRACTORY {
             let left = refractory_steps[i] - F::one();
-            refractory_steps[i] = if spike {
-                n_ref
-            } else if left > F::zero() {
-                left
-            } else {
-                F::zero()
-            };
+            refractory_steps[i] = if spike { n_ref } else { left };
         }
         // The flag rides in the mask byte and is collected once per block (`take_diverged`):
         // a reduction here would cost the loop its unrolling.
@@ -353,6 +366,55 @@ fn step_block_with<
     BlockStep {
         spikes: count as u64,
         diverged: take_diverged(spiked) + u64::from(F::any_non_finite(non_finite)),
+    }
+}
+
+/// Whether the floor and the subnormal flush of the fused loop provably change nothing in a
+/// step whose inputs are at most `bound` in magnitude, so that the loop may leave them out:
+///
+/// - the step is exact (`exact`, `exp-euler`) and `v_min = −∞`, and `|v_rest| + bound ≤
+///   max/2` of the precision: then `v∞ = v_rest + I` is finite and below max/2, and
+///   `v·e^(−h) + v∞·(1 − e^(−h))` from a finite `v` (every state is finite) cannot overflow
+///   or be NaN, so it is above the floor, the lowest finite number;
+/// - `v_th ≤ −`(smallest normal number): a subnormal `v_new` is at or above threshold, as 0
+///   is, so it resets to `v_reset` whether flushed or not, and every state a step leaves is
+///   `v_reset` or below `v_th`, never subnormal.
+///
+/// CUBA's populations qualify (mV, threshold −50, exponential synapses with a proven bound:
+/// [`DecayingCurrents::bound`]); the dimensionless convention (`v_th = 1`) keeps the flush.
+fn floor_and_flush_are_no_ops<F: Real>(
+    k: &LifConstants<F>,
+    integrator: Integrator,
+    bound: f64,
+) -> bool {
+    matches!(integrator, Integrator::Exact | Integrator::ExponentialEuler)
+        && k.v_floor == F::min_value()
+        && k.v_th <= -F::min_positive_value()
+        && k.v_rest.f64().abs() + bound <= F::max_value().f64() / 2.0
+}
+
+/// The fused loop of one block under the synaptic currents `currents`
+/// ([`BlockModel::step_block_synaptic`]): neuron `i`'s `v∞ = v_rest + Σ_p I_p[i]`, the
+/// currents decayed in the same pass. `EXACT` marks the exact step, the only one for which the
+/// floor and flush may be left out ([`floor_and_flush_are_no_ops`]).
+#[inline(always)]
+fn step_block_synaptic<F: Real, const N: usize, const EXACT: bool>(
+    s: &mut LifState<F>,
+    k: &LifConstants<F>,
+    update: &impl Fn(F, F) -> F,
+    currents: DecayingCurrents<'_, N>,
+) -> BlockStep {
+    let unchecked = EXACT && floor_and_flush_are_no_ops(k, Integrator::Exact, currents.bound());
+    // Cut to the block's length, so the loop's indexing needs no bounds checks.
+    let (mut currents, _) = currents.split_at(s.v.len());
+    let v_rest = k.v_rest;
+    let v_inf = |i: usize| v_rest + F::of(currents.take(i));
+    // Only contracting steps are fused (`fuses_synapses`): nothing to guard.
+    match (k.refractory_steps > 0, unchecked) {
+        (false, false) => step_block_with::<F, false, false, false, true>(s, k, update, v_inf),
+        (true, false) => step_block_with::<F, true, false, false, true>(s, k, update, v_inf),
+        (false, true) => step_block_with::<F, false, false, false, false>(s, k, update, v_inf),
+        (true, true) => step_block_with::<F, true, false, false, false>(s, k, update, v_inf),
     }
 }
 
@@ -484,11 +546,13 @@ impl<F: Real> BlockModel for LifModel<F> {
     /// clock-driven steps agree with it up to rounding), floored and flushed as a step does.
     fn advance_idle(k: &LifConstants<F>, s: &mut LifState<F>, j: usize, steps: u64) {
         let mut n = steps;
-        if k.refractory_steps > 0 && s.refractory_steps[j] > F::zero() {
-            let held = (s.refractory_steps[j].f64() as u64).min(n);
-            s.v[j] = k.v_reset;
-            s.refractory_steps[j] = F::of((s.refractory_steps[j].f64() as u64 - held) as f64);
-            n -= held;
+        if k.refractory_steps > 0 {
+            let left = s.refractory_steps[j].f64();
+            if left > 0.0 {
+                s.v[j] = k.v_reset;
+                n -= (left as u64).min(n);
+            }
+            s.refractory_steps[j] = F::of(left - steps as f64);
         }
         if n == 0 {
             return;
@@ -576,6 +640,41 @@ impl<F: Real> BlockModel for LifModel<F> {
         }
     }
 
+    /// Without interpolation (which reads the input again after the loop) and for a step that
+    /// contracts towards v∞ ([`contracts`]).
+    fn fuses_synapses(k: &LifConstants<F>, integrator: Integrator, interpolate: bool) -> bool {
+        !interpolate && contracts(integrator, k.h.f64())
+    }
+
+    /// The fused loop with `v∞ = v_rest + Σ_p I_p` and the currents decayed in the same pass;
+    /// for the exact step, without the floor and flush when they are provably no-ops
+    /// ([`floor_and_flush_are_no_ops`]). Same states, spikes and currents as the unfused step.
+    fn step_block_synaptic(
+        k: &LifConstants<F>,
+        integrator: Integrator,
+        _interpolate: bool,
+        s: &mut LifState<F>,
+        drive: SynapticDrive<'_>,
+    ) -> BlockStep {
+        let (h, decay) = (k.h, k.decay);
+        macro_rules! with {
+            ($integrator:expr, $exact:literal) => {{
+                let update = move |v, v_inf| advance_potential($integrator, v, v_inf, h, decay);
+                match drive {
+                    SynapticDrive::One(c) => step_block_synaptic::<F, 1, $exact>(s, k, &update, c),
+                    SynapticDrive::Two(c) => step_block_synaptic::<F, 2, $exact>(s, k, &update, c),
+                }
+            }};
+        }
+        match integrator {
+            Integrator::Exact | Integrator::ExponentialEuler => with!(Integrator::Exact, true),
+            Integrator::Euler => with!(Integrator::Euler, false),
+            Integrator::Rk2 => with!(Integrator::Rk2, false),
+            Integrator::Rk4 => with!(Integrator::Rk4, false),
+            Integrator::Izhikevich2003 => unreachable!("rejected by prepare"),
+        }
+    }
+
     fn spike_mask(s: &LifState<F>) -> &[u8] {
         &s.spiked
     }
@@ -621,20 +720,14 @@ fn step_one<F: Real>(
         F::zero()
     };
     let refractory = k.refractory_steps > 0;
-    if refractory && s.refractory_steps[j] != F::zero() {
+    if refractory && s.refractory_steps[j] > F::zero() {
         v_new = k.v_reset;
     }
     let spike = v_new >= k.v_th;
     s.v[j] = if spike { k.v_reset } else { v_new };
     if refractory {
         let left = s.refractory_steps[j] - F::one();
-        s.refractory_steps[j] = if spike {
-            k.refractory
-        } else if left > F::zero() {
-            left
-        } else {
-            F::zero()
-        };
+        s.refractory_steps[j] = if spike { k.refractory } else { left };
     }
     spike
 }

@@ -11,7 +11,7 @@
 
 use crate::integrate::Integrator;
 use crate::real::Real;
-use neurotac_core::{ModelError, NeuronModel, SpikeBuffer};
+use neurotac_core::{ModelError, NeuronModel, SpikeBuffer, SynapticDrive};
 use num_traits::Float;
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -284,6 +284,32 @@ pub trait BlockModel: Send + Sync + 'static {
         state: &mut Self::State,
         drive: Drive<'_>,
     ) -> BlockStep;
+
+    /// `true` when [`step_block_synaptic`](Self::step_block_synaptic) has a fused loop for
+    /// these settings. Default `false`: the population drains the currents into its input
+    /// buffer and calls [`step_block`](Self::step_block).
+    fn fuses_synapses(k: &Self::Constants, integrator: Integrator, interpolate: bool) -> bool {
+        let _ = (k, integrator, interpolate);
+        false
+    }
+
+    /// Advances one block by one step under the synaptic currents `drive` (its part of the
+    /// population's; [`NeuronModel::step_synaptic`]), summing and decaying them inside the
+    /// update loop. Called only when [`fuses_synapses`](Self::fuses_synapses) holds; it must
+    /// give what draining the currents and calling [`step_block`](Self::step_block) gives,
+    /// which is what the default does (through a buffer on the stack).
+    fn step_block_synaptic(
+        k: &Self::Constants,
+        integrator: Integrator,
+        interpolate: bool,
+        state: &mut Self::State,
+        drive: SynapticDrive<'_>,
+    ) -> BlockStep {
+        let mut input = [0.0; BLOCK];
+        let input = &mut input[..drive.len()];
+        drive.drain_into(input);
+        Self::step_block(k, integrator, interpolate, state, Drive::PerNeuron(input))
+    }
 
     /// The block's spike mask of the last step (1 where a neuron spiked).
     fn spike_mask(state: &Self::State) -> &[u8];
@@ -585,11 +611,29 @@ impl<M: BlockModel> BlockPopulation<M> {
             let len = M::spike_mask(s).len();
             M::step_block(&k, integrator, interpolate, s, drive.block(b, len))
         });
+        self.count_step(step)
+    }
+
+    /// Ends a step that `step` summarises: notes its first divergence and counts it; returns
+    /// its spike count.
+    fn count_step(&mut self, step: BlockStep) -> u64 {
         if step.diverged > 0 && self.diverged_at.is_none() {
             self.diverged_at = Some(self.steps);
         }
         self.steps += 1;
         step.spikes
+    }
+
+    /// Pushes the last step's spikes (`count` of them) from the blocks' masks, in ascending
+    /// order.
+    fn collect_spikes(&self, count: u64, spikes: &mut SpikeBuffer) {
+        if count == 0 {
+            return;
+        }
+        for (b, s) in self.blocks.iter().enumerate() {
+            let phi = self.interpolate.then_some(M::spike_fractions(s));
+            collect_block_spikes(b, M::spike_mask(s), phi, spikes);
+        }
     }
 }
 
@@ -679,14 +723,30 @@ impl<M: BlockModel> NeuronModel for BlockPopulation<M> {
     }
 
     fn step(&mut self, current: &[f64], spikes: &mut SpikeBuffer) {
-        if self.advance_blocks(Drive::PerNeuron(current)) == 0 {
+        let step = self.advance_blocks(Drive::PerNeuron(current));
+        self.collect_spikes(step, spikes);
+    }
+
+    /// Models with a fused loop ([`BlockModel::fuses_synapses`]) drain the currents inside it,
+    /// block by block (in parallel for large populations, as [`step`](NeuronModel::step)).
+    fn step_synaptic(
+        &mut self,
+        drive: SynapticDrive<'_>,
+        input: &mut [f64],
+        spikes: &mut SpikeBuffer,
+    ) {
+        let (k, integrator, interpolate) = (self.k, self.integrator, self.interpolate);
+        if !M::fuses_synapses(&k, integrator, interpolate) || drive.len() != self.n {
+            drive.drain_into(input);
+            self.step(input, spikes);
             return;
         }
-        let interpolate = self.interpolate;
-        for (b, s) in self.blocks.iter().enumerate() {
-            let phi = interpolate.then_some(M::spike_fractions(s));
-            collect_block_spikes(b, M::spike_mask(s), phi, spikes);
-        }
+        let parallel = self.n >= PARALLEL_MIN && rayon::current_num_threads() > 1;
+        let step = step_blocks_synaptic(&mut self.blocks, drive, parallel, &|s, d| {
+            M::step_block_synaptic(&k, integrator, interpolate, s, d)
+        });
+        let step = self.count_step(step);
+        self.collect_spikes(step, spikes);
     }
 
     fn read_variable(&self, var: usize, neurons: &[u32], out: &mut Vec<f64>) {
@@ -709,10 +769,7 @@ impl<M: BlockModel> NeuronModel for BlockPopulation<M> {
             spikes,
         };
         let done = M::step_neurons(&self.k, self.integrator, neurons);
-        if done.step.diverged > 0 && self.diverged_at.is_none() {
-            self.diverged_at = Some(self.steps);
-        }
-        self.steps += 1;
+        self.count_step(done.step);
         done.updates
     }
 
@@ -784,6 +841,37 @@ pub(crate) fn for_blocks<B: Send>(
             .enumerate()
             .map(|(b, blk)| f(b, blk))
             .fold(BlockStep::default(), BlockStep::add)
+    }
+}
+
+/// Runs `f` on every block with its part of `drive` (halving the blocks over rayon's pool
+/// when `parallel`) and sums what it returns.
+fn step_blocks_synaptic<B: Send>(
+    blocks: &mut [B],
+    drive: SynapticDrive<'_>,
+    parallel: bool,
+    f: &(impl Fn(&mut B, SynapticDrive<'_>) -> BlockStep + Sync),
+) -> BlockStep {
+    match blocks {
+        [] => BlockStep::default(),
+        [block] => f(block, drive),
+        _ => {
+            let mid = blocks.len() / 2;
+            let (left, right) = blocks.split_at_mut(mid);
+            let (d_left, d_right) = drive.split_at(mid * BLOCK);
+            let (a, b) = if parallel {
+                rayon::join(
+                    || step_blocks_synaptic(left, d_left, parallel, f),
+                    || step_blocks_synaptic(right, d_right, parallel, f),
+                )
+            } else {
+                (
+                    step_blocks_synaptic(left, d_left, parallel, f),
+                    step_blocks_synaptic(right, d_right, parallel, f),
+                )
+            };
+            a.add(b)
+        }
     }
 }
 

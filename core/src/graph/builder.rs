@@ -479,7 +479,7 @@ impl NetworkBuilder {
             }
             let post_block = block(sizes[p.post]);
             projection_index[i] = Some(projections.len());
-            projections.push(RunningProjection {
+            let mut projection = RunningProjection {
                 pre,
                 post: runtime_index[p.post],
                 delay,
@@ -488,7 +488,11 @@ impl NetworkBuilder {
                 wiring: p
                     .connectivity
                     .compile(sizes[p.pre], sizes[p.post], post_block),
-            });
+                bound: f64::INFINITY,
+            };
+            let from_population = matches!(nodes[pre].kind, RunningKind::Population(_));
+            projection.bound = projection.current_bound(sizes[p.pre], from_population);
+            projections.push(projection);
         }
         if partitioned {
             // An epoch's spikes stay in the rings until they are exchanged and read out.

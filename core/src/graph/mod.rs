@@ -19,7 +19,10 @@
 //!    steps ago (this step's, for delay 0 from an input) to its currents, giving `I(t_k)`;
 //! 3. **integration**: every population sums its projections' currents `I(t_k)` and direct
 //!    currents (evaluated at `t_k`) and advances one step, holding that input constant; in the
-//!    same pass each projection's currents decay exactly to `I(t_k + dt) = I(t_k)·e^(−dt/τ)`;
+//!    same pass each projection's currents decay exactly to `I(t_k + dt) = I(t_k)·e^(−dt/τ)`.
+//!    A clock-driven population fed by one or two projections and nothing else gets them as a
+//!    [`SynapticDrive`] ([`NeuronModel::step_synaptic`](crate::NeuronModel::step_synaptic)), so
+//!    the model can sum and decay the currents inside its own update loop (LIF does);
 //! 4. **threshold/reset**: inside the model's step, which pushes this step's spikes;
 //! 5. **readouts**: each sees this step's spikes of its source, the population state at
 //!    `t_k + dt`, or the projection currents at `t_k + dt` (decayed, before the next delivery).
@@ -80,7 +83,9 @@ pub use readout::{
     Readout, ReadoutContext, SpikeRecorder, StateRecorder, StateSampler, StepView,
     SynapticCurrentSampler, SynapticTraceRecorder, TraceRecorder, TraceSampler,
 };
-pub use synapse::{Connectivity, ExpSynapse, FLUSH_TO_ZERO, Synapse};
+pub use synapse::{
+    Connectivity, DecayingCurrents, ExpSynapse, FLUSH_TO_ZERO, Synapse, SynapticDrive,
+};
 pub use weight::one_spike_weight;
 
 #[cfg(test)]

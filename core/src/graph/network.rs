@@ -5,7 +5,7 @@ use super::exchange::{pack_epoch, unpack_epoch};
 use super::ids::{InputId, NodeId, ReadoutId};
 use super::input::{CurrentInput, SpikeSource};
 use super::readout::{Readout, ReadoutContext, StepView};
-use super::synapse::{RunningProjection, flush};
+use super::synapse::{DecayingCurrents, RunningProjection, SynapticDrive, flush};
 use crate::error::GraphError;
 use crate::model::{NeuronModel, SpikeBuffer};
 use crate::ranks::{OneProcess, Ranks};
@@ -560,34 +560,29 @@ impl Network {
             }
             if let RunningKind::Population(m) = &mut n.kind {
                 self.neuron_updates += n.input.len() as u64;
-                if n.incoming.is_empty() {
-                    n.input.iter_mut().for_each(|x| *x = 0.0);
-                }
-                match n.incoming[..] {
-                    // Two projections (an excitatory and an inhibitory one, as in CUBA): one
-                    // pass over the three arrays instead of two passes over the input.
-                    [a, b] if a != b => {
-                        let (pa, pb) = if a < b {
-                            let (lo, hi) = self.projections.split_at_mut(b);
-                            (&mut lo[a], &mut hi[0])
-                        } else {
-                            let (lo, hi) = self.projections.split_at_mut(a);
-                            (&mut hi[0], &mut lo[b])
-                        };
-                        RunningProjection::drain_pair_into(pa, pb, &mut n.input);
-                    }
-                    _ => {
-                        for (j, &p) in n.incoming.iter().enumerate() {
-                            self.projections[p].drain_into(&mut n.input, j == 0);
-                        }
-                    }
-                }
-                for &c in &n.currents {
-                    self.currents[c].add_into(t_k, &mut n.input);
-                }
                 let slot = (k % n.history.len() as u64) as usize;
                 n.history[slot].clear();
-                m.step(&n.input, &mut n.history[slot]);
+                // Fed by one or two projections and nothing else (as CUBA's populations): the
+                // model drains the currents inside its own update loop.
+                let synaptic = if n.currents.is_empty() {
+                    synaptic_drive(&mut self.projections, &n.incoming)
+                } else {
+                    None
+                };
+                if let Some(drive) = synaptic {
+                    m.step_synaptic(drive, &mut n.input, &mut n.history[slot]);
+                } else {
+                    if n.incoming.is_empty() {
+                        n.input.iter_mut().for_each(|x| *x = 0.0);
+                    }
+                    for (j, &p) in n.incoming.iter().enumerate() {
+                        self.projections[p].drain_into(&mut n.input, j == 0);
+                    }
+                    for &c in &n.currents {
+                        self.currents[c].add_into(t_k, &mut n.input);
+                    }
+                    m.step(&n.input, &mut n.history[slot]);
+                }
                 if n.local.start > 0 {
                     n.history[slot].shift_indices(n.local.start as u32);
                 }
@@ -634,5 +629,35 @@ impl Network {
             stop |= r.on_step(&view) == ControlFlow::Break(());
         }
         stop
+    }
+}
+
+/// The drive of a population fed by the projections `incoming`, when there are one or two
+/// ([`SynapticDrive`]); `None` otherwise.
+fn synaptic_drive<'a>(
+    projections: &'a mut [RunningProjection],
+    incoming: &[usize],
+) -> Option<SynapticDrive<'a>> {
+    match *incoming {
+        [a] => {
+            let p = &mut projections[a];
+            DecayingCurrents::new([&mut p.current[..]], [p.decay], p.bound).map(SynapticDrive::One)
+        }
+        [a, b] if a != b => {
+            let (pa, pb) = if a < b {
+                let (lo, hi) = projections.split_at_mut(b);
+                (&mut lo[a], &mut hi[0])
+            } else {
+                let (lo, hi) = projections.split_at_mut(a);
+                (&mut hi[0], &mut lo[b])
+            };
+            DecayingCurrents::new(
+                [&mut pa.current[..], &mut pb.current[..]],
+                [pa.decay, pb.decay],
+                pa.bound + pb.bound,
+            )
+            .map(SynapticDrive::Two)
+        }
+        _ => None,
     }
 }

@@ -33,6 +33,159 @@ pub(super) fn flush(x: f64) -> f64 {
     if x.abs() < FLUSH_TO_ZERO { 0.0 } else { x }
 }
 
+/// The synaptic currents `I_p` of the projections feeding a population, borrowed for one
+/// clock-driven step ([`SynapticDrive`]), with their one-step decay factors `d_p = e^(−dt/τ_p)`.
+///
+/// [`take`](Self::take)`(i)` is neuron `i`'s input, `x_i = I_0[i] + I_1[i] + …` (summed in
+/// projection order), and leaves each current decayed as a projection decays it,
+/// `I_p[i] ← I_p[i]·d_p`, flushed to 0 below [`FLUSH_TO_ZERO`]: the network's drain and the
+/// model's update in one loop, so the input never goes through memory.
+#[derive(Debug)]
+pub struct DecayingCurrents<'a, const N: usize> {
+    currents: [&'a mut [f64]; N],
+    decays: [f64; N],
+    bound: f64,
+}
+
+impl<'a, const N: usize> DecayingCurrents<'a, N> {
+    /// The currents `currents[p]` (one value per neuron, all of one length) decaying by
+    /// `decays[p]` per step, whose sum never exceeds `bound` in magnitude (`f64::INFINITY` when
+    /// nothing is known; the network proves a finite bound at build, see
+    /// [`bound`](Self::bound)). `None` when the lengths differ or `N = 0`.
+    pub fn new(currents: [&'a mut [f64]; N], decays: [f64; N], bound: f64) -> Option<Self> {
+        let n = currents.first()?.len();
+        currents.iter().all(|c| c.len() == n).then_some(Self {
+            currents,
+            decays,
+            bound,
+        })
+    }
+
+    /// Neurons.
+    pub fn len(&self) -> usize {
+        self.currents[0].len()
+    }
+
+    /// `true` when there are no neurons.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// A bound on `|x_i|` for every input [`take`](Self::take) returns. The network's is
+    /// `Σ_p 4·W_p/(1 − d_p)`, where `W_p` is the largest sum of `|w|` onto one neuron of
+    /// projection `p`: a presynaptic population spikes at most once per neuron per step, so
+    /// `|I_p| ≤ W_p·(1 + d_p + d_p² + …)`, and the factor 4 covers rounding. It is infinite
+    /// for a projection from a spike input (which may repeat a channel within a step) or with
+    /// `1 − d_p < 2⁻⁴⁰`.
+    pub fn bound(&self) -> f64 {
+        self.bound
+    }
+
+    /// Neuron `i`'s input `Σ_p I_p[i]`; then every `I_p[i]` decays by one step (flushed below
+    /// [`FLUSH_TO_ZERO`]). Panics when `i ≥ len()`; a loop over `0..len()` has its bounds
+    /// checks removed.
+    #[inline(always)]
+    pub fn take(&mut self, i: usize) -> f64 {
+        let mut x = self.currents[0][i];
+        self.currents[0][i] = flush(x * self.decays[0]);
+        for p in 1..N {
+            let c = self.currents[p][i];
+            x += c;
+            self.currents[p][i] = flush(c * self.decays[p]);
+        }
+        x
+    }
+
+    /// Writes every neuron's input into `out` (`out[i] =` [`take`](Self::take)`(i)`).
+    pub fn drain_into(&mut self, out: &mut [f64]) {
+        let n = self.len().min(out.len());
+        for (i, x) in out[..n].iter_mut().enumerate() {
+            *x = self.take(i);
+        }
+    }
+
+    /// The first `mid` neurons and the rest (`mid ≤ len()`).
+    pub fn split_at(self, mid: usize) -> (Self, Self) {
+        let Self {
+            currents,
+            decays,
+            bound,
+        } = self;
+        let mut left = currents.map(|c| c.split_at_mut(mid));
+        let right = std::array::from_fn(|p| std::mem::take(&mut left[p].1));
+        (
+            Self {
+                currents: left.map(|(l, _)| l),
+                decays,
+                bound,
+            },
+            Self {
+                currents: right,
+                decays,
+                bound,
+            },
+        )
+    }
+}
+
+/// The input of one clock-driven step of a population fed only by the exponential synapses of
+/// one or two projections (as in CUBA: an excitatory and an inhibitory one), given to
+/// [`NeuronModel::step_synaptic`](crate::NeuronModel::step_synaptic) so that a model can sum
+/// and decay the currents inside its own update loop.
+#[derive(Debug)]
+pub enum SynapticDrive<'a> {
+    /// One projection.
+    One(DecayingCurrents<'a, 1>),
+    /// Two projections, summed as `I_0 + I_1`.
+    Two(DecayingCurrents<'a, 2>),
+}
+
+impl SynapticDrive<'_> {
+    /// Neurons.
+    pub fn len(&self) -> usize {
+        match self {
+            SynapticDrive::One(c) => c.len(),
+            SynapticDrive::Two(c) => c.len(),
+        }
+    }
+
+    /// `true` when there are no neurons.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// The bound on the inputs' magnitude ([`DecayingCurrents::bound`]).
+    pub fn bound(&self) -> f64 {
+        match self {
+            SynapticDrive::One(c) => c.bound(),
+            SynapticDrive::Two(c) => c.bound(),
+        }
+    }
+
+    /// Writes every neuron's input into `out` and decays the currents
+    /// ([`DecayingCurrents::drain_into`]): the unfused step.
+    pub fn drain_into(self, out: &mut [f64]) {
+        match self {
+            SynapticDrive::One(mut c) => c.drain_into(out),
+            SynapticDrive::Two(mut c) => c.drain_into(out),
+        }
+    }
+
+    /// The first `mid` neurons and the rest (`mid ≤ len()`).
+    pub fn split_at(self, mid: usize) -> (Self, Self) {
+        match self {
+            SynapticDrive::One(c) => {
+                let (a, b) = c.split_at(mid);
+                (SynapticDrive::One(a), SynapticDrive::One(b))
+            }
+            SynapticDrive::Two(c) => {
+                let (a, b) = c.split_at(mid);
+                (SynapticDrive::Two(a), SynapticDrive::Two(b))
+            }
+        }
+    }
+}
+
 /// Exponential current synapse parameters shared by all synapses of a projection: each
 /// presynaptic spike adds its weight `w` to the synaptic current, which decays as
 /// `I(t) = w·e^{−t/τ_syn}` and enters the target model's input (weights are in the model's input
@@ -302,6 +455,8 @@ pub(crate) struct RunningProjection {
     pub decay: f64,
     pub wiring: Wiring,
     pub current: Vec<f64>,
+    /// A bound on `|current|` at every step ([`DecayingCurrents::bound`]).
+    pub bound: f64,
 }
 
 impl RunningProjection {
@@ -326,22 +481,6 @@ impl RunningProjection {
                 *x += *c;
                 *c = flush(*c * d);
             }
-        }
-    }
-
-    /// `input = a + b` (in that order, as two [`drain_into`](Self::drain_into) calls sum),
-    /// then both decay by one step: one pass for a population fed by two projections.
-    #[inline]
-    pub fn drain_pair_into(a: &mut Self, b: &mut Self, input: &mut [f64]) {
-        let (da, db) = (a.decay, b.decay);
-        for ((x, ca), cb) in input
-            .iter_mut()
-            .zip(a.current.iter_mut())
-            .zip(b.current.iter_mut())
-        {
-            *x = *ca + *cb;
-            *ca = flush(*ca * da);
-            *cb = flush(*cb * db);
         }
     }
 
@@ -403,6 +542,33 @@ impl RunningProjection {
                 }
             }
         }
+    }
+
+    /// The bound on this projection's currents ([`DecayingCurrents::bound`]): `4·W/(1 − d)`
+    /// with `W` the largest sum of `|w|` onto one target, when each presynaptic neuron spikes
+    /// at most once per step (`once_per_step`: the source is a population); else infinite.
+    pub fn current_bound(&self, n_pre: usize, once_per_step: bool) -> f64 {
+        let leak = 1.0 - self.decay;
+        if !once_per_step || leak < (-40f64).exp2() {
+            return f64::INFINITY;
+        }
+        let most_onto_one = match &self.wiring {
+            Wiring::OneToOne(w) => w.abs(),
+            Wiring::AllToAll(w) => n_pre as f64 * w.abs(),
+            Wiring::Csr { post, weight, .. } => {
+                let mut sum = vec![0.0f64; self.current.len()];
+                post.iter()
+                    .zip(weight)
+                    .for_each(|(&j, w)| sum[j as usize] += w.abs());
+                sum.into_iter().fold(0.0, f64::max)
+            }
+            Wiring::UniformCsr { post, weight, .. } => {
+                let mut count = vec![0u32; self.current.len()];
+                post.iter().for_each(|&j| count[j as usize] += 1);
+                count.into_iter().max().unwrap_or(0) as f64 * weight.abs()
+            }
+        };
+        4.0 * most_onto_one / leak
     }
 
     /// Number of synapses.
@@ -588,6 +754,7 @@ mod tests {
             decay: (-0.1f64).exp(),
             wiring: Wiring::OneToOne(1.0),
             current: vec![0.0; 2],
+            bound: f64::INFINITY,
         };
         p.deliver(&[1]);
         for _ in 0..10 {
@@ -601,5 +768,126 @@ mod tests {
             p.current[1], 0.0,
             "decayed current must flush to exact zero"
         );
+    }
+
+    fn projection(
+        connectivity: &Connectivity,
+        n_pre: usize,
+        n_post: usize,
+        tau: f64,
+    ) -> RunningProjection {
+        RunningProjection {
+            pre: 0,
+            post: Some(1),
+            delay: 1,
+            decay: (-1e-4 / tau).exp(),
+            wiring: connectivity.compile(n_pre, n_post, 0..n_post),
+            current: vec![0.0; n_post],
+            bound: f64::INFINITY,
+        }
+    }
+
+    #[test]
+    fn the_current_bound_holds_when_every_neuron_spikes_every_step() {
+        // The worst case the bound covers: each presynaptic neuron spikes at every step. The
+        // largest current then tends to W/(1 − d) = bound/4 from below.
+        let (n_pre, n_post) = (50, 40);
+        let sparse = Connectivity::Sparse(vec![
+            Synapse {
+                pre: 0,
+                post: 3,
+                weight: -2.5,
+            },
+            Synapse {
+                pre: 7,
+                post: 3,
+                weight: 1.0,
+            },
+            Synapse {
+                pre: 7,
+                post: 9,
+                weight: 4.0,
+            },
+        ]);
+        for (c, w_max) in [
+            (Connectivity::AllToAll { weight: -0.5 }, 25.0),
+            (Connectivity::OneToOne { weight: 3.0 }, 3.0),
+            (sparse, 4.0),
+        ] {
+            let n_pre = if matches!(c, Connectivity::OneToOne { .. }) {
+                n_post
+            } else {
+                n_pre
+            };
+            let mut p = projection(&c, n_pre, n_post, 5e-3);
+            let bound = p.current_bound(n_pre, true);
+            assert!(
+                (bound - 4.0 * w_max / (1.0 - p.decay)).abs() < 1e-9 * bound,
+                "{c:?}"
+            );
+            let everyone: Vec<u32> = (0..n_pre as u32).collect();
+            let mut largest = 0.0f64;
+            for _ in 0..2000 {
+                p.deliver(&everyone);
+                largest = p.current.iter().fold(largest, |m, c| m.max(c.abs()));
+                p.decay();
+            }
+            assert!(
+                largest <= bound / 4.0 * (1.0 + 1e-12),
+                "{c:?}: {largest} vs {bound}"
+            );
+            assert!(largest > 0.99 * bound / 4.0, "{c:?}: the bound is tight");
+        }
+        let random = Connectivity::Random {
+            probability: 0.1,
+            weight: 1.5,
+            seed: 3,
+        };
+        let mut p = projection(&random, 500, 400, 5e-3);
+        let bound = p.current_bound(500, true);
+        let everyone: Vec<u32> = (0..500).collect();
+        let mut largest = 0.0f64;
+        for _ in 0..2000 {
+            p.deliver(&everyone);
+            largest = p.current.iter().fold(largest, |m, c| m.max(c.abs()));
+            p.decay();
+        }
+        assert!(largest <= bound / 4.0 * (1.0 + 1e-12) && largest > 0.99 * bound / 4.0);
+    }
+
+    #[test]
+    fn no_bound_from_spike_inputs_or_without_leak() {
+        let c = Connectivity::AllToAll { weight: 1.0 };
+        assert_eq!(
+            projection(&c, 3, 3, 5e-3).current_bound(3, false),
+            f64::INFINITY
+        );
+        // τ = 10⁹ s at dt = 0.1 ms: 1 − d ≈ 10⁻¹³ < 2⁻⁴⁰.
+        assert_eq!(
+            projection(&c, 3, 3, 1e9).current_bound(3, true),
+            f64::INFINITY
+        );
+    }
+
+    #[test]
+    fn decaying_currents_sum_decay_and_split_as_the_drain() {
+        let mut a = vec![1.0, -2.0, 1e-31, 0.5, 3.0];
+        let mut b = vec![0.25, 2.0, 0.0, -1e-29, 7.0];
+        let (da, db) = (0.9, 0.5);
+        let expected_input: Vec<f64> = a.iter().zip(&b).map(|(x, y)| x + y).collect();
+        let expected_a: Vec<f64> = a.iter().map(|&x| flush(x * da)).collect();
+        let expected_b: Vec<f64> = b.iter().map(|&x| flush(x * db)).collect();
+        let drive = DecayingCurrents::new([&mut a[..], &mut b[..]], [da, db], 7.0).unwrap();
+        assert_eq!((drive.len(), drive.bound()), (5, 7.0));
+        let (mut left, right) = drive.split_at(2);
+        let (mut one, mut rest) = right.split_at(1);
+        assert_eq!((left.len(), one.len(), rest.len()), (2, 1, 2));
+        let mut input = vec![0.0; 5];
+        left.drain_into(&mut input[..2]);
+        input[2] = one.take(0);
+        rest.drain_into(&mut input[3..]);
+        assert_eq!(input, expected_input);
+        assert_eq!((a, b), (expected_a, expected_b));
+        assert!(DecayingCurrents::new([&mut [1.0][..], &mut [][..]], [1.0, 1.0], 0.0).is_none());
     }
 }
