@@ -429,56 +429,72 @@ impl<S> ActiveNeurons<'_, S> {
             restless_next,
             spikes,
         } = self;
-        let mut out = ActiveStep::default();
         restless_next.clear();
-        let mut visit = |i: u32, input: f64| {
-            let i_ = i as usize;
-            let (block, j) = (&mut blocks[i_ / BLOCK], i_ % BLOCK);
-            let to = &mut current_to[i_];
-            if *to < now {
-                idle(block, j, now - *to);
-            }
-            let s = step(block, j, input);
-            if s.spikes > 0 {
-                spikes.push(i);
-            }
-            if !settled(block, j) {
-                restless_next.push(i);
-            }
-            *to = now + 1;
-            out.updates += 1;
-            out.step = out.step.add(s);
-        };
-        if restless.is_empty() {
-            // Every neuron settled (always so for LIF): the active ones only.
-            for (&i, &input) in active.iter().zip(inputs) {
-                visit(i, input);
-            }
-        } else {
-            // The two ascending lists merged, a neuron in both once.
-            let (mut a, mut r) = (0, 0);
-            loop {
-                let (i, input) = match (active.get(a), restless.get(r)) {
-                    (Some(&x), Some(&y)) if y < x => {
-                        r += 1;
-                        (y, 0.0)
-                    }
-                    (Some(&x), next) => {
-                        r += usize::from(next == Some(&x));
-                        a += 1;
-                        (x, inputs[a - 1])
-                    }
-                    (None, Some(&y)) => {
-                        r += 1;
-                        (y, 0.0)
-                    }
-                    (None, None) => break,
-                };
-                visit(i, input);
-            }
-        }
+        let mut out = ActiveStep::default();
+        each_active_or_restless(
+            active,
+            inputs,
+            restless,
+            #[inline(always)]
+            |i: u32, input: f64| {
+                let i_ = i as usize;
+                let (block, j) = (&mut blocks[i_ / BLOCK], i_ % BLOCK);
+                let to = &mut current_to[i_];
+                if *to < now {
+                    idle(block, j, now - *to);
+                }
+                let s = step(block, j, input);
+                if s.spikes > 0 {
+                    spikes.push(i);
+                }
+                if !settled(block, j) {
+                    restless_next.push(i);
+                }
+                *to = now + 1;
+                out.updates += 1;
+                out.step = out.step.add(s);
+            },
+        );
         std::mem::swap(restless, restless_next);
         out
+    }
+}
+
+/// Calls `visit(i, input)` for the neurons `active` (ascending, with `inputs`) merged with the
+/// neurons `restless` (ascending, input 0 unless also active), each once, in ascending order.
+/// Every neuron settled (always so for LIF): the active ones only, in a loop of their own.
+#[inline(always)]
+fn each_active_or_restless(
+    active: &[u32],
+    inputs: &[f64],
+    restless: &[u32],
+    mut visit: impl FnMut(u32, f64),
+) {
+    if restless.is_empty() {
+        for (&i, &input) in active.iter().zip(inputs) {
+            visit(i, input);
+        }
+        return;
+    }
+    let (mut a, mut r) = (0, 0);
+    loop {
+        let (i, input) = match (active.get(a), restless.get(r)) {
+            (Some(&x), Some(&y)) if y < x => {
+                r += 1;
+                (y, 0.0)
+            }
+            (Some(&x), next) => {
+                r += usize::from(next == Some(&x));
+                a += 1;
+                (x, inputs[a - 1])
+            }
+            (None, Some(&y)) => {
+                r += 1;
+                (y, 0.0)
+            }
+            (None, None) => break,
+        };
+        visit(i, input);
     }
 }
 
