@@ -441,7 +441,7 @@ impl<S> ActiveNeurons<'_, S> {
                 let (block, j) = (&mut blocks[i_ / BLOCK], i_ % BLOCK);
                 let to = &mut current_to[i_];
                 if *to < now {
-                    idle(block, j, now - *to);
+                    advance_skipped(&mut idle, block, j, now - *to);
                 }
                 let s = step(block, j, input);
                 if s.spikes > 0 {
@@ -458,6 +458,20 @@ impl<S> ActiveNeurons<'_, S> {
         std::mem::swap(restless, restless_next);
         out
     }
+}
+
+/// `idle(block, j, steps)`, out of the event-driven loop: a neuron comes back after skipped
+/// steps once per input burst, while the loop runs every step, and inlined the closed form's
+/// registers cost the loop its own.
+#[cold]
+#[inline(never)]
+fn advance_skipped<S>(
+    idle: &mut impl FnMut(&mut S, usize, u64),
+    block: &mut S,
+    j: usize,
+    steps: u64,
+) {
+    idle(block, j, steps);
 }
 
 /// Calls `visit(i, input)` for the neurons `active` (ascending, with `inputs`) merged with the
