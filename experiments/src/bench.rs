@@ -11,9 +11,10 @@ use crate::threads::{ThreadPoolError, with_threads};
 use neurotac_core::ranks::all_gather_f64;
 use neurotac_core::{
     Connectivity, ExpSynapse, GraphError, ModelError, MultiSpikeTrain, Network, NetworkBuilder,
-    NetworkConfig, OneProcess, Ranks, RanksError, ReadoutId, SpikeArrayInput, SpikeRecorder,
+    NetworkConfig, OneProcess, PopulationId, Ranks, RanksError, ReadoutId, SpikeArrayInput,
+    SpikeRecorder,
 };
-use neurotac_neurons::{InitialPotential, Integrator, Lif, LifParams};
+use neurotac_neurons::{InitialPotential, Integrator, Lif, LifParams, Real};
 use rand::{RngExt, SeedableRng};
 use serde::Serialize;
 use std::time::Instant;
@@ -379,11 +380,17 @@ pub struct CubaSpikes {
     pub inhibitory: Vec<(u32, f64)>,
 }
 
-/// The CUBA network of `config`, described but not built: the builder and the spike recorders
-/// of its excitatory and inhibitory populations.
-pub fn cuba_builder(
-    config: &CubaConfig,
-) -> Result<(NetworkBuilder, [ReadoutId<SpikeRecorder>; 2]), GraphError> {
+/// The CUBA network of `config` with neurons in precision `F` (`neurotac bench cuba`'s is
+/// f64), described but not built: the builder, its excitatory and inhibitory populations and
+/// their spike recorders.
+pub type CubaBuilder = (
+    NetworkBuilder,
+    [PopulationId; 2],
+    [ReadoutId<SpikeRecorder>; 2],
+);
+
+/// [`CubaBuilder`] for `config` in precision `F`.
+pub fn cuba_builder<F: Real>(config: &CubaConfig) -> Result<CubaBuilder, GraphError> {
     let params = LifParams {
         tau_m_s: 0.02,
         v_rest: -49.0,
@@ -393,7 +400,7 @@ pub fn cuba_builder(
         v_min: f64::NEG_INFINITY,
     };
     let population = |n: usize, seed: u64| {
-        Lif::<f64>::new(n, params)
+        Lif::<F>::new(n, params)
             .with_integrator(Integrator::Exact)
             .with_initial_potential(InitialPotential::Uniform {
                 low: -60.0,
@@ -430,7 +437,7 @@ pub fn cuba_builder(
         )?;
     }
     let recorders = [b.record_spikes(exc)?, b.record_spikes(inh)?];
-    Ok((b, recorders))
+    Ok((b, [exc, inh], recorders))
 }
 
 /// Builds and runs the CUBA network in one process.
@@ -478,7 +485,7 @@ fn run_cuba(
     ranks: &dyn Ranks,
 ) -> Result<(CubaResult, Network, [ReadoutId<SpikeRecorder>; 2]), BenchError> {
     let start = Instant::now();
-    let (b, [re, ri]) = cuba_builder(&config)?;
+    let (b, _, [re, ri]) = cuba_builder::<f64>(&config)?;
     let config_net = NetworkConfig { dt_s: config.dt_s };
     let mut net = b.build_partitioned(config_net, ranks.rank(), ranks.size())?;
     let build_s = start.elapsed().as_secs_f64();

@@ -3,75 +3,31 @@
 //! them in its own pass and leaves out the floor and flush it proves to be no-ops. The spikes
 //! must be those of the unfused step, which a zero injected current forces.
 
-use neurotac_core::{
-    Connectivity, CurrentInput, ExpSynapse, Network, NetworkBuilder, NetworkConfig, ReadoutId,
-    SpikeRecorder,
-};
-use neurotac_neurons::{InitialPotential, Integrator, Lif, LifParams, Real};
+use neurotac_core::{CurrentInput, NetworkConfig};
+use neurotac_experiments::bench::{CubaConfig, cuba_builder};
+use neurotac_neurons::Real;
 
-/// A CUBA network (`neurotac bench cuba`'s, denser, so that a short run is busy) of `n`
-/// neurons in precision `F`, optionally with a zero current injected into both populations.
-fn cuba_like<F: Real>(n: usize, zero_current: bool) -> (Network, [ReadoutId<SpikeRecorder>; 2]) {
-    let params = LifParams {
-        tau_m_s: 0.02,
-        v_rest: -49.0,
-        v_th: -50.0,
-        v_reset: -60.0,
-        t_ref_s: 5e-3,
-        v_min: f64::NEG_INFINITY,
+/// The spikes of `neurotac bench cuba`'s network (denser, so that a short run is busy) in
+/// precision `F`, optionally with a zero current injected into both populations.
+fn spikes<F: Real>(zero_current: bool) -> [Vec<(u32, f64)>; 2] {
+    let config = CubaConfig {
+        n_exc: 800,
+        n_inh: 200,
+        probability: 0.05,
+        ..CubaConfig::default()
     };
-    let population = |n: usize, seed: u64| {
-        Lif::<F>::new(n, params)
-            .with_integrator(Integrator::Exact)
-            .with_initial_potential(InitialPotential::Uniform {
-                low: -60.0,
-                high: -50.0,
-                seed,
-            })
-    };
-    let mut b = NetworkBuilder::new();
-    let n_exc = n * 4 / 5;
-    let exc = b
-        .add_population("excitatory", population(n_exc, 1))
-        .unwrap();
-    let inh = b
-        .add_population("inhibitory", population(n - n_exc, 2))
-        .unwrap();
-    for (k, (pre, post, weight, tau)) in [
-        (exc, exc, 1.62, 5e-3),
-        (exc, inh, 1.62, 5e-3),
-        (inh, exc, -9.0, 10e-3),
-        (inh, inh, -9.0, 10e-3),
-    ]
-    .into_iter()
-    .enumerate()
-    {
-        let random = Connectivity::Random {
-            probability: 0.05,
-            weight,
-            seed: 10 + k as u64,
-        };
-        b.connect(pre, post, random, ExpSynapse::new(tau)).unwrap();
-    }
+    let (mut b, populations, recorders) = cuba_builder::<F>(&config).unwrap();
     if zero_current {
         let zero = b
             .add_current_input("zero", CurrentInput::constant(0.0))
             .unwrap();
-        b.inject(zero, exc).unwrap();
-        b.inject(zero, inh).unwrap();
+        for population in populations {
+            b.inject(zero, population).unwrap();
+        }
     }
-    let recorders = [b.record_spikes(exc).unwrap(), b.record_spikes(inh).unwrap()];
-    let net = b.build(NetworkConfig { dt_s: 1e-4 }).unwrap();
-    (net, recorders)
-}
-
-fn spikes<F: Real>(zero_current: bool) -> Vec<Vec<(u32, f64)>> {
-    let (mut net, recorders) = cuba_like::<F>(1000, zero_current);
+    let mut net = b.build(NetworkConfig { dt_s: config.dt_s }).unwrap();
     net.run(0.2).unwrap();
-    recorders
-        .iter()
-        .map(|&r| net.readout(r).spikes().to_vec())
-        .collect()
+    recorders.map(|r| net.readout(r).spikes().to_vec())
 }
 
 #[test]
