@@ -641,14 +641,14 @@ impl<F: Real> BlockModel for LifModel<F> {
     }
 
     /// Without interpolation (which reads the input again after the loop) and for a step that
-    /// contracts towards v∞ ([`contracts`]).
+    /// contracts towards v∞ (module docs, Divergence).
     fn fuses_synapses(k: &LifConstants<F>, integrator: Integrator, interpolate: bool) -> bool {
         !interpolate && contracts(integrator, k.h.f64())
     }
 
     /// The fused loop with `v∞ = v_rest + Σ_p I_p` and the currents decayed in the same pass;
     /// for the exact step, without the floor and flush when they are provably no-ops
-    /// ([`floor_and_flush_are_no_ops`]). Same states, spikes and currents as the unfused step.
+    /// (module docs, Synaptic input). Same states, spikes and currents as the unfused step.
     fn step_block_synaptic(
         k: &LifConstants<F>,
         integrator: Integrator,
