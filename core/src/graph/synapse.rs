@@ -787,6 +787,19 @@ mod tests {
         }
     }
 
+    /// The largest |current| of `p` over 2000 steps in which each of its `n_pre` presynaptic
+    /// neurons spikes every step.
+    fn largest_current_when_every_neuron_spikes(p: &mut RunningProjection, n_pre: usize) -> f64 {
+        let everyone: Vec<u32> = (0..n_pre as u32).collect();
+        let mut largest = 0.0f64;
+        for _ in 0..2000 {
+            p.deliver(&everyone);
+            largest = p.current.iter().fold(largest, |m, c| m.max(c.abs()));
+            p.decay();
+        }
+        largest
+    }
+
     #[test]
     fn the_current_bound_holds_when_every_neuron_spikes_every_step() {
         // The worst case the bound covers: each presynaptic neuron spikes at every step. The
@@ -825,13 +838,7 @@ mod tests {
                 (bound - 4.0 * w_max / (1.0 - p.decay)).abs() < 1e-9 * bound,
                 "{c:?}"
             );
-            let everyone: Vec<u32> = (0..n_pre as u32).collect();
-            let mut largest = 0.0f64;
-            for _ in 0..2000 {
-                p.deliver(&everyone);
-                largest = p.current.iter().fold(largest, |m, c| m.max(c.abs()));
-                p.decay();
-            }
+            let largest = largest_current_when_every_neuron_spikes(&mut p, n_pre);
             assert!(
                 largest <= bound / 4.0 * (1.0 + 1e-12),
                 "{c:?}: {largest} vs {bound}"
@@ -845,13 +852,7 @@ mod tests {
         };
         let mut p = projection(&random, 500, 400, 5e-3);
         let bound = p.current_bound(500, true);
-        let everyone: Vec<u32> = (0..500).collect();
-        let mut largest = 0.0f64;
-        for _ in 0..2000 {
-            p.deliver(&everyone);
-            largest = p.current.iter().fold(largest, |m, c| m.max(c.abs()));
-            p.decay();
-        }
+        let largest = largest_current_when_every_neuron_spikes(&mut p, 500);
         assert!(largest <= bound / 4.0 * (1.0 + 1e-12) && largest > 0.99 * bound / 4.0);
     }
 
