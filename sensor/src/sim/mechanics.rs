@@ -36,6 +36,7 @@
 
 use super::params::SimParams;
 use super::pixel::mix64;
+use super::slip_front::{ContactState, PinShear, SlipFront};
 use super::texture::{Surface, TextureField, gaussian};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -203,6 +204,13 @@ pub struct PinTrajectories {
     pub shear_mm: Vec<f32>,
     /// Whether each pin is in contact (χ(r) > 0.5).
     pub in_contact: Vec<bool>,
+    /// Per pin: the fraction of the full-slip load at which the partial-slip front reaches it
+    /// ([`super::slip_front`]); `None` for a pin with no contact under it or without the front.
+    pub slip_front: Vec<Option<f64>>,
+    /// Stick limit s_s = μ_s·N/k_t of this slide (mm).
+    pub stick_limit_mm: f64,
+    /// Time of the first full slip (s from the recording start), if it happened.
+    pub full_slip_s: Option<f64>,
 }
 
 impl PinTrajectories {
@@ -269,6 +277,25 @@ impl PinTrajectories {
         }
     }
 
+    /// Per pin, the time (s) of its largest displacement along the slide within
+    /// `[from_s, to_s]`: during the onset, when the slip front released it.
+    pub fn release_times(&self, from_s: f64, to_s: f64) -> Vec<f64> {
+        let lo = ((from_s / self.dt_s).max(0.0) as usize).min(self.n_samples.saturating_sub(1));
+        let hi = ((to_s / self.dt_s).max(0.0) as usize).min(self.n_samples.saturating_sub(1));
+        (0..self.n_pins)
+            .map(|pin| {
+                let series = &self.dx_px[pin * self.n_samples..(pin + 1) * self.n_samples];
+                let mut best = lo;
+                for k in lo..=hi.max(lo) {
+                    if series[k].abs() > series[best].abs() {
+                        best = k;
+                    }
+                }
+                best as f64 * self.dt_s
+            })
+            .collect()
+    }
+
     /// Largest displacement of any pin from rest (px).
     pub fn max_displacement_px(&self) -> f64 {
         self.dx_px
@@ -297,6 +324,8 @@ struct PinConstants {
 pub struct Mechanics {
     pins_mm: Vec<(f64, f64)>,
     pin_constants: Vec<PinConstants>,
+    front: SlipFront,
+    pin_shear: PinShear,
     dome_radius_mm: f64,
     scale_px_per_mm: f64,
 }
@@ -307,6 +336,8 @@ impl Mechanics {
     pub fn new(pins_mm: Vec<(f64, f64)>, dome_radius_mm: f64, scale_px_per_mm: f64) -> Self {
         Self {
             pin_constants: Vec::with_capacity(pins_mm.len()),
+            front: SlipFront::default(),
+            pin_shear: PinShear::default(),
             pins_mm,
             dome_radius_mm,
             scale_px_per_mm,
@@ -372,6 +403,29 @@ impl Mechanics {
         // Shear state.
         let s_static = draw.mu_static * n_over_kt;
         let s_kinetic = draw.mu_kinetic * n_over_kt;
+        out.stick_limit_mm = s_static;
+        out.full_slip_s = None;
+        out.slip_front.clear();
+        if c.partial_slip {
+            let state = ContactState {
+                radius_mm: a,
+                normal_force_n: normal,
+                nominal_pressure_mpa: params.nominal_pressure_mpa(self.dome_radius_mm),
+                area_scale_mpa: c.skin_modulus_mpa * c.micro_slope_rms,
+                offset_mm: (draw.start_phase_mm, draw.lateral_offset_mm),
+                footprint_radius_mm: c.pin_footprint_radius_mm,
+            };
+            self.front
+                .solve(&self.pins_mm, &state, field, c.stick_area_exponent);
+            out.slip_front
+                .extend((0..n_pins).map(|p| self.front.pin_threshold(p)));
+        } else {
+            self.front = SlipFront::default();
+            out.slip_front.resize(n_pins, None);
+        }
+        self.pin_shear.start(&self.front);
+        let kinetic_ratio = draw.mu_kinetic / draw.mu_static;
+        let relax = (-dt / c.slip_time_s).exp();
         let weakening = surface.weakening_speed_mm_s;
         let slip_level = |v: f64| {
             if weakening > 0.0 {
@@ -420,12 +474,17 @@ impl Mechanics {
                     t += h;
                 }
             }
+            if !stuck && out.full_slip_s.is_none() {
+                out.full_slip_s = Some(t);
+            }
+            self.pin_shear
+                .step(s, s_static, kinetic_ratio, stuck, relax);
             let (xb, _) = base_motion(params, t - onset_delay);
             let patch_x = xb - s + draw.start_phase_mm;
-            let s_pins = s + micro;
-            out.shear_mm[n] = s_pins as f32;
+            out.shear_mm[n] = (s + micro) as f32;
             for (i, pin) in self.pin_constants.iter().enumerate() {
-                let mut ux = c.pin_shear_gain * pin.phi * s_pins;
+                let s_pin = self.pin_shear.pin(i, s) + micro;
+                let mut ux = c.pin_shear_gain * pin.phi * s_pin;
                 let mut uy = 0.0;
                 if !field.is_flat() && pin.chi > 1e-3 {
                     let f = field.sample(pin.x + patch_x, pin.y + draw.lateral_offset_mm);

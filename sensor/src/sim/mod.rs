@@ -9,6 +9,7 @@
 //! | skin-on-texture contact (issue 12) | [`contact`] | [`SkinContact`] |
 //! | textures, friction (§2.1, §2.4) | [`texture`] | [`Texture`], [`TextureField`], [`Surface`], [`NATURAL_TEXTURES`] |
 //! | kinematics, stick-slip, pins, variability (§2.1–2.2) | [`mechanics`] | [`PinTrajectories`], [`Mounting`], [`TrialDraw`] |
+//! | partial-slip front of the onset (§9) | [`slip_front`] | [`slip_front::SlipFront`], [`slip_front::PinShear`] |
 //! | camera fixed-pattern noise (§3.2) | [`camera`] | [`Camera`] |
 //! | rendering, DVS pixels, noise (§3.1–3.2) | [`pixel`] | [`PixelModel`], [`EventLabel`] |
 //! | pixel-level diagnostics (§5.7) | [`diagnostics`] | [`edge_pass`], [`pixel_sanity`] |
@@ -41,6 +42,7 @@ mod fft;
 pub mod mechanics;
 pub mod params;
 pub mod pixel;
+pub mod slip_front;
 pub mod texture;
 
 pub use camera::Camera;
@@ -50,6 +52,7 @@ pub use error::SimulationError;
 pub use mechanics::{Mounting, PinTrajectories, TrialDraw};
 pub use params::{CalibratedParameter, PAPER_INTENSIVE_MEANS, PeriodRule, SimParams};
 pub use pixel::{EventLabel, PixelModel, PixelRunStats};
+pub use slip_front::{PinShear, SlipFront};
 pub use texture::{GRID_SIZES_MM, NATURAL_TEXTURES, Surface, Texture, TextureField};
 
 use crate::filter::MapStart;
@@ -116,6 +119,27 @@ pub struct TrialInfo {
     pub max_displacement_px: f64,
     /// Pins in contact (χ > 0.5).
     pub in_contact: Vec<bool>,
+    /// How the onset let go.
+    pub onset: OnsetFacts,
+}
+
+/// The onset of one slide as the mechanics produced it: when the contact slipped as a whole,
+/// where the partial-slip front reached each pin, and when each pin was released
+/// ([`slip_front`]).
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct OnsetFacts {
+    /// Stick limit s_s = μ_s·N/k_t (mm).
+    pub stick_limit_mm: f64,
+    /// First full slip (s from the recording start), if any.
+    pub full_slip_s: Option<f64>,
+    /// Per pin: the load fraction θ at which the front reached it (`None`: no contact under
+    /// it, or the single-snap onset).
+    pub front: Vec<Option<f64>>,
+    /// Per pin: its predicted release time (s), when the lumped shear reached θ·s_s.
+    pub predicted_release_s: Vec<Option<f64>>,
+    /// Per pin: its largest displacement along the slide between the motion start and 5 slip
+    /// times after the full slip (s): when it was actually released.
+    pub release_s: Vec<f64>,
 }
 
 /// One simulated slide: pixel events, time-ordered, with their ground truth.
@@ -277,6 +301,7 @@ impl Simulator {
             labels.push(EventLabel(e.label));
         }
         let motion_start_s = params.kinematics.rest_before_s + draw.onset_delay_s;
+        let onset = self.onset_facts(motion_start_s);
         SimulatedTrial {
             events,
             labels,
@@ -291,7 +316,33 @@ impl Simulator {
                 pixel_stats,
                 max_displacement_px: self.trajectories.max_displacement_px(),
                 in_contact: self.trajectories.in_contact.clone(),
+                onset,
             },
+        }
+    }
+
+    /// The onset facts of the last trajectories (slide motion from `motion_start_s`).
+    fn onset_facts(&self, motion_start_s: f64) -> OnsetFacts {
+        let tr = &self.trajectories;
+        let full = tr.full_slip_s;
+        let end = full.unwrap_or(motion_start_s) + 5.0 * self.params.contact.slip_time_s;
+        let s_s = tr.stick_limit_mm;
+        // The lumped shear before the full slip, sampled with the trajectories.
+        let crossing = |theta: f64| -> Option<f64> {
+            let target = (theta * s_s) as f32;
+            let last = full.map_or(tr.n_samples, |f| {
+                ((f / tr.dt_s) as usize + 1).min(tr.n_samples)
+            });
+            (0..last)
+                .find(|&k| tr.shear_mm[k] >= target && k as f64 * tr.dt_s >= motion_start_s)
+                .map(|k| k as f64 * tr.dt_s)
+        };
+        OnsetFacts {
+            stick_limit_mm: s_s,
+            full_slip_s: full,
+            predicted_release_s: tr.slip_front.iter().map(|t| t.and_then(crossing)).collect(),
+            front: tr.slip_front.clone(),
+            release_s: tr.release_times(motion_start_s, end),
         }
     }
 }

@@ -159,6 +159,20 @@ pub struct ContactParams {
     pub microslip_max_mm: f64,
     /// Reload time constant τ_ms of a micro-slip (s). Default 0.003 (spec: 2–5 ms).
     pub microslip_time_s: f64,
+    /// Radius of the skin footprint that drives one pin (mm): the partial-slip front moves a
+    /// pin as it crosses this disc ([`super::slip_front`]). Default 0.75: half the pin-tip
+    /// diameter of 1.2–1.5 mm (spec §1.1, from TacTip blob areas).
+    pub pin_footprint_radius_mm: f64,
+    /// Whether the onset slips as a front over the contact (Cattaneo–Mindlin, brush
+    /// approximation, [`super::slip_front`]) rather than all at once when the lumped shear
+    /// reaches its stick limit. Default true; `false` is the single-snap onset of earlier
+    /// versions, kept to measure what the front changes.
+    pub partial_slip: bool,
+    /// Exponent β of the stick zone's shrinking area, A_stick/A = (1 − Q/Q_s)^β
+    /// ([`super::slip_front`]). Default 2/3: Cattaneo–Mindlin for an elastic sphere (Johnson,
+    /// Contact Mechanics 1985, §7.2); a fingertip pad's stuck area falls linearly, β = 1
+    /// (André, Lefèvre & Thonnard, J. R. Soc. Interface 2011).
+    pub stick_area_exponent: f64,
     /// Standard deviation of the friction factor shared by every texture of one recording
     /// (rig and day: humidity, skin wear). Default 0.05 \[A\] (elastomer friction changes by
     /// 5–20 % with humidity and surface state).
@@ -193,6 +207,9 @@ impl Default for ContactParams {
             microslip_min_mm: 0.005,
             microslip_max_mm: 0.05,
             microslip_time_s: 0.003,
+            pin_footprint_radius_mm: 0.75,
+            partial_slip: true,
+            stick_area_exponent: 2.0 / 3.0,
             friction_day_sd: 0.05,
             friction_drift_sd: 0.03,
         }
@@ -595,6 +612,16 @@ impl SimParams {
             ("contact.microslip_min_mm", c.microslip_min_mm, NonNegative),
             ("contact.microslip_max_mm", c.microslip_max_mm, NonNegative),
             ("contact.microslip_time_s", c.microslip_time_s, Positive),
+            (
+                "contact.stick_area_exponent",
+                c.stick_area_exponent,
+                Between(0.1, 10.0),
+            ),
+            (
+                "contact.pin_footprint_radius_mm",
+                c.pin_footprint_radius_mm,
+                Between(0.0, 3.0),
+            ),
             (
                 "contact.friction_day_sd",
                 c.friction_day_sd,

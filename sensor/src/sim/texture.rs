@@ -355,6 +355,9 @@ pub struct TextureField {
     dy_mm: f64,
     /// Per point: `[w₀, ∂w₀/∂X, ∂w₀/∂Y, τ̃]`.
     values: Vec<[f32; 4]>,
+    /// Per point: the contact pressure over its mean, p/⟨p⟩ (unfiltered: the interface law
+    /// acts at the surface), for the partial-slip front ([`super::slip_front`]).
+    pressure_ratio: Vec<f32>,
     flat: bool,
 }
 
@@ -405,6 +408,25 @@ impl TextureField {
         }
     }
 
+    /// The contact pressure at world point `(x_mm, y_mm)` over the mean contact pressure
+    /// (periodic, bilinear; 1 everywhere on the flat plate, 0 where the skin is free).
+    #[inline]
+    pub fn pressure_ratio(&self, x_mm: f64, y_mm: f64) -> f64 {
+        if self.flat {
+            return 1.0;
+        }
+        let (fx, fy) = (x_mm / self.dx_mm, y_mm / self.dy_mm);
+        let (flx, fly) = (fx.floor(), fy.floor());
+        let (tx, ty) = ((fx - flx) as f32, (fy - fly) as f32);
+        let ix = (flx as i64).rem_euclid(self.nx as i64) as usize;
+        let iy = (fly as i64).rem_euclid(self.ny as i64) as usize;
+        let (jx, jy) = ((ix + 1) % self.nx, (iy + 1) % self.ny);
+        let v = |x: usize, y: usize| self.pressure_ratio[y * self.nx + x];
+        let top = v(ix, iy) + tx * (v(jx, iy) - v(ix, iy));
+        let bottom = v(ix, jy) + tx * (v(jx, jy) - v(ix, jy));
+        (top + ty * (bottom - top)) as f64
+    }
+
     /// Largest |w₀| (mm), for diagnostics.
     pub fn max_deflection_mm(&self) -> f64 {
         self.values
@@ -413,13 +435,15 @@ impl TextureField {
             .fold(0.0, f64::max)
     }
 
-    fn flat() -> Self {
+    /// The field of the flat plate: no height, uniform pressure.
+    pub(crate) fn flat() -> Self {
         Self {
             nx: 1,
             ny: 1,
             dx_mm: 1.0,
             dy_mm: 1.0,
             values: vec![[0.0; 4]],
+            pressure_ratio: vec![1.0],
             flat: true,
         }
     }
@@ -438,7 +462,14 @@ impl TextureField {
             .iter()
             .map(|p| mu_kinetic * p)
             .collect();
-        Self::from_surface(&contact.surface_mm, &traction, dims, spacing, params)
+        let mut field = Self::from_surface(&contact.surface_mm, &traction, dims, spacing, params);
+        let mean = contact.pressure_mpa.iter().sum::<f64>() / contact.pressure_mpa.len() as f64;
+        field.pressure_ratio = contact
+            .pressure_mpa
+            .iter()
+            .map(|&p| if mean > 0.0 { (p / mean) as f32 } else { 1.0 })
+            .collect();
+        field
     }
 
     /// Filters the skin surface `z` and the traction `tau` (row-major `nx × ny`, spacing
@@ -495,6 +526,7 @@ impl TextureField {
             dx_mm,
             dy_mm,
             values,
+            pressure_ratio: vec![1.0; nx * ny],
             flat: false,
         }
     }
