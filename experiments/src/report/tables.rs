@@ -248,7 +248,7 @@ pub fn monotonicity(set: &SetResult) -> Option<String> {
     let sizes: Vec<f64> = set
         .class_names
         .iter()
-        .map(|n| n.strip_prefix("grid ")?.strip_suffix(" mm")?.parse().ok())
+        .map(|n| paper::grid_size_mm(n))
         .collect::<Option<_>>()?;
     if sizes.len() < 2 || sizes.windows(2).any(|w| w[0] >= w[1]) {
         return None;
