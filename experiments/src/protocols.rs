@@ -107,6 +107,35 @@ impl ConfusionMatrix {
         }
         Self { counts }
     }
+
+    /// Samples of class `truth` (the row's sum).
+    pub fn class_samples(&self, truth: usize) -> usize {
+        self.counts.get(truth).map_or(0, |row| row.iter().sum())
+    }
+
+    /// The fraction of class `truth`'s samples predicted as `predicted`; `None` when the class
+    /// has no samples.
+    pub fn rate(&self, truth: usize, predicted: usize) -> Option<f64> {
+        let n = self.class_samples(truth);
+        let count = self.counts.get(truth)?.get(predicted).copied().unwrap_or(0);
+        (n > 0).then(|| count as f64 / n as f64)
+    }
+
+    /// The recall of every class (its samples predicted as itself, the diagonal over the row);
+    /// `None` for a class without samples.
+    pub fn recall(&self) -> Vec<Option<f64>> {
+        (0..self.counts.len()).map(|c| self.rate(c, c)).collect()
+    }
+
+    /// Every off-diagonal cell with a count: `(true class, predicted class, count)`.
+    pub fn errors(&self) -> impl Iterator<Item = (usize, usize, usize)> + '_ {
+        self.counts.iter().enumerate().flat_map(|(t, row)| {
+            row.iter()
+                .enumerate()
+                .filter(move |&(p, &n)| p != t && n > 0)
+                .map(move |(p, &n)| (t, p, n))
+        })
+    }
 }
 
 /// The outcome of a protocol.
@@ -273,6 +302,18 @@ pub fn evaluate(
 mod tests {
     use super::*;
     use ndarray::Array2;
+
+    #[test]
+    fn recall_rates_and_errors_are_read_from_the_rows() {
+        // Class 0: 3 of 4 right, 1 predicted as 2; class 1: none; class 2: 1 of 2 right.
+        let m = ConfusionMatrix::of(&[0, 0, 2, 0, 2, 0], &[0, 0, 0, 0, 2, 2], 3);
+        assert_eq!(m.recall(), vec![Some(0.75), None, Some(0.5)]);
+        assert_eq!(m.rate(0, 2), Some(0.25));
+        assert_eq!(m.rate(1, 0), None);
+        assert_eq!(m.rate(2, 0), Some(0.5));
+        assert_eq!(m.class_samples(0), 4);
+        assert_eq!(m.errors().collect::<Vec<_>>(), vec![(0, 2, 1), (2, 0, 1)]);
+    }
 
     #[test]
     fn wilson_interval_known_values() {

@@ -11,6 +11,9 @@ use neurotac_experiments::datasets::simulated::default_cache_dir;
 use neurotac_experiments::neuron_setup::Precision;
 use neurotac_experiments::progress::{NoProgress, Progress};
 use neurotac_experiments::readouts::VrFrom;
+use neurotac_experiments::report::class_tables::{
+    paper_confusion_table, phase_table, recall_table,
+};
 use neurotac_experiments::report::folder::check_destination;
 use neurotac_experiments::report::tables::{
     accuracy_table, afferent_table, intensive_table, parameter_table,
@@ -167,6 +170,12 @@ fn print_set(set: &SetReport) {
     println!("{}", accuracy_table(set));
     println!("{}", parameter_table(d));
     println!("{}", intensive_table(d));
+    println!("{}", phase_table(set));
+    println!("{}", recall_table(set));
+    let confusions = paper_confusion_table(set);
+    if !confusions.is_empty() {
+        println!("{confusions}");
+    }
     if let Some(why) = d.codings.iter().find_map(|c| c.split_refused.as_ref()) {
         println!("80/20 split refused: {why}\n");
     }

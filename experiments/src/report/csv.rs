@@ -1,7 +1,10 @@
 //! The report's CSV tables: accuracy of every pipeline and coding, chosen parameters, the Δt
-//! sweep, the optimisation trace and confusion matrices.
+//! sweep, the optimisation trace, confusion matrices, slide-phase shares, leave-one-out recall
+//! per class and the paper's named confusions next to ours.
 
 use super::tables::{coding_seconds, paper_table, parameter_rows};
+use crate::coding::CodingName;
+use crate::reproduce::phases::{Phases, SlidePhase};
 use crate::reproduce::{Report, SetReport, SetResult};
 use std::fmt::Write as _;
 
@@ -103,6 +106,122 @@ pub fn confusion_csv(counts: &[Vec<usize>], class_names: &[String]) -> String {
     csv
 }
 
+/// A fraction as a CSV field, empty when there is none.
+fn optional(x: Option<f64>) -> String {
+    x.map(|v| v.to_string()).unwrap_or_default()
+}
+
+/// `phase_shares.csv`: per set with known motion times, the share of each class's taxel spikes
+/// in each slide phase, then the mean over classes (`class` = `all classes`).
+pub fn phase_shares_csv(report: &Report) -> String {
+    let mut out = String::from("set,class");
+    for p in SlidePhase::ALL {
+        let _ = write!(out, ",{}", p.key());
+    }
+    out.push('\n');
+    for set in &report.sets {
+        let Phases::Known(shares) = &set.phases else {
+            continue;
+        };
+        let classes = set.direct.class_names.iter().map(String::as_str);
+        let rows = shares.per_class.iter().chain([&shares.all_classes]);
+        for (class, share) in classes.chain(["all classes"]).zip(rows) {
+            let _ = write!(out, "{},{}", csv_field(&set.direct.name), csv_field(class));
+            for p in SlidePhase::ALL {
+                let _ = write!(out, ",{}", share.of(p));
+            }
+            out.push('\n');
+        }
+    }
+    out
+}
+
+/// `loo_recall.csv`: the leave-one-out recall of every class of every set under each coding
+/// (empty for a class without samples).
+pub fn loo_recall_csv(report: &Report) -> String {
+    let mut out = String::from("set,class");
+    for c in CodingName::ALL {
+        let _ = write!(out, ",{}", c.key());
+    }
+    out.push('\n');
+    for set in &report.sets {
+        for (i, class) in set.direct.class_names.iter().enumerate() {
+            let _ = write!(out, "{},{}", csv_field(&set.direct.name), csv_field(class));
+            for r in &set.loo_analysis.recall {
+                let _ = write!(out, ",{}", optional(r.per_class.get(i).copied().flatten()));
+            }
+            out.push('\n');
+        }
+    }
+    out
+}
+
+/// `paper_confusions.csv`: every confusion the paper names that applies to a set, one row per
+/// coding and measure: what we measure on the leave-one-out predictions (`ours`, a fraction)
+/// and what the paper says.
+pub fn paper_confusions_csv(report: &Report) -> String {
+    let mut out = String::from("set,paper_statement,coding,measure,ours,paper\n");
+    for set in &report.sets {
+        let name = csv_field(&set.direct.name);
+        let a = &set.loo_analysis;
+        for r in &a.named_confusions {
+            let p = &r.paper;
+            for (i, coding) in CodingName::ALL.iter().enumerate() {
+                let paper = if p.confused_under[i] {
+                    "confused"
+                } else {
+                    "told apart"
+                };
+                let mut measures = vec![(
+                    format!("{} → {}", p.truth, p.predicted),
+                    r.truth_as_predicted[i],
+                )];
+                if p.mutual {
+                    measures.push((
+                        format!("{} → {}", p.predicted, p.truth),
+                        r.predicted_as_truth[i],
+                    ));
+                }
+                for (measure, ours) in measures {
+                    let _ = writeln!(
+                        out,
+                        "{name},{},{},{},{},{paper}",
+                        csv_field(&p.label()),
+                        coding.key(),
+                        csv_field(&measure),
+                        optional(ours)
+                    );
+                }
+            }
+        }
+        for r in &a.grid_errors {
+            let mut measures = vec![(
+                "errors between neighbouring grids",
+                r.between_neighbours,
+                "most errors".to_owned(),
+            )];
+            if let Some((lo, hi)) = r.paper.concentrated_on_mm {
+                measures.push((
+                    "errors on the paper's grids",
+                    r.in_paper_range,
+                    format!("concentrated on {lo}–{hi} mm"),
+                ));
+            }
+            for (measure, ours, paper) in measures {
+                let _ = writeln!(
+                    out,
+                    "{name},{},{},{measure},{},{}",
+                    csv_field(r.paper.quote),
+                    r.coding.key(),
+                    optional(ours),
+                    csv_field(&paper)
+                );
+            }
+        }
+    }
+    out
+}
+
 /// `dt_sweep_<set>.csv`: leave-one-out accuracy at every Δt.
 pub fn dt_sweep_csv(set: &SetResult) -> String {
     let mut dt_csv = String::from("dt_ms,loo_accuracy\n");
@@ -165,6 +284,28 @@ mod tests {
             params
                 .contains("artificial,\"intensive mean, grid 0.0 mm (spikes per taxel)\",4,4.63\n"),
             "{params}"
+        );
+    }
+
+    #[test]
+    fn class_tables_have_one_row_per_class_and_measure() {
+        let r = report();
+        // A set without motion times has no phase rows.
+        assert_eq!(phase_shares_csv(&r), "set,class,rest,onset,sliding,stop\n");
+        assert_eq!(
+            loo_recall_csv(&r),
+            "set,class,intensive,spatial,temporal,spatiotemporal\n\
+             artificial,grid 0.0 mm,0.8,0.8,0.8,0.8\n\
+             artificial,grid 2.5 mm,1,1,1,1\n"
+        );
+        // Two grids: per coding the neighbour share, and the range share where the paper
+        // gives a range (intensive, spatial).
+        let confusions = paper_confusions_csv(&r);
+        assert_eq!(confusions.lines().count(), 1 + 4 + 2, "{confusions}");
+        assert!(
+            confusions
+                .contains(",intensive,errors on the paper's grids,1,concentrated on 0–2 mm\n"),
+            "{confusions}"
         );
     }
 

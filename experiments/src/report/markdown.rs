@@ -1,5 +1,6 @@
 //! `report.md`: how the run was made, then per set its tables, figures and notes.
 
+use super::class_tables::{paper_confusion_table, phase_table, recall_table};
 use super::tables::{accuracy_table, afferent_table, intensive_table, parameter_table};
 use crate::coding::CodingName;
 use crate::reproduce::{Report, SetReport};
@@ -14,8 +15,9 @@ pub fn report_markdown(report: &Report) -> String {
     }
     md.push_str(
         "Files: `report.json` (every number), `accuracy.csv`, `parameters.csv`, \
-         `dt_sweep_<set>.csv`, `bo_convergence_<set>.csv`, `confusion_<set>_<coding>.csv`; every \
-         figure as SVG and PNG.\n",
+         `phase_shares.csv`, `loo_recall.csv`, `paper_confusions.csv`, `dt_sweep_<set>.csv`, \
+         `bo_convergence_<set>.csv`, `confusion_<set>_<coding>.csv`, \
+         `confusion_loo_<set>_<coding>.csv` (leave-one-out); every figure as SVG and PNG.\n",
     );
     md
 }
@@ -120,6 +122,7 @@ fn markdown_set(set: &SetReport, md: &mut String) {
     md.push('\n');
     md.push_str(&intensive_table(d));
     md.push('\n');
+    markdown_class_sections(set, md);
     if let Some(a) = &set.afferent {
         let _ = write!(
             md,
@@ -163,6 +166,25 @@ fn markdown_set(set: &SetReport, md: &mut String) {
     );
 }
 
+/// A set's per-class sections: spikes by slide phase, leave-one-out recall, and the paper's
+/// named confusions next to ours (when any applies).
+fn markdown_class_sections(set: &SetReport, md: &mut String) {
+    let _ = write!(
+        md,
+        "### Spikes by slide phase\n\n{}\n### Leave-one-out recall per class\n\n{}\n",
+        phase_table(set),
+        recall_table(set)
+    );
+    let confusions = paper_confusion_table(set);
+    if !confusions.is_empty() {
+        let _ = write!(
+            md,
+            "### The paper's named confusions, measured on our leave-one-out predictions\n\n\
+             {confusions}\n"
+        );
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -187,6 +209,13 @@ mod tests {
             "bo_convergence_artificial",
         ] {
             assert!(md.contains(&format!("({stem}.svg)")), "no {stem}");
+        }
+        for section in [
+            "### Spikes by slide phase\n\nNo slide-phase table: a recorded dataset",
+            "### Leave-one-out recall per class\n\n| class (LOO recall, %) |",
+            "### The paper's named confusions, measured on our leave-one-out predictions",
+        ] {
+            assert!(md.contains(section), "no {section}");
         }
         assert!(md.ends_with("every figure as SVG and PNG.\n"));
     }

@@ -1,8 +1,9 @@
 //! A reproduction's report folder ([`write_report`]): `report.json` (every number), CSV tables
 //! ([`csv`]), figures as SVG ([`svg`], [`figures`]) and PNG ([`png`]), and a `report.md`
-//! ([`markdown`]) that embeds them with the Markdown tables of [`tables`]; the folder is written
-//! atomically ([`folder`]).
+//! ([`markdown`]) that embeds them with the Markdown tables of [`tables`] and
+//! [`class_tables`]; the folder is written atomically ([`folder`]).
 
+pub mod class_tables;
 pub mod csv;
 pub mod figures;
 pub mod folder;
@@ -57,11 +58,18 @@ fn write_files(dir: &Path, report: &Report) -> Result<(), ReportError> {
     }
     write(dir, "accuracy.csv", &csv::accuracy_csv(report))?;
     write(dir, "parameters.csv", &csv::parameters_csv(report))?;
+    write(dir, "phase_shares.csv", &csv::phase_shares_csv(report))?;
+    write(dir, "loo_recall.csv", &csv::loo_recall_csv(report))?;
+    write(
+        dir,
+        "paper_confusions.csv",
+        &csv::paper_confusions_csv(report),
+    )?;
     write(dir, "report.md", &markdown::report_markdown(report))
 }
 
 /// A set's own files: Δt sweep and BO trace (CSV + figure), spike-train figure, and the
-/// confusion matrices of every run (CSV + figure).
+/// confusion matrices of every run (CSV + figure; the leave-one-out ones as CSV).
 fn write_set_files(dir: &Path, set: &SetReport, png: &PngRenderer) -> Result<(), ReportError> {
     let d = &set.direct;
     let name = &d.name;
@@ -133,6 +141,11 @@ fn write_set_files(dir: &Path, set: &SetReport, png: &PngRenderer) -> Result<(),
                 dir,
                 &format!("{file}.csv"),
                 &csv::confusion_csv(&e.confusion.counts, &r.class_names),
+            )?;
+            write(
+                dir,
+                &format!("confusion_loo_{name}_{}{suffix}.csv", c.coding.key()),
+                &csv::confusion_csv(&c.loo.confusion.counts, &r.class_names),
             )?;
         }
     }

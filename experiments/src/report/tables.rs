@@ -248,7 +248,7 @@ pub fn monotonicity(set: &SetResult) -> Option<String> {
     let sizes: Vec<f64> = set
         .class_names
         .iter()
-        .map(|n| n.strip_prefix("grid ")?.strip_suffix(" mm")?.parse().ok())
+        .map(|n| paper::grid_size_mm(n))
         .collect::<Option<_>>()?;
     if sizes.len() < 2 || sizes.windows(2).any(|w| w[0] >= w[1]) {
         return None;
@@ -361,21 +361,29 @@ pub(crate) mod tests {
         }
     }
 
+    /// The set report of `direct` (no afferents, no examples), its source named `source`, its
+    /// phases unknown as a recorded set's.
+    pub(crate) fn set_report(direct: SetResult, source: &str, quick: bool) -> SetReport {
+        SetReport {
+            source: source.into(),
+            dataset_time: Timing::default(),
+            readout_time: Timing::default(),
+            phases: crate::reproduce::phases::Phases::recorded(),
+            loo_analysis: crate::reproduce::confusions::loo_analysis(&direct),
+            direct,
+            afferent: None,
+            examples: Vec::new(),
+            quick,
+        }
+    }
+
     /// A one-set report of `direct`, its source named `source`.
     pub(crate) fn report_of(direct: SetResult, source: &str) -> crate::reproduce::Report {
         crate::reproduce::Report {
             command: "neurotac reproduce".into(),
             version: "0".into(),
             seed: 1,
-            sets: vec![SetReport {
-                source: source.into(),
-                dataset_time: Timing::default(),
-                readout_time: Timing::default(),
-                direct,
-                afferent: None,
-                examples: Vec::new(),
-                quick: false,
-            }],
+            sets: vec![set_report(direct, source, false)],
             calibration: Vec::new(),
             time: Timing::default(),
         }
@@ -383,15 +391,7 @@ pub(crate) mod tests {
 
     #[test]
     fn the_accuracy_table_adds_the_papers_column_for_the_papers_sets() {
-        let set = |name| SetReport {
-            source: "test".into(),
-            dataset_time: Timing::default(),
-            readout_time: Timing::default(),
-            direct: set_result(name),
-            afferent: None,
-            examples: Vec::new(),
-            quick: false,
-        };
+        let set = |name| set_report(set_result(name), "test", false);
         let ours = accuracy_table(&set("artificial"));
         let lines: Vec<&str> = ours.lines().collect();
         assert_eq!(lines.len(), 2 + 4);
@@ -482,15 +482,7 @@ pub(crate) mod tests {
     /// Issue 12: a --quick run's table says it is not comparable with the paper's.
     #[test]
     fn a_quick_tables_paper_column_is_marked() {
-        let set = SetReport {
-            source: "test".into(),
-            dataset_time: Timing::default(),
-            readout_time: Timing::default(),
-            direct: set_result("artificial"),
-            afferent: None,
-            examples: Vec::new(),
-            quick: true,
-        };
+        let set = set_report(set_result("artificial"), "test", true);
         let first = accuracy_table(&set).lines().next().unwrap().to_owned();
         assert!(
             first.ends_with("| paper, Table 1 (%) — not comparable: --quick run |"),

@@ -12,8 +12,10 @@
 //! variant) into one [`Report`] ([`run_on`]: its simulation, distance matrices and searches
 //! split over ranks, every rank ending with the one-process report); [`run_set`] is one
 //! labelled set through the pipeline;
-//! [`paper`] holds the paper's numbers to compare with; [`crate::report`] writes a run's
-//! folder (JSON, CSV, SVG and PNG figures, `report.md`).
+//! [`paper`] holds the paper's numbers to compare with; [`phases`] splits a simulated set's
+//! spikes by slide phase; [`confusions`] reads the leave-one-out predictions class by class
+//! (recall, the paper's named confusions); [`crate::report`] writes a run's folder (JSON, CSV,
+//! SVG and PNG figures, `report.md`).
 //!
 //! ```no_run
 //! use neurotac_experiments::datasets::simulated::TextureSet;
@@ -25,7 +27,9 @@
 //! # Ok::<(), neurotac_experiments::reproduce::ReproduceError>(())
 //! ```
 
+pub mod confusions;
 pub mod paper;
+pub mod phases;
 mod run;
 
 pub use run::{

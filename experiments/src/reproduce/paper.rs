@@ -1,5 +1,8 @@
 //! The numbers the NeuroTac paper reports (Ward-Cherrier, Pestell & Lepora, ICRA 2020), to
-//! print next to a reproduction.
+//! print next to a reproduction: its accuracy tables, chosen parameters and intensive means, and
+//! the confusions its discussion names.
+
+use serde::Serialize;
 
 /// One of the paper's tables: leave-one-out accuracy (%) of the four codings, in the order of
 /// [`crate::coding::CodingName::ALL`].
@@ -56,3 +59,103 @@ pub fn table_for(set: &str) -> Option<&'static PaperTable> {
 pub fn grid_name(mm: f64) -> String {
     format!("grid {mm:.1} mm")
 }
+
+/// The grid size (mm) a class name of [`grid_name`]'s form names (`grid 2.5 mm` → 2.5);
+/// `None` for any other name.
+pub fn grid_size_mm(class_name: &str) -> Option<f64> {
+    class_name
+        .strip_prefix("grid ")?
+        .strip_suffix(" mm")?
+        .parse()
+        .ok()
+}
+
+/// A confusion between natural textures that the paper names (its natural-texture
+/// discussion, Fig. 6), by the simulator's texture names.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct NamedConfusion {
+    /// The true texture.
+    pub truth: &'static str,
+    /// The texture it is predicted as.
+    pub predicted: &'static str,
+    /// The two textures' numbers in the paper's table of natural textures (`(6, 17)`).
+    pub paper_numbers: (u32, u32),
+    /// `true` when the paper says the two are confused with each other (`↔`), `false` for one
+    /// way only (`→`).
+    pub mutual: bool,
+    /// Per coding ([`crate::coding::CodingName::ALL`] order): whether the paper sees the
+    /// confusion (`false`: it says the coding tells them apart).
+    pub confused_under: [bool; 4],
+    /// The paper's sentence.
+    pub quote: &'static str,
+}
+
+impl NamedConfusion {
+    /// `fake fur ↔ felt (6 ↔ 17)`, `liquid satin → foam (7 → 1)`.
+    pub fn label(&self) -> String {
+        let arrow = if self.mutual { "↔" } else { "→" };
+        let (a, b) = self.paper_numbers;
+        format!(
+            "{} {arrow} {} ({a} {arrow} {b})",
+            self.truth, self.predicted
+        )
+    }
+}
+
+/// The confusions the paper names on the natural set.
+pub const NAMED_CONFUSIONS: [NamedConfusion; 2] = [
+    NamedConfusion {
+        truth: "fake fur",
+        predicted: "felt",
+        paper_numbers: (6, 17),
+        mutual: true,
+        confused_under: [true, true, false, false],
+        quote: "for Intensive and Spatial coding, fake fur and felt (textures 6 and 17) are \
+                confused, whereas Temporal and Spatiotemporal coding can distinguish them",
+    },
+    NamedConfusion {
+        truth: "liquid satin",
+        predicted: "foam",
+        paper_numbers: (7, 1),
+        mutual: false,
+        confused_under: [false, false, false, true],
+        quote: "liquid satin (texture 7) is misclassified as foam (texture 1) only when \
+                Spatiotemporal coding is applied",
+    },
+];
+
+/// Where the paper sees one coding's errors on the artificial set (its Fig. 5 discussion).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct GridErrors {
+    /// The grid sizes (mm, inclusive) the paper says the coding's errors concentrate on;
+    /// `None` when it calls the coding near-perfect.
+    pub concentrated_on_mm: Option<(f64, f64)>,
+    /// The paper's words.
+    pub quote: &'static str,
+}
+
+/// The paper on each coding's errors on the artificial set, in
+/// [`crate::coding::CodingName::ALL`] order.
+pub const GRID_ERRORS: [GridErrors; 4] = [
+    GridErrors {
+        concentrated_on_mm: Some((0.0, 2.0)),
+        quote: "the least effective, particularly for the smoother textures (0–2 mm)",
+    },
+    GridErrors {
+        concentrated_on_mm: Some((0.0, 1.5)),
+        quote: "more accurate, though still some slight inaccuracy for smoother textures \
+                (0–1.5 mm)",
+    },
+    GridErrors {
+        concentrated_on_mm: None,
+        quote: "near-perfect",
+    },
+    GridErrors {
+        concentrated_on_mm: None,
+        quote: "near-perfect",
+    },
+];
+
+/// The paper on where the artificial set's errors fall, for every coding.
+pub const NEIGHBOURING_ERRORS_QUOTE: &str =
+    "classification errors occur most often between neighbouring classes";

@@ -1,7 +1,9 @@
 //! A whole reproduction ([`run`]): each [`Source`] → taxel spike dataset → [`run_set`] (and the
 //! afferent variant when asked) → one [`Report`], ready for [`crate::report::write_report`].
 
+use super::confusions::{LooAnalysis, loo_analysis};
 use super::paper;
+use super::phases::Phases;
 use super::{PipelineConfig, SetResult, run_encoded_on};
 use crate::afferents::{AfferentConfig, AfferentModel};
 use crate::datasets::recorded::{RecordedError, list_recorded, load_recorded, skipped_entries};
@@ -141,6 +143,11 @@ pub struct SetReport {
     pub readout_time: Timing,
     /// Taxel spikes → codings (the paper's pipeline).
     pub direct: SetResult,
+    /// The share of the taxel spikes in each slide phase, per class (simulated sets only).
+    pub phases: Phases,
+    /// The direct pipeline's leave-one-out predictions class by class: recall, and the
+    /// confusions the paper names.
+    pub loo_analysis: LooAnalysis,
     /// Taxel spikes → afferent neurons → codings.
     pub afferent: Option<AfferentRun>,
     /// A reduced run ([`ReproduceConfig::quick`]): its tables are not comparable with the
@@ -215,13 +222,13 @@ pub fn run_on(
     })
 }
 
-/// The taxel spike dataset of `source`, its name and how it was made.
+/// The taxel spike dataset of `source`, its name, how it was made and its slide phases.
 fn load_source(
     source: &Source,
     config: &ReproduceConfig,
     progress: &dyn Progress,
     ranks: &dyn Ranks,
-) -> Result<(String, String, SpikeDataset), ReproduceError> {
+) -> Result<(String, String, SpikeDataset, Phases), ReproduceError> {
     match source {
         Source::Simulated(set) => {
             let trials = config.trials.unwrap_or(set.paper_trials());
@@ -242,7 +249,8 @@ fn load_source(
                 "simulated, {trials} slides per texture, seed {seed}, cache {}",
                 cache.display()
             );
-            Ok((set.name().to_owned(), how, data))
+            let phases = Phases::of_simulated(&data, &config.params);
+            Ok((set.name().to_owned(), how, data, phases))
         }
         Source::Recorded(dir) => {
             let name = dir
@@ -283,6 +291,7 @@ fn load_source(
                 name,
                 format!("recorded, {}", dir.display()),
                 recorded.dataset,
+                Phases::recorded(),
             ))
         }
     }
@@ -296,7 +305,7 @@ fn run_source(
     ranks: &dyn Ranks,
 ) -> Result<SetReport, ReproduceError> {
     let (loaded, dataset_time) = timed(|| load_source(source, config, progress, ranks));
-    let (name, source_text, data) = loaded?;
+    let (name, source_text, data, phases) = loaded?;
     progress.note(&format!(
         "{name}: {} samples, {} classes, dataset ready in {:.1} s",
         data.len(),
@@ -349,6 +358,8 @@ fn run_source(
         dataset_time,
         readout_time,
         examples: example_samples(&data),
+        phases,
+        loo_analysis: loo_analysis(&direct),
         direct,
         afferent,
         quick: config.quick,
