@@ -30,7 +30,7 @@ pub struct SimulateArgs {
 
 #[derive(Debug, Subcommand)]
 enum SimulateCommand {
-    /// Compute the spec's 10 acceptance statistics and print each with its bound and PASS/FAIL.
+    /// Compute the spec's 10 acceptance statistics and the onset-mechanics statistic, and print each with its bound and PASS/FAIL.
     Check(CheckArgs),
     /// Calibrate the three global parameters on the paper's three intensive means (onset snap ←
     /// 0 mm 4.63, conformity gap ← 2.5 mm 9.84, lever ← 5 mm 34.73) and write the parameter file.

@@ -26,7 +26,7 @@ use std::path::{Path, PathBuf};
 
 /// Version of the simulated-dataset format and generator; bump it whenever the simulator's
 /// output for given parameters changes, so stale caches are not reused.
-pub const SIMULATED_DATASET_VERSION: u32 = 2;
+pub const SIMULATED_DATASET_VERSION: u32 = 3;
 
 /// Dataset generation that cannot proceed.
 #[derive(Debug, thiserror::Error)]

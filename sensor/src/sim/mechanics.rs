@@ -52,6 +52,9 @@ pub struct Mounting {
     pub start_phase_mm: f64,
     /// Recording-wide friction factor 1 + σ_day·Z (shared by every texture of the rig).
     pub day_friction: f64,
+    /// This specimen's draw from its texture's friction prior: 1 + spread·Z
+    /// ([`Surface::friction_spread`]; 1 where the friction follows from the contact).
+    pub specimen_friction: f64,
     /// Drift components: (amplitude, period in slides, phase in rad).
     pub drift: [(f64, f64, f64); 3],
 }
@@ -68,6 +71,17 @@ impl Mounting {
     /// on the rig `rig_seed` (a pure function of both: the same texture is mounted once per
     /// recording).
     pub fn new(params: &SimParams, rig_seed: u64, texture_key: u64) -> Self {
+        Self::of_specimen(params, rig_seed, texture_key, 0.0)
+    }
+
+    /// [`new`](Self::new) for a specimen whose friction is drawn from a prior of relative
+    /// spread `friction_spread` (its own stream, so the offsets and drift do not change).
+    pub fn of_specimen(
+        params: &SimParams,
+        rig_seed: u64,
+        texture_key: u64,
+        friction_spread: f64,
+    ) -> Self {
         let k = &params.kinematics;
         let name_hash = texture_key;
         let mut day = ChaCha8Rng::seed_from_u64(mix64(rig_seed ^ 0x6461_7900));
@@ -81,15 +95,22 @@ impl Mounting {
             let period = 50.0 + 350.0 * rng.random::<f64>();
             (a, period, std::f64::consts::TAU * rng.random::<f64>())
         });
+        let mut specimen = ChaCha8Rng::seed_from_u64(mix64(rig_seed ^ mix64(name_hash ^ 0x7370)));
+        let specimen_friction = if friction_spread > 0.0 {
+            (1.0 + friction_spread * gaussian(&mut specimen)).max(0.3)
+        } else {
+            1.0
+        };
         Self {
             lateral_offset_mm,
             start_phase_mm,
             day_friction,
+            specimen_friction,
             drift,
         }
     }
 
-    /// The friction factor of slide `slide` (recording-wide factor × slow drift).
+    /// The friction factor of slide `slide` (recording-wide factor × specimen × slow drift).
     pub fn friction_factor(&self, slide: usize) -> f64 {
         let n = slide as f64;
         let drift: f64 = self
@@ -97,7 +118,7 @@ impl Mounting {
             .iter()
             .map(|&(a, period, phase)| a * (std::f64::consts::TAU * n / period + phase).sin())
             .sum();
-        (self.day_friction * (1.0 + drift)).max(0.2)
+        (self.day_friction * self.specimen_friction * (1.0 + drift)).max(0.2)
     }
 }
 
@@ -277,21 +298,35 @@ impl PinTrajectories {
         }
     }
 
-    /// Per pin, the time (s) of its largest displacement along the slide within
-    /// `[from_s, to_s]`: during the onset, when the slip front released it.
+    /// Per pin, when the slip front released it between `from_s` (the motion start) and
+    /// `to_s` (the full slip): the first sample at which the pin moves along the slide at less
+    /// than half the rate it moved at while all of its footprint stuck (its displacement per
+    /// unit of lumped shear over 2 ms, the largest over the first 10 ms of motion, before the
+    /// weakest part of a contact lets go). `to_s` if it never slows so much before.
     pub fn release_times(&self, from_s: f64, to_s: f64) -> Vec<f64> {
-        let lo = ((from_s / self.dt_s).max(0.0) as usize).min(self.n_samples.saturating_sub(1));
-        let hi = ((to_s / self.dt_s).max(0.0) as usize).min(self.n_samples.saturating_sub(1));
+        let last = self.n_samples.saturating_sub(1);
+        let lo = ((from_s / self.dt_s).max(0.0) as usize).min(last);
+        let hi = ((to_s / self.dt_s).max(0.0) as usize).min(last);
+        let early = lo + ((0.01 / self.dt_s) as usize).max(2);
         (0..self.n_pins)
             .map(|pin| {
                 let series = &self.dx_px[pin * self.n_samples..(pin + 1) * self.n_samples];
-                let mut best = lo;
-                for k in lo..=hi.max(lo) {
-                    if series[k].abs() > series[best].abs() {
-                        best = k;
-                    }
-                }
-                best as f64 * self.dt_s
+                // Over 2 ms steps: per-sample differences of a slow start are rounding.
+                let step = ((0.002 / self.dt_s) as usize).max(1);
+                let rate = |k: usize| {
+                    let j = (k + step).min(last);
+                    let ds = (self.shear_mm[j] - self.shear_mm[k]) as f64;
+                    (ds > 1e-4).then(|| (series[j] - series[k]) as f64 / ds)
+                };
+                let stuck_rate = (lo..early.min(hi))
+                    .filter_map(rate)
+                    .fold(0.0f64, |m, r| m.max(r.abs()));
+                (lo..hi)
+                    .find(|&k| {
+                        stuck_rate > 0.0 && rate(k).is_some_and(|r| r.abs() < 0.5 * stuck_rate)
+                    })
+                    .unwrap_or(hi) as f64
+                    * self.dt_s
             })
             .collect()
     }
@@ -357,14 +392,14 @@ impl Mechanics {
         let c = &params.contact;
         let onset_delay = draw.onset_delay_s;
         let local_gain = c.pin_shear_gain / c.skin_shear_stiffness_n_mm3;
-        let k = &params.kinematics;
         let duration = params.duration_s();
         let dt = params.solver.mechanics_dt_s;
         let n_samples = (duration / dt).ceil() as usize + 2;
         let n_pins = self.pins_mm.len();
-        let delta = draw.press_depth_mm;
-        let a = (2.0 * self.dome_radius_mm * delta).sqrt();
-        let normal = k.normal_force_n * (delta / k.press_depth_mm).powf(1.5);
+        let press = surface.press(params, draw.press_depth_mm, self.dome_radius_mm);
+        let a = press.contact_radius_mm;
+        let normal = press.normal_force_n;
+        let shear_share = press.shear_share;
         let n_over_kt = normal / c.tangential_stiffness_n_mm;
         let chi = |r: f64| 1.0 / (1.0 + ((r - a) / c.contact_edge_mm).exp());
 
@@ -441,13 +476,24 @@ impl Mechanics {
         let h = dt / sub as f64;
         let inertia = (-h / c.slip_inertia_s).exp();
         let micro_decay = (-h / c.microslip_time_s).exp();
-        let micro_rate_per_mm = surface.microslip_rate_hz / 15.0;
+        let micro_rate_per_mm = surface.microslip_rate_hz / super::texture::REFERENCE_SPEED_MM_S;
+        // Edge catches: one each time the patch has slipped past another row of bumps, from the
+        // mounting's phase.
+        let mut next_catch = surface
+            .catch_period_mm
+            .map_or(f64::INFINITY, |p| p - draw.start_phase_mm.rem_euclid(p));
+        let mut slid = 0.0;
+        let release = |micro: &mut f64, rng: &mut ChaCha8Rng| {
+            let u = rng.random::<f64>();
+            *micro -= c.microslip_min_mm + u * (c.microslip_max_mm - c.microslip_min_mm);
+        };
         let mut t = 0.0;
         let scale = self.scale_px_per_mm;
         for n in 0..n_samples {
             if n > 0 {
                 for _ in 0..sub {
                     let (_, vb) = base_motion(params, t + 0.5 * h - onset_delay);
+                    let vb = shear_share * vb;
                     if stuck {
                         s += vb * h;
                         if s >= s_static && vb > 0.0 {
@@ -465,9 +511,12 @@ impl Mechanics {
                         if micro_rate_per_mm > 0.0
                             && rng.random::<f64>() < micro_rate_per_mm * vp * h
                         {
-                            let u = rng.random::<f64>();
-                            micro -=
-                                c.microslip_min_mm + u * (c.microslip_max_mm - c.microslip_min_mm);
+                            release(&mut micro, rng);
+                        }
+                        slid += vp * h;
+                        if slid >= next_catch {
+                            next_catch += surface.catch_period_mm.unwrap_or(f64::INFINITY);
+                            release(&mut micro, rng);
                         }
                     }
                     micro *= micro_decay;
@@ -537,7 +586,7 @@ mod tests {
         let p = SimParams::default();
         let g = PinGeometry::default();
         let texture = Texture::grid(0.0).unwrap();
-        let (field, surface) = texture.prepare(&p, p.nominal_pressure_mpa(g.dome_radius_mm));
+        let (field, surface) = texture.prepare(&p, g.dome_radius_mm);
         let draw = TrialDraw {
             lateral_offset_mm: 0.0,
             start_phase_mm: 0.0,
@@ -565,10 +614,85 @@ mod tests {
     }
 
     #[test]
-    fn issue_12_mounting_is_shared_by_slides_and_jitter_is_bounded_by_the_repeatability() {
+    fn edge_catches_on_a_grid_come_once_per_row_of_bumps() {
+        let p = SimParams::default();
+        let g = PinGeometry::default();
+        let texture = Texture::grid(2.5).unwrap();
+        let (field, surface) = texture.prepare(&p, g.dome_radius_mm);
+        let draw = TrialDraw {
+            lateral_offset_mm: 0.0,
+            start_phase_mm: 1.0,
+            press_depth_mm: 2.0,
+            mu_static: surface.mu_static,
+            mu_kinetic: surface.mu_kinetic,
+            onset_delay_s: 0.0,
+        };
+        let mut m = Mechanics::new(g.pin_positions_mm(), g.dome_radius_mm, g.scale_px_per_mm);
+        let mut out = PinTrajectories::default();
+        m.run(
+            &p,
+            &field,
+            &surface,
+            &draw,
+            &mut ChaCha8Rng::seed_from_u64(3),
+            &mut out,
+        );
+        // A catch is a sudden drop of the pins' shear while sliding steadily (after the onset's
+        // snap, before the stop's recoil); the patch slips ≈ 56 mm then, p = 5 mm.
+        let (from, to) = (
+            (0.6 / out.dt_s) as usize,
+            ((p.kinematics.rest_before_s + p.motion_duration_s() - 0.1) / out.dt_s) as usize,
+        );
+        let drops = out.shear_mm[from..to]
+            .windows(2)
+            .filter(|w| w[1] < w[0] - 0.008)
+            .count();
+        assert!((9..=12).contains(&drops), "{drops} catches");
+        // The flat plate has no bumps to catch on.
+        let (flat_field, flat) = Texture::grid(0.0).unwrap().prepare(&p, g.dome_radius_mm);
+        m.run(
+            &p,
+            &flat_field,
+            &flat,
+            &draw,
+            &mut ChaCha8Rng::seed_from_u64(3),
+            &mut out,
+        );
+        assert!(
+            out.shear_mm[from..to]
+                .windows(2)
+                .all(|w| w[1] >= w[0] - 0.008)
+        );
+    }
+
+    #[test]
+    fn a_soft_texture_presses_lighter_and_its_specimen_draws_its_friction() {
+        let p = SimParams::default();
+        let fur = Texture::from_name("fake fur").unwrap();
+        let (_, surface) = fur.prepare(&p, 20.0);
+        let press = surface.press(&p, 2.0, 20.0);
+        assert!(
+            press.normal_force_n < 0.5 * p.kinematics.normal_force_n,
+            "{press:?}"
+        );
+        let key = Mounting::texture_key(&fur.name());
+        let factors: Vec<f64> = (0..40)
+            .map(|rig| {
+                Mounting::of_specimen(&p, rig, key, surface.friction_spread).specimen_friction
+            })
+            .collect();
+        let mean = factors.iter().sum::<f64>() / 40.0;
+        let sd = (factors.iter().map(|f| (f - mean).powi(2)).sum::<f64>() / 39.0).sqrt();
+        assert!((0.1..0.3).contains(&sd), "{sd}");
+        // Grids take their friction from the contact: no specimen factor.
+        assert_eq!(Mounting::new(&p, 5, key).specimen_friction, 1.0);
+    }
+
+    #[test]
+    fn mounting_is_shared_by_slides_and_jitter_is_bounded_by_the_repeatability() {
         let p = SimParams::default();
         let texture = Texture::grid(2.5).unwrap();
-        let (_, surface) = texture.prepare(&p, p.nominal_pressure_mpa(20.0));
+        let (_, surface) = texture.prepare(&p, 20.0);
         let mounting = Mounting::new(&p, 11, Mounting::texture_key(&texture.name()));
         assert_eq!(
             mounting,

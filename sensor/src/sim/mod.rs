@@ -7,7 +7,9 @@
 //! |---|---|---|
 //! | parameters (§1–3, §7) | [`params`] | [`SimParams`] |
 //! | skin-on-texture contact (issue 12) | [`contact`] | [`SkinContact`] |
-//! | textures, friction (§2.1, §2.4) | [`texture`] | [`Texture`], [`TextureField`], [`Surface`], [`NATURAL_TEXTURES`] |
+//! | textures, friction (§2.1, §2.4) | [`texture`] | [`Texture`], [`TextureField`], [`Surface`] |
+//! | natural textures as materials (§2.4) | [`natural`] | [`NATURAL_TEXTURES`], [`NaturalTexture`] |
+//! | a compliant texture in series with the dome | [`layer`] | [`layer::Layer`], [`layer::Press`] |
 //! | kinematics, stick-slip, pins, variability (§2.1–2.2) | [`mechanics`] | [`PinTrajectories`], [`Mounting`], [`TrialDraw`] |
 //! | partial-slip front of the onset (§9) | [`slip_front`] | [`slip_front::SlipFront`], [`slip_front::PinShear`] |
 //! | camera fixed-pattern noise (§3.2) | [`camera`] | [`Camera`] |
@@ -39,7 +41,9 @@ pub mod contact;
 pub mod diagnostics;
 pub mod error;
 mod fft;
+pub mod layer;
 pub mod mechanics;
+pub mod natural;
 pub mod params;
 pub mod pixel;
 pub mod slip_front;
@@ -50,10 +54,11 @@ pub use contact::SkinContact;
 pub use diagnostics::{EdgePass, PixelSanity, edge_pass, pixel_sanity};
 pub use error::SimulationError;
 pub use mechanics::{Mounting, PinTrajectories, TrialDraw};
+pub use natural::{NATURAL_TEXTURES, NaturalTexture};
 pub use params::{CalibratedParameter, PAPER_INTENSIVE_MEANS, PeriodRule, SimParams};
 pub use pixel::{EventLabel, PixelModel, PixelRunStats};
 pub use slip_front::{PinShear, SlipFront};
-pub use texture::{GRID_SIZES_MM, NATURAL_TEXTURES, Surface, Texture, TextureField};
+pub use texture::{GRID_SIZES_MM, Surface, Texture, TextureField};
 
 use crate::filter::MapStart;
 use crate::geometry::PinGeometry;
@@ -86,7 +91,7 @@ impl PreparedTexture {
 
     /// Prepares `texture` for a dome of radius `dome_radius_mm` (sets the nominal pressure).
     pub fn for_dome(texture: Texture, params: &SimParams, dome_radius_mm: f64) -> Self {
-        let (field, surface) = texture.prepare(params, params.nominal_pressure_mpa(dome_radius_mm));
+        let (field, surface) = texture.prepare(params, dome_radius_mm);
         Self {
             mounting_key: Mounting::texture_key(&texture.name()),
             texture,
@@ -137,8 +142,8 @@ pub struct OnsetFacts {
     pub front: Vec<Option<f64>>,
     /// Per pin: its predicted release time (s), when the lumped shear reached θ·s_s.
     pub predicted_release_s: Vec<Option<f64>>,
-    /// Per pin: its largest displacement along the slide between the motion start and 5 slip
-    /// times after the full slip (s): when it was actually released.
+    /// Per pin: when it was actually released (s): when it first moved at less than half its
+    /// stuck rate before the full slip ([`PinTrajectories::release_times`]).
     pub release_s: Vec<f64>,
 }
 
@@ -267,7 +272,12 @@ impl Simulator {
     ) -> SimulatedTrial {
         let params = self.params;
         let mut rng = ChaCha8Rng::seed_from_u64(mix64(seed ^ 0x6d65_6368));
-        let mounting = Mounting::new(&params, self.camera.rig_seed, texture.mounting_key);
+        let mounting = Mounting::of_specimen(
+            &params,
+            self.camera.rig_seed,
+            texture.mounting_key,
+            texture.surface.friction_spread,
+        );
         let draw = TrialDraw::draw(&params, &texture.surface, &mounting, slide, &mut rng);
         self.mechanics.run(
             &params,
@@ -325,7 +335,7 @@ impl Simulator {
     fn onset_facts(&self, motion_start_s: f64) -> OnsetFacts {
         let tr = &self.trajectories;
         let full = tr.full_slip_s;
-        let end = full.unwrap_or(motion_start_s) + 5.0 * self.params.contact.slip_time_s;
+        let end = full.unwrap_or(motion_start_s);
         let s_s = tr.stick_limit_mm;
         // The lumped shear before the full slip, sampled with the trajectories.
         let crossing = |theta: f64| -> Option<f64> {

@@ -98,8 +98,8 @@ pub enum PeriodRule {
 pub struct ContactParams {
     /// Depth z of the elastic-layer low-pass T(k) = (1 + kz)·e^(−kz) (mm). Default 1.25 (§6).
     pub skin_depth_mm: f64,
-    /// **Calibrated** (2.5 mm grid → 9.84): the sag/conformity law. Default 7.012, from
-    /// `neurotac simulate calibrate` (20 re-mounted slides per step, seed 1: 9.77 spikes per
+    /// **Calibrated** (2.5 mm grid → 9.84): the sag/conformity law. Default 7.2344, from
+    /// `neurotac simulate calibrate` (20 re-mounted slides per step, seed 1: 9.87 spikes per
     /// taxel). The gap g₀ (mm) over which
     /// the free skin, as a membrane under the nominal contact pressure q, sags by 1 mm; it sets
     /// the skin tension T = q·g₀²/(8 · 1 mm) of the contact solve ([`super::contact`]).
@@ -110,8 +110,8 @@ pub struct ContactParams {
     /// Width of the contact edge in χ(r) = 1/(1 + e^((r − a)/w)) (mm). Default 0.8.
     pub contact_edge_mm: f64,
     /// **Calibrated** (5 mm grid → 34.73): effective lever G_lever turning skin slope into
-    /// pin-tip displacement (mm; spec range 0.4–0.6). Default 0.6607, from `neurotac simulate
-    /// calibrate` (20 re-mounted slides per step, seed 1: 34.68 spikes per taxel).
+    /// pin-tip displacement (mm; spec range 0.4–0.6). Default 0.6723, from `neurotac simulate
+    /// calibrate` (20 re-mounted slides per step, seed 1: 35.07 spikes per taxel).
     pub lever_mm: f64,
     /// Fraction g_pin of the surface shear seen at the pin tips. Default 0.5 (spec §2.2).
     pub pin_shear_gain: f64,
@@ -138,7 +138,7 @@ pub struct ContactParams {
     /// (spec §6 prototype; rubber on smooth polymer 0.5–1, Persson 2001).
     pub adhesion_mu_kinetic: f64,
     /// **Calibrated** (flat plate → 4.63): the onset snap. Static adhesive friction exceeds the
-    /// kinetic by this fraction: μ_s,adh = μ_k,adh·(1 + excess). Default 0.3984, from
+    /// kinetic by this fraction: μ_s,adh = μ_k,adh·(1 + excess). Default 0.9219, from
     /// `neurotac simulate calibrate` (20 re-mounted slides per step, seed 1: 4.62 spikes per
     /// taxel).
     pub static_excess: f64,
@@ -153,12 +153,20 @@ pub struct ContactParams {
     /// Plane-strain modulus E* of the skin (MPa) for the real contact area. Default 1.4
     /// (E ≈ 1.05 MPa, ν = 0.5: E* = E/(1 − ν²)).
     pub skin_modulus_mpa: f64,
-    /// Smallest micro-slip amplitude δ_ms (mm). Default 0.005 (spec: 5–50 µm).
+    /// Smallest micro-slip amplitude δ_ms (mm). Default 0.01: the slip one Schallamach wave or
+    /// slip pulse carries in a soft elastomer contact, 10–100 µm \[K\] (the waves carry a fixed
+    /// slip each: Viswanathan, Mahato & Chandrasekar 2014; Viswanathan et al. 2016).
     pub microslip_min_mm: f64,
-    /// Largest micro-slip amplitude δ_ms (mm). Default 0.05.
+    /// Largest micro-slip amplitude δ_ms (mm). Default 0.1 (same source).
     pub microslip_max_mm: f64,
     /// Reload time constant τ_ms of a micro-slip (s). Default 0.003 (spec: 2–5 ms).
     pub microslip_time_s: f64,
+    /// Edge catches per grid period: while the skin slides over a bump grid it catches on the
+    /// bump edges and lets go in a micro-slip (amplitudes `microslip_min/max_mm`), at this
+    /// many per period p of travel, i.e. at v/p per catch. Default 1 \[A\]: one catch per row of
+    /// bumps passing the contact's leading edge; stick-slip of rubber on edged surfaces
+    /// (Schallamach waves, Viswanathan et al. 2016) gives no rate for a bump grid.
+    pub edge_catches_per_period: f64,
     /// Radius of the skin footprint that drives one pin (mm): the partial-slip front moves a
     /// pin as it crosses this disc ([`super::slip_front`]). Default 0.75: half the pin-tip
     /// diameter of 1.2–1.5 mm (spec §1.1, from TacTip blob areas).
@@ -186,10 +194,10 @@ impl Default for ContactParams {
     fn default() -> Self {
         Self {
             skin_depth_mm: 1.25,
-            gap_conformity_mm: 7.012,
+            gap_conformity_mm: 7.2344,
             foundation_stiffness_n_mm3: 0.002,
             contact_edge_mm: 0.8,
-            lever_mm: 0.6607,
+            lever_mm: 0.6723,
             pin_shear_gain: 0.5,
             bulge: 0.1,
             shear_spread: 1.5,
@@ -200,13 +208,14 @@ impl Default for ContactParams {
             slip_time_s: 0.01,
             slip_inertia_s: 0.001,
             adhesion_mu_kinetic: 0.7,
-            static_excess: 0.3984,
+            static_excess: 0.9219,
             loss_tangent: 0.25,
             micro_slope_rms: 0.2,
             skin_modulus_mpa: 1.4,
-            microslip_min_mm: 0.005,
-            microslip_max_mm: 0.05,
+            microslip_min_mm: 0.01,
+            microslip_max_mm: 0.1,
             microslip_time_s: 0.003,
+            edge_catches_per_period: 1.0,
             pin_footprint_radius_mm: 0.75,
             partial_slip: true,
             stick_area_exponent: 2.0 / 3.0,
@@ -255,9 +264,19 @@ impl Default for OpticsParams {
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct PixelParams {
-    /// Mean ON threshold C⁺ (log intensity). Default 0.20.
+    /// Mean ON threshold C⁺ (log intensity). Default 0.20 (v2e's default; ≈ 22 % contrast).
+    ///
+    /// The DAVIS240's published *minimum* temporal contrast is ≈ 11 % (Brandli et al., IEEE
+    /// JSSC 49(10), 2014 \[K\]; commercial DVS ≥ 10 %, Graca et al. 2024), i.e. C = 0.104 /
+    /// 0.117. That is the chip's best with tuned biases; the NeuroTac recordings used the
+    /// default DAVIS240C biases, whose threshold was not published. With 11 % thresholds this
+    /// simulator's flat plate makes 6.9 spikes per taxel even with no onset snap at all
+    /// (`static_excess` = 0), so the paper's 4.63 cannot be met: the recording's thresholds were
+    /// above the chip's minimum. The default therefore stays at v2e's 0.20 / 0.25, inside the
+    /// 10–30 % contrast range of DVS sensors at default biases.
     pub threshold_on: f64,
-    /// Mean OFF threshold C⁻ (log intensity). Default 0.25.
+    /// Mean OFF threshold C⁻ (log intensity). Default 0.25 (spec §3.3: default DAVIS biases make
+    /// OFF slightly higher \[A\]; no published DAVIS240 ON/OFF asymmetry was found).
     pub threshold_off: f64,
     /// Pixel-to-pixel standard deviation σ_C of both thresholds (fixed-pattern noise).
     /// Default 0.03.
@@ -380,18 +399,32 @@ pub struct CalibratedParameter {
     pub target_spikes_per_taxel: f64,
 }
 
-/// Where each prior comes from, as written into a parameter file's `sources` section.
-/// Calibrated fields say so; everything else names its source or is marked \[A\]
-/// (an engineering assumption with its basis).
+/// Where each prior comes from, as written into a parameter file's `sources` section: one
+/// entry per field (`group.field`) or per group where one source covers the whole group.
+/// Tags: CALIBRATED (one of the three fitted values, with its anchor); \[R\] a value read in
+/// the named source; \[K\] a literature value as remembered, not re-read; \[A\] an assumption
+/// with its basis and the range a user should explore; "no source" where none was found (the
+/// value is kept and never tuned).
 pub const PARAMETER_SOURCES: &[(&str, &str)] = &[
-    ("kinematics.speed_mm_s", "paper: 15 mm/s"),
-    ("kinematics.distance_mm", "paper: 60 mm per sample"),
+    ("kinematics.speed_mm_s", "[R] paper: 15 mm/s"),
+    ("kinematics.distance_mm", "[R] paper: 60 mm per sample"),
     (
         "kinematics.acceleration_mm_s2",
-        "[A] spec 2.1: 100-500 mm/s^2",
+        "[A] spec 2.1: 100-500 mm/s^2 (an ABB IRB120 linear move; explore 100-500)",
+    ),
+    (
+        "kinematics.rest_before_s",
+        "no source: the paper does not say how long the recording runs before the motion; [A] spec 2.1 0.2-0.5 s (only the rest's noise depends on it)",
+    ),
+    (
+        "kinematics.rest_after_s",
+        "no source: as rest_before_s; [A] spec 2.1 0.2-0.5 s",
     ),
     ("kinematics.press_depth_mm", "[A] spec 2.1: 1.5-3 mm"),
-    ("kinematics.normal_force_n", "[A] spec 2.1: 1-3 N"),
+    (
+        "kinematics.normal_force_n",
+        "[A] spec 2.1: 1-3 N; Hertz with R = 20 mm gives E* ~ 0.12 MPa for the skin+gel dome, consistent with a TacTip (no measured force-depth curve found)",
+    ),
     (
         "kinematics.lateral_offset_range_mm",
         "[A] mounting of a texture under the arm, drawn once per texture",
@@ -401,20 +434,24 @@ pub const PARAMETER_SOURCES: &[(&str, &str)] = &[
         "[A] one period of the coarsest grid, drawn once per texture",
     ),
     (
+        "kinematics.per_slide_offsets",
+        "[A] off: a robot arm repeats its path to 0.01 mm (ABB IRB120 RP), so offsets belong to the mounting; on restores independent per-slide offsets to study that confound",
+    ),
+    (
         "kinematics.position_repeatability_mm",
-        "ABB IRB120 product specification: position repeatability RP = 0.01 mm",
+        "[R] ABB IRB120 product specification: position repeatability RP = 0.01 mm",
     ),
     (
         "kinematics.press_depth_sd_mm",
-        "same order as the arm's repeatability (ABB IRB120, RP = 0.01 mm)",
+        "[A] same order as the arm's repeatability (ABB IRB120, RP = 0.01 mm)",
     ),
     (
         "kinematics.onset_jitter_s",
-        "[A] host-commanded motion start: non-real-time host loop plus the IRC5 4 ms interpolation cycle",
+        "[A] assumption: a host-commanded motion start jitters by a few controller cycles: ABB EGM streams at 250 Hz (4 ms) [R, abb-motion-program-exec docs], IRC5 I/O timing is not deterministic (12 ms RAPID base rate) [R, weak]; explore 0.004-0.025 s",
     ),
     (
         "contact.skin_depth_mm",
-        "spec 6: curve shape brackets z to 1-1.5 mm",
+        "INFORMED BY THE INTENSIVE MEANS: spec 6 chose 1.25 mm inside the 1-1.5 mm bracket because the prototype's 2.5/5 mm count ratio matched the paper's (34.7/9.8); the bracket itself is the 1 mm skin over the pin bases (spec 1.1)",
     ),
     (
         "contact.gap_conformity_mm",
@@ -422,7 +459,11 @@ pub const PARAMETER_SOURCES: &[(&str, &str)] = &[
     ),
     (
         "contact.foundation_stiffness_n_mm3",
-        "RTV27905 gel E ~ 0.03 MPa [K] over ~15 mm of gel",
+        "[K] RTV27905 gel E ~ 0.03 MPa (5-50 kPa; no datasheet value found) over ~15 mm of gel",
+    ),
+    (
+        "contact.contact_edge_mm",
+        "[A] assumption: the width of the contact edge in chi(r) of the 1 mm skin over the gel, about the skin thickness; explore 0.5-1.5 mm (no source)",
     ),
     (
         "contact.lever_mm",
@@ -430,18 +471,34 @@ pub const PARAMETER_SOURCES: &[(&str, &str)] = &[
     ),
     ("contact.pin_shear_gain", "[A] spec 2.2: g_pin ~ 0.5"),
     (
-        "contact.skin_shear_stiffness_n_mm3",
-        "Gent (1958) Shore A 28 -> E ~ 1.05 MPa, G = E/3, 1 mm skin (lab manufacturing note)",
+        "contact.bulge",
+        "[A] assumption: spec 2.2's radial bulge beta in its range 0-0.3 (no source measures a TacTip's radial pin splay per mm of skin deflection); explore 0-0.3",
     ),
-    ("contact.bump_height_mm", "paper: cylinders 1 mm high"),
+    (
+        "contact.shear_spread",
+        "[A] assumption: spec 2.2, phi(r) = exp(-(r/1.5a)^2): the gel carries the patch's shear to pins outside contact; no source measures a TacTip's shear spread; explore 1-2",
+    ),
+    (
+        "contact.skin_shear_stiffness_n_mm3",
+        "[K] Gent (1958) Shore A 28 -> E ~ 1.05 MPa, G = E/3, 1 mm skin (lab manufacturing note)",
+    ),
+    ("contact.bump_height_mm", "[R] paper: cylinders 1 mm high"),
+    (
+        "contact.period_rule",
+        "no source: the paper says 'spacing' without saying edge-to-edge or centre-to-centre; [A] gap (p = 2d), spec 2.1 and 7; centre_to_centre is the alternative to explore",
+    ),
     (
         "contact.tangential_stiffness_n_mm",
-        "[A] spec 2.2: 1-3 N/mm",
+        "[A] spec 2.2: 1-3 N/mm; Cattaneo-Mindlin's initial stiffness 8Ga/(2-nu) with the Hertz-consistent G ~ 0.03 MPa gives 1.0-2.5 N/mm (Johnson 1985 ch. 7)",
     ),
     ("contact.slip_time_s", "[A] spec 2.2: 5-20 ms"),
     (
+        "contact.slip_inertia_s",
+        "[A] assumption: the contact patch's inertia, 1 ms, well below the slip time; it only lets velocity weakening produce stick-slip (acrylic); no source; explore 0.5-5 ms",
+    ),
+    (
         "contact.adhesion_mu_kinetic",
-        "spec 6 prototype; rubber on smooth polymer 0.5-1 (Persson 2001)",
+        "[K] spec 6 prototype; rubber on smooth polymer 0.5-1 (Persson 2001)",
     ),
     (
         "contact.static_excess",
@@ -457,23 +514,56 @@ pub const PARAMETER_SOURCES: &[(&str, &str)] = &[
     ),
     (
         "contact.skin_modulus_mpa",
-        "Gent (1958) Shore A 28, nu = 0.5",
+        "[K] Gent (1958) Shore A 28, nu = 0.5",
+    ),
+    (
+        "contact.microslip_min_mm",
+        "[K] slip carried by one Schallamach wave or slip pulse in a soft elastomer contact, 10-100 um (Viswanathan, Mahato & Chandrasekar 2014; Viswanathan et al. 2016 describe the waves, the amplitude is remembered)",
+    ),
+    ("contact.microslip_max_mm", "[K] as microslip_min_mm"),
+    (
+        "contact.microslip_time_s",
+        "[A] spec 2.2: 2-5 ms reload after a micro-slip; no source",
+    ),
+    (
+        "contact.edge_catches_per_period",
+        "[A] assumption: one catch of the skin per row of bumps passing the contact's edge (Schallamach-type stick-slip on an edged surface); no source gives a rate; explore 0-4",
+    ),
+    (
+        "contact.pin_footprint_radius_mm",
+        "[R] spec 1.1: pin tip 1.2-1.5 mm diameter (TacTip blob areas); half of 1.5 mm",
+    ),
+    (
+        "contact.partial_slip",
+        "[R] a tangentially loaded contact slips from its weakest part inward (Cattaneo-Mindlin, Johnson 1985 7.2; Delhaye, Lefevre & Thonnard 2014 for fingertips); stick zone from the Ciavarella-Jager principle (Ciavarella 1998; Jager 1998)",
+    ),
+    (
+        "contact.stick_area_exponent",
+        "[K] Cattaneo-Mindlin (c/a)^2 = (1 - Q/muP)^(2/3) (Johnson 1985 7.2); a fingertip loses its stuck area linearly, exponent 1 [R] (Andre et al., J R Soc Interface 2011)",
     ),
     (
         "contact.friction_day_sd",
-        "[A] elastomer friction varies 5-20 % with humidity and surface state",
+        "[A] assumption: elastomer friction varies 5-20 % with humidity and surface state; temperature alone gives 0.2-0.7 %/K (activation energy 25 kJ/mol, Vorvolakos & Chaudhury 2003 [R]); explore 0.02-0.1",
     ),
     (
         "contact.friction_drift_sd",
-        "[A] slow drift over a texture's session, periods of 50-400 slides",
+        "[A] assumption: slow drift over a texture's session, periods of 50-400 slides; the within-session repeatability of skin-textile friction (ICC 0.91-0.94, Temel et al. 2021/2022 [R]) implies 5-6 %; explore 0.01-0.06",
     ),
     (
         "optics",
-        "spec 1.2 and 3.1 (disc radius, blur, contrast), v2e lin-log",
+        "[A] spec 1.2 and 3.1 (disc radius, blur, contrast), v2e lin-log",
+    ),
+    (
+        "pixel.threshold_on",
+        "[R] v2e default 0.20 (~22 % contrast). The DAVIS240's published minimum contrast ~11 % (Brandli et al., IEEE JSSC 49(10) 2014 [K]; commercial DVS >= 10 % [R] Graca et al. 2024) is the chip's best with tuned biases: with C = 0.104/0.117 the flat plate makes 6.9 spikes/taxel with no onset snap at all, above the paper's 4.63, so the recording's default-bias thresholds were higher; explore 0.10-0.35",
+    ),
+    (
+        "pixel.threshold_off",
+        "[A] spec 3.3: default DAVIS biases make OFF slightly higher (0.25); no published DAVIS240 ON/OFF asymmetry found",
     ),
     (
         "pixel",
-        "spec 3.3: v2e defaults (thresholds 0.2, sigma 0.03, refractory 0.5 ms, 300 Hz)",
+        "spec 3.3: v2e defaults (sigma 0.03 [R v2e; DVS128 2.1 %, Lichtsteiner 2008], refractory 0.5 ms, 300 Hz, latency)",
     ),
     (
         "pixel.random_initial_reference",
@@ -483,10 +573,13 @@ pub const PARAMETER_SOURCES: &[(&str, &str)] = &[
         "noise",
         "spec 3.3: total background activity 0.1-0.3 Hz per pixel",
     ),
-    ("solver", "numerical settings (neurotac tradeoff simulator)"),
+    (
+        "solver",
+        "numerical settings (neurotac tradeoff simulator); step tolerance C+/3 (ESIM)",
+    ),
     (
         "natural.friction",
-        "20 natural textures (sensor::sim::NATURAL_TEXTURES, spec 2.4): fabrics, wood and felt 0.25-0.9 as skin and silicone surrogates on textiles (Derler & Gerhardt 2012 review; Vilhena & Ramalho 2016; Temel et al. 2021: silicone skin the highest); smooth acrylic above 1 with stick-slip, as clean rubber on smooth glassy polymers (Schallamach 1971; Persson 2001); soft foam high (adhesion plus bulk hysteresis)",
+        "20 natural textures (sensor::sim::NATURAL_TEXTURES): mu_k = adhesion (1.0 [K]) x fraction of area in contact [A] + the material class's ploughing friction measured with a rigid tool (Penn Haptic Texture Toolkit, Culbertson et al. 2014 [R]); mu_s/mu_k 1.2 for fabrics and foam (Temel et al. 2022: 1.14-1.24 [R]), 1.3 for smooth adhesive solids [K]; each specimen drawn with a 20 % spread (Temel 2022: 0.90 +- 0.19 [R])",
     ),
     (
         "natural.roughness",
@@ -494,7 +587,15 @@ pub const PARAMETER_SOURCES: &[(&str, &str)] = &[
     ),
     (
         "natural.compliance",
-        "kappa = E_t/(E_t + E_eff), E_eff = 0.3 MPa (skin): rigid wood, acrylic, metal 1; woven fabrics 0.5-0.8 and knits, felt 0.3-0.5 (transverse compression under 1-50 kPa, KES-FB3); pile fabrics and PU foam 0.05-0.1 (E 0.01-0.05 MPa, Gibson & Ashby, Cellular Solids)",
+        "relief transmitted kappa = E_t/(E_t + E_eff), E_eff = 0.3 MPa: rigid wood, acrylic, metal 1; woven fabrics 0.5-0.8 and knits, felt 0.3-0.5; pile fabrics and PU foam 0.05-0.1 [A] (spec 2.4)",
+    ),
+    (
+        "natural.layer",
+        "series compliance: fabrics from Kawabata compression KES-FB3, thickness T0 and compressibility EMC (middle of each fabric class's typical range [K]; E_t = 4.9 kPa / EMC, densifying at EMC); PU foam E ~ 50 kPa from Gibson & Ashby, Cellular Solids 1997 (E*/Es = (rho*/rho_s)^2 [R], 13-110 kPa), 10 mm thick [A]; wood, MDF, acrylic, metal mesh and foil rigid (GPa [K]); layer shear G = E/3 [A]",
+    ),
+    (
+        "natural.microslip_rate",
+        "[A] spec 2.4 lambda_ms per texture; no source",
     ),
 ];
 
@@ -612,6 +713,11 @@ impl SimParams {
             ("contact.microslip_min_mm", c.microslip_min_mm, NonNegative),
             ("contact.microslip_max_mm", c.microslip_max_mm, NonNegative),
             ("contact.microslip_time_s", c.microslip_time_s, Positive),
+            (
+                "contact.edge_catches_per_period",
+                c.edge_catches_per_period,
+                Between(0.0, 100.0),
+            ),
             (
                 "contact.stick_area_exponent",
                 c.stick_area_exponent,
@@ -822,6 +928,25 @@ impl SimParams {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn every_parameter_names_its_source_or_says_it_has_none() {
+        let json = serde_json::to_value(SimParams::default()).unwrap();
+        let mut missing = Vec::new();
+        for (group, fields) in json.as_object().unwrap() {
+            for field in fields.as_object().unwrap().keys() {
+                let name = format!("{group}.{field}");
+                if !PARAMETER_SOURCES
+                    .iter()
+                    .any(|(k, _)| *k == name || *k == group.as_str())
+                {
+                    missing.push(name);
+                }
+            }
+        }
+        assert!(missing.is_empty(), "no source for {missing:?}");
+        assert!(PARAMETER_SOURCES.iter().all(|(_, v)| !v.trim().is_empty()));
+    }
 
     #[test]
     fn defaults_validate_and_a_trial_lasts_about_4_5_s() {

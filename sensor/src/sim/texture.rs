@@ -32,149 +32,15 @@
 use super::contact::{ContactLaw, SkinContact, solve};
 use super::error::SimulationError;
 use super::fft::{Complex, fft2, frequency_index};
-use super::params::{ContactParams, PeriodRule, SimParams};
-use rand::{RngExt, SeedableRng};
-use rand_chacha::ChaCha8Rng;
-use std::f64::consts::{PI, TAU};
-
-/// The periodic part of a natural texture along the slide (spec §2.4 "periodic part").
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Weave {
-    /// No periodic part.
-    None,
-    /// Ridges across the slide: `a·cos(2πX/p)`.
-    Rib,
-    /// Plain weave or knit (crossing threads): `a·cos(2πX/p)·cos(2πY/p)`.
-    Plain,
-    /// Twill: diagonal ribs, `a·cos(2π(X + Y)/p)`.
-    Twill,
-    /// Hexagonal net: three cosines at 120°.
-    Hexagonal,
-    /// Wood grain: ridges across the slide at random spacings in [p/1.5, 2p].
-    Grain,
-    /// Overlapping scales (sequins): a saw-tooth of steps of height a, period p.
-    Scales,
-    /// Quasi-periodic motif (lace): a cosine grid at p plus a second at p·φ (golden ratio).
-    Motif,
-    /// Wales across the slide (corduroy): rectified ridges `a·|cos(πX/p)|`.
-    Wales,
-}
-
-/// Sparse discrete features: discs scattered as a Poisson process (spec §2.4).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Features {
-    /// Features per cm².
-    pub density_per_cm2: f64,
-    /// Disc diameter (mm).
-    pub diameter_mm: f64,
-    /// Height (mm); negative for holes and pores.
-    pub height_mm: f64,
-}
-
-/// One natural texture's physical priors (a row of the spec's §2.4 table).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct NaturalTexture {
-    /// Name as in the paper's Table II (lower case).
-    pub name: &'static str,
-    /// Periodic part.
-    pub weave: Weave,
-    /// Period p_w of the periodic part (mm).
-    pub period_mm: f64,
-    /// Amplitude a_w of the periodic part (mm).
-    pub amplitude_mm: f64,
-    /// RMS height of the random part (mm).
-    pub roughness_rms_mm: f64,
-    /// Correlation length ξ of the random part (mm).
-    pub correlation_mm: f64,
-    /// Hurst exponent H of the random part.
-    pub hurst: f64,
-    /// Discrete features, if any.
-    pub features: Option<Features>,
-    /// Compliance κ_m: fraction of the geometric height that reaches the skin.
-    pub compliance: f64,
-    /// Static friction μ_s against the skin.
-    pub mu_static: f64,
-    /// Kinetic friction μ_k.
-    pub mu_kinetic: f64,
-    /// Micro-slip rate λ_ms at 15 mm/s (s⁻¹).
-    pub microslip_rate_hz: f64,
-    /// Velocity-weakening speed v_c (mm/s), `μ(v) = μ_k + (μ_s − μ_k)·e^(−|v|/v_c)`; 0 = none.
-    pub weakening_speed_mm_s: f64,
-}
-
-const fn natural(
-    name: &'static str,
-    weave: Weave,
-    (period_mm, amplitude_mm): (f64, f64),
-    (roughness_rms_mm, correlation_mm, hurst): (f64, f64, f64),
-    features: Option<Features>,
-    compliance: f64,
-    (mu_static, mu_kinetic, microslip_rate_hz): (f64, f64, f64),
-) -> NaturalTexture {
-    NaturalTexture {
-        name,
-        weave,
-        period_mm,
-        amplitude_mm,
-        roughness_rms_mm,
-        correlation_mm,
-        hurst,
-        features,
-        compliance,
-        mu_static,
-        mu_kinetic,
-        microslip_rate_hz,
-        weakening_speed_mm_s: 0.0,
-    }
-}
-
-const fn features(density_per_cm2: f64, diameter_mm: f64, height_mm: f64) -> Option<Features> {
-    Some(Features {
-        density_per_cm2,
-        diameter_mm,
-        height_mm,
-    })
-}
-
-/// The 20 natural textures of the paper (Table II order) with the spec's §2.4 priors; where
-/// each column's values come from is listed under `natural.*` in
-/// [`PARAMETER_SOURCES`](super::params::PARAMETER_SOURCES) (and so in every parameter file's
-/// `sources`). Friction spans 0.25–1.6 and compliance 0.05–1, so the textures differ mostly by
-/// their onset snap and stick-slip, as the spec expects; only the coarse weaves (wool, lace,
-/// tweed, metallic mesh, sequins, embroidery) move the pins periodically. Where
-/// the table gives a range the middle is used; an unstated Hurst exponent is 0.8; "hairy",
-/// "pile" and "fibre flicks" are represented by the roughness and the micro-slip rate alone.
-/// Columns: name, weave, (p_w, a_w) in mm, (h_rms in mm, ξ in mm, H), features (per cm²,
-/// diameter mm, height mm), κ_m, (μ_s, μ_k, λ_ms in s⁻¹).
-#[rustfmt::skip]
-pub const NATURAL_TEXTURES: [NaturalTexture; 20] = {
-    use Weave::*;
-    let mut acrylic = natural("acrylic", None, (0.0, 0.0), (0.0005, 0.1, 0.8), Option::None, 1.0, (1.6, 1.1, 5.0));
-    // "strong v-weakening": stick-slip at the slide speed needs (μ_s − μ_k)·N/(k_t·v_c) > τ.
-    acrylic.weakening_speed_mm_s = 15.0;
-    [
-        natural("foam", None, (0.0, 0.0), (0.15, 0.5, 0.6), features(60.0, 0.6, -0.3), 0.1, (1.3, 0.9, 40.0)),
-        natural("plywood", Grain, (1.5, 0.02), (0.01, 0.3, 0.7), Option::None, 1.0, (0.7, 0.5, 20.0)),
-        natural("mdf", None, (0.0, 0.0), (0.008, 0.2, 0.8), Option::None, 1.0, (0.8, 0.6, 15.0)),
-        acrylic,
-        natural("wool", Plain, (3.5, 0.4), (0.15, 1.0, 0.5), Option::None, 0.3, (0.8, 0.6, 30.0)),
-        natural("fake fur", None, (0.0, 0.0), (0.5, 2.0, 0.8), Option::None, 0.05, (0.6, 0.5, 50.0)),
-        natural("liquid satin", Plain, (0.35, 0.01), (0.01, 0.3, 0.8), Option::None, 0.6, (0.35, 0.25, 5.0)),
-        natural("shimmer organza", Plain, (0.25, 0.02), (0.015, 0.2, 0.8), Option::None, 0.8, (0.45, 0.35, 10.0)),
-        natural("tweed", Twill, (2.0, 0.25), (0.12, 0.8, 0.5), features(0.5, 3.0, 0.3), 0.5, (0.8, 0.6, 30.0)),
-        natural("lace", Motif, (6.0, 0.3), (0.05, 1.0, 0.8), features(2.0, 2.0, -0.3), 0.6, (0.6, 0.45, 20.0)),
-        natural("flarefree net", Hexagonal, (1.2, 0.08), (0.0, 1.0, 0.8), Option::None, 0.8, (0.5, 0.4, 15.0)),
-        natural("embroidered cotton", Plain, (0.5, 0.04), (0.03, 0.3, 0.8), features(1.56, 3.0, 0.5), 0.6, (0.7, 0.55, 20.0)),
-        natural("shirt canvas", Plain, (0.6, 0.06), (0.03, 0.3, 0.8), Option::None, 0.7, (0.65, 0.5, 15.0)),
-        natural("fairydust organza", Plain, (0.25, 0.02), (0.015, 0.2, 0.8), features(5.0, 1.0, 0.05), 0.8, (0.45, 0.35, 15.0)),
-        natural("sequins allover", Scales, (3.5, 0.25), (0.0, 1.0, 0.8), Option::None, 0.9, (0.35, 0.25, 10.0)),
-        natural("metallic mesh", Plain, (2.5, 0.5), (0.02, 0.5, 0.8), Option::None, 1.0, (0.45, 0.35, 10.0)),
-        natural("felt", None, (0.0, 0.0), (0.06, 0.4, 0.6), Option::None, 0.4, (0.9, 0.7, 30.0)),
-        natural("needlecord", Wales, (1.6, 0.35), (0.05, 0.3, 0.8), Option::None, 0.5, (0.7, 0.55, 20.0)),
-        natural("fleece", None, (0.0, 0.0), (0.2, 1.5, 0.5), Option::None, 0.1, (0.7, 0.55, 35.0)),
-        natural("microdot foil", Plain, (0.45, 0.02), (0.002, 0.1, 0.8), Option::None, 1.0, (0.5, 0.4, 10.0)),
-    ]
+use super::layer::{Layer, Press};
+use super::natural::{
+    FRICTION_PRIOR_SPREAD, NATURAL_DX_MM, NATURAL_NX, NATURAL_NY, NATURAL_TEXTURES, NaturalTexture,
+    natural_heights,
 };
+use super::params::{ContactParams, PeriodRule, SimParams};
+use rand::RngExt;
+use rand_chacha::ChaCha8Rng;
+use std::f64::consts::TAU;
 
 /// The 11 bump-grid sizes of the paper (mm).
 pub const GRID_SIZES_MM: [f64; 11] = [0.0, 0.5, 1.0, 1.5, 2.0, 2.5, 3.0, 3.5, 4.0, 4.5, 5.0];
@@ -199,8 +65,11 @@ pub struct Surface {
     pub mu_static: f64,
     /// Kinetic friction μ_k.
     pub mu_kinetic: f64,
-    /// Micro-slip rate at 15 mm/s (s⁻¹).
+    /// Micro-slip rate at 15 mm/s (s⁻¹), Poisson in slip distance (natural textures).
     pub microslip_rate_hz: f64,
+    /// Slip distance between edge catches (mm): a catch each time a row of bumps passes, locked
+    /// to the texture (grids; `None` elsewhere).
+    pub catch_period_mm: Option<f64>,
     /// Velocity-weakening speed (mm/s); 0 = none.
     pub weakening_speed_mm_s: f64,
     /// Real contact area relative to a flat plate (1 for the plate).
@@ -211,6 +80,25 @@ pub struct Surface {
     pub max_sag_mm: f64,
     /// Fraction of the skin in contact.
     pub contact_fraction: f64,
+    /// The compliant layer in series with the dome (`None`: rigid), [`super::layer`].
+    pub layer: Option<Layer>,
+    /// Relative spread of the friction prior between specimens (0: friction follows from the
+    /// contact, as on the printed grids).
+    pub friction_spread: f64,
+}
+
+impl Surface {
+    /// The press of a dome of radius `dome_radius_mm` commanded `depth_mm` into this surface.
+    pub fn press(&self, params: &SimParams, depth_mm: f64, dome_radius_mm: f64) -> Press {
+        let k = &params.kinematics;
+        Press::solve(
+            self.layer.as_ref(),
+            depth_mm,
+            dome_radius_mm,
+            (k.normal_force_n, k.press_depth_mm),
+            params.contact.tangential_stiffness_n_mm,
+        )
+    }
 }
 
 impl Texture {
@@ -272,9 +160,9 @@ impl Texture {
     /// Solves the skin's contact on this texture under the nominal pressure `pressure_mpa`
     /// and builds its field and surface (see the module docs). Deterministic; once per
     /// texture.
-    pub fn prepare(&self, params: &SimParams, pressure_mpa: f64) -> (TextureField, Surface) {
+    pub fn prepare(&self, params: &SimParams, dome_radius_mm: f64) -> (TextureField, Surface) {
         let c = &params.contact;
-        let law = ContactLaw::new(c, pressure_mpa);
+        let law = ContactLaw::new(c, params.nominal_pressure_mpa(dome_radius_mm));
         match *self {
             Texture::Grid { size_mm } if size_mm > 0.0 => {
                 let (h, n, dx) = grid_heights(size_mm, c);
@@ -283,10 +171,13 @@ impl Texture {
                 let hysteresis = c.loss_tangent * contact.mean_abs_slope;
                 let interlocking = contact.mean_abs_slope;
                 let mu_kinetic = adhesion + hysteresis;
+                let period = self.grid_period_mm(c.period_rule).expect("a grid");
                 let surface = Surface {
                     mu_static: adhesion * (1.0 + c.static_excess) + interlocking,
                     mu_kinetic,
                     microslip_rate_hz: 0.0,
+                    catch_period_mm: (c.edge_catches_per_period > 0.0)
+                        .then(|| period / c.edge_catches_per_period),
                     weakening_speed_mm_s: 0.0,
                     ..contact_facts(&contact)
                 };
@@ -298,15 +189,20 @@ impl Texture {
                 Surface {
                     mu_static: c.adhesion_mu_kinetic * (1.0 + c.static_excess),
                     mu_kinetic: c.adhesion_mu_kinetic,
-                    microslip_rate_hz: 0.0,
-                    weakening_speed_mm_s: 0.0,
-                    real_area_ratio: 1.0,
-                    mean_abs_slope: 0.0,
-                    max_sag_mm: 0.0,
-                    contact_fraction: 1.0,
+                    ..contact_facts_flat()
                 },
             ),
             Texture::Natural(t) => {
+                // A compliant layer sets the force, so the pressure the contact is solved at.
+                let surface = Surface {
+                    layer: t.layer,
+                    ..contact_facts_flat()
+                };
+                let press = surface.press(params, params.kinematics.press_depth_mm, dome_radius_mm);
+                let law = ContactLaw::new(
+                    c,
+                    press.normal_force_n / (std::f64::consts::PI * press.contact_radius_mm.powi(2)),
+                );
                 let h = natural_heights(t);
                 let (nx, ny, dx) = (NATURAL_NX, NATURAL_NY, NATURAL_DX_MM);
                 let contact = solve(&h, (nx, ny), (dx, dx), &law);
@@ -315,6 +211,8 @@ impl Texture {
                     mu_kinetic: t.mu_kinetic,
                     microslip_rate_hz: t.microslip_rate_hz,
                     weakening_speed_mm_s: t.weakening_speed_mm_s,
+                    layer: t.layer,
+                    friction_spread: FRICTION_PRIOR_SPREAD,
                     ..contact_facts(&contact)
                 };
                 let field =
@@ -331,20 +229,39 @@ fn contact_facts(contact: &SkinContact) -> Surface {
         mu_static: 0.0,
         mu_kinetic: 0.0,
         microslip_rate_hz: 0.0,
+        catch_period_mm: None,
         weakening_speed_mm_s: 0.0,
         real_area_ratio: contact.real_area_ratio,
         mean_abs_slope: contact.mean_abs_slope,
         max_sag_mm: contact.max_sag_mm,
         contact_fraction: contact.contact_fraction,
+        layer: None,
+        friction_spread: 0.0,
     }
 }
 
+/// The contact facts of the flat plate (friction left at zero).
+fn contact_facts_flat() -> Surface {
+    Surface {
+        real_area_ratio: 1.0,
+        mean_abs_slope: 0.0,
+        max_sag_mm: 0.0,
+        contact_fraction: 1.0,
+        mu_static: 0.0,
+        mu_kinetic: 0.0,
+        microslip_rate_hz: 0.0,
+        catch_period_mm: None,
+        weakening_speed_mm_s: 0.0,
+        layer: None,
+        friction_spread: 0.0,
+    }
+}
+
+/// The slide speed the micro-slip rates are stated at (mm/s, the paper's).
+pub const REFERENCE_SPEED_MM_S: f64 = 15.0;
+
 /// Cells per grid period (a power of two).
 const GRID_CELLS: usize = 64;
-/// Sample spacing of natural fields (mm) and their size (a power of two each way).
-const NATURAL_DX_MM: f64 = 0.25;
-const NATURAL_NX: usize = 512;
-const NATURAL_NY: usize = 256;
 
 /// A periodic field of skin deflection and slopes (see the module docs), sampled bilinearly.
 #[derive(Debug, Clone)]
@@ -561,132 +478,6 @@ fn grid_heights(size_mm: f64, contact: &ContactParams) -> (Vec<f64>, usize, f64)
     (h, n, dx)
 }
 
-/// A seed from a texture name (FNV-1a), so each natural texture is one fixed sample.
-fn name_seed(name: &str) -> u64 {
-    name.bytes().fold(0xcbf2_9ce4_8422_2325, |h, b| {
-        (h ^ b as u64).wrapping_mul(0x0000_0100_0000_01b3)
-    })
-}
-
-fn weave_height(t: &NaturalTexture, x: f64, y: f64, grain: &[f64]) -> f64 {
-    let (p, a) = (t.period_mm, t.amplitude_mm);
-    if p <= 0.0 || a == 0.0 {
-        return 0.0;
-    }
-    let k = TAU / p;
-    match t.weave {
-        Weave::None => 0.0,
-        Weave::Rib => a * (k * x).cos(),
-        Weave::Plain => a * (k * x).cos() * (k * y).cos(),
-        Weave::Twill => a * (k * (x + y) / 2f64.sqrt()).cos(),
-        Weave::Hexagonal => {
-            let mut s = 0.0;
-            for m in 0..3 {
-                let angle = m as f64 * TAU / 3.0;
-                s += (k * (x * angle.cos() + y * angle.sin())).cos();
-            }
-            a * s / 3.0
-        }
-        Weave::Grain => {
-            // Ridges at the (sorted) random positions in `grain`, each a cosine bump of width p/2.
-            let i = grain.partition_point(|&g| g < x);
-            let near = [i.wrapping_sub(1), i]
-                .into_iter()
-                .filter_map(|j| grain.get(j))
-                .map(|&g| (x - g).abs())
-                .fold(f64::INFINITY, f64::min);
-            if near < 0.25 * p {
-                a * (0.5 + 0.5 * (TAU * near / (0.5 * p)).cos())
-            } else {
-                0.0
-            }
-        }
-        Weave::Scales => {
-            // Rows of overlapping discs, alternate rows offset by half a period: a saw-tooth.
-            let row = (y / p).floor();
-            let phase = (x / p + 0.5 * row).rem_euclid(1.0);
-            a * phase
-        }
-        Weave::Motif => {
-            let golden = 0.5 * (1.0 + 5f64.sqrt());
-            a * 0.5
-                * ((k * x).cos() * (k * y).cos() + (k * x / golden).cos() * (k * y / golden).cos())
-        }
-        Weave::Wales => a * (PI * x / p).cos().abs(),
-    }
-}
-
-/// The height field of a natural texture (`NATURAL_NX × NATURAL_NY` at `NATURAL_DX_MM`),
-/// every height scaled by its compliance κ_m.
-fn natural_heights(t: &NaturalTexture) -> Vec<f64> {
-    let (nx, ny, dx) = (NATURAL_NX, NATURAL_NY, NATURAL_DX_MM);
-    let (lx, ly) = (nx as f64 * dx, ny as f64 * dx);
-    let mut rng = ChaCha8Rng::seed_from_u64(name_seed(t.name));
-    let mut h = vec![0.0; nx * ny];
-    // Periodic weave.
-    let mut grain = Vec::new();
-    if t.weave == Weave::Grain {
-        let mut x = 0.0;
-        while x < lx {
-            grain.push(x);
-            x += t.period_mm * (2.0 / 3.0 + (4.0 / 3.0) * rng.random::<f64>());
-        }
-    }
-    for j in 0..ny {
-        for i in 0..nx {
-            h[j * nx + i] = weave_height(t, i as f64 * dx, j as f64 * dx, &grain);
-        }
-    }
-    // Self-affine roughness: white noise shaped by the square root of the spectrum.
-    if t.roughness_rms_mm > 0.0 {
-        let mut noise: Vec<Complex> = (0..nx * ny).map(|_| (gaussian(&mut rng), 0.0)).collect();
-        fft2(&mut noise, nx, ny, false);
-        for j in 0..ny {
-            let ky = TAU * frequency_index(j, ny) / ly;
-            for i in 0..nx {
-                let kx = TAU * frequency_index(i, nx) / lx;
-                let k2 = (kx * kx + ky * ky) * t.correlation_mm * t.correlation_mm;
-                let amp = (1.0 + k2).powf(-0.5 * (1.0 + t.hurst));
-                let c = &mut noise[j * nx + i];
-                *c = (c.0 * amp, c.1 * amp);
-            }
-        }
-        noise[0] = (0.0, 0.0);
-        fft2(&mut noise, nx, ny, true);
-        let rms = (noise.iter().map(|c| c.0 * c.0).sum::<f64>() / (nx * ny) as f64).sqrt();
-        if rms > 0.0 {
-            for (v, c) in h.iter_mut().zip(&noise) {
-                *v += t.roughness_rms_mm * c.0 / rms;
-            }
-        }
-    }
-    // Sparse features: Poisson-scattered discs with a soft edge.
-    if let Some(f) = t.features {
-        let expected = f.density_per_cm2 * lx * ly / 100.0;
-        let count = poisson(&mut rng, expected);
-        let r = 0.5 * f.diameter_mm;
-        let reach = (r / dx).ceil() as isize + 1;
-        for _ in 0..count {
-            let (cx, cy) = (rng.random::<f64>() * lx, rng.random::<f64>() * ly);
-            let (ci, cj) = ((cx / dx) as isize, (cy / dx) as isize);
-            for dj in -reach..=reach {
-                for di in -reach..=reach {
-                    let (i, j) = (ci + di, cj + dj);
-                    let (px, py) = (i as f64 * dx, j as f64 * dx);
-                    let d = ((px - cx).powi(2) + (py - cy).powi(2)).sqrt();
-                    let cover = (0.5 - (d - r) / dx).clamp(0.0, 1.0);
-                    if cover > 0.0 {
-                        let (wi, wj) = (i.rem_euclid(nx as isize), j.rem_euclid(ny as isize));
-                        h[wj as usize * nx + wi as usize] += f.height_mm * cover;
-                    }
-                }
-            }
-        }
-    }
-    h.iter_mut().for_each(|v| *v *= t.compliance);
-    h
-}
-
 /// A standard normal draw (Box–Muller).
 pub(crate) fn gaussian(rng: &mut ChaCha8Rng) -> f64 {
     let u1 = 1.0 - rng.random::<f64>();
@@ -748,8 +539,7 @@ mod tests {
 
     fn prepared(name: &str) -> (TextureField, Surface) {
         let p = SimParams::default();
-        let q = p.nominal_pressure_mpa(20.0);
-        Texture::from_name(name).unwrap().prepare(&p, q)
+        Texture::from_name(name).unwrap().prepare(&p, 20.0)
     }
 
     #[test]
