@@ -24,15 +24,24 @@
 //! the skin's shear stiffness per area κ = G_skin/t_skin. It changes at v/p as bump edges pass
 //! under the pin.
 //!
-//! **Pins** (sensor plane, mm; χ(r) = 1/(1 + e^((r − a)/w_c)), a = √(2Rδ), φ(r) = e^(−(r/(1.5a))²)):
-//! `u_i = G_lever·∇w(x_i) + g_pin·(φ(r_i)·s_pins + χ_i·τ̃/κ)·x̂ + β·w(x_i)·r̂_i`, with `w = χ·w₀(X, Y)` sampled
+//! **Press** ([`super::layer`]): the commanded depth δ sets the contact radius a = √(2Rδ); a
+//! compliant texture in series with the dome lowers the normal force N (so s_s) and lets only a
+//! share of the base's travel shear the skin (`ds/dt = share·v_b` above).
+//!
+//! **Onset front** ([`super::slip_front`]): before the first full slip each pin feels its own
+//! shear s_i — the base's travel while its footprint sticks, a twitch back when the partial-slip
+//! front reaches it — and after it the lumped s.
+//!
+//! **Pins** (sensor plane, mm; χ(r) = 1/(1 + e^((r − a)/w_c)), φ(r) = e^(−(r/(1.5a))²)):
+//! `u_i = G_lever·∇w(x_i) + g_pin·(φ(r_i)·(s_i + micro) + χ_i·τ̃/κ)·x̂ + β·w(x_i)·r̂_i`, with `w = χ·w₀(X, Y)` sampled
 //! at the world point under the pin. The world point follows the contact patch, not the base:
 //! `X = x + x_b − s + x_phase`, `Y = y + y₀` — while the skin sticks, the texture does not move
 //! under it (a refinement of the spec's `X = x + x_b`). Image displacement = k·u_i (px).
 //! Press and release are not simulated (spec §7: include_indentation off).
 //!
-//! **Variability** (issue 12 item 4, [`TrialDraw`]): offset and phase come from the texture's
-//! [`Mounting`] plus the arm's repeatability; press depth and motion onset jitter per slide.
+//! **Variability** ([`TrialDraw`]): offset, phase and (natural textures) the specimen's friction
+//! come from the texture's [`Mounting`], plus the arm's repeatability; press depth and motion
+//! onset jitter per slide.
 
 use super::params::SimParams;
 use super::pixel::mix64;
@@ -581,24 +590,34 @@ mod tests {
         assert!((x_end - 60.0).abs() < 1e-6);
     }
 
-    #[test]
-    fn flat_plate_onset_sticks_then_slips_back_and_recoils_at_the_stop() {
+    /// The trajectories of one slide over grid `size_mm` with the default geometry, at press
+    /// depth 2 mm, phase `phase_mm` and friction `mu` (μ_s, μ_k; the texture's own for `None`).
+    fn slide(size_mm: f64, phase_mm: f64, mu: Option<(f64, f64)>) -> PinTrajectories {
         let p = SimParams::default();
         let g = PinGeometry::default();
-        let texture = Texture::grid(0.0).unwrap();
-        let (field, surface) = texture.prepare(&p, g.dome_radius_mm);
+        let (field, surface) = Texture::grid(size_mm)
+            .unwrap()
+            .prepare(&p, g.dome_radius_mm);
+        let (mu_static, mu_kinetic) = mu.unwrap_or((surface.mu_static, surface.mu_kinetic));
         let draw = TrialDraw {
             lateral_offset_mm: 0.0,
-            start_phase_mm: 0.0,
+            start_phase_mm: phase_mm,
             press_depth_mm: 2.0,
-            mu_static: 1.0,
-            mu_kinetic: 0.7,
+            mu_static,
+            mu_kinetic,
             onset_delay_s: 0.0,
         };
         let mut m = Mechanics::new(g.pin_positions_mm(), g.dome_radius_mm, g.scale_px_per_mm);
         let mut out = PinTrajectories::default();
-        let mut rng = ChaCha8Rng::seed_from_u64(1);
+        let mut rng = ChaCha8Rng::seed_from_u64(3);
         m.run(&p, &field, &surface, &draw, &mut rng, &mut out);
+        out
+    }
+
+    #[test]
+    fn flat_plate_onset_sticks_then_slips_back_and_recoils_at_the_stop() {
+        let p = SimParams::default();
+        let out = slide(0.0, 0.0, Some((1.0, 0.7)));
         let at = |t: f64| out.shear_mm[(t / out.dt_s) as usize] as f64;
         // N/k_t = 1 mm: stick up to s_s = 1 mm, steady s_k + τv = 0.85 mm, rest at s_k = 0.7 mm.
         let peak = out.shear_mm.iter().copied().fold(0.0f32, f32::max) as f64;
@@ -616,53 +635,22 @@ mod tests {
     #[test]
     fn edge_catches_on_a_grid_come_once_per_row_of_bumps() {
         let p = SimParams::default();
-        let g = PinGeometry::default();
-        let texture = Texture::grid(2.5).unwrap();
-        let (field, surface) = texture.prepare(&p, g.dome_radius_mm);
-        let draw = TrialDraw {
-            lateral_offset_mm: 0.0,
-            start_phase_mm: 1.0,
-            press_depth_mm: 2.0,
-            mu_static: surface.mu_static,
-            mu_kinetic: surface.mu_kinetic,
-            onset_delay_s: 0.0,
-        };
-        let mut m = Mechanics::new(g.pin_positions_mm(), g.dome_radius_mm, g.scale_px_per_mm);
-        let mut out = PinTrajectories::default();
-        m.run(
-            &p,
-            &field,
-            &surface,
-            &draw,
-            &mut ChaCha8Rng::seed_from_u64(3),
-            &mut out,
-        );
         // A catch is a sudden drop of the pins' shear while sliding steadily (after the onset's
         // snap, before the stop's recoil); the patch slips ≈ 56 mm then, p = 5 mm.
+        let out = slide(2.5, 1.0, None);
         let (from, to) = (
             (0.6 / out.dt_s) as usize,
             ((p.kinematics.rest_before_s + p.motion_duration_s() - 0.1) / out.dt_s) as usize,
         );
-        let drops = out.shear_mm[from..to]
-            .windows(2)
-            .filter(|w| w[1] < w[0] - 0.008)
-            .count();
-        assert!((9..=12).contains(&drops), "{drops} catches");
-        // The flat plate has no bumps to catch on.
-        let (flat_field, flat) = Texture::grid(0.0).unwrap().prepare(&p, g.dome_radius_mm);
-        m.run(
-            &p,
-            &flat_field,
-            &flat,
-            &draw,
-            &mut ChaCha8Rng::seed_from_u64(3),
-            &mut out,
-        );
-        assert!(
+        let drops = |out: &PinTrajectories| {
             out.shear_mm[from..to]
                 .windows(2)
-                .all(|w| w[1] >= w[0] - 0.008)
-        );
+                .filter(|w| w[1] < w[0] - 0.008)
+                .count()
+        };
+        assert!((9..=12).contains(&drops(&out)), "{} catches", drops(&out));
+        // The flat plate has no bumps to catch on.
+        assert_eq!(drops(&slide(0.0, 1.0, None)), 0);
     }
 
     #[test]

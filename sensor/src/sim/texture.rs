@@ -18,16 +18,16 @@
 //!    interlocking, μ = tan θ, Tabor's asperity-angle model), while sliding only the hysteretic
 //!    fraction tan δ of that work is lost (Greenwood & Tabor 1958). So μ_s, μ_k and the onset
 //!    snap μ_s − μ_k differ between textures:
-//!    `μ_k = μ_k,adh·A/A_flat + tan δ·⟨|∂z_s/∂X|⟩`, `μ_s = μ_k,adh·(1 + e)·A/A_flat + ⟨|∂z_s/∂X|⟩`.
+//!    `μ_k = μ_k,adh·A/A_flat + tan δ·⟨|∂z_s/∂X|⟩`, `μ_s = μ_k,adh·(1 + e)·A/A_flat + ⟨|∂z_s/∂X|⟩`;
+//!    while sliding, the skin catches on each row of bumps (`contact.edge_catches_per_period`);
+//! 4. the field also keeps the contact pressure over its mean, unfiltered, for the onset's
+//!    partial-slip front ([`super::slip_front`]).
 //!
 //! Fields are built once per texture and shared by all its trials: the physical sample is the
 //! same object every slide.
 //!
-//! Natural textures follow the spec's §2.4 table: a periodic weave, self-affine roughness
-//! (spectrum ∝ (1 + (kξ)²)^−(1+H)), sparse discrete features, the compliance κ_m scaling every
-//! height, friction and the micro-slip rate. **The numbers are physical priors (\[A\] in the spec),
-//! never fitted to classification results.** The random parts are drawn from a seed derived from
-//! the texture's name only, so a texture is the same sample in every dataset.
+//! Natural textures ([`super::natural`]) are height fields with their own friction priors and
+//! compliant layers; a layer sets the force, so the pressure their contact is solved at.
 
 use super::contact::{ContactLaw, SkinContact, solve};
 use super::error::SimulationError;
@@ -303,14 +303,13 @@ impl TextureField {
         if self.flat {
             return FieldSample::default();
         }
-        let (fx, fy) = (x_mm / self.dx_mm, y_mm / self.dy_mm);
-        let (flx, fly) = (fx.floor(), fy.floor());
-        let (tx, ty) = ((fx - flx) as f32, (fy - fly) as f32);
-        let ix = (flx as i64).rem_euclid(self.nx as i64) as usize;
-        let iy = (fly as i64).rem_euclid(self.ny as i64) as usize;
-        let (jx, jy) = ((ix + 1) % self.nx, (iy + 1) % self.ny);
-        let v = |x: usize, y: usize| &self.values[y * self.nx + x];
-        let (a, b, c, d) = (v(ix, iy), v(jx, iy), v(ix, jy), v(jx, jy));
+        let ([ia, ib, ic, id], tx, ty) = self.corners(x_mm, y_mm);
+        let (a, b, c, d) = (
+            &self.values[ia],
+            &self.values[ib],
+            &self.values[ic],
+            &self.values[id],
+        );
         let mut out = [0f32; 4];
         for k in 0..4 {
             let top = a[k] + tx * (b[k] - a[k]);
@@ -332,16 +331,25 @@ impl TextureField {
         if self.flat {
             return 1.0;
         }
+        let ([a, b, c, d], tx, ty) = self.corners(x_mm, y_mm);
+        let v = &self.pressure_ratio;
+        let top = v[a] + tx * (v[b] - v[a]);
+        let bottom = v[c] + tx * (v[d] - v[c]);
+        (top + ty * (bottom - top)) as f64
+    }
+
+    /// The four grid points around world point `(x_mm, y_mm)` (periodic; indices of
+    /// (x, y), (x+1, y), (x, y+1), (x+1, y+1)) and the bilinear weights along x and y.
+    #[inline]
+    fn corners(&self, x_mm: f64, y_mm: f64) -> ([usize; 4], f32, f32) {
         let (fx, fy) = (x_mm / self.dx_mm, y_mm / self.dy_mm);
         let (flx, fly) = (fx.floor(), fy.floor());
         let (tx, ty) = ((fx - flx) as f32, (fy - fly) as f32);
         let ix = (flx as i64).rem_euclid(self.nx as i64) as usize;
         let iy = (fly as i64).rem_euclid(self.ny as i64) as usize;
         let (jx, jy) = ((ix + 1) % self.nx, (iy + 1) % self.ny);
-        let v = |x: usize, y: usize| self.pressure_ratio[y * self.nx + x];
-        let top = v(ix, iy) + tx * (v(jx, iy) - v(ix, iy));
-        let bottom = v(ix, jy) + tx * (v(jx, jy) - v(ix, jy));
-        (top + ty * (bottom - top)) as f64
+        let at = |x: usize, y: usize| y * self.nx + x;
+        ([at(ix, iy), at(jx, iy), at(ix, jy), at(jx, jy)], tx, ty)
     }
 
     /// Largest |w₀| (mm), for diagnostics.
