@@ -170,16 +170,19 @@ impl SlipFront {
     /// The load fraction at which the front reaches `pin`: the median θ of its footprint's
     /// elements in contact, or `None` for a pin with no contact under it.
     pub fn pin_threshold(&self, pin: usize) -> Option<f64> {
-        let mut v: Vec<f64> = self.thresholds[pin * FOOTPRINT_POINTS..(pin + 1) * FOOTPRINT_POINTS]
-            .iter()
-            .copied()
-            .filter(|t| !t.is_nan())
-            .collect();
-        if v.is_empty() {
+        let mut v = [0.0; FOOTPRINT_POINTS];
+        let mut n = 0;
+        for &t in &self.thresholds[pin * FOOTPRINT_POINTS..(pin + 1) * FOOTPRINT_POINTS] {
+            if !t.is_nan() {
+                v[n] = t;
+                n += 1;
+            }
+        }
+        if n == 0 {
             return None;
         }
-        v.sort_unstable_by(f64::total_cmp);
-        Some(v[v.len() / 2])
+        v[..n].sort_unstable_by(f64::total_cmp);
+        Some(v[n / 2])
     }
 
     /// Pins the front was solved for.
