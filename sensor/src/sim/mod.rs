@@ -44,6 +44,7 @@ mod fft;
 pub mod layer;
 pub mod mechanics;
 pub mod natural;
+pub mod parameter_sources;
 pub mod params;
 pub mod pixel;
 pub mod slip_front;
