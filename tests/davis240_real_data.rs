@@ -259,7 +259,7 @@ fn the_driver_streams_the_recorded_usb_bytes_and_keeps_them_all_when_unplugged()
 }
 
 #[test]
-fn issue_14_pick_aedat_cut_inside_its_header_is_truncated_at_the_cut() {
+fn pick_aedat_cut_inside_its_header_is_truncated_at_the_cut() {
     let Some(dir) = data_dir() else { return };
     let bytes = std::fs::read(dir.join("pick.aedat")).unwrap();
     for cut in 12..248 {

@@ -635,7 +635,7 @@ mod tests {
     }
 
     #[test]
-    fn issue_14_every_one_bit_flip_is_a_checksum_error_naming_the_file() {
+    fn every_one_bit_flip_is_a_checksum_error_naming_the_file() {
         let bytes = sample().to_binary();
         assert_eq!(&bytes[8..12], &VERSION.to_le_bytes());
         // Past magic and version, every flipped bit is caught by the checksum.
@@ -666,7 +666,7 @@ mod tests {
     }
 
     #[test]
-    fn issue_14_version_1_files_without_a_checksum_still_load() {
+    fn version_1_files_without_a_checksum_still_load() {
         let d = sample();
         let old = version_1(&d);
         assert_eq!(SpikeDataset::from_binary(&old, Path::new("v1")).unwrap(), d);

@@ -395,7 +395,7 @@ mod tests {
     }
 
     #[test]
-    fn issue_14_an_uncommitted_file_leaves_the_old_content_and_no_temporary() {
+    fn an_uncommitted_file_leaves_the_old_content_and_no_temporary() {
         let dir = tempfile::tempdir().unwrap();
         let target = dir.path().join("o.csv");
         {
@@ -465,7 +465,7 @@ mod tests {
     }
 
     #[test]
-    fn issue_14_temporaries_of_dead_processes_are_removed_and_live_ones_kept() {
+    fn temporaries_of_dead_processes_are_removed_and_live_ones_kept() {
         let dir = tempfile::tempdir().unwrap();
         let name = OsString::from("o.aedat4");
         let dead = sibling(dir.path(), &name, TMP_TAG, dead_pid());
@@ -485,7 +485,7 @@ mod tests {
     }
 
     #[test]
-    fn issue_14_a_folder_swap_replaces_the_whole_folder() {
+    fn a_folder_swap_replaces_the_whole_folder() {
         let dir = tempfile::tempdir().unwrap();
         let target = dir.path().join("report");
         std::fs::create_dir(&target).unwrap();
@@ -509,7 +509,7 @@ mod tests {
     }
 
     #[test]
-    fn issue_14_partial_folders_of_dead_processes_are_removed_on_the_next_run() {
+    fn partial_folders_of_dead_processes_are_removed_on_the_next_run() {
         let dir = tempfile::tempdir().unwrap();
         let name = OsString::from("report");
         let partial = sibling(dir.path(), &name, PARTIAL_TAG, dead_pid());
@@ -530,7 +530,7 @@ mod tests {
     }
 
     #[test]
-    fn issue_14_a_swap_cut_between_its_renames_gets_the_old_folder_back() {
+    fn a_swap_cut_between_its_renames_gets_the_old_folder_back() {
         let dir = tempfile::tempdir().unwrap();
         let name = OsString::from("report");
         let pid = dead_pid();
@@ -548,7 +548,7 @@ mod tests {
     }
 
     #[test]
-    fn issue_14_same_file_is_caught_through_links_and_dot_paths() {
+    fn same_file_is_caught_through_links_and_dot_paths() {
         let dir = tempfile::tempdir().unwrap();
         let input = dir.path().join("s.aedat");
         std::fs::write(&input, b"x").unwrap();

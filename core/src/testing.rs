@@ -113,7 +113,7 @@ mod tests {
     use super::*;
 
     #[test]
-    fn issue_14_missing_shared_data_skips_locally_and_fails_under_ci() {
+    fn missing_shared_data_skips_locally_and_fails_under_ci() {
         let dir = PathBuf::from("/nonexistent/shared/data/davis240");
         assert_eq!(decide(dir.clone(), true, true), Ok(Some(dir.clone())));
         assert_eq!(decide(dir.clone(), true, false), Ok(Some(dir.clone())));
@@ -126,7 +126,7 @@ mod tests {
     }
 
     #[test]
-    fn issue_14_shared_data_follows_the_environment() {
+    fn shared_data_follows_the_environment() {
         // Only the folder is compared: the environment variable is read, not written, so
         // parallel tests cannot interfere.
         let root = data_root();

@@ -35,7 +35,7 @@ fn dead_pid() -> u32 {
 }
 
 #[test]
-fn issue_14_a_reader_error_mid_stream_leaves_no_output_and_keeps_an_old_one() {
+fn a_reader_error_mid_stream_leaves_no_output_and_keeps_an_old_one() {
     let dir = tempfile::tempdir().unwrap();
     let whole = dir.path().join("whole.aedat");
     write_file(&whole, &recording()).unwrap();
@@ -63,7 +63,7 @@ fn issue_14_a_reader_error_mid_stream_leaves_no_output_and_keeps_an_old_one() {
 }
 
 #[test]
-fn issue_14_the_shared_recording_cut_at_byte_474357_leaves_no_aedat4() {
+fn the_shared_recording_cut_at_byte_474357_leaves_no_aedat4() {
     let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/data/davis240/pick.aedat");
     if !data.exists() {
         eprintln!(
@@ -84,7 +84,7 @@ fn issue_14_the_shared_recording_cut_at_byte_474357_leaves_no_aedat4() {
 }
 
 #[test]
-fn issue_14_a_writer_error_leaves_no_output() {
+fn a_writer_error_leaves_no_output() {
     let dir = tempfile::tempdir().unwrap();
     let input = dir.path().join("big.csv");
     // The second time is beyond what a 32-bit AEDAT 2.0 timestamp holds.
@@ -97,7 +97,7 @@ fn issue_14_a_writer_error_leaves_no_output() {
 }
 
 #[test]
-fn issue_14_transduce_with_a_raster_into_a_missing_folder_writes_nothing() {
+fn transduce_with_a_raster_into_a_missing_folder_writes_nothing() {
     let dir = tempfile::tempdir().unwrap();
     let input = dir.path().join("r.csv");
     write_file(&input, &recording()).unwrap();
@@ -132,7 +132,7 @@ fn issue_14_transduce_with_a_raster_into_a_missing_folder_writes_nothing() {
 }
 
 #[test]
-fn issue_14_an_output_that_is_the_input_is_refused_and_the_input_kept() {
+fn an_output_that_is_the_input_is_refused_and_the_input_kept() {
     let dir = tempfile::tempdir().unwrap();
     let input = dir.path().join("s.aedat");
     write_file(&input, &recording()).unwrap();
@@ -193,7 +193,7 @@ fn issue_14_an_output_that_is_the_input_is_refused_and_the_input_kept() {
 }
 
 #[test]
-fn issue_14_classify_refuses_a_one_bit_flipped_dataset_naming_the_file() {
+fn classify_refuses_a_one_bit_flipped_dataset_naming_the_file() {
     let dir = tempfile::tempdir().unwrap();
     let data = dir.path().join("d.bin");
     assert!(
@@ -224,7 +224,7 @@ fn issue_14_classify_refuses_a_one_bit_flipped_dataset_naming_the_file() {
 }
 
 #[test]
-fn issue_14_a_corrupt_cache_is_simulated_again_with_a_one_line_warning() {
+fn a_corrupt_cache_is_simulated_again_with_a_one_line_warning() {
     let dir = tempfile::tempdir().unwrap();
     let (out, cache) = (dir.path().join("sim"), dir.path().join("cache"));
     // The second run replaces the first one's output (--force, issue 15).
@@ -270,7 +270,7 @@ fn issue_14_a_corrupt_cache_is_simulated_again_with_a_one_line_warning() {
 }
 
 #[test]
-fn issue_14_reproduce_removes_partial_folders_of_dead_runs() {
+fn reproduce_removes_partial_folders_of_dead_runs() {
     let dir = tempfile::tempdir().unwrap();
     let (out, cache) = (dir.path().join("report"), dir.path().join("cache"));
     let pid = dead_pid();

@@ -18,7 +18,7 @@ fn spike_times(json: &str) -> Vec<f64> {
 }
 
 #[test]
-fn issue_14_izhikevich_blow_up_is_an_error_naming_the_step() {
+fn izhikevich_blow_up_is_an_error_naming_the_step() {
     for args in [
         &[
             "neuron",
@@ -76,7 +76,7 @@ fn issue_14_izhikevich_blow_up_is_an_error_naming_the_step() {
 }
 
 #[test]
-fn issue_14_values_beyond_the_precision_are_refused() {
+fn values_beyond_the_precision_are_refused() {
     let (ok, _, stderr) = neurotac(&["neuron", "--precision", "f32", "--current", "1e39"]);
     assert!(
         !ok && stderr.contains("--current 1e39 overflows f32"),
@@ -128,7 +128,7 @@ fn issue_14_values_beyond_the_precision_are_refused() {
 }
 
 #[test]
-fn issue_14_no_spike_after_the_duration() {
+fn no_spike_after_the_duration() {
     // Was `[2.0]`: the only step (2 s) ran past the 1 s asked for.
     let (ok, stdout, stderr) = neurotac(&[
         "neuron",
@@ -162,7 +162,7 @@ fn issue_14_no_spike_after_the_duration() {
 }
 
 #[test]
-fn issue_14_step_count_is_bounded_and_the_bound_can_be_raised() {
+fn step_count_is_bounded_and_the_bound_can_be_raised() {
     for args in [
         &[
             "neuron",
@@ -213,7 +213,7 @@ fn spike_times_are_streamed_in_the_same_format() {
 }
 
 #[test]
-fn issue_14_a_closed_stdout_ends_the_command_quietly() {
+fn a_closed_stdout_ends_the_command_quietly() {
     // `neurotac neuron --current 2 --duration 100 | head -1` panicked (exit 101).
     for args in [
         &["neuron", "--current", "2", "--duration", "100"][..],
@@ -260,7 +260,7 @@ fn libc_sigpipe() -> i32 {
 }
 
 #[test]
-fn issue_16_bench_activity_compares_clock_and_event_driven_with_identical_spikes() {
+fn bench_activity_compares_clock_and_event_driven_with_identical_spikes() {
     for model in ["lif", "izhikevich"] {
         let (ok, stdout, stderr) = neurotac(&[
             "bench",

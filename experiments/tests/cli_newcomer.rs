@@ -10,7 +10,7 @@ fn s(p: &Path) -> &str {
 }
 
 #[test]
-fn issue_15_numeric_flags_are_refused_before_any_work_with_the_flag_named() {
+fn numeric_flags_are_refused_before_any_work_with_the_flag_named() {
     for (args, flag, says) in [
         (
             &["reproduce", "--quick", "--epochs", "0"][..],
@@ -76,7 +76,7 @@ fn issue_15_numeric_flags_are_refused_before_any_work_with_the_flag_named() {
 }
 
 #[test]
-fn issue_15_writing_commands_refuse_an_existing_output_without_force() {
+fn writing_commands_refuse_an_existing_output_without_force() {
     let dir = tempfile::tempdir().unwrap();
     let data = dir.path().join("d.json");
     let synth = |force: bool| {
@@ -120,7 +120,7 @@ fn issue_15_writing_commands_refuse_an_existing_output_without_force() {
 }
 
 #[test]
-fn issue_15_simulate_shares_the_reproduce_cache_and_refuses_to_overwrite() {
+fn simulate_shares_the_reproduce_cache_and_refuses_to_overwrite() {
     let dir = tempfile::tempdir().unwrap();
     let (out, cache) = (dir.path().join("out"), dir.path().join("cache"));
     let simulate = |force: bool| {
@@ -159,7 +159,7 @@ fn issue_15_simulate_shares_the_reproduce_cache_and_refuses_to_overwrite() {
 }
 
 #[test]
-fn issue_15_help_names_the_cache_and_search_vr_has_a_matrix_cache() {
+fn help_names_the_cache_and_search_vr_has_a_matrix_cache() {
     let (ok, stdout, _) = neurotac(&["--help"]);
     assert!(ok && stdout.contains("~/.cache/neurotac") && stdout.contains("--force"));
     let (ok, stdout, _) = neurotac(&["simulate", "--help"]);
@@ -169,7 +169,7 @@ fn issue_15_help_names_the_cache_and_search_vr_has_a_matrix_cache() {
 }
 
 #[test]
-fn issue_15_demo_states_how_many_afferent_spikes_each_taxel_spike_makes() {
+fn demo_states_how_many_afferent_spikes_each_taxel_spike_makes() {
     let (ok, stdout, stderr) = neurotac(&["demo", "--json"]);
     assert!(ok, "{stderr}");
     let v: serde_json::Value = serde_json::from_str(&stdout).unwrap();
@@ -186,7 +186,7 @@ fn issue_15_demo_states_how_many_afferent_spikes_each_taxel_spike_makes() {
 }
 
 #[test]
-fn issue_15_transduce_raster_is_written_as_svg_and_png() {
+fn transduce_raster_is_written_as_svg_and_png() {
     use neurotac_core::{Event, EventBuffer, Timestamp};
     use neurotac_sensor::taxel::TaxelLayout;
     let dir = tempfile::tempdir().unwrap();

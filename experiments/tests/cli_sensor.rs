@@ -87,7 +87,7 @@ fn warnings(stderr: &str) -> Vec<&str> {
 }
 
 #[test]
-fn issue_14_convert_filter_and_transduce_share_one_policy_and_warning() {
+fn convert_filter_and_transduce_share_one_policy_and_warning() {
     let dir = tempfile::tempdir().unwrap();
     let csv = dir.path().join("in.csv");
     std::fs::write(&csv, "t,x,y,on\n10,1,2,1\n5,1,2,0\n11,300,2,1\n").unwrap();

@@ -129,7 +129,7 @@ mod tests {
     use crate::{Lif, LifParams};
 
     #[test]
-    fn issue_14_a_step_never_runs_past_the_duration() {
+    fn a_step_never_runs_past_the_duration() {
         // `neuron --current 2 --dt 2 --duration 1` printed a spike at 2 s.
         assert_eq!(whole_steps(1.0, 2.0, 100).unwrap(), 0);
         assert_eq!(whole_steps(1.0, 3e-4, 1 << 20).unwrap(), 3333);
@@ -150,7 +150,7 @@ mod tests {
     }
 
     #[test]
-    fn issue_14_runs_are_bounded_by_a_step_limit() {
+    fn runs_are_bounded_by_a_step_limit() {
         // `--current 1e6 --dt 1e-6 --duration 1e5` grew to 8.7 GB; `--dt 1e-300` never ended.
         let e = whole_steps(1e5, 1e-6, DEFAULT_MAX_STEPS).unwrap_err();
         assert!(

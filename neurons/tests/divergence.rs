@@ -22,7 +22,7 @@ fn diverged_step(pop: &mut dyn Population, current: f64, dt_s: f64) -> Option<u6
 }
 
 #[test]
-fn issue_14_izhikevich_blow_ups_are_divergence_errors_not_spikes() {
+fn izhikevich_blow_ups_are_divergence_errors_not_spikes() {
     // `neurotac neuron --model izhikevich --current=-1e5`: one "spike" per step before.
     assert_eq!(
         diverged_step(
@@ -62,7 +62,7 @@ fn issue_14_izhikevich_blow_ups_are_divergence_errors_not_spikes() {
 }
 
 #[test]
-fn issue_14_lif_overshoot_below_threshold_is_a_divergence() {
+fn lif_overshoot_below_threshold_is_a_divergence() {
     // Euler at dt = 3τ under v∞ = 0.9 < v_th jumps from 0 to 2.7: a spike the model cannot fire.
     let mut lif = Lif::<f64>::new(1, LifParams::default()).with_integrator(Integrator::Euler);
     assert_eq!(diverged_step(&mut lif, 0.9, 3e-2), Some(0));
@@ -151,7 +151,7 @@ fn healthy_runs_are_never_flagged() {
 }
 
 #[test]
-fn issue_14_networks_report_divergence_as_a_model_error() {
+fn networks_report_divergence_as_a_model_error() {
     let mut b = NetworkBuilder::new();
     let pop = b
         .add_population("izh", Izhikevich::<f32>::new(3, IzhikevichParams::rs()))

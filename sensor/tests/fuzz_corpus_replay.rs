@@ -234,7 +234,7 @@ fn replay(name: &str, bytes: &[u8]) {
 }
 
 #[test]
-fn issue_14_every_corpus_file_through_every_reader_and_writer() {
+fn every_corpus_file_through_every_reader_and_writer() {
     let root = corpus_dir();
     let mut files = 0;
     let mut total_bytes = 0;

@@ -171,7 +171,7 @@ fn bad_parameters_and_names_are_typed_errors() {
 }
 
 #[test]
-fn issue_12_onset_snap_and_friction_depend_on_the_texture() {
+fn onset_snap_and_friction_depend_on_the_texture() {
     // Friction follows each texture's contact, so the peak shear at the end of the stick (the
     // onset snap) differs between the flat plate and a grid whose skin drapes into the gaps.
     let mut p = short();
@@ -194,7 +194,7 @@ fn issue_12_onset_snap_and_friction_depend_on_the_texture() {
 }
 
 #[test]
-fn issue_12_slides_of_one_texture_share_their_mounting() {
+fn slides_of_one_texture_share_their_mounting() {
     // Offsets belong to the mounting: two slides of one texture differ by the arm's
     // repeatability only; the per-slide switch restores independent offsets.
     let p = short();
@@ -211,7 +211,7 @@ fn issue_12_slides_of_one_texture_share_their_mounting() {
 }
 
 #[test]
-fn issue_12_each_slide_starts_its_pixels_anywhere_between_their_thresholds() {
+fn each_slide_starts_its_pixels_anywhere_between_their_thresholds() {
     // A pixel's memorised level is a per-slide draw strictly between its thresholds: a static
     // scene without noise stays silent, while the same slide from fresh resets fires other
     // pixels at other times, with a count of the same size.

@@ -394,7 +394,7 @@ fn chain_taxel_events(
 /// re-centring (which only the fused loop feeds back) both give the same taxel events, with
 /// and without the refractory filter, however either input is chunked.
 #[test]
-fn issue_13_stage_chain_and_transducer_give_the_same_taxel_events() {
+fn stage_chain_and_transducer_give_the_same_taxel_events() {
     let events = synthetic_stream(50_000, 11);
     for refractory_us in [None, Some(300)] {
         for ba_start in [MapStart::Zero, MapStart::Empty] {
@@ -432,7 +432,7 @@ fn issue_13_stage_chain_and_transducer_give_the_same_taxel_events() {
 
 /// The same on the shared DAVIS240C recording (skipped when absent).
 #[test]
-fn issue_13_stage_chain_equals_the_transducer_on_the_real_recording() {
+fn stage_chain_equals_the_transducer_on_the_real_recording() {
     let Some(dir) = common::shared_data() else {
         return;
     };

@@ -193,7 +193,7 @@ mod tests {
     use super::confusion_text;
 
     #[test]
-    fn issue_15_confusion_columns_line_up_with_long_class_names() {
+    fn confusion_columns_line_up_with_long_class_names() {
         let names = [
             "grid_0.0_mm".to_owned(),
             "a-much-longer-texture-name".to_owned(),

@@ -482,7 +482,7 @@ mod tests {
     use super::*;
 
     #[test]
-    fn issue_15_skipped_entries_names_every_file_that_is_not_read() {
+    fn skipped_entries_names_every_file_that_is_not_read() {
         let dir = tempfile::tempdir().unwrap();
         for class in ["a", "b"] {
             std::fs::create_dir(dir.path().join(class)).unwrap();

@@ -404,7 +404,7 @@ mod tests {
     }
 
     #[test]
-    fn issue_15_count_axes_start_at_zero() {
+    fn count_axes_start_at_zero() {
         let trains = MultiSpikeTrain::from_channels(vec![vec![0.1; 3], vec![0.2; 5]]).unwrap();
         let spatial = spatial_chart(&trains, "s");
         assert_eq!(spatial.y.range.map(|r| r.0), Some(0.0));

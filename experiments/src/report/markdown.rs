@@ -221,7 +221,7 @@ mod tests {
     }
 
     #[test]
-    fn issue_12_the_page_lists_exactly_what_the_simulator_was_fitted_to() {
+    fn the_page_lists_exactly_what_the_simulator_was_fitted_to() {
         let mut report = report_of(set_result("artificial"), "simulated, 10 slides per texture");
         assert!(!report_markdown(&report).contains("## Calibration and hold-out"));
         report.calibration = neurotac_sensor::sim::SimParams::default()

@@ -434,7 +434,7 @@ mod tests {
     use super::*;
 
     #[test]
-    fn issue_15_grid_points_print_as_their_decimal_values() {
+    fn grid_points_print_as_their_decimal_values() {
         let taus = grid(0.01, 0.1, 0.005);
         assert_eq!(taus.len(), 19);
         assert_eq!(taus[18].to_string(), "0.1");

@@ -303,7 +303,7 @@ mod tests {
     use super::percentile;
 
     #[test]
-    fn issue_15_percentiles_are_nearest_rank_and_a_tail_can_lift_the_mean_above_p95() {
+    fn percentiles_are_nearest_rank_and_a_tail_can_lift_the_mean_above_p95() {
         let mut errors: Vec<f64> = vec![1.0; 97];
         errors.extend([10_000.0, 20_000.0, 30_000.0]);
         assert_eq!(percentile(&errors, 0.5), 1.0);

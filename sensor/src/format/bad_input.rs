@@ -623,7 +623,7 @@ fn header_end(bytes: &[u8], end_line: &[u8]) -> usize {
 }
 
 #[test]
-fn issue_14_aedat2_cut_inside_its_header_is_truncated_not_empty() {
+fn aedat2_cut_inside_its_header_is_truncated_not_empty() {
     // The header the writer produces is the one of `pick.aedat` (248 bytes); every cut inside
     // it, including inside the AEChip line (byte 200), is a typed error at the cut.
     let bytes = encode(Format::Aedat2, &events(3));
@@ -657,7 +657,7 @@ fn issue_14_aedat2_cut_inside_its_header_is_truncated_not_empty() {
 }
 
 #[test]
-fn issue_14_aedat3_and_aedat4_cut_inside_their_header_or_magic_are_truncated() {
+fn aedat3_and_aedat4_cut_inside_their_header_or_magic_are_truncated() {
     let bytes = encode(Format::Aedat3, &events(3));
     let end = header_end(&bytes, b"#!END-HEADER\r\n");
     for cut in 1..end {
@@ -687,7 +687,7 @@ fn issue_14_aedat3_and_aedat4_cut_inside_their_header_or_magic_are_truncated() {
 }
 
 #[test]
-fn issue_14_unsupported_version_is_quoted_once() {
+fn unsupported_version_is_quoted_once() {
     for (bytes, version) in [
         (&b"#!AER-DAT3.0\r\n"[..], "`3.0`"),
         (b"#!AER-DAT1\r\n", "`1`"),
@@ -708,7 +708,7 @@ fn issue_14_unsupported_version_is_quoted_once() {
 }
 
 #[test]
-fn issue_14_text_errors_escape_control_bytes() {
+fn text_errors_escape_control_bytes() {
     let cases: [&[u8]; 3] = [
         b"t,x,y,on\n1,2\x003,1\n",
         b"0.1 1 2 1\n0.2 1 2\x1b[31m 1\n",
@@ -732,7 +732,7 @@ fn issue_14_text_errors_escape_control_bytes() {
 }
 
 #[test]
-fn issue_14_too_many_fields_quotes_the_line_bounded() {
+fn too_many_fields_quotes_the_line_bounded() {
     let err = read(b"t,x,y,on\n1,2,3,1,5\n").2.unwrap();
     assert!(
         matches!(&err, FormatError::Text { field: "line", found, line: 2, .. } if found == "1,2,3,1,5"),
@@ -759,7 +759,7 @@ fn issue_14_too_many_fields_quotes_the_line_bounded() {
 }
 
 #[test]
-fn issue_14_one_warning_line_for_backwards_time_and_skipped_events() {
+fn one_warning_line_for_backwards_time_and_skipped_events() {
     let (_, stats, err) = read(b"t,x,y,on\n10,1,2,1\n5,1,2,0\n11,300,2,1\n");
     assert!(err.is_none());
     let line = stats.warning(Path::new("in.csv")).unwrap();
@@ -773,7 +773,7 @@ fn issue_14_one_warning_line_for_backwards_time_and_skipped_events() {
 }
 
 #[test]
-fn issue_14_aedat2_round_trips_steps_back_across_a_wrap() {
+fn aedat2_round_trips_steps_back_across_a_wrap() {
     // Every step is below 2^31 µs, so the writer accepts it; the last steps back over the
     // 32-bit wrap the one before crossed.
     let mut ev = events(4);

@@ -618,7 +618,7 @@ mod tests {
     }
 
     #[test]
-    fn issue_14_a_failed_or_unfinished_write_leaves_the_old_file_or_none() {
+    fn a_failed_or_unfinished_write_leaves_the_old_file_or_none() {
         let dir = tempfile::tempdir().unwrap();
         let mut events = EventBuffer::new();
         for (i, t) in [10, 20, 1 << 40].into_iter().enumerate() {

@@ -413,7 +413,7 @@ mod tests {
     }
 
     #[test]
-    fn issue_14_every_i64_time_the_writers_print_parses_back() {
+    fn every_i64_time_the_writers_print_parses_back() {
         for t in [
             i64::MAX,
             i64::MIN,
