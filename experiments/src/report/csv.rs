@@ -163,59 +163,43 @@ pub fn paper_confusions_csv(report: &Report) -> String {
     let mut out = String::from("set,paper_statement,coding,measure,ours,paper\n");
     for set in &report.sets {
         let name = csv_field(&set.direct.name);
+        let mut row = |statement: &str, coding: CodingName, measure: &str, ours, paper: &str| {
+            let _ = writeln!(
+                out,
+                "{name},{},{},{},{},{}",
+                csv_field(statement),
+                coding.key(),
+                csv_field(measure),
+                optional(ours),
+                csv_field(paper)
+            );
+        };
         let a = &set.loo_analysis;
         for r in &a.named_confusions {
             let p = &r.paper;
-            for (i, coding) in CodingName::ALL.iter().enumerate() {
+            for (i, &coding) in CodingName::ALL.iter().enumerate() {
                 let paper = if p.confused_under[i] {
                     "confused"
                 } else {
                     "told apart"
                 };
-                let mut measures = vec![(
-                    format!("{} → {}", p.truth, p.predicted),
-                    r.truth_as_predicted[i],
-                )];
+                let label = p.label();
+                let forward = format!("{} → {}", p.truth, p.predicted);
+                row(&label, coding, &forward, r.truth_as_predicted[i], paper);
                 if p.mutual {
-                    measures.push((
-                        format!("{} → {}", p.predicted, p.truth),
-                        r.predicted_as_truth[i],
-                    ));
-                }
-                for (measure, ours) in measures {
-                    let _ = writeln!(
-                        out,
-                        "{name},{},{},{},{},{paper}",
-                        csv_field(&p.label()),
-                        coding.key(),
-                        csv_field(&measure),
-                        optional(ours)
-                    );
+                    let back = format!("{} → {}", p.predicted, p.truth);
+                    row(&label, coding, &back, r.predicted_as_truth[i], paper);
                 }
             }
         }
         for r in &a.grid_errors {
-            let mut measures = vec![(
-                "errors between neighbouring grids",
-                r.between_neighbours,
-                "most errors".to_owned(),
-            )];
+            let q = r.paper.quote;
+            let measure = "errors between neighbouring grids";
+            row(q, r.coding, measure, r.between_neighbours, "most errors");
             if let Some((lo, hi)) = r.paper.concentrated_on_mm {
-                measures.push((
-                    "errors on the paper's grids",
-                    r.in_paper_range,
-                    format!("concentrated on {lo}–{hi} mm"),
-                ));
-            }
-            for (measure, ours, paper) in measures {
-                let _ = writeln!(
-                    out,
-                    "{name},{},{},{measure},{},{}",
-                    csv_field(r.paper.quote),
-                    r.coding.key(),
-                    optional(ours),
-                    csv_field(&paper)
-                );
+                let paper = format!("concentrated on {lo}–{hi} mm");
+                let measure = "errors on the paper's grids";
+                row(q, r.coding, measure, r.in_paper_range, &paper);
             }
         }
     }

@@ -35,8 +35,8 @@ pub(super) struct Summary {
     pub(super) burst_taxels: f64,
     pub(super) burst_latency_s: Option<f64>,
     pub(super) burst_duration_s: Option<f64>,
-    /// The burst duration predicted from the kinematics: stick time on the actual ramp plus
-    /// the slip's settling (3τ).
+    /// The burst duration predicted from the kinematics: the stick time plus the slip's
+    /// settling (3τ).
     pub(super) predicted_burst_s: f64,
     /// Share of signal events the BA filter keeps.
     pub(super) signal_kept_fraction: f64,
@@ -250,6 +250,7 @@ pub(super) fn analyse(
             comb_spacing_hz = Some(spacing);
         }
     }
+    let predicted_stick_s = params.stick_time_s(info.draw.mu_static, info.draw.press_depth_mm);
     Ok(Summary {
         class,
         spikes_per_taxel: pooled.len() as f64 / 49.0,
@@ -264,8 +265,7 @@ pub(super) fn analyse(
         burst_taxels,
         burst_latency_s,
         burst_duration_s,
-        predicted_burst_s: params.stick_time_s(info.draw.mu_static, info.draw.press_depth_mm)
-            + 3.0 * params.contact.slip_time_s,
+        predicted_burst_s: predicted_stick_s + 3.0 * params.contact.slip_time_s,
         signal_kept_fraction: signal_taxels.counts.after_filters as f64
             / signal_taxels.counts.events_in.max(1) as f64,
         pixel_events: trial.events.len(),
@@ -284,7 +284,7 @@ pub(super) fn analyse(
         comb_band_share,
         comb_spacing_hz,
         duration_s: info.duration_s,
-        predicted_stick_s: params.stick_time_s(info.draw.mu_static, info.draw.press_depth_mm),
+        predicted_stick_s,
         onset_duration_s: info.onset.full_slip_s.map(|t| t - onset),
         release_order_rho: release_order(&info.onset),
         release_error: release_error(&info.onset, onset),

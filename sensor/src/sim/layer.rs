@@ -22,6 +22,7 @@
 //! with the skin's k_t a fraction `k_tex/(k_t + k_tex)` of the base's travel shears the skin, so
 //! a soft pile or foam takes longer to reach its stick limit.
 
+use super::params::SimParams;
 use std::f64::consts::PI;
 
 /// A compliant layer under the texture's surface.
@@ -71,6 +72,30 @@ pub struct Press {
 }
 
 impl Press {
+    /// The press of the dome of `params` (its force at the mean press depth, the skin's
+    /// tangential stiffness) of radius `dome_radius_mm`, commanded `depth_mm` deep into a
+    /// texture with `layer` ([`solve`](Self::solve)).
+    pub fn of(
+        layer: Option<&Layer>,
+        params: &SimParams,
+        depth_mm: f64,
+        dome_radius_mm: f64,
+    ) -> Self {
+        let k = &params.kinematics;
+        Self::solve(
+            layer,
+            depth_mm,
+            dome_radius_mm,
+            (k.normal_force_n, k.press_depth_mm),
+            params.contact.tangential_stiffness_n_mm,
+        )
+    }
+
+    /// The nominal contact pressure N/(π·a²) (MPa).
+    pub fn nominal_pressure_mpa(&self) -> f64 {
+        self.normal_force_n / (PI * self.contact_radius_mm.powi(2))
+    }
+
     /// The press of a dome of radius `radius_mm` commanded `depth_mm` deep into a texture with
     /// `layer` (rigid for `None`); the dome gives `force_n` at `reference_depth_mm` on a rigid
     /// plate; `skin_stiffness_n_mm` is the skin's tangential stiffness k_t.

@@ -317,11 +317,11 @@ impl PinTrajectories {
         let lo = ((from_s / self.dt_s).max(0.0) as usize).min(last);
         let hi = ((to_s / self.dt_s).max(0.0) as usize).min(last);
         let early = lo + ((0.01 / self.dt_s) as usize).max(2);
+        // Over 2 ms steps: per-sample differences of a slow start are rounding.
+        let step = ((0.002 / self.dt_s) as usize).max(1);
         (0..self.n_pins)
             .map(|pin| {
                 let series = &self.dx_px[pin * self.n_samples..(pin + 1) * self.n_samples];
-                // Over 2 ms steps: per-sample differences of a slow start are rounding.
-                let step = ((0.002 / self.dt_s) as usize).max(1);
                 let rate = |k: usize| {
                     let j = (k + step).min(last);
                     let ds = (self.shear_mm[j] - self.shear_mm[k]) as f64;
@@ -454,7 +454,6 @@ impl Mechanics {
             let state = ContactState {
                 radius_mm: a,
                 normal_force_n: normal,
-                nominal_pressure_mpa: params.nominal_pressure_mpa(self.dome_radius_mm),
                 area_scale_mpa: c.skin_modulus_mpa * c.micro_slope_rms,
                 offset_mm: (draw.start_phase_mm, draw.lateral_offset_mm),
                 footprint_radius_mm: c.pin_footprint_radius_mm,
@@ -464,7 +463,7 @@ impl Mechanics {
             out.slip_front
                 .extend((0..n_pins).map(|p| self.front.pin_threshold(p)));
         } else {
-            self.front = SlipFront::default();
+            self.front.clear();
             out.slip_front.resize(n_pins, None);
         }
         self.pin_shear.start(&self.front);

@@ -338,14 +338,17 @@ impl Simulator {
         let full = tr.full_slip_s;
         let end = full.unwrap_or(motion_start_s);
         let s_s = tr.stick_limit_mm;
-        // The lumped shear before the full slip, sampled with the trajectories.
+        // The lumped shear from the motion start to the full slip, sampled with the trajectories.
+        let last = full.map_or(tr.n_samples, |f| {
+            ((f / tr.dt_s) as usize + 1).min(tr.n_samples)
+        });
+        let first = (0..last)
+            .find(|&k| k as f64 * tr.dt_s >= motion_start_s)
+            .unwrap_or(last);
         let crossing = |theta: f64| -> Option<f64> {
             let target = (theta * s_s) as f32;
-            let last = full.map_or(tr.n_samples, |f| {
-                ((f / tr.dt_s) as usize + 1).min(tr.n_samples)
-            });
-            (0..last)
-                .find(|&k| tr.shear_mm[k] >= target && k as f64 * tr.dt_s >= motion_start_s)
+            (first..last)
+                .find(|&k| tr.shear_mm[k] >= target)
                 .map(|k| k as f64 * tr.dt_s)
         };
         OnsetFacts {

@@ -60,8 +60,6 @@ pub struct ContactState {
     pub radius_mm: f64,
     /// Normal force N (N).
     pub normal_force_n: f64,
-    /// Nominal pressure q the texture's contact was solved at (MPa).
-    pub nominal_pressure_mpa: f64,
     /// E*·h'_rms of the real-area law (MPa).
     pub area_scale_mpa: f64,
     /// Texture offset of the sensor frame's origin: world X = x + offset.0, Y = y + offset.1 (mm).
@@ -78,7 +76,8 @@ impl ContactState {
         )
     }
 
-    /// Capacity (static friction per area, up to the factor μ_s) at sensor-plane point (x, y).
+    /// Capacity at sensor-plane point (x, y): the real-area fraction A(p) under the local
+    /// pressure, up to a constant factor (μ_s·q/A(q)) that no rank depends on.
     fn capacity(&self, field: &TextureField, x: f64, y: f64) -> f64 {
         let a = self.radius_mm;
         let r2 = x * x + y * y;
@@ -91,8 +90,7 @@ impl ContactState {
         if p <= 0.0 {
             return 0.0;
         }
-        let q = self.nominal_pressure_mpa;
-        q * self.area(p) / self.area(q)
+        self.area(p)
     }
 }
 
@@ -152,6 +150,13 @@ impl SlipFront {
                 self.contact.push(self.fraction(c));
             }
         }
+    }
+
+    /// Forgets the last solve (a slide without the front: every pin follows the lumped shear),
+    /// keeping the buffers.
+    pub fn clear(&mut self) {
+        self.thresholds.clear();
+        self.contact.clear();
     }
 
     /// θ of an element of capacity `c`: `1 − u^{1/β}`, u the area fraction of the disc samples
@@ -312,7 +317,6 @@ mod tests {
         ContactState {
             radius_mm: 8.94,
             normal_force_n: 2.0,
-            nominal_pressure_mpa: 2.0 / (PI * 8.94 * 8.94),
             area_scale_mpa: 0.28,
             offset_mm: (0.0, 0.0),
             footprint_radius_mm: 0.75,

@@ -90,14 +90,7 @@ pub struct Surface {
 impl Surface {
     /// The press of a dome of radius `dome_radius_mm` commanded `depth_mm` into this surface.
     pub fn press(&self, params: &SimParams, depth_mm: f64, dome_radius_mm: f64) -> Press {
-        let k = &params.kinematics;
-        Press::solve(
-            self.layer.as_ref(),
-            depth_mm,
-            dome_radius_mm,
-            (k.normal_force_n, k.press_depth_mm),
-            params.contact.tangential_stiffness_n_mm,
-        )
+        Press::of(self.layer.as_ref(), params, depth_mm, dome_radius_mm)
     }
 }
 
@@ -194,15 +187,13 @@ impl Texture {
             ),
             Texture::Natural(t) => {
                 // A compliant layer sets the force, so the pressure the contact is solved at.
-                let surface = Surface {
-                    layer: t.layer,
-                    ..contact_facts_flat()
-                };
-                let press = surface.press(params, params.kinematics.press_depth_mm, dome_radius_mm);
-                let law = ContactLaw::new(
-                    c,
-                    press.normal_force_n / (std::f64::consts::PI * press.contact_radius_mm.powi(2)),
+                let press = Press::of(
+                    t.layer.as_ref(),
+                    params,
+                    params.kinematics.press_depth_mm,
+                    dome_radius_mm,
                 );
+                let law = ContactLaw::new(c, press.nominal_pressure_mpa());
                 let h = natural_heights(t);
                 let (nx, ny, dx) = (NATURAL_NX, NATURAL_NY, NATURAL_DX_MM);
                 let contact = solve(&h, (nx, ny), (dx, dx), &law);
@@ -226,17 +217,11 @@ impl Texture {
 /// The contact facts of a [`Surface`] (friction left at zero).
 fn contact_facts(contact: &SkinContact) -> Surface {
     Surface {
-        mu_static: 0.0,
-        mu_kinetic: 0.0,
-        microslip_rate_hz: 0.0,
-        catch_period_mm: None,
-        weakening_speed_mm_s: 0.0,
         real_area_ratio: contact.real_area_ratio,
         mean_abs_slope: contact.mean_abs_slope,
         max_sag_mm: contact.max_sag_mm,
         contact_fraction: contact.contact_fraction,
-        layer: None,
-        friction_spread: 0.0,
+        ..contact_facts_flat()
     }
 }
 
@@ -387,22 +372,24 @@ impl TextureField {
             .iter()
             .map(|p| mu_kinetic * p)
             .collect();
-        let mut field = Self::from_surface(&contact.surface_mm, &traction, dims, spacing, params);
         let mean = contact.pressure_mpa.iter().sum::<f64>() / contact.pressure_mpa.len() as f64;
-        field.pressure_ratio = contact
+        let pressure_ratio = contact
             .pressure_mpa
             .iter()
             .map(|&p| if mean > 0.0 { (p / mean) as f32 } else { 1.0 })
             .collect();
-        field
+        let z = &contact.surface_mm;
+        Self::from_surface(z, &traction, pressure_ratio, dims, spacing, params)
     }
 
     /// Filters the skin surface `z` and the traction `tau` (row-major `nx × ny`, spacing
     /// `dx × dy` mm, periodic) by the elastic layer: removes the means, applies T(k) to both,
-    /// and spectral derivatives for the deflection's gradient.
+    /// and spectral derivatives for the deflection's gradient; `pressure_ratio` (p/⟨p⟩, same
+    /// grid) is kept as it is.
     fn from_surface(
         z: &[f64],
         tau: &[f64],
+        pressure_ratio: Vec<f32>,
         (nx, ny): (usize, usize),
         (dx_mm, dy_mm): (f64, f64),
         contact: &ContactParams,
@@ -451,7 +438,7 @@ impl TextureField {
             dx_mm,
             dy_mm,
             values,
-            pressure_ratio: vec![1.0; nx * ny],
+            pressure_ratio,
             flat: false,
         }
     }
@@ -613,7 +600,7 @@ mod tests {
         let h: Vec<f64> = (0..n * n)
             .map(|i| (TAU * (i % n) as f64 / n as f64).cos())
             .collect();
-        let f = TextureField::from_surface(&h, &h, (n, n), (dx, dx), &c);
+        let f = TextureField::from_surface(&h, &h, vec![1.0; n * n], (n, n), (dx, dx), &c);
         let k = TAU / lambda;
         let t = (1.0 + k * c.skin_depth_mm) * (-k * c.skin_depth_mm).exp();
         let s = f.sample(0.0, 1.0);
