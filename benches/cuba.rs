@@ -4,8 +4,8 @@
 //! `cargo bench --bench cuba`
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use neurotac::experiments::bench::{CubaConfig, cuba};
 use neurotac::experiments::threads::with_threads;
+use neurotac_cli::bench::{CubaConfig, cuba};
 use std::time::Duration;
 
 fn cuba_1s(c: &mut Criterion) {

@@ -89,7 +89,7 @@ fn memory_bound_and_all_cores(c: &mut Criterion) {
 
 fn afferent_activity(c: &mut Criterion) {
     use neurotac::experiments::afferents::AfferentConfig;
-    use neurotac::experiments::bench::{activity_taxels, afferent_network};
+    use neurotac_cli::bench::{activity_taxels, afferent_network};
     let (n, duration_s) = (10_000, 0.2);
     let mut g = c.benchmark_group("afferent_activity");
     g.sample_size(10)

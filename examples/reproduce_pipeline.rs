@@ -24,10 +24,10 @@ pub fn run(trials: usize, cache: &Path) -> Result<Report, ReproduceError> {
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let report = run(4, &std::env::temp_dir().join("neurotac-example-cache"))?;
     let out = Path::new("neurotac-example-report");
-    neurotac::experiments::report::write_report(out, &report, true)?;
+    neurotac_cli::report::write_report(out, &report, true)?;
     println!(
         "{}",
-        neurotac::experiments::report::tables::accuracy_table(&report.sets[0])
+        neurotac_cli::report::tables::accuracy_table(&report.sets[0])
     );
     println!("report: {}", out.display());
     Ok(())

@@ -1,10 +1,11 @@
-//! The `reproduce_pipeline` example's own code, run and checked (issue 13: the paper's pipeline
-//! from Rust code runs in CI).
+//! The `reproduce_pipeline` example's own code, run and checked (the paper's pipeline from
+//! Rust code runs in CI).
 
 #[path = "../examples/reproduce_pipeline.rs"]
 mod example;
 
 use neurotac::experiments::coding::CodingName;
+use neurotac::experiments::menu::Menu;
 
 #[test]
 fn the_papers_pipeline_runs_from_rust_code_and_writes_its_report() {
@@ -29,7 +30,7 @@ fn the_papers_pipeline_runs_from_rust_code_and_writes_its_report() {
     assert!(best > 2.0 / 11.0, "best LOO accuracy {best}");
     assert_eq!(set.bayes.trace.len(), 20);
     let out = dir.path().join("report");
-    neurotac::experiments::report::write_report(&out, &report, false).unwrap();
+    neurotac_cli::report::write_report(&out, &report, false).unwrap();
     for file in [
         "report.md",
         "report.json",

@@ -13,7 +13,7 @@
 //! - Izhikevich RS weight 20 (mV/ms): likewise one RS spike per lone taxel event from rest, and
 //!   again for an event 20 ms later (a smaller weight, 15, is silenced by adaptation on the
 //!   second);
-//! - **close events summate — intended, not a bug** (issue 16 item 6): an afferent is a leaky
+//! - **close events summate — intended, not a bug** : an afferent is a leaky
 //!   integrator, not a relay, and a real mechanoreceptor afferent fires more for denser input.
 //!   Two taxel events Δ apart give the LIF afferent **3 spikes while Δ < 17 ms** and 2 beyond
 //!   (the first event's synaptic current and the membrane's leftover depolarisation add to the
@@ -28,6 +28,7 @@
 //! - dt = 0.1 ms: below a tenth of both time constants.
 
 use crate::error::ExperimentError;
+use crate::neuron_setup::NeuronKind;
 use neurotac_core::{
     Connectivity, ExpSynapse, GraphError, InputId, MultiSpikeTrain, NetworkBuilder, NetworkConfig,
     PopulationId, ReadoutId, SpikeArrayInput, SpikeDataset, SpikeRecorder, SpikeSource,
@@ -37,21 +38,13 @@ use neurotac_neurons::{
 };
 use rayon::prelude::*;
 
-/// Which afferent model to use, with its default parameters.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum AfferentModel {
-    /// LIF with [`LifParams::default`] (τ_m = 10 ms, threshold 1, reset 0), exact integrator.
-    Lif,
-    /// Izhikevich regular spiking ([`IzhikevichParams::rs`]), Izhikevich's 2003 scheme,
-    /// starting at its resting point (−70 mV; an afferent without input is at rest).
-    Izhikevich,
-}
-
 /// Settings of an afferent network.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct AfferentConfig {
-    /// The afferent model.
-    pub model: AfferentModel,
+    /// The afferent model: LIF with [`LifParams::default`] (τ_m = 10 ms, threshold 1, reset 0),
+    /// exact integrator; or Izhikevich regular spiking ([`IzhikevichParams::rs`]), Izhikevich's
+    /// 2003 scheme, starting at its resting point (−70 mV; an afferent without input is at rest).
+    pub model: NeuronKind,
     /// Synaptic weight (jump of the synaptic current per taxel spike, in the model's input
     /// units). Default 5 for LIF, 20 for Izhikevich (see the module docs).
     pub weight: f64,
@@ -62,10 +55,18 @@ pub struct AfferentConfig {
 }
 
 impl AfferentConfig {
+    /// Afferents of `model` with the documented defaults.
+    pub fn of(model: NeuronKind) -> Self {
+        match model {
+            NeuronKind::Lif => Self::lif(),
+            NeuronKind::Izhikevich => Self::izhikevich(),
+        }
+    }
+
     /// LIF afferents with the documented defaults.
     pub fn lif() -> Self {
         Self {
-            model: AfferentModel::Lif,
+            model: NeuronKind::Lif,
             weight: 5.0,
             tau_syn_s: 5e-3,
             dt_s: 1e-4,
@@ -75,7 +76,7 @@ impl AfferentConfig {
     /// Izhikevich RS afferents with the documented defaults.
     pub fn izhikevich() -> Self {
         Self {
-            model: AfferentModel::Izhikevich,
+            model: NeuronKind::Izhikevich,
             weight: 20.0,
             tau_syn_s: 5e-3,
             dt_s: 1e-4,
@@ -104,11 +105,11 @@ pub fn afferent_population(
     config: AfferentConfig,
 ) -> Result<PopulationId, GraphError> {
     let afferents = match config.model {
-        AfferentModel::Lif => builder.add_population(
+        NeuronKind::Lif => builder.add_population(
             "afferents",
             Lif::<f64>::new(n, LifParams::default()).with_integrator(Integrator::Exact),
         )?,
-        AfferentModel::Izhikevich => {
+        NeuronKind::Izhikevich => {
             let rs = IzhikevichParams::rs();
             let rest = rs
                 .resting_potential()

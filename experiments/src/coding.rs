@@ -11,6 +11,7 @@
 //! | spatiotemporal | multi-unit Van Rossum distance | τ, cos θ |
 
 use crate::error::ExperimentError;
+use crate::menu::Menu;
 use ndarray::Array2;
 use neurotac_core::coding::{
     IntensiveCoding, SpatialCoding, TemporalCoding, duration_ms_of, feature_matrix, whole_ms,
@@ -20,7 +21,7 @@ use neurotac_core::{MultiSpikeTrain, OneProcess, Ranks, SpikeDataset};
 use serde::Serialize;
 
 /// The paper's four codings, in its order.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, clap::ValueEnum)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum CodingName {
     /// Mean spike count per taxel (Euclidean).
@@ -33,15 +34,29 @@ pub enum CodingName {
     Spatiotemporal,
 }
 
-impl CodingName {
+impl Menu for CodingName {
+    const WHAT: &'static str = "coding";
     /// All four, in the paper's order (the order of its tables).
-    pub const ALL: [CodingName; 4] = [
+    const ALL: &'static [CodingName] = &[
         CodingName::Intensive,
         CodingName::Spatial,
         CodingName::Temporal,
         CodingName::Spatiotemporal,
     ];
 
+    /// `intensive`, `spatial`, … (file names, CLI values).
+    fn key(self) -> &'static str {
+        match self {
+            CodingName::Intensive => "intensive",
+            CodingName::Spatial => "spatial",
+            CodingName::Temporal => "temporal",
+            CodingName::Spatiotemporal => "spatiotemporal",
+        }
+    }
+}
+crate::menu_text!(CodingName);
+
+impl CodingName {
     /// `Intensive`, `Spatial`, …
     pub fn label(self) -> &'static str {
         match self {
@@ -49,16 +64,6 @@ impl CodingName {
             CodingName::Spatial => "Spatial",
             CodingName::Temporal => "Temporal",
             CodingName::Spatiotemporal => "Spatiotemporal",
-        }
-    }
-
-    /// `intensive`, `spatial`, … (file names, CLI values).
-    pub fn key(self) -> &'static str {
-        match self {
-            CodingName::Intensive => "intensive",
-            CodingName::Spatial => "spatial",
-            CodingName::Temporal => "temporal",
-            CodingName::Spatiotemporal => "spatiotemporal",
         }
     }
 }
@@ -74,6 +79,93 @@ pub struct CodingParameters {
     pub tau_s: Option<f64>,
     /// Spatiotemporal: cos θ in [0, 1].
     pub cos: Option<f64>,
+}
+
+/// A coding with its parameters: what a classifier needs to encode a sample (the online
+/// recogniser's `--coding`, one per evaluated timeline).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Coding {
+    /// Which coding.
+    pub name: CodingName,
+    /// Its parameters (each coding reads only its own).
+    pub parameters: CodingParameters,
+}
+
+impl Coding {
+    /// The intensive or spatial coding, or any coding whose parameters are set later.
+    pub fn of(name: CodingName) -> Self {
+        Self {
+            name,
+            parameters: CodingParameters::default(),
+        }
+    }
+
+    /// The temporal coding with window Δt = `window_ms`.
+    pub fn temporal(window_ms: u32) -> Self {
+        Self {
+            name: CodingName::Temporal,
+            parameters: CodingParameters {
+                window_ms: Some(window_ms),
+                ..CodingParameters::default()
+            },
+        }
+    }
+
+    /// The spatiotemporal coding at kernel `tau_s` and `cos` θ.
+    pub fn spatiotemporal(tau_s: f64, cos: f64) -> Self {
+        Self {
+            name: CodingName::Spatiotemporal,
+            parameters: CodingParameters {
+                tau_s: Some(tau_s),
+                cos: Some(cos),
+                ..CodingParameters::default()
+            },
+        }
+    }
+
+    /// Its parameters as a report prints them (`Δt = 159 ms`, `τ = 76 ms, cos θ = 0.40`;
+    /// empty for the intensive and spatial codings).
+    pub fn describe_parameters(&self) -> String {
+        let p = &self.parameters;
+        match self.name {
+            CodingName::Intensive | CodingName::Spatial => String::new(),
+            CodingName::Temporal => p
+                .window_ms
+                .map_or_else(String::new, |w| format!("Δt = {w} ms")),
+            CodingName::Spatiotemporal => match (p.tau_s, p.cos) {
+                (Some(tau_s), Some(cos)) => format!("τ = {:.0} ms, cos θ = {cos:.2}", tau_s * 1e3),
+                _ => String::new(),
+            },
+        }
+    }
+
+    /// This coding with `parameters`.
+    pub fn with(self, parameters: &CodingParameters) -> Self {
+        Self {
+            parameters: *parameters,
+            ..self
+        }
+    }
+
+    /// The temporal window Δt (ms), or the error naming it as missing.
+    pub fn window_ms(&self) -> Result<u32, ExperimentError> {
+        self.parameters
+            .window_ms
+            .ok_or_else(|| missing(self.name, "the window Δt (--dt SECONDS)"))
+    }
+
+    /// The Van Rossum `(τ, cos θ)`, or the error naming the one missing.
+    pub fn tau_and_cos(&self) -> Result<(f64, f64), ExperimentError> {
+        let tau_s = self
+            .parameters
+            .tau_s
+            .ok_or_else(|| missing(self.name, "the Van Rossum τ (--tau SECONDS)"))?;
+        let cos = self
+            .parameters
+            .cos
+            .ok_or_else(|| missing(self.name, "cos θ in [0, 1] (--cos C)"))?;
+        Ok((tau_s, cos))
+    }
 }
 
 fn missing(coding: CodingName, what: &'static str) -> ExperimentError {
@@ -108,9 +200,7 @@ pub fn coding_distances_on(
         CodingName::Intensive => feature_matrix(&IntensiveCoding::new(), observations)?,
         CodingName::Spatial => feature_matrix(&SpatialCoding::new(), observations)?,
         CodingName::Temporal => {
-            let window_ms = parameters
-                .window_ms
-                .ok_or_else(|| missing(coding, "the window Δt (--dt SECONDS)"))?;
+            let window_ms = Coding::of(coding).with(parameters).window_ms()?;
             let duration_ms = parameters
                 .duration_ms
                 .ok_or_else(|| missing(coding, "the sample duration"))?;
@@ -120,12 +210,7 @@ pub fn coding_distances_on(
             )?
         }
         CodingName::Spatiotemporal => {
-            let tau_s = parameters
-                .tau_s
-                .ok_or_else(|| missing(coding, "the Van Rossum τ (--tau SECONDS)"))?;
-            let cos = parameters
-                .cos
-                .ok_or_else(|| missing(coding, "cos θ in [0, 1] (--cos C)"))?;
+            let (tau_s, cos) = Coding::of(coding).with(parameters).tau_and_cos()?;
             check_cos(cos)?;
             return Ok(VanRossum::new(tau_s)?
                 .matrices_on(observations, ranks)?

@@ -5,14 +5,14 @@
 //!   uniform in [0, 1) ([`LifParams::benchmark`]);
 //! - Izhikevich regular spiking ([`IzhikevichParams::rs`]) with `I = 10`, `v₀ = −65 mV`.
 
-use clap::ValueEnum;
+use crate::menu::Menu;
 use neurotac_core::{ModelError, SpikeBuffer};
 use neurotac_neurons::{
     InitialPotential, Integrator, Izhikevich, IzhikevichParams, Lif, LifParams, Population,
 };
 
 /// A neuron model family.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, ValueEnum, serde::Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum NeuronKind {
     /// Leaky integrate-and-fire.
@@ -21,13 +21,22 @@ pub enum NeuronKind {
     Izhikevich,
 }
 
-impl NeuronKind {
-    /// Lower-case name.
-    pub fn name(self) -> &'static str {
+impl Menu for NeuronKind {
+    const WHAT: &'static str = "neuron model";
+    const ALL: &'static [NeuronKind] = &[NeuronKind::Lif, NeuronKind::Izhikevich];
+    fn key(self) -> &'static str {
         match self {
             NeuronKind::Lif => "lif",
             NeuronKind::Izhikevich => "izhikevich",
         }
+    }
+}
+crate::menu_text!(NeuronKind);
+
+impl NeuronKind {
+    /// Lower-case name (its [`Menu::key`]).
+    pub fn name(self) -> &'static str {
+        self.key()
     }
 
     /// The model's default integrator (exact for LIF, Izhikevich's 2003 scheme).
@@ -67,7 +76,7 @@ impl NeuronKind {
 }
 
 /// Floating-point precision of a population.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, ValueEnum, serde::Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Precision {
     /// 32-bit floats.
@@ -76,13 +85,22 @@ pub enum Precision {
     F64,
 }
 
-impl Precision {
-    /// `"f32"` or `"f64"`.
-    pub fn name(self) -> &'static str {
+impl Menu for Precision {
+    const WHAT: &'static str = "precision";
+    const ALL: &'static [Precision] = &[Precision::F32, Precision::F64];
+    fn key(self) -> &'static str {
         match self {
             Precision::F32 => "f32",
             Precision::F64 => "f64",
         }
+    }
+}
+crate::menu_text!(Precision);
+
+impl Precision {
+    /// `"f32"` or `"f64"` (its [`Menu::key`]).
+    pub fn name(self) -> &'static str {
+        self.key()
     }
 }
 

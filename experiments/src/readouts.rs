@@ -14,9 +14,10 @@
 //! [`encode_offline`] computes the same [`EncodedSet`] with the codings' direct encoders (no
 //! network); the two are identical (tested), which is what lets `reproduce` report either.
 
-use crate::afferents::{AfferentConfig, AfferentModel, afferent_population};
+use crate::afferents::{AfferentConfig, afferent_population};
 use crate::coding::sample_duration_ms;
 use crate::error::ExperimentError;
+use crate::neuron_setup::NeuronKind;
 use crate::neuron_setup::Precision;
 use crate::search::bayes::VanRossumInput;
 use ndarray::Array2;
@@ -294,10 +295,8 @@ pub fn encode_through_graph(
     }
     let layer = match afferents.map(|a| a.model) {
         None => String::new(),
-        Some(AfferentModel::Lif) => " → exponential synapses → LIF afferents (event-driven)".into(),
-        Some(AfferentModel::Izhikevich) => {
-            " → exponential synapses → Izhikevich RS afferents".into()
-        }
+        Some(NeuronKind::Lif) => " → exponential synapses → LIF afferents (event-driven)".into(),
+        Some(NeuronKind::Izhikevich) => " → exponential synapses → Izhikevich RS afferents".into(),
     };
     Ok(EncodedSet {
         labels: data.labels().to_vec(),

@@ -4,9 +4,10 @@
 use neurotac_core::distance::{VanRossum, euclidean_distance_matrix};
 use neurotac_core::ndarray::Array2;
 use neurotac_core::{EventBuffer, Knn, SpikeDataset};
+use neurotac_experiments::coding::{Coding, CodingName};
 use neurotac_experiments::datasets::simulated::{TextureSet, simulate_set};
 use neurotac_experiments::online::eval::subset;
-use neurotac_experiments::online::{OnlineClassifier, OnlineCoding, OnlineTraining, Recogniser};
+use neurotac_experiments::online::{OnlineClassifier, OnlineTraining, Recogniser};
 use neurotac_experiments::readouts::{VrFrom, encode_offline};
 use neurotac_sensor::sim::{SimParams, paper_transduction};
 use std::collections::BTreeMap;
@@ -78,19 +79,19 @@ fn final_online_decisions_equal_the_offline_predictions() {
     };
     let codings = [
         (
-            OnlineCoding::Intensive,
+            Coding::of(CodingName::Intensive),
             euclidean_distance_matrix(encoded.intensive.view()).unwrap(),
         ),
         (
-            OnlineCoding::Spatial,
+            Coding::of(CodingName::Spatial),
             euclidean_distance_matrix(encoded.spatial.view()).unwrap(),
         ),
         (
-            OnlineCoding::Temporal { window_ms },
+            Coding::temporal(window_ms),
             euclidean_distance_matrix(temporal.view()).unwrap(),
         ),
         (
-            OnlineCoding::Spatiotemporal { tau_s, cos },
+            Coding::spatiotemporal(tau_s, cos),
             VanRossum::new(tau_s)
                 .unwrap()
                 .matrices(&encoded.trains)
@@ -118,14 +119,14 @@ fn final_online_decisions_equal_the_offline_predictions() {
                 r.push(&chunk).unwrap();
             }
             let last = r.finish().unwrap();
-            assert_eq!(last.class, expected, "{} coding, sample {i}", coding.name());
+            assert_eq!(last.class, expected, "{} coding, sample {i}", coding.name);
             // A decision after every 20 ms window up to the samples' duration.
             let windows = r.decisions().len();
             assert_eq!(
                 windows as u32,
                 training.duration_ms().div_ceil(20),
                 "{}",
-                coding.name()
+                coding.name
             );
             assert!(
                 r.decisions()
@@ -163,7 +164,7 @@ fn the_camera_path_decides_as_the_file_replay_and_keeps_its_decisions_when_unplu
         return;
     };
     let training = small_training();
-    let coding = OnlineCoding::Spatial;
+    let coding = Coding::of(CodingName::Spatial);
     let live = neurotac_sensor::taxel::TransductionConfig {
         origin_us: None,
         ..paper_transduction()
@@ -213,7 +214,7 @@ fn the_camera_path_decides_as_the_file_replay_and_keeps_its_decisions_when_unplu
 #[test]
 fn bad_streams_are_refused_with_what_was_decided_kept() {
     let training = small_training();
-    let classifier = OnlineClassifier::new(&training, OnlineCoding::Spatial, 4).unwrap();
+    let classifier = OnlineClassifier::new(&training, Coding::of(CodingName::Spatial), 4).unwrap();
     let mut r = Recogniser::new(&classifier, paper_transduction(), 3).unwrap();
     // An empty stream.
     assert!(r.finish().unwrap_err().to_string().contains("empty"));

@@ -9,6 +9,7 @@ use neurotac_experiments::coding::{
     CodingName, CodingParameters, coding_distances, coding_distances_on,
 };
 use neurotac_experiments::datasets::synthetic::{SyntheticConfig, synthetic_dataset};
+use neurotac_experiments::menu::Menu;
 use neurotac_experiments::neuron_setup::Precision;
 use neurotac_experiments::progress::NoProgress;
 use neurotac_experiments::readouts::{VrFrom, encode_offline};
@@ -46,7 +47,7 @@ fn coding_distances_on_ranks_are_the_one_process_matrices() {
         tau_s: Some(0.02),
         cos: Some(0.4),
     };
-    for coding in CodingName::ALL {
+    for &coding in CodingName::ALL {
         let want = coding_distances(data.observations(), coding, &parameters).unwrap();
         for size in RANK_COUNTS {
             let got = ThreadRanks::run(size, |r| {

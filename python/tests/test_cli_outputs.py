@@ -17,7 +17,7 @@ BIN = pathlib.Path(os.environ.get("NEUROTAC_BIN", ROOT / "target" / "release" / 
 
 pytestmark = pytest.mark.skipif(
     not BIN.is_file(),
-    reason=f"the neurotac command is not built at {BIN} (cargo build --release -p neurotac-experiments)",
+    reason=f"the neurotac command is not built at {BIN} (cargo build --release -p neurotac-cli)",
 )
 
 

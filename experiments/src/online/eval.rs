@@ -5,14 +5,14 @@
 //! the time since the slide start, when each coding first reaches 90 % of its final accuracy,
 //! and the decision latency.
 
-use super::{
-    Decision, OnlineClassifier, OnlineCoding, OnlineTraining, Recogniser, latency_percentiles,
-};
+use super::{Decision, OnlineClassifier, OnlineTraining, Recogniser, latency_percentiles};
+use crate::coding::Coding;
 use crate::datasets::simulated::{
     DatasetsError, TextureSet, TrialJob, camera_seed, load_or_simulate_with, map_trials,
     prepare_textures, trial_seed,
 };
 use crate::error::ExperimentError;
+use crate::menu::Menu;
 use crate::protocols::stratified_split;
 use neurotac_core::{EventBuffer, SpikeDataset};
 use neurotac_sensor::sim::{Camera, SimParams, paper_transduction};
@@ -30,7 +30,7 @@ pub struct OnlineEvalConfig {
     /// Simulator parameters.
     pub params: SimParams,
     /// The codings to evaluate, with their parameters.
-    pub codings: Vec<OnlineCoding>,
+    pub codings: Vec<Coding>,
     /// Neighbours.
     pub k: usize,
     /// Windows a decision must hold to count as stable.
@@ -169,8 +169,8 @@ pub fn evaluate_online(
             let replay_speed =
                 slides().map(|r| duration_s / r.wall_s).sum::<f64>() / truth.len().max(1) as f64;
             CodingTimeline {
-                coding: coding.name(),
-                parameters: coding.parameters(),
+                coding: coding.name.key(),
+                parameters: coding.describe_parameters(),
                 accuracy,
                 final_accuracy,
                 t90_s,

@@ -27,6 +27,7 @@
 pub mod eval;
 
 use crate::afferents::{AfferentConfig, afferent_population};
+use crate::coding::{Coding, CodingName};
 use crate::error::ExperimentError;
 use crate::readouts::{EncodedSet, VrFrom, encode_through_graph};
 use ndarray::Array2;
@@ -43,50 +44,6 @@ use neurotac_sensor::davis::{DavisStream, Transport};
 use neurotac_sensor::format::EventReader;
 use neurotac_sensor::taxel::{TaxelLayout, Transducer, TransductionConfig};
 use std::time::{Duration, Instant};
-
-/// The coding the recogniser classifies with, and its parameters.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum OnlineCoding {
-    /// Mean spike count per taxel.
-    Intensive,
-    /// Spike count of each taxel.
-    Spatial,
-    /// Rolling `window_ms` pooled counts in 1 ms steps.
-    Temporal {
-        /// Δt (ms).
-        window_ms: u32,
-    },
-    /// Multi-unit Van Rossum distance.
-    Spatiotemporal {
-        /// Kernel τ (s).
-        tau_s: f64,
-        /// cos θ of the multi-unit mix.
-        cos: f64,
-    },
-}
-
-impl OnlineCoding {
-    /// Its parameters as the report prints them (`Δt = 159 ms`, `τ = 76 ms, cos θ = 0.40`).
-    pub fn parameters(&self) -> String {
-        match self {
-            OnlineCoding::Intensive | OnlineCoding::Spatial => String::new(),
-            OnlineCoding::Temporal { window_ms } => format!("Δt = {window_ms} ms"),
-            OnlineCoding::Spatiotemporal { tau_s, cos } => {
-                format!("τ = {:.0} ms, cos θ = {cos:.2}", tau_s * 1e3)
-            }
-        }
-    }
-
-    /// `intensive`, `spatial`, `temporal`, `spatiotemporal`.
-    pub fn name(&self) -> &'static str {
-        match self {
-            OnlineCoding::Intensive => "intensive",
-            OnlineCoding::Spatial => "spatial",
-            OnlineCoding::Temporal { .. } => "temporal",
-            OnlineCoding::Spatiotemporal { .. } => "spatiotemporal",
-        }
-    }
-}
 
 /// A labelled training set as the recogniser's network sees it: the output spike trains of
 /// each sample (taxel trains, or afferent trains with afferents), encoded once through the
@@ -191,7 +148,7 @@ enum Prepared {
 /// Rossum index) and shared by any number of [`Recogniser`]s.
 pub struct OnlineClassifier<'a> {
     training: &'a OnlineTraining,
-    coding: OnlineCoding,
+    coding: Coding,
     prepared: Prepared,
     knn: FittedKnn,
 }
@@ -200,14 +157,15 @@ impl<'a> OnlineClassifier<'a> {
     /// Classifies with `coding` by the `k` nearest neighbours among `training`.
     pub fn new(
         training: &'a OnlineTraining,
-        coding: OnlineCoding,
+        coding: Coding,
         k: usize,
     ) -> Result<Self, ExperimentError> {
         let knn = neurotac_core::Knn::new(k)?.fit(training.labels())?;
-        let prepared = match coding {
-            OnlineCoding::Intensive => Prepared::Counts { spatial: false },
-            OnlineCoding::Spatial => Prepared::Counts { spatial: true },
-            OnlineCoding::Temporal { window_ms } => {
+        let prepared = match coding.name {
+            CodingName::Intensive => Prepared::Counts { spatial: false },
+            CodingName::Spatial => Prepared::Counts { spatial: true },
+            CodingName::Temporal => {
+                let window_ms = coding.window_ms()?;
                 let d = training.duration_ms();
                 if window_ms == 0 || window_ms > d {
                     return Err(ExperimentError::InvalidParameter {
@@ -226,7 +184,8 @@ impl<'a> OnlineClassifier<'a> {
                 }
                 Prepared::Temporal { window_ms, train }
             }
-            OnlineCoding::Spatiotemporal { tau_s, cos } => {
+            CodingName::Spatiotemporal => {
+                let (tau_s, cos) = coding.tau_and_cos()?;
                 let prepared = VanRossum::new(tau_s)?.prepare(training.trains())?;
                 Prepared::VanRossum {
                     prepared: Box::new(prepared),
@@ -244,7 +203,7 @@ impl<'a> OnlineClassifier<'a> {
     }
 
     /// The coding.
-    pub fn coding(&self) -> OnlineCoding {
+    pub fn coding(&self) -> Coding {
         self.coding
     }
 

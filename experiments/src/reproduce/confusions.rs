@@ -24,7 +24,7 @@ pub struct CodingRecall {
 pub struct NamedConfusionRates {
     /// The paper's statement.
     pub paper: NamedConfusion,
-    /// Per coding ([`CodingName::ALL`] order): the fraction of `truth` samples predicted as
+    /// Per coding ([`paper::CODINGS`] order): the fraction of `truth` samples predicted as
     /// `predicted`.
     pub truth_as_predicted: [Option<f64>; 4],
     /// Per coding: the fraction of `predicted` samples predicted as `truth` (the other way).
@@ -59,16 +59,16 @@ pub struct LooAnalysis {
     pub grid_errors: Vec<GridErrorRates>,
 }
 
-/// The leave-one-out confusion matrices of `set`'s codings, in [`CodingName::ALL`] order.
+/// The leave-one-out confusion matrices of `set`'s codings, in [`paper::CODINGS`] order.
 pub fn loo_matrices(set: &SetResult) -> [&ConfusionMatrix; 4] {
-    CodingName::ALL.map(|c| &set.coding(c).loo.confusion)
+    paper::CODINGS.map(|c| &set.coding(c).loo.confusion)
 }
 
 /// The analysis of `set`'s leave-one-out predictions (see the module docs).
 pub fn loo_analysis(set: &SetResult) -> LooAnalysis {
     let loo = loo_matrices(set);
     LooAnalysis {
-        recall: CodingName::ALL
+        recall: paper::CODINGS
             .iter()
             .zip(loo)
             .map(|(&coding, m)| CodingRecall {
@@ -82,7 +82,7 @@ pub fn loo_analysis(set: &SetResult) -> LooAnalysis {
 }
 
 /// Every confusion of [`paper::NAMED_CONFUSIONS`] whose two textures are among `class_names`,
-/// measured on `loo` (one matrix per coding, [`CodingName::ALL`] order).
+/// measured on `loo` (one matrix per coding, [`paper::CODINGS`] order).
 pub fn named_confusion_rates(
     class_names: &[String],
     loo: [&ConfusionMatrix; 4],
@@ -118,7 +118,7 @@ pub fn grid_error_rates(class_names: &[String], loo: [&ConfusionMatrix; 4]) -> V
     for (r, &class) in by_size.iter().enumerate() {
         rank[class] = r;
     }
-    CodingName::ALL
+    paper::CODINGS
         .iter()
         .zip(paper::GRID_ERRORS)
         .zip(loo)

@@ -14,7 +14,7 @@
 //! labelled set through the pipeline;
 //! [`paper`] holds the paper's numbers to compare with; [`phases`] splits a simulated set's
 //! spikes by slide phase; [`confusions`] reads the leave-one-out predictions class by class
-//! (recall, the paper's named confusions); [`crate::report`] writes a run's folder (JSON, CSV,
+//! (recall, the paper's named confusions); `neurotac_cli::report` writes a run's folder (JSON, CSV,
 //! SVG and PNG figures, `report.md`).
 //!
 //! ```no_run
@@ -407,6 +407,7 @@ pub fn run_encoded_on(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::menu::Menu;
     use crate::progress::NoProgress;
     use neurotac_core::MultiSpikeTrain;
 

@@ -2,10 +2,19 @@
 //! print next to a reproduction: its accuracy tables, chosen parameters and intensive means, and
 //! the confusions its discussion names.
 
+use crate::coding::CodingName;
 use serde::Serialize;
 
+/// The paper's four codings, in the order of its tables (every `[_; 4]` below is in this order).
+pub const CODINGS: [CodingName; 4] = [
+    CodingName::Intensive,
+    CodingName::Spatial,
+    CodingName::Temporal,
+    CodingName::Spatiotemporal,
+];
+
 /// One of the paper's tables: leave-one-out accuracy (%) of the four codings, in the order of
-/// [`crate::coding::CodingName::ALL`].
+/// [`CODINGS`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PaperTable {
     /// `Table 1` or `Table 2`.
@@ -83,7 +92,7 @@ pub struct NamedConfusion {
     /// `true` when the paper says the two are confused with each other (`↔`), `false` for one
     /// way only (`→`).
     pub mutual: bool,
-    /// Per coding ([`crate::coding::CodingName::ALL`] order): whether the paper sees the
+    /// Per coding ([`CODINGS`] order): whether the paper sees the
     /// confusion (`false`: it says the coding tells them apart).
     pub confused_under: [bool; 4],
     /// The paper's sentence.
@@ -135,7 +144,7 @@ pub struct GridErrors {
 }
 
 /// The paper on each coding's errors on the artificial set, in
-/// [`crate::coding::CodingName::ALL`] order.
+/// [`CODINGS`] order.
 pub const GRID_ERRORS: [GridErrors; 4] = [
     GridErrors {
         concentrated_on_mm: Some((0.0, 2.0)),

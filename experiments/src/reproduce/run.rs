@@ -1,11 +1,11 @@
 //! A whole reproduction ([`run`]): each [`Source`] → taxel spike dataset → [`run_set`] (and the
-//! afferent variant when asked) → one [`Report`], ready for [`crate::report::write_report`].
+//! afferent variant when asked) → one [`Report`], ready for the report folder (`neurotac_cli::report::write_report`).
 
 use super::confusions::{LooAnalysis, loo_analysis};
 use super::paper;
 use super::phases::Phases;
 use super::{PipelineConfig, SetResult, run_encoded_on};
-use crate::afferents::{AfferentConfig, AfferentModel};
+use crate::afferents::AfferentConfig;
 use crate::datasets::recorded::{RecordedError, list_recorded, load_recorded, skipped_entries};
 use crate::datasets::simulated::{DatasetsError, TextureSet, load_or_simulate_on};
 use crate::error::ExperimentError;
@@ -341,10 +341,7 @@ fn run_source(
         Some(a) => {
             let (encoded, network_time) = through_graph(Some(a), "afferent");
             Some(AfferentRun {
-                model: match a.model {
-                    AfferentModel::Lif => "lif".into(),
-                    AfferentModel::Izhikevich => "izhikevich".into(),
-                },
+                model: a.model.to_string(),
                 weight: a.weight,
                 tau_syn_s: a.tau_syn_s,
                 dt_s: a.dt_s,

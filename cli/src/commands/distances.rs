@@ -1,0 +1,110 @@
+//! `neurotac distances`: the N×N distance matrix of a spike dataset, as JSON
+//! (`{"matrix": [[…]]}`), `.npy` or `.npz` by the output's extension.
+
+use super::load_dataset;
+use crate::commands::args;
+use anyhow::bail;
+use clap::{Args, ValueEnum};
+use neurotac_core::coding::whole_ms;
+use neurotac_core::{Ranks, SpikeDataset};
+use neurotac_experiments::coding::{
+    CodingName, CodingParameters, coding_distances_on, mean_spikes_per_channel, sample_duration_ms,
+};
+use neurotac_experiments::export::{MATRIX_FORMATS, OutputFormat, write_matrix};
+use neurotac_experiments::timing::timed;
+use std::path::PathBuf;
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum Metric {
+    /// Exact multi-unit Van Rossum (needs --tau and --cos).
+    VanRossum,
+    /// Euclidean distance of a coding's features (needs --coding).
+    Euclidean,
+}
+
+#[derive(Debug, Args)]
+pub struct DistancesArgs {
+    /// Spike dataset (JSON or binary).
+    #[arg(long)]
+    input: PathBuf,
+    /// Distance.
+    #[arg(long, value_enum)]
+    metric: Metric,
+    /// Van Rossum kernel time constant τ (s).
+    #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long)]
+    tau: Option<f64>,
+    /// Van Rossum cos θ in [0, 1] (0 labelled line, 1 summed population).
+    #[arg(value_parser = args::unit_interval, allow_negative_numbers = true, long)]
+    cos: Option<f64>,
+    /// Coding whose features the Euclidean distance compares.
+    #[arg(long, value_parser = args::menu::<CodingName>())]
+    coding: Option<CodingName>,
+    /// Temporal-coding window Δt (s, whole ms).
+    #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long)]
+    dt: Option<f64>,
+    /// Sample duration (s, whole ms); default: meta.duration_s, else one ms past the latest spike.
+    #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long)]
+    duration: Option<f64>,
+    /// Output file, format by extension: `.json` ({"matrix": [[…]]}), `.npy` (float64 N×N)
+    /// or `.npz` (member `matrix`).
+    #[arg(long)]
+    output: PathBuf,
+    /// Replace existing output files (without it, an existing output is refused).
+    #[arg(long)]
+    force: bool,
+}
+
+/// On several ranks the matrix's rows are split over them ([`coding_distances_on`]); every
+/// rank checks the output path first, rank 0 alone writes the matrix and prints.
+pub fn run(args: DistancesArgs, ranks: &dyn Ranks) -> anyhow::Result<()> {
+    neurotac_core::io::check_distinct(&args.input, &args.output)?;
+    OutputFormat::from_path(&args.output, &MATRIX_FORMATS)?;
+    super::refuse_existing([args.output.as_path()], args.force)?;
+    let data = load_dataset(&args.input)?;
+    let coding = match (args.metric, args.coding) {
+        (Metric::VanRossum, _) => CodingName::Spatiotemporal,
+        (Metric::Euclidean, None | Some(CodingName::Spatiotemporal)) => {
+            bail!("--metric euclidean needs --coding intensive|spatial|temporal")
+        }
+        (Metric::Euclidean, Some(coding)) => coding,
+    };
+    let parameters = coding_parameters(&data, args.dt, args.duration, args.tau, args.cos)?;
+    let (matrix, timing) =
+        timed(|| coding_distances_on(data.observations(), coding, &parameters, ranks));
+    let matrix = matrix?;
+    if !ranks.is_root() {
+        return Ok(());
+    }
+    write_matrix(&args.output, matrix.view())?;
+    let n = data.len();
+    println!(
+        "{n}×{n} {:?} distance matrix of {} channels (mean {:.1} spikes/channel) → {} in {timing}",
+        args.metric,
+        data.n_channels(),
+        mean_spikes_per_channel(&data),
+        args.output.display()
+    );
+    Ok(())
+}
+
+/// The coding parameters of the flags `--dt`, `--duration` (s), `--tau` and `--cos`; the sample
+/// duration only when a window is given (it is only read then).
+pub fn coding_parameters(
+    data: &SpikeDataset,
+    dt_s: Option<f64>,
+    duration_s: Option<f64>,
+    tau_s: Option<f64>,
+    cos: Option<f64>,
+) -> anyhow::Result<CodingParameters> {
+    let window_ms = dt_s.map(|dt| whole_ms(dt, "--dt")).transpose()?;
+    let duration_ms = match window_ms {
+        Some(_) => Some(sample_duration_ms(data, duration_s)?),
+        None => None,
+    };
+    Ok(CodingParameters {
+        window_ms,
+        duration_ms,
+        tau_s,
+        cos,
+    })
+}

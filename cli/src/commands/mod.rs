@@ -1,0 +1,183 @@
+//! The commands of the `neurotac` binary, one module each (a group of subcommands is a folder).
+//! To add a command: a module with an `Args` struct (clap derive) and a
+//! `run(args) -> anyhow::Result<()>`, one variant in [`Command`] and one arm in [`run`]. To add
+//! a subcommand to a group (`tradeoff`, `search`), do the same inside the group's `mod.rs`.
+
+use clap::{Parser, Subcommand, ValueEnum};
+use neurotac_core::{Ranks, SpikeDataset};
+use neurotac_experiments::datasets::simulated::TextureSet;
+use std::path::Path;
+
+mod args;
+mod bench;
+mod classify;
+mod convert;
+mod demo;
+mod devices;
+mod distances;
+mod export;
+mod neuron;
+mod progress;
+mod recognise;
+mod record;
+mod reproduce;
+mod search;
+mod simulate;
+mod synth;
+mod tradeoff;
+mod transduce;
+
+/// neurotac: spiking neural networks for neuromorphic touch (the NeuroTac sensor).
+#[derive(Debug, Parser)]
+#[command(
+    name = "neurotac",
+    version,
+    about,
+    propagate_version = true,
+    after_help = "Outputs: every command that writes refuses an existing output file or folder \
+unless --force is given.\nCache: reproduce and simulate keep simulated datasets in \
+~/.cache/neurotac ($XDG_CACHE_HOME/neurotac, or $NEUROTAC_CACHE when set); delete that \
+folder to clear it."
+)]
+pub struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+enum Command {
+    /// Reproduce the NeuroTac paper: texture datasets → taxel spikes → four codings → KNN, with
+    /// the paper's tables side by side and a report folder of figures.
+    Reproduce(reproduce::ReproduceArgs),
+    /// Run 49 taxel spike trains through 49 afferent neurons and print their spike counts.
+    Demo(demo::DemoArgs),
+    /// Measure throughput: neuron updates per second, or the CUBA network.
+    Bench(bench::BenchArgs),
+    /// Simulate one neuron under a constant current and print its spike times.
+    Neuron(neuron::NeuronArgs),
+    /// Write the N×N distance matrix of a spike dataset (.json, .npy or .npz by extension).
+    Distances(distances::DistancesArgs),
+    /// Classify a spike dataset with KNN under one coding and protocol.
+    Classify(classify::ClassifyArgs),
+    /// Convert a spike dataset to numpy's .npz (flat arrays), JSON or binary, by extension.
+    Export(export::ExportArgs),
+    /// Speed ↔ accuracy reports (tables and SVG plots); without a subcommand, all of them and
+    /// a summary (tradeoff.md).
+    Tradeoff(tradeoff::TradeoffArgs),
+    /// Parameter searches (Δt brute force, Bayesian optimisation of τ and cos θ).
+    #[command(subcommand)]
+    Search(search::SearchCommand),
+    /// Write a seeded synthetic NeuroTac-like texture dataset.
+    Synth(synth::SynthArgs),
+    /// Event file → 49 taxel spike trains (BA filter, receptive fields, pooling, re-centring).
+    Transduce(transduce::TransduceArgs),
+    /// Event file → event file with the background-activity (and refractory) filter applied.
+    Filter(transduce::FilterArgs),
+    /// Find the 49 taxel centres in a short calibration recording.
+    Layout(transduce::LayoutArgs),
+    /// Convert an event file between AEDAT 2.0/3.1/4.0, ECD text and CSV (format from the extension).
+    Convert(convert::ConvertArgs),
+    /// List the DAVIS cameras attached over USB.
+    Devices(devices::DevicesArgs),
+    /// Record events from the first DAVIS240 attached to a file (format from the extension).
+    Record(record::RecordArgs),
+    /// Simulate the texture datasets (or `check` / `calibrate` the NeuroTac simulator).
+    Simulate(simulate::SimulateArgs),
+    /// Recognise a texture while the sensor slides (event file or live camera), a decision
+    /// every pooling window; or `--eval` accuracy against time on a simulated set.
+    Recognise(recognise::RecogniseArgs),
+}
+
+/// Runs the parsed command on `ranks` (one process, or the MPI ranks it was started on).
+///
+/// The distributed commands (`simulate`, `distances`, `classify`, `search`, `reproduce`,
+/// `bench cuba`) split their work over the ranks and give the same output as one process;
+/// rank 0 writes and prints. The others run on one process only.
+pub fn run(cli: Cli, ranks: &dyn Ranks) -> anyhow::Result<()> {
+    let single = |name: &str| -> anyhow::Result<()> {
+        if ranks.size() > 1 {
+            anyhow::bail!(
+                "`neurotac {name}` runs on one process; it was started on {} MPI ranks \
+                 (run it without mpirun, or see README \"Running on several machines\" for \
+                 the commands that distribute)",
+                ranks.size()
+            );
+        }
+        Ok(())
+    };
+    match cli.command {
+        Command::Reproduce(args) => reproduce::run(args, ranks),
+        Command::Bench(args) => bench::run(args, ranks),
+        Command::Distances(args) => distances::run(args, ranks),
+        Command::Classify(args) => classify::run(args, ranks),
+        Command::Search(command) => search::run(command, ranks),
+        Command::Simulate(args) => simulate::run(args, ranks),
+        Command::Demo(args) => single("demo").and_then(|()| demo::run(args)),
+        Command::Neuron(args) => single("neuron").and_then(|()| neuron::run(args)),
+        Command::Tradeoff(args) => single("tradeoff").and_then(|()| tradeoff::run(args)),
+        Command::Synth(args) => single("synth").and_then(|()| synth::run(args)),
+        Command::Export(args) => single("export").and_then(|()| export::run(args)),
+        Command::Transduce(args) => {
+            single("transduce").and_then(|()| transduce::run_transduce(args))
+        }
+        Command::Filter(args) => single("filter").and_then(|()| transduce::run_filter(args)),
+        Command::Layout(args) => single("layout").and_then(|()| transduce::run_layout(args)),
+        Command::Convert(args) => single("convert").and_then(|()| convert::run(args)),
+        Command::Devices(args) => single("devices").and_then(|()| devices::run(args)),
+        Command::Record(args) => single("record").and_then(|()| record::run(args)),
+        Command::Recognise(args) => single("recognise").and_then(|()| recognise::run(args)),
+    }
+}
+
+/// `--set`: which simulated texture set(s).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum SetArg {
+    /// The 11 bump grids (paper: 100 slides each; Table 1).
+    Artificial,
+    /// The 20 natural textures (paper: 50 slides each; Table 2).
+    Natural,
+    /// Both, artificial first.
+    Both,
+}
+
+impl SetArg {
+    /// The sets, in run order.
+    pub fn sets(self) -> Vec<TextureSet> {
+        match self {
+            SetArg::Artificial => vec![TextureSet::Artificial],
+            SetArg::Natural => vec![TextureSet::Natural],
+            SetArg::Both => vec![TextureSet::Artificial, TextureSet::Natural],
+        }
+    }
+}
+
+/// Reads a spike dataset (JSON or binary); the error names the file once.
+pub fn load_dataset(path: &Path) -> anyhow::Result<SpikeDataset> {
+    // The dataset error names file, sample and field; its source chain would repeat it.
+    SpikeDataset::load(path)
+        .map_err(|e| anyhow::anyhow!("reading the spike dataset {}: {e}", path.display()))
+}
+
+/// Reads a labelled spike dataset (classification and searches need labels).
+pub fn load_labelled(path: &Path) -> anyhow::Result<SpikeDataset> {
+    let data = load_dataset(path)?;
+    if data.labels().is_empty() {
+        anyhow::bail!("{}: the dataset has no labels", path.display());
+    }
+    Ok(data)
+}
+
+/// The overwrite rule of every command that writes (README, "Outputs, cache and overwriting"):
+/// an output file or folder that already exists is refused unless `--force` is given.
+pub fn refuse_existing<'a>(
+    outputs: impl IntoIterator<Item = &'a Path>,
+    force: bool,
+) -> anyhow::Result<()> {
+    if force {
+        return Ok(());
+    }
+    match outputs.into_iter().find(|p| p.exists()) {
+        Some(p) => anyhow::bail!("{} already exists (use --force to replace it)", p.display()),
+        None => Ok(()),
+    }
+}

@@ -1,0 +1,404 @@
+//! `neurotac recognise`: online texture recognition while the sensor slides — from an event
+//! file or the live camera, one line per decision change and a final line — and
+//! `recognise --eval`: accuracy against time since the slide start on a simulated set.
+
+use super::{SetArg, load_labelled, refuse_existing};
+use crate::commands::args;
+use anyhow::{Context, bail};
+use clap::{Args, ValueEnum};
+use neurotac_cli::report::folder::{write, write_figure, write_folder_atomically};
+use neurotac_cli::report::png::PngRenderer;
+use neurotac_cli::report::svg::{Axis, Chart, Marker, PALETTE, Series};
+use neurotac_experiments::afferents::AfferentConfig;
+use neurotac_experiments::coding::{Coding, CodingName};
+use neurotac_experiments::datasets::metadata::transduction_of;
+use neurotac_experiments::datasets::simulated::{TextureSet, default_cache_dir};
+use neurotac_experiments::menu::Menu;
+use neurotac_experiments::neuron_setup::NeuronKind;
+use neurotac_experiments::online::eval::{OnlineEval, OnlineEvalConfig, evaluate_online};
+use neurotac_experiments::online::{
+    Decision, OnlineClassifier, OnlineTraining, Recogniser, ReplaySpeed, latency_percentiles,
+    recognise_stream, replay,
+};
+use neurotac_experiments::threads::with_threads;
+use neurotac_sensor::davis::{Davis, RusbTransport, StartOptions};
+use neurotac_sensor::sim::SimParams;
+use neurotac_sensor::taxel::TransductionConfig;
+use std::fmt::Write as _;
+use std::path::PathBuf;
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum SpeedArg {
+    /// As recorded.
+    Realtime,
+    /// As fast as possible.
+    Max,
+}
+
+#[derive(Debug, Args)]
+pub struct RecogniseArgs {
+    /// Labelled spike dataset of training slides (JSON or binary), transduced with the
+    /// settings stored in its metadata (those of `neurotac simulate` / `transduce`).
+    #[arg(long, required_unless_present = "eval")]
+    train: Option<PathBuf>,
+    /// Coding to classify with (default spatial; with --eval every coding is evaluated).
+    #[arg(long, value_parser = args::menu::<CodingName>())]
+    coding: Option<CodingName>,
+    /// Event file to replay (AEDAT 2/3.1/4, ECD text, CSV).
+    #[arg(long, conflicts_with_all = ["device", "eval"], required_unless_present_any = ["device", "eval"])]
+    input: Option<PathBuf>,
+    /// Recognise from the first DAVIS240 attached over USB.
+    #[arg(long, conflicts_with = "eval")]
+    device: bool,
+    /// Replay speed of --input.
+    #[arg(long, value_enum, default_value = "max")]
+    speed: SpeedArg,
+    /// Run the taxel spikes through a population of afferent neurons (one per taxel), in
+    /// training and online alike.
+    #[arg(long, value_parser = args::menu::<NeuronKind>())]
+    afferents: Option<NeuronKind>,
+    /// Print every window's decision as a JSON line, then the final decision.
+    #[arg(long)]
+    json: bool,
+    /// Temporal-coding window Δt (s, whole ms). Default 0.159, the paper's choice for the
+    /// artificial textures (not fitted here).
+    #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long, default_value_t = 0.159)]
+    dt: f64,
+    /// Van Rossum τ (s). Default 0.076, the paper's choice for the artificial textures.
+    #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long, default_value_t = 0.076)]
+    tau: f64,
+    /// Van Rossum cos θ. Default 0.4, the paper's choice for the artificial textures.
+    #[arg(value_parser = args::unit_interval, allow_negative_numbers = true, long, default_value_t = 0.4)]
+    cos: f64,
+    /// Neighbours.
+    #[arg(value_parser = args::positive_count, allow_negative_numbers = true, long, default_value_t = 4)]
+    k: usize,
+    /// Windows (20 ms each) a class must hold to be reported stable.
+    #[arg(value_parser = args::positive_count, allow_negative_numbers = true, long, default_value_t = 5)]
+    stable: usize,
+    /// Instead: train on 80 % of a simulated set and replay the held-out slides' pixel events
+    /// through the online path with every coding (needs --set and --out).
+    #[arg(long, requires_all = ["set", "out"])]
+    eval: bool,
+    /// With --eval: the texture set.
+    #[arg(long, value_enum)]
+    set: Option<SetArg>,
+    /// With --eval: slides per texture (default: the paper's, 100 artificial / 50 natural).
+    #[arg(value_parser = args::positive_count, allow_negative_numbers = true, long)]
+    trials: Option<usize>,
+    /// With --eval: seed of the dataset and of the split.
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// With --eval: the report folder (summary.md, summary.json, accuracy_vs_time.csv/.svg/.png).
+    #[arg(long)]
+    out: Option<PathBuf>,
+    /// Replace an existing --out folder.
+    #[arg(long)]
+    force: bool,
+    /// With --eval: worker threads over the held-out slides (0 = one per core); each slide's
+    /// decisions run on one thread.
+    #[arg(value_parser = args::count, allow_negative_numbers = true, long, default_value_t = 0)]
+    threads: usize,
+    /// With --eval: the cache of simulated datasets (as `reproduce`).
+    #[arg(long)]
+    cache: Option<PathBuf>,
+}
+
+impl RecogniseArgs {
+    fn coding(&self, name: CodingName) -> anyhow::Result<Coding> {
+        Ok(match name {
+            CodingName::Intensive | CodingName::Spatial => Coding::of(name),
+            CodingName::Temporal => {
+                Coding::temporal(neurotac_core::coding::whole_ms(self.dt, "--dt")?)
+            }
+            CodingName::Spatiotemporal => Coding::spatiotemporal(self.tau, self.cos),
+        })
+    }
+}
+
+pub fn run(a: RecogniseArgs) -> anyhow::Result<()> {
+    if a.eval {
+        return run_eval(&a);
+    }
+    let path = a.train.as_ref().expect("clap requires --train");
+    let data = load_labelled(path)?;
+    if let Some(unit) = data.meta().get("time_unit").and_then(|u| u.as_str()) {
+        if unit != "s" {
+            bail!(
+                "{}: spike times are in '{unit}', but recognition compares them with the stream in seconds",
+                path.display()
+            );
+        }
+    }
+    let transduction = transduction_of(&data)?.with_context(|| {
+        format!(
+            "{}: the dataset does not say how it was transduced (meta.transduction), so the stream cannot be transduced the same way",
+            path.display()
+        )
+    })?;
+    let coding = a.coding(a.coding.unwrap_or(CodingName::Spatial))?;
+    let training = OnlineTraining::new(&data, a.afferents.map(AfferentConfig::of))
+        .with_context(|| format!("preparing the training set {}", path.display()))?;
+    // A live stream has its own origin: its first event.
+    let stream_transduction = TransductionConfig {
+        origin_us: None,
+        ..transduction
+    };
+    let classifier = OnlineClassifier::new(&training, coding, a.k)?;
+    let mut recogniser = Recogniser::new(&classifier, stream_transduction, a.stable)?;
+    if !a.json {
+        println!(
+            "training: {} slides of {} textures ({} ms each); {} coding{}; k = {}; a decision every {} ms",
+            training.len(),
+            training.class_names().len(),
+            training.duration_ms(),
+            coding.name,
+            match coding.describe_parameters() {
+                p if p.is_empty() => String::new(),
+                p => format!(" ({p})"),
+            },
+            a.k,
+            transduction.pool_window_us / 1000
+        );
+    }
+    let names = training.class_names().to_vec();
+    let (json, stable) = (a.json, a.stable);
+    let mut last_class: Option<(usize, bool)> = None;
+    let mut print = |d: &Decision| {
+        if json {
+            println!("{}", decision_json(d, &names));
+            return;
+        }
+        // One line per change of class, and one when the class becomes stable.
+        let changed = last_class.map(|l| l.0) != Some(d.class);
+        let newly_stable = d.stable && last_class != Some((d.class, true));
+        if changed || newly_stable {
+            println!(
+                "{:8.3} s  {:<24} vote {:>3.0} %{}",
+                d.t_s,
+                names[d.class],
+                100.0 * d.vote_share,
+                if d.stable {
+                    format!("  stable for {stable} windows")
+                } else {
+                    String::new()
+                }
+            );
+        }
+        last_class = Some((d.class, d.stable));
+    };
+    let result = if a.device {
+        let (transport, usb) = RusbTransport::open_first()?;
+        let davis = Davis::open(transport, usb).context("opening the DAVIS camera")?;
+        let (w, h) = (davis.info().dvs_size_x, davis.info().dvs_size_y);
+        check_size(&transduction, (w, h), "the camera")?;
+        davis
+            .send_default_config()
+            .context("configuring the camera")?;
+        let mut stream = davis.start(StartOptions::default())?;
+        recognise_stream(&mut recogniser, &mut stream, &mut print)
+            .context("recognising from the camera")
+    } else {
+        let input = a.input.as_ref().expect("clap requires --input or --device");
+        let mut reader = neurotac_sensor::format::open_reader(input)?;
+        if let Some(size) = reader.sensor_size() {
+            check_size(&transduction, size, &input.display().to_string())?;
+        }
+        let speed = match a.speed {
+            SpeedArg::Realtime => ReplaySpeed::Realtime,
+            SpeedArg::Max => ReplaySpeed::Max,
+        };
+        replay(&mut recogniser, &mut *reader, speed, &mut print)
+            .with_context(|| format!("recognising {}", input.display()))
+    };
+    let decisions = recogniser.decisions();
+    let last = match result {
+        Ok(last) => last,
+        Err(e) => {
+            // What was decided so far is kept and said.
+            if let Some(d) = decisions.last() {
+                eprintln!(
+                    "decided so far: {} (vote {:.0} %) at {:.3} s after {} windows",
+                    names[d.class],
+                    100.0 * d.vote_share,
+                    d.t_s,
+                    decisions.len()
+                );
+            }
+            return Err(e);
+        }
+    };
+    if a.json {
+        println!(
+            "{}",
+            serde_json::json!({ "final": decision_json(&last, &names) })
+        );
+        return Ok(());
+    }
+    let (p50, p99, max) = latency_percentiles(decisions).unwrap_or((0.0, 0.0, 0.0));
+    println!(
+        "final: {} (vote {:.0} %) after {} windows; decision latency p50 {:.3} ms, p99 {:.3} ms, max {:.3} ms{}",
+        names[last.class],
+        100.0 * last.vote_share,
+        decisions.len(),
+        p50 * 1e3,
+        p99 * 1e3,
+        max * 1e3,
+        match recogniser.events_dropped() {
+            0 => String::new(),
+            n => format!(
+                "; {n} events after the training slides' {} ms were not used",
+                training.duration_ms()
+            ),
+        }
+    );
+    Ok(())
+}
+
+/// The training set's sensor size must be the stream's.
+fn check_size(t: &TransductionConfig, size: (u16, u16), what: &str) -> anyhow::Result<()> {
+    if (t.width, t.height) != size {
+        bail!(
+            "the training set was transduced for a {}×{} sensor, but {what} is {}×{}",
+            t.width,
+            t.height,
+            size.0,
+            size.1
+        );
+    }
+    Ok(())
+}
+
+fn decision_json(d: &Decision, names: &[String]) -> serde_json::Value {
+    serde_json::json!({
+        "t_s": d.t_s,
+        "class": d.class,
+        "class_name": names[d.class],
+        "vote_share": d.vote_share,
+        "same_for_windows": d.same_for_windows,
+        "stable": d.stable,
+        "latency_s": d.latency_s,
+    })
+}
+
+fn run_eval(a: &RecogniseArgs) -> anyhow::Result<()> {
+    let out = a.out.as_ref().expect("clap requires --out");
+    refuse_existing([out.as_path()], a.force)?;
+    let set = match a.set.expect("clap requires --set") {
+        SetArg::Artificial => TextureSet::Artificial,
+        SetArg::Natural => TextureSet::Natural,
+        SetArg::Both => bail!("--eval runs one set at a time: --set artificial or natural"),
+    };
+    let codings = match a.coding {
+        Some(c) => vec![a.coding(c)?],
+        None => CodingName::ALL
+            .iter()
+            .map(|&c| a.coding(c))
+            .collect::<anyhow::Result<_>>()?,
+    };
+    let config = OnlineEvalConfig {
+        set,
+        trials: a.trials.unwrap_or_else(|| set.paper_trials()),
+        seed: a.seed,
+        params: SimParams::default(),
+        codings,
+        k: a.k,
+        stable_windows: a.stable,
+        test_fraction: 0.2,
+    };
+    let cache = a.cache.clone().unwrap_or_else(default_cache_dir);
+    let bar = super::progress::bar(
+        "held-out slides",
+        (config.trials as f64 * set.textures().len() as f64 * 0.2).round() as u64,
+        "slides",
+    );
+    let eval = with_threads(a.threads, || {
+        evaluate_online(&config, &cache, &|| bar.inc(1))
+    })??;
+    bar.finish_and_clear();
+    let summary = summary_md(&eval);
+    write_folder_atomically(out, a.force, |dir| {
+        write(dir, "summary.md", &summary)?;
+        write(
+            dir,
+            "summary.json",
+            &serde_json::to_string_pretty(&eval).expect("serialisable"),
+        )?;
+        write(dir, "accuracy_vs_time.csv", &accuracy_csv(&eval))?;
+        write_figure(
+            dir,
+            "accuracy_vs_time",
+            &accuracy_chart(&eval).to_svg(),
+            &PngRenderer::new(),
+        )
+    })?;
+    print!("{summary}");
+    println!("written to {}", out.display());
+    Ok(())
+}
+
+fn summary_md(e: &OnlineEval) -> String {
+    let mut s = format!(
+        "# Online recognition, {} set\n\nTrained on {} slides, {} held-out slides replayed as pixel events through the online path (transducer → taxel input → readout → KNN, k as given); a decision after every 20 ms window.\n\n| coding | parameters | final accuracy | reaches 90 % of it at | decision latency p50 / p99 / max | replay speed |\n|---|---|---|---|---|---|\n",
+        e.set, e.n_train, e.n_test
+    );
+    for c in &e.codings {
+        let (p50, p99, max) = c.latency_s;
+        let _ = writeln!(
+            s,
+            "| {} | {} | {:.1} % | {} | {:.3} / {:.3} / {:.3} ms | {:.0}× real time |",
+            c.coding,
+            c.parameters,
+            100.0 * c.final_accuracy,
+            c.t90_s.map_or("never".into(), |t| format!("{:.2} s", t)),
+            p50 * 1e3,
+            p99 * 1e3,
+            max * 1e3,
+            c.replay_speed
+        );
+    }
+    s.push_str("\nAccuracy against the time since the slide start: `accuracy_vs_time.csv`, `accuracy_vs_time.svg`.\n");
+    s
+}
+
+fn accuracy_csv(e: &OnlineEval) -> String {
+    let mut s = String::from("t_s");
+    for c in &e.codings {
+        let _ = write!(s, ",{}", c.coding);
+    }
+    s.push('\n');
+    for (w, t) in e.window_end_s.iter().enumerate() {
+        let _ = write!(s, "{t:.3}");
+        for c in &e.codings {
+            let _ = write!(s, ",{:.4}", c.accuracy[w]);
+        }
+        s.push('\n');
+    }
+    s
+}
+
+fn accuracy_chart(e: &OnlineEval) -> Chart {
+    Chart {
+        title: format!("{}: online accuracy ({} held-out slides)", e.set, e.n_test),
+        x: Axis::linear("time since slide start (s)"),
+        y: Axis::linear("accuracy (%)"),
+        series: e
+            .codings
+            .iter()
+            .enumerate()
+            .map(|(i, c)| Series {
+                label: c.coding.into(),
+                points: e
+                    .window_end_s
+                    .iter()
+                    .zip(&c.accuracy)
+                    .map(|(&t, &a)| (t, 100.0 * a))
+                    .collect(),
+                color: PALETTE[i % PALETTE.len()].into(),
+                marker: Marker::None,
+                filled: false,
+                line: true,
+            })
+            .collect(),
+    }
+}

@@ -1,0 +1,82 @@
+//! `neurotac record --out FILE --seconds S`: records the first DAVIS240 attached to an event file
+//! (format from the extension; `.aedat4` writes AEDAT 4.0 with LZ4).
+//!
+//! The camera gets libcaer's default configuration and streams DVS events only. If it is
+//! unplugged mid-recording, every event received before is written, the file is completed and
+//! the command fails with the disconnection.
+
+use crate::commands::args;
+use anyhow::Context;
+use clap::Args;
+use neurotac_sensor::davis::{Davis, RusbTransport, StartOptions, record};
+use neurotac_sensor::format;
+use std::path::PathBuf;
+use std::time::{Duration, SystemTime, UNIX_EPOCH};
+
+#[derive(Debug, Args)]
+pub struct RecordArgs {
+    /// Output event file (.aedat4, .aedat, .aedat3, .txt or .csv).
+    #[arg(long)]
+    out: PathBuf,
+    /// Replace existing output files (without it, an existing output is refused).
+    #[arg(long)]
+    force: bool,
+    /// Recording duration (s).
+    #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long)]
+    seconds: f64,
+    /// Add the host's Unix time at start (µs) to the device timestamps, as DV recordings hold
+    /// (AEDAT 4.0 only: the 32-bit AEDAT 2.0 timestamps cannot hold it).
+    #[arg(long)]
+    unix_time: bool,
+}
+
+pub fn run(args: RecordArgs) -> anyhow::Result<()> {
+    anyhow::ensure!(
+        args.seconds.is_finite() && args.seconds > 0.0,
+        "--seconds must be a positive number of seconds, got {}",
+        args.seconds
+    );
+    super::refuse_existing([args.out.as_path()], args.force)?;
+    let format = format::Format::from_extension(&args.out)?;
+    let (transport, usb) = RusbTransport::open_first()?;
+    let davis = Davis::open(transport, usb).context("opening the DAVIS camera")?;
+    println!(
+        "recording {} ({}×{}) for {} s to {}",
+        davis.info().chip_name(),
+        davis.info().dvs_size_x,
+        davis.info().dvs_size_y,
+        args.seconds,
+        args.out.display()
+    );
+    davis
+        .send_default_config()
+        .context("configuring the camera")?;
+    let mut writer = format::create_writer_as(&args.out, format)?;
+    let mut stream = davis.start(StartOptions::default())?;
+    let offset_us = if args.unix_time {
+        SystemTime::now()
+            .duration_since(UNIX_EPOCH)
+            .map(|d| d.as_micros() as i64)
+            .unwrap_or(0)
+    } else {
+        0
+    };
+    let duration = Duration::from_secs_f64(args.seconds);
+    let rec = record(&mut stream, &mut *writer, duration, offset_us)
+        .with_context(|| format!("writing {}", args.out.display()))?;
+    println!(
+        "{} events in {:.2} s; {} USB packets dropped (ring full); {} out-of-range addresses dropped",
+        rec.events,
+        rec.elapsed.as_secs_f64(),
+        rec.dropped_packets,
+        rec.decode.dropped_x_out_of_range + rec.decode.ignored_y_out_of_range
+    );
+    if let Some(e) = rec.ended_early {
+        return Err(anyhow::Error::new(e).context(format!(
+            "recording ended early; the {} events received were written to {}",
+            rec.events,
+            args.out.display()
+        )));
+    }
+    Ok(())
+}

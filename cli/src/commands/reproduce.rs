@@ -1,0 +1,185 @@
+//! `neurotac reproduce`: the NeuroTac paper end to end — datasets, transduction, the four
+//! codings, the Δt sweep, the Bayesian optimisation, KNN tables against the paper's, and a
+//! report folder with its figures (see `neurotac_experiments::reproduce`).
+
+use super::SetArg;
+use super::progress::Bars;
+use crate::commands::args;
+use clap::{Args, ValueEnum};
+use neurotac_cli::report::class_tables::{paper_confusion_table, phase_table, recall_table};
+use neurotac_cli::report::folder::check_destination;
+use neurotac_cli::report::tables::{
+    accuracy_table, afferent_table, intensive_table, parameter_table,
+};
+use neurotac_cli::report::write_report;
+use neurotac_core::Ranks;
+use neurotac_experiments::afferents::AfferentConfig;
+use neurotac_experiments::datasets::simulated::default_cache_dir;
+use neurotac_experiments::neuron_setup::NeuronKind;
+use neurotac_experiments::neuron_setup::Precision;
+use neurotac_experiments::progress::{NoProgress, Progress};
+use neurotac_experiments::readouts::VrFrom;
+use neurotac_experiments::reproduce::{ReproduceConfig, SetReport, Source, run_on};
+use neurotac_experiments::threads::with_threads;
+use neurotac_experiments::timing::timed;
+use neurotac_sensor::sim::SimParams;
+use std::path::PathBuf;
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum VrFromArg {
+    /// The exact distance from the spatiotemporal readout's spike trains (the paper's).
+    Exact,
+    /// The distance of the readout's synaptic traces sampled at --trace-dt (memory: one entry
+    /// per step with a spike).
+    Traces,
+}
+
+#[derive(Debug, Args)]
+pub struct ReproduceArgs {
+    /// Which simulated texture set(s) to run.
+    #[arg(long, value_enum, default_value = "both")]
+    set: SetArg,
+    /// Seed of the simulated datasets, the 80/20 split and the optimisation's initial design.
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Report folder (refused if it exists, unless --force).
+    #[arg(long, default_value = "neurotac-report")]
+    out: PathBuf,
+    /// Worker threads (0: all cores).
+    #[arg(value_parser = args::count, allow_negative_numbers = true, long, default_value_t = 0)]
+    threads: usize,
+    /// Bayesian-optimisation evaluations (paper: 1000; --quick: 60).
+    #[arg(value_parser = args::positive_count, allow_negative_numbers = true, long)]
+    epochs: Option<usize>,
+    /// Slides per texture (paper: 100 artificial, 50 natural; --quick: 10).
+    #[arg(value_parser = args::positive_count, allow_negative_numbers = true, long)]
+    trials: Option<usize>,
+    /// Run on a recorded dataset instead: one folder per texture class, one event file per
+    /// slide (AEDAT 2/3.1/4, ECD text or CSV); --set, --trials and --params then do not apply.
+    #[arg(long)]
+    dataset: Option<PathBuf>,
+    /// Replace an existing report folder.
+    #[arg(long)]
+    force: bool,
+    /// A first look in about a minute (once built): 10 slides per texture, 60 epochs, τ on a
+    /// 10 ms grid.
+    #[arg(long)]
+    quick: bool,
+    /// Also run the pipeline through a population of afferent neurons (one per taxel) and
+    /// report accuracy and time next to the direct pipeline.
+    #[arg(long, value_parser = args::menu::<NeuronKind>())]
+    afferents: Option<NeuronKind>,
+    /// τ grid step of the optimisation (s; default 0.005, --quick 0.01; the paper's 1 ms grid
+    /// costs ≈ 5× the default).
+    #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long)]
+    tau_step: Option<f64>,
+    /// Where the spatiotemporal coding's Van Rossum distance comes from.
+    #[arg(long, value_enum, default_value = "exact")]
+    vr_from: VrFromArg,
+    /// Trace step for --vr-from traces (ms, a whole number of µs; default 0.1, the network step).
+    #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long, default_value_t = 0.1)]
+    trace_dt: f64,
+    /// Arithmetic of --vr-from traces.
+    #[arg(long, value_parser = args::menu::<Precision>(), default_value = "f64")]
+    trace_precision: Precision,
+    /// Cache of simulated datasets, shared with `neurotac simulate` (default: $NEUROTAC_CACHE,
+    /// else $XDG_CACHE_HOME/neurotac, else ~/.cache/neurotac; delete the folder to clear it).
+    #[arg(long)]
+    cache: Option<PathBuf>,
+    /// Simulator parameters (JSON, see `neurotac simulate params`); default: the calibrated ones.
+    #[arg(long)]
+    params: Option<PathBuf>,
+}
+
+/// On several ranks the simulation, the distance matrices and the searches are split over them
+/// ([`run_on`]); every rank checks the report folder first, rank 0 alone shows progress,
+/// prints and writes the report.
+pub fn run(args: ReproduceArgs, ranks: &dyn Ranks) -> anyhow::Result<()> {
+    check_destination(&args.out, args.force)?;
+    let cache = args.cache.clone().unwrap_or_else(default_cache_dir);
+    let mut config = match args.quick {
+        true => ReproduceConfig::quick(args.seed, cache),
+        false => ReproduceConfig::paper(args.seed, cache),
+    };
+    config.command = std::iter::once("neurotac".to_owned())
+        .chain(std::env::args().skip(1))
+        .collect::<Vec<_>>()
+        .join(" ");
+    if let Some(e) = args.epochs {
+        config.pipeline.bayes.epochs = e;
+    }
+    if let Some(s) = args.tau_step {
+        config.pipeline.bayes.tau_step_s = s;
+    }
+    config.trials = args.trials.or(config.trials);
+    if let Some(p) = &args.params {
+        config.params = SimParams::from_json_file(p)?;
+    }
+    config.pipeline.vr_from = match args.vr_from {
+        VrFromArg::Exact => VrFrom::Exact,
+        VrFromArg::Traces => VrFrom::Traces {
+            trace_dt_s: args.trace_dt * 1e-3,
+            precision: args.trace_precision,
+        },
+    };
+    config.afferents = args.afferents.map(AfferentConfig::of);
+    let sources: Vec<Source> = match &args.dataset {
+        Some(dir) => vec![Source::Recorded(dir.clone())],
+        None => args.set.sets().into_iter().map(Source::Simulated).collect(),
+    };
+    let bars = Bars::new();
+    let progress: &dyn Progress = match ranks.is_root() {
+        true => &bars,
+        false => &NoProgress,
+    };
+    let (written, total) = timed(|| -> anyhow::Result<()> {
+        let report = with_threads(args.threads, || run_on(&config, &sources, progress, ranks))??;
+        if !ranks.is_root() {
+            return Ok(());
+        }
+        report.sets.iter().for_each(print_set);
+        bars.stage("writing the report (SVG, PNG, CSV, JSON, Markdown)", 0);
+        let written = write_report(&args.out, &report, args.force);
+        bars.finish();
+        Ok(written?)
+    });
+    written?;
+    if !ranks.is_root() {
+        return Ok(());
+    }
+    println!(
+        "report: {} (report.md, report.json, CSV tables, SVG and PNG figures)",
+        args.out.display()
+    );
+    println!("total: {total}");
+    Ok(())
+}
+
+fn print_set(set: &SetReport) {
+    let d = &set.direct;
+    let samples: usize = d.samples_per_class.iter().sum();
+    println!(
+        "\n{} set — {} classes × {} samples ({}), {:.2} spikes per taxel; pipeline {:.1} s",
+        d.name,
+        d.class_names.len(),
+        samples,
+        set.source,
+        d.mean_spikes_per_taxel,
+        d.time.wall_s
+    );
+    println!("{}", accuracy_table(set));
+    println!("{}", parameter_table(d));
+    println!("{}", intensive_table(d));
+    println!("{}", phase_table(set));
+    println!("{}", recall_table(set));
+    let confusions = paper_confusion_table(set);
+    if !confusions.is_empty() {
+        println!("{confusions}");
+    }
+    if let Some(why) = d.codings.iter().find_map(|c| c.split_refused.as_ref()) {
+        println!("80/20 split refused: {why}\n");
+    }
+    if set.afferent.is_some() {
+        println!("{}", afferent_table(set));
+    }
+}

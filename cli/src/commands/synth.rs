@@ -1,0 +1,67 @@
+//! `neurotac synth`: writes a seeded synthetic NeuroTac-like texture dataset.
+
+use crate::commands::args;
+use clap::Args;
+use neurotac_experiments::datasets::synthetic::{SyntheticConfig, synthetic_dataset};
+use std::path::PathBuf;
+
+#[derive(Debug, Args)]
+pub struct SynthArgs {
+    /// Output file, format by extension: `.json`, `.bin` (or `.ntspk`, compact binary) or
+    /// `.npz` (numpy arrays).
+    #[arg(long)]
+    output: PathBuf,
+    /// Number of samples.
+    #[arg(value_parser = args::positive_count, allow_negative_numbers = true, long, default_value_t = 1100)]
+    samples: usize,
+    /// Number of classes (textures).
+    #[arg(value_parser = args::positive_count, allow_negative_numbers = true, long, default_value_t = 11)]
+    classes: usize,
+    /// Channels (taxels) per sample.
+    #[arg(value_parser = args::positive_count, allow_negative_numbers = true, long, default_value_t = 49)]
+    channels: usize,
+    /// Mean spikes per channel.
+    #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long, default_value_t = 10.0)]
+    spikes_per_unit: f64,
+    /// Sample duration (s).
+    #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long, default_value_t = 4.5)]
+    duration: f64,
+    /// Seed.
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Replace existing output files (without it, an existing output is refused).
+    #[arg(long)]
+    force: bool,
+}
+
+pub fn run(args: SynthArgs) -> anyhow::Result<()> {
+    neurotac_experiments::export::OutputFormat::from_path(
+        &args.output,
+        &neurotac_experiments::export::DATASET_FORMATS,
+    )?;
+    super::refuse_existing([args.output.as_path()], args.force)?;
+    anyhow::ensure!(
+        args.spikes_per_unit.is_finite()
+            && args.spikes_per_unit > 0.0
+            && args.duration.is_finite()
+            && args.duration > 0.0,
+        "--spikes-per-unit and --duration must be finite and > 0"
+    );
+    let data = synthetic_dataset(&SyntheticConfig {
+        samples: args.samples,
+        classes: args.classes,
+        channels: args.channels,
+        spikes_per_unit: args.spikes_per_unit,
+        duration_s: args.duration,
+        seed: args.seed,
+    });
+    neurotac_experiments::export::write_dataset(&data, &args.output)?;
+    println!(
+        "{} samples × {} channels, {} classes → {}",
+        data.len(),
+        data.n_channels(),
+        data.n_classes(),
+        args.output.display()
+    );
+    Ok(())
+}

@@ -1,0 +1,92 @@
+//! `neurotac tradeoff vr`: the exact Van Rossum distance against the distance of synaptic
+//! traces sampled at `--trace-dts` in f64/f32, as LOO accuracy, distance error and matrix time,
+//! on a simulated set (`--set`) or a labelled dataset (`--input`).
+
+use crate::commands::args;
+use crate::commands::load_labelled;
+use clap::Args;
+use neurotac_cli::tradeoff::vr::{VrTradeoffConfig, measure, to_markdown};
+use neurotac_experiments::datasets::simulated::{TextureSet, default_cache_dir, load_or_simulate};
+use neurotac_experiments::neuron_setup::Precision;
+use neurotac_sensor::sim::SimParams;
+use std::path::PathBuf;
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+enum VrSet {
+    /// The 11 bump grids, 100 slides each (seed 1, from the cache or simulated).
+    Artificial,
+    /// The 20 natural textures, 50 slides each.
+    Natural,
+}
+
+#[derive(Debug, Args)]
+pub struct VrArgs {
+    /// A simulated texture set (the paper's slide counts, seed 1, default cache).
+    #[arg(
+        long,
+        value_enum,
+        conflicts_with = "input",
+        required_unless_present = "input"
+    )]
+    set: Option<VrSet>,
+    /// A labelled spike dataset (JSON or binary) instead.
+    #[arg(long)]
+    input: Option<PathBuf>,
+    /// Kernel time constant τ (s).
+    #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long, default_value_t = 0.076)]
+    tau: f64,
+    /// cos θ in [0, 1].
+    #[arg(value_parser = args::unit_interval, allow_negative_numbers = true, long, default_value_t = 0.4)]
+    cos: f64,
+    /// Trace steps to try (ms, whole µs), comma-separated.
+    #[arg(
+        value_parser = args::positive_f64, allow_negative_numbers = true,
+        long,
+        value_delimiter = ',',
+        default_value = "0.1,1,5,20"
+    )]
+    trace_dts: Vec<f64>,
+    /// Trace arithmetic to try, comma-separated.
+    #[arg(long, value_parser = args::menu::<Precision>(), value_delimiter = ',', default_value = "f64,f32")]
+    precisions: Vec<Precision>,
+    /// Use about this many samples (every ⌈N/samples⌉-th; default: all).
+    #[arg(value_parser = args::positive_count, allow_negative_numbers = true, long)]
+    samples: Option<usize>,
+    /// Print one JSON object instead of a table.
+    #[arg(long)]
+    json: bool,
+}
+
+pub fn run(args: VrArgs) -> anyhow::Result<()> {
+    let data = match (&args.input, args.set) {
+        (Some(path), _) => load_labelled(path)?,
+        (None, set) => {
+            let set = match set {
+                Some(VrSet::Natural) => TextureSet::Natural,
+                _ => TextureSet::Artificial,
+            };
+            load_or_simulate(
+                set,
+                set.paper_trials(),
+                1,
+                &SimParams::default(),
+                &default_cache_dir(),
+            )?
+        }
+    };
+    let config = VrTradeoffConfig {
+        tau_s: args.tau,
+        cos: args.cos,
+        trace_dts_s: args.trace_dts.iter().map(|ms| ms * 1e-3).collect(),
+        precisions: args.precisions.clone(),
+        samples: args.samples,
+        ..VrTradeoffConfig::default()
+    };
+    let sweep = measure(&data, &config)?;
+    if args.json {
+        println!("{}", serde_json::to_string(&sweep)?);
+    } else {
+        println!("{}", to_markdown(&sweep));
+    }
+    Ok(())
+}

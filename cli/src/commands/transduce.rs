@@ -1,0 +1,252 @@
+//! `neurotac transduce`, `neurotac filter` and `neurotac layout`: the NeuroTac transduction
+//! (BA filter → receptive fields → pooling → re-centring) on any event file.
+
+use crate::commands::args;
+use anyhow::{Context, bail};
+use clap::Args;
+use neurotac_cli::report::figures::spike_train_figure;
+use neurotac_cli::report::png::PngRenderer;
+use neurotac_core::io::{AtomicFile, check_distinct};
+use neurotac_experiments::export::{DATASET_FORMATS, OutputFormat, dataset_bytes};
+use neurotac_experiments::transduce::{LayoutSpec, filter_file, resolve_layout, transduce_file};
+use neurotac_sensor::filter::MapStart;
+use neurotac_sensor::taxel::{TaxelLayout, TransductionConfig};
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// The layout of `--layout` for `input`, printing how an automatic one was found.
+fn layout_from(
+    spec: &str,
+    input: &Path,
+    calibration_ms: f64,
+    radius_px: f64,
+) -> anyhow::Result<TaxelLayout> {
+    let spec = LayoutSpec::parse(spec, calibration_ms);
+    let (layout, detection) = resolve_layout(&spec, input, radius_px)?;
+    if let Some(d) = detection {
+        eprintln!(
+            "layout: found {} of {} taxels in the first {calibration_ms} ms (confidence {:.2}, {:.0} % of events inside the fields)",
+            d.found,
+            d.expected,
+            d.confidence,
+            100.0 * d.captured_fraction
+        );
+    }
+    Ok(layout)
+}
+
+/// An output file, created hidden beside `path` until committed.
+fn create_output(path: &Path) -> anyhow::Result<AtomicFile> {
+    AtomicFile::create(path).with_context(|| format!("creating {}", path.display()))
+}
+
+fn ba_start(empty: bool) -> MapStart {
+    match empty {
+        true => MapStart::Empty,
+        false => MapStart::Zero,
+    }
+}
+
+#[derive(Debug, Args)]
+pub struct TransduceArgs {
+    /// Event file (AEDAT 2/3.1/4, ECD text, CSV; detected from its first bytes).
+    input: PathBuf,
+    /// Taxel layout: `default` (49 pins, rings 1+8+16+24), a JSON file of [x, y] centres, or
+    /// `auto` (detected from the first --calibration-ms of the recording).
+    #[arg(long, default_value = "default")]
+    layout: String,
+    /// Background-activity window (µs); 0 disables the filter.
+    #[arg(value_parser = args::positive_i64, allow_negative_numbers = true, long, default_value_t = 5000)]
+    ba_window_us: i64,
+    /// Start the BA time surface empty instead of at t = 0 (dv-processing's choice).
+    #[arg(long)]
+    ba_empty_start: bool,
+    /// Receptive-field radius (px); the paper's fields are 6 px in diameter.
+    #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long, default_value_t = 3.0)]
+    rf_radius_px: f64,
+    /// Pooling window (ms).
+    #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long, default_value_t = 20.0)]
+    pool_ms: f64,
+    /// Re-centring gain in [0, 1] (0: fixed fields).
+    #[arg(value_parser = args::unit_interval, allow_negative_numbers = true, long, default_value_t = 0.5)]
+    gain: f64,
+    /// Calibration time for --layout auto (ms).
+    #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long, default_value_t = 500.0)]
+    calibration_ms: f64,
+    /// Class label name stored in the dataset.
+    #[arg(long)]
+    label: Option<String>,
+    /// Output spike dataset, format by extension: `.json`, `.bin` (or `.ntspk`, compact
+    /// binary) or `.npz` (numpy arrays).
+    #[arg(long)]
+    out: PathBuf,
+    /// Also write a raster plot with spatial and temporal distributions: SVG at this path and
+    /// PNG beside it (`r.svg` → `r.svg`, `r.png`).
+    #[arg(long)]
+    raster: Option<PathBuf>,
+    /// Replace existing output files (without it, an existing output is refused).
+    #[arg(long)]
+    force: bool,
+}
+
+pub fn run_transduce(a: TransduceArgs) -> anyhow::Result<()> {
+    // Every output is checked against the input and created (hidden) before any work, and all
+    // are renamed into place together at the end: a failure leaves none of them.
+    check_distinct(&a.input, &a.out)?;
+    let format = OutputFormat::from_path(&a.out, &DATASET_FORMATS)?;
+    super::refuse_existing(
+        [a.out.as_path()].into_iter().chain(a.raster.as_deref()),
+        a.force,
+    )?;
+    let mut out_file = create_output(&a.out)?;
+    // The raster as SVG at the path given and as PNG beside it (`r.svg` → `r.png`); a path
+    // ending in `.png` gets the PNG only.
+    let mut raster_files = Vec::new();
+    if let Some(path) = &a.raster {
+        let png = path.with_extension("png");
+        let svg = (png != *path).then(|| path.clone());
+        super::refuse_existing([png.as_path()], a.force)?;
+        for p in svg.iter().chain(std::iter::once(&png)) {
+            check_distinct(&a.input, p)?;
+            raster_files.push(create_output(p)?);
+        }
+    }
+    let layout = layout_from(&a.layout, &a.input, a.calibration_ms, a.rf_radius_px)?;
+    if !(a.pool_ms.is_finite() && a.pool_ms > 0.0) {
+        bail!("--pool-ms {} must be finite and > 0", a.pool_ms);
+    }
+    let config = TransductionConfig {
+        ba_window_us: (a.ba_window_us > 0).then_some(a.ba_window_us),
+        ba_start: ba_start(a.ba_empty_start),
+        rf_radius_px: a.rf_radius_px,
+        pool_window_us: neurotac_core::time::s_to_us(a.pool_ms / 1e3),
+        recentre_gain: a.gain,
+        ..TransductionConfig::default()
+    };
+    let t = transduce_file(&a.input, &layout, &a.layout, config, a.label.as_deref())?;
+    if let Some(warning) = t.read.warning(&a.input) {
+        eprintln!("{warning}");
+    }
+    let bytes = dataset_bytes(&t.dataset, format)?;
+    out_file
+        .write_all(&bytes)
+        .with_context(|| format!("writing {}", a.out.display()))?;
+    if !raster_files.is_empty() {
+        let title = format!(
+            "{}: {} taxel spikes",
+            a.input.display(),
+            t.trains.total_spikes()
+        );
+        let svg = spike_train_figure(&t.trains, &title, 0.159);
+        for file in &mut raster_files {
+            let bytes = match file.target().extension().is_some_and(|e| e == "png") {
+                true => PngRenderer::new()
+                    .render(&svg, 1.5)
+                    .with_context(|| format!("drawing {}", file.target().display()))?,
+                false => svg.clone().into_bytes(),
+            };
+            file.write_all(&bytes)
+                .with_context(|| format!("writing {}", file.target().display()))?;
+        }
+    }
+    for file in std::iter::once(out_file).chain(raster_files) {
+        let path = file.target().to_path_buf();
+        file.commit()
+            .with_context(|| format!("writing {}", path.display()))?;
+    }
+    let c = t.counts;
+    println!(
+        "{} pixel events → {} after filters → {} in receptive fields → {} taxel spikes ({:.2} per taxel); transduction {:.1} M events/s, with reading the file {:.1} M events/s",
+        c.events_in,
+        c.after_filters,
+        c.in_fields,
+        c.taxel_events,
+        c.taxel_events as f64 / layout.len() as f64,
+        c.events_in as f64 / t.transducing.as_secs_f64() / 1e6,
+        c.events_in as f64 / t.wall.as_secs_f64() / 1e6
+    );
+    println!("wrote {}", a.out.display());
+    Ok(())
+}
+
+#[derive(Debug, Args)]
+pub struct FilterArgs {
+    /// Event file to read.
+    input: PathBuf,
+    /// Event file to write (format from its extension).
+    output: PathBuf,
+    /// Background-activity window (µs).
+    #[arg(value_parser = args::positive_i64, allow_negative_numbers = true, long, default_value_t = 5000)]
+    ba_window_us: i64,
+    /// Start the BA time surface empty instead of at t = 0.
+    #[arg(long)]
+    ba_empty_start: bool,
+    /// Also drop events within this refractory period of their own pixel's last event (µs).
+    #[arg(value_parser = args::positive_i64, allow_negative_numbers = true, long)]
+    refractory_us: Option<i64>,
+    /// Replace existing output files (without it, an existing output is refused).
+    #[arg(long)]
+    force: bool,
+}
+
+pub fn run_filter(a: FilterArgs) -> anyhow::Result<()> {
+    check_distinct(&a.input, &a.output)?;
+    super::refuse_existing([a.output.as_path()], a.force)?;
+    let start = Instant::now();
+    let start_mode = ba_start(a.ba_empty_start);
+    let c = filter_file(
+        &a.input,
+        &a.output,
+        a.ba_window_us,
+        start_mode,
+        a.refractory_us,
+    )?;
+    if let Some(warning) = c.read.warning(&a.input) {
+        eprintln!("{warning}");
+    }
+    let wall = start.elapsed().as_secs_f64();
+    println!(
+        "kept {} of {} events ({:.1} %) → {}; {:.1} M events/s",
+        c.kept,
+        c.seen,
+        100.0 * c.kept as f64 / c.seen.max(1) as f64,
+        a.output.display(),
+        c.seen as f64 / wall / 1e6
+    );
+    Ok(())
+}
+
+#[derive(Debug, Args)]
+pub struct LayoutArgs {
+    /// Calibration recording (any event file).
+    input: PathBuf,
+    /// Use the first this many milliseconds.
+    #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long, default_value_t = 500.0)]
+    calibration_ms: f64,
+    /// Receptive-field radius (px); the paper's fields are 6 px in diameter.
+    #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long, default_value_t = 3.0)]
+    rf_radius_px: f64,
+    /// Write the 49 centres as a JSON list of [x, y] (px).
+    #[arg(long)]
+    out: Option<PathBuf>,
+    /// Replace existing output files (without it, an existing output is refused).
+    #[arg(long)]
+    force: bool,
+}
+
+pub fn run_layout(a: LayoutArgs) -> anyhow::Result<()> {
+    if let Some(path) = &a.out {
+        check_distinct(&a.input, path)?;
+    }
+    super::refuse_existing(a.out.as_deref(), a.force)?;
+    let layout = layout_from("auto", &a.input, a.calibration_ms, a.rf_radius_px)?;
+    if let Some(path) = &a.out {
+        neurotac_core::io::write(path, layout.to_json())
+            .with_context(|| format!("writing {}", path.display()))?;
+        println!("wrote {}", path.display());
+    } else {
+        println!("{}", layout.to_json());
+    }
+    Ok(())
+}

@@ -1,0 +1,496 @@
+//! The report's Markdown tables (also printed by the CLI): accuracy against the paper's, the
+//! afferent variant next to the direct pipeline, and the chosen parameters and intensive means.
+
+use neurotac_experiments::coding::CodingName;
+use neurotac_experiments::reproduce::paper::{self, PaperTable};
+use neurotac_experiments::reproduce::{SetReport, SetResult};
+use std::fmt::Write as _;
+
+/// A fraction as a percentage with one decimal (`0.785` → `78.5`).
+pub(crate) fn pct(x: f64) -> String {
+    format!("{:.1}", 100.0 * x)
+}
+
+/// Appended to the paper's column of a `--quick` run's table.
+pub const QUICK_MARK: &str = " — not comparable: --quick run";
+
+/// The paper's table for this set, if it is one of the paper's sets.
+pub(crate) fn paper_table(set: &SetResult) -> Option<&'static PaperTable> {
+    paper::table_for(&set.name)
+}
+
+/// The comparison table of one set as Markdown rows (also printed by the CLI).
+pub fn accuracy_table(set: &SetReport) -> String {
+    let paper = paper_table(&set.direct);
+    let mut s = String::new();
+    let _ = write!(
+        s,
+        "| coding | parameters | LOO accuracy (%) | Wilson 95 % | 80/20 split (%) |"
+    );
+    if let Some(p) = paper {
+        let _ = write!(
+            s,
+            " paper, {} (%){} |",
+            p.table,
+            QUICK_MARK.repeat(set.quick as usize)
+        );
+    }
+    s.push_str("\n|---|---|---|---|---|");
+    if paper.is_some() {
+        s.push_str("---|");
+    }
+    s.push('\n');
+    for (i, c) in set.direct.codings.iter().enumerate() {
+        let a = c.loo.accuracy;
+        let split = c
+            .split
+            .as_ref()
+            .map(|e| pct(e.accuracy.mean))
+            .unwrap_or_else(|| "refused".into());
+        let _ = write!(
+            s,
+            "| {} | {} | {} ± {} | [{}, {}] | {} |",
+            c.coding.label(),
+            c.parameters,
+            pct(a.mean),
+            pct(a.std),
+            pct(a.wilson_low),
+            pct(a.wilson_high),
+            split
+        );
+        if let Some(p) = paper {
+            match p.std_percent {
+                Some(sd) => {
+                    let _ = write!(s, " {:.1} ± {:.1} |", p.accuracy_percent[i], sd[i]);
+                }
+                None => {
+                    let _ = write!(s, " {:.1} |", p.accuracy_percent[i]);
+                }
+            }
+        }
+        s.push('\n');
+    }
+    s
+}
+
+/// The afferent variant next to the direct pipeline, as Markdown rows (empty without it): per
+/// coding, accuracy, parameters and time (parameter search included) of both, and the time of
+/// the afferent network itself.
+pub fn afferent_table(set: &SetReport) -> String {
+    let Some(aff) = &set.afferent else {
+        return String::new();
+    };
+    let mut s = format!(
+        "| coding | direct: LOO (%) | direct: time (s) | {m} afferents: parameters | {m} afferents: LOO (%) | {m} afferents: time (s) |\n|---|---|---|---|---|---|\n",
+        m = aff.model
+    );
+    for c in &set.direct.codings {
+        let a = aff.result.coding(c.coding);
+        let _ = writeln!(
+            s,
+            "| {} | {} ± {} | {:.2} | {} | {} ± {} | {:.2} |",
+            c.coding.label(),
+            pct(c.loo.accuracy.mean),
+            pct(c.loo.accuracy.std),
+            coding_seconds(&set.direct, c.coding),
+            a.parameters,
+            pct(a.loo.accuracy.mean),
+            pct(a.loo.accuracy.std),
+            coding_seconds(&aff.result, c.coding)
+        );
+    }
+    let _ = writeln!(
+        s,
+        "| (afferent network, all samples) | | | | | {:.2} |",
+        aff.network_time.wall_s
+    );
+    s
+}
+
+/// Wall time of a coding including its parameter search.
+pub fn coding_seconds(set: &SetResult, coding: CodingName) -> f64 {
+    let own = set.coding(coding).time.wall_s;
+    own + match coding {
+        CodingName::Temporal => set.dt_sweep_time.wall_s,
+        CodingName::Spatiotemporal => set.bayes_time.wall_s,
+        _ => 0.0,
+    }
+}
+
+/// One chosen parameter or intensive class mean, with the paper's value where it gives one.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ParameterRow {
+    /// What it is (`temporal Δt (ms)`, `intensive mean, grid 2.5 mm (spikes per taxel)`, …).
+    pub quantity: String,
+    /// This run's value.
+    pub value: f64,
+    /// The paper's value (the paper reports its parameters for the artificial set only).
+    pub paper: Option<f64>,
+}
+
+/// The chosen Δt, τ and cos θ, then the intensive mean of every class.
+pub fn parameter_rows(set: &SetResult) -> Vec<ParameterRow> {
+    let paper_set = set.name == "artificial";
+    let row = |quantity: &str, value: f64, paper: f64| ParameterRow {
+        quantity: quantity.into(),
+        value,
+        paper: paper_set.then_some(paper),
+    };
+    let mut rows = vec![
+        row(
+            "temporal Δt (ms)",
+            set.dt_sweep.best_window_ms as f64,
+            paper::DT_MS,
+        ),
+        row(
+            "Van Rossum τ (ms)",
+            // ms on the search's grid, rounded so it prints in its shortest form (35, not
+            // 35.00000000000001).
+            (set.bayes.best_tau_s * 1e3 * 1e9).round() / 1e9,
+            paper::TAU_MS,
+        ),
+        row("Van Rossum cos θ", set.bayes.best_cos, paper::COS_THETA),
+    ];
+    rows.extend(
+        set.class_names
+            .iter()
+            .zip(&set.intensive_class_means)
+            .map(|(class, &value)| ParameterRow {
+                quantity: format!("intensive mean, {class} (spikes per taxel)"),
+                value,
+                paper: paper::INTENSIVE_MEANS
+                    .iter()
+                    .find(|&&(mm, _)| *class == paper::grid_name(mm))
+                    .map(|&(_, m)| m),
+            }),
+    );
+    rows
+}
+
+/// Why a chosen parameter is suspect: it sits on a bound of its search (the optimum may lie
+/// beyond it), as `(quantity, note)` for Δt, τ and cos θ; `None` when inside.
+pub fn bound_notes(set: &SetResult) -> [Option<String>; 3] {
+    let space = &set.search_space;
+    let dt = set.dt_sweep.best_window_ms;
+    let dt_note = if dt == space.dt_max_ms {
+        Some(format!("on the search bound (Δt ≤ {} ms)", space.dt_max_ms))
+    } else if dt == 1 {
+        Some("on the search bound (Δt ≥ 1 ms)".to_owned())
+    } else {
+        None
+    };
+    let tau = set.bayes.best_tau_s;
+    let half_tau = space.tau_step_s / 2.0;
+    let tau_note = if tau >= space.tau_max_s - half_tau {
+        Some(format!(
+            "on the search bound (τ ≤ {:.0} ms)",
+            space.tau_max_s * 1e3
+        ))
+    } else if tau <= space.tau_min_s + half_tau {
+        Some(format!(
+            "on the search bound (τ ≥ {:.0} ms)",
+            space.tau_min_s * 1e3
+        ))
+    } else {
+        None
+    };
+    let cos = set.bayes.best_cos;
+    let cos_note = if cos >= 1.0 - space.cos_step / 2.0 {
+        Some("on the search bound (cos θ ≤ 1)".to_owned())
+    } else if cos <= space.cos_step / 2.0 {
+        Some("on the search bound (cos θ ≥ 0)".to_owned())
+    } else {
+        None
+    };
+    [dt_note, tau_note, cos_note]
+}
+
+/// The chosen Δt, τ and cos θ against the paper's, each flagged when it sits on a bound of its
+/// search ([`bound_notes`]), as Markdown.
+pub fn parameter_table(set: &SetResult) -> String {
+    let mut s = String::from("| quantity | this run | paper | note |\n|---|---|---|---|\n");
+    let notes = bound_notes(set);
+    for (i, r) in parameter_rows(set).iter().take(3).enumerate() {
+        let value = match i {
+            0 => format!("{}", r.value),
+            1 => format!("{:.0}", r.value),
+            _ => format!("{:.2}", r.value),
+        };
+        let paper = r.paper.map_or("—".into(), |p| p.to_string());
+        let note = notes[i].as_deref().unwrap_or("");
+        let _ = writeln!(s, "| {} | {value} | {paper} | {note} |", r.quantity);
+    }
+    s
+}
+
+/// The intensive mean (spikes per taxel) of every class in class order, with the paper's where
+/// it gives one, then for bump grids whether the means rise with grid size, as Markdown.
+pub fn intensive_table(set: &SetResult) -> String {
+    let mut s =
+        String::from("| class | intensive mean (spikes per taxel) | paper |\n|---|---|---|\n");
+    for r in parameter_rows(set).iter().skip(3) {
+        let class = r
+            .quantity
+            .trim_start_matches("intensive mean, ")
+            .trim_end_matches(" (spikes per taxel)");
+        let paper = r.paper.map_or("—".into(), |p| p.to_string());
+        let _ = writeln!(s, "| {class} | {:.2} | {paper} |", r.value);
+    }
+    if let Some(line) = monotonicity(set) {
+        let _ = writeln!(s, "\n{line}");
+    }
+    s
+}
+
+/// For a set of bump grids (classes named `grid D mm`, sorted by D): whether the intensive
+/// means rise with grid size, naming every step where they do not.
+pub fn monotonicity(set: &SetResult) -> Option<String> {
+    let sizes: Vec<f64> = set
+        .class_names
+        .iter()
+        .map(|n| paper::grid_size_mm(n))
+        .collect::<Option<_>>()?;
+    if sizes.len() < 2 || sizes.windows(2).any(|w| w[0] >= w[1]) {
+        return None;
+    }
+    let falls: Vec<String> = sizes
+        .windows(2)
+        .zip(set.intensive_class_means.windows(2))
+        .filter(|(_, m)| m[1] <= m[0])
+        .map(|(d, m)| format!("{:.1} → {:.1} mm ({:.2} → {:.2})", d[0], d[1], m[0], m[1]))
+        .collect();
+    Some(if falls.is_empty() {
+        "The intensive mean rises with every grid size.".to_owned()
+    } else {
+        format!(
+            "The intensive mean does not rise with grid size at {}.",
+            falls.join(", ")
+        )
+    })
+}
+
+#[cfg(test)]
+pub(crate) mod tests {
+    use super::*;
+    use neurotac_experiments::menu::Menu;
+    use neurotac_experiments::protocols::{Accuracy, ConfusionMatrix, Evaluation};
+    use neurotac_experiments::reproduce::CodingResult;
+    use neurotac_experiments::search::bayes::{BayesResult, BayesStep};
+    use neurotac_experiments::search::dt_sweep::DtSweep;
+    use neurotac_experiments::timing::Timing;
+
+    fn evaluation(mean: f64) -> Evaluation {
+        Evaluation {
+            tested: (0..10).collect(),
+            predicted: vec![0; 10],
+            accuracy: Accuracy {
+                mean,
+                std: 0.1,
+                hits: (mean * 10.0) as usize,
+                n: 10,
+                wilson_low: mean - 0.2,
+                wilson_high: (mean + 0.1).min(1.0),
+            },
+            fold_accuracies: Vec::new(),
+            confusion: ConfusionMatrix {
+                counts: vec![vec![4, 1], vec![0, 5]],
+            },
+        }
+    }
+
+    /// A hand-made result of a two-class set named `name`.
+    pub(crate) fn set_result(name: &str) -> SetResult {
+        let codings = CodingName::ALL
+            .iter()
+            .enumerate()
+            .map(|(i, &coding)| CodingResult {
+                coding,
+                parameters: if coding == CodingName::Temporal {
+                    "Δt = 3 ms".into()
+                } else {
+                    String::new()
+                },
+                loo: evaluation(0.5 + 0.1 * i as f64),
+                split: (i != 1).then(|| evaluation(0.6)),
+                split_refused: (i == 1).then(|| "class 1 has 1 sample(s)".into()),
+                time: Timing::default(),
+            })
+            .collect();
+        let step = BayesStep {
+            epoch: 1,
+            tau_s: 0.02,
+            cos: 0.5,
+            value: 0.8,
+            best_value: 0.8,
+            best_tau_s: 0.02,
+            best_cos: 0.5,
+        };
+        SetResult {
+            name: name.into(),
+            path: "network: taxel input → four coding readouts".into(),
+            van_rossum: "exact, from the readout's spike trains".into(),
+            class_names: vec!["grid 0.0 mm".into(), "grid 2.5 mm".into()],
+            samples_per_class: vec![5, 5],
+            duration_ms: 10,
+            mean_spikes_per_taxel: 7.0,
+            intensive_class_means: vec![4.0, 10.0],
+            dt_sweep: DtSweep {
+                windows_ms: vec![1, 2, 3],
+                accuracy: vec![0.5, 0.6, 0.7],
+                best_window_ms: 3,
+                best: evaluation(0.7).accuracy,
+            },
+            dt_sweep_time: Timing::default(),
+            bayes: BayesResult {
+                best_tau_s: 0.02,
+                best_cos: 0.5,
+                best_value: 0.8,
+                best_tau_index: 0,
+                trace: vec![step],
+            },
+            bayes_time: Timing::default(),
+            vr_matrices_computed: 1,
+            search_space: neurotac_experiments::reproduce::SearchSpace {
+                dt_max_ms: 3,
+                tau_min_s: 0.01,
+                tau_max_s: 0.1,
+                tau_step_s: 0.005,
+                cos_step: 0.01,
+            },
+            codings,
+            time: Timing::default(),
+        }
+    }
+
+    /// The set report of `direct` (no afferents, no examples), its source named `source`, its
+    /// phases unknown as a recorded set's.
+    pub(crate) fn set_report(direct: SetResult, source: &str, quick: bool) -> SetReport {
+        SetReport {
+            source: source.into(),
+            dataset_time: Timing::default(),
+            readout_time: Timing::default(),
+            phases: neurotac_experiments::reproduce::phases::Phases::recorded(),
+            loo_analysis: neurotac_experiments::reproduce::confusions::loo_analysis(&direct),
+            direct,
+            afferent: None,
+            examples: Vec::new(),
+            quick,
+        }
+    }
+
+    /// A one-set report of `direct`, its source named `source`.
+    pub(crate) fn report_of(
+        direct: SetResult,
+        source: &str,
+    ) -> neurotac_experiments::reproduce::Report {
+        neurotac_experiments::reproduce::Report {
+            command: "neurotac reproduce".into(),
+            version: "0".into(),
+            seed: 1,
+            sets: vec![set_report(direct, source, false)],
+            calibration: Vec::new(),
+            time: Timing::default(),
+        }
+    }
+
+    #[test]
+    fn the_accuracy_table_adds_the_papers_column_for_the_papers_sets() {
+        let set = |name| set_report(set_result(name), "test", false);
+        let ours = accuracy_table(&set("artificial"));
+        let lines: Vec<&str> = ours.lines().collect();
+        assert_eq!(lines.len(), 2 + 4);
+        assert!(lines[0].ends_with("| paper, Table 1 (%) |"), "{}", lines[0]);
+        assert_eq!(
+            lines[2],
+            "| Intensive |  | 50.0 ± 10.0 | [30.0, 60.0] | 60.0 | 78.5 ± 41.1 |"
+        );
+        assert!(lines[3].contains("| refused |"), "{}", lines[3]);
+        let recorded = accuracy_table(&set("my-textures"));
+        assert!(!recorded.contains("paper"), "{recorded}");
+        assert!(afferent_table(&set("artificial")).is_empty());
+    }
+
+    #[test]
+    fn parameter_rows_compare_with_the_paper_only_where_it_reports() {
+        let rows = parameter_rows(&set_result("artificial"));
+        assert_eq!(rows[0].quantity, "temporal Δt (ms)");
+        assert_eq!((rows[0].value, rows[0].paper), (3.0, Some(159.0)));
+        assert_eq!((rows[1].value, rows[1].paper), (20.0, Some(76.0)));
+        // Class means: the paper gives 0 and 2.5 mm.
+        assert_eq!(rows[3].paper, Some(4.63));
+        assert_eq!(rows[4].paper, Some(9.84));
+        let natural = parameter_rows(&set_result("natural"));
+        assert_eq!(natural[0].paper, None);
+        let table = parameter_table(&set_result("artificial"));
+        assert!(
+            table.contains("| temporal Δt (ms) | 3 | 159 | on the search bound (Δt ≤ 3 ms) |"),
+            "{table}"
+        );
+        assert!(
+            table.contains("| Van Rossum τ (ms) | 20 | 76 |  |"),
+            "{table}"
+        );
+    }
+
+    /// Issue 12: a choice on a search bound is flagged, one inside is not.
+    #[test]
+    fn choices_on_a_search_bound_are_flagged() {
+        let mut set = set_result("natural");
+        assert_eq!(
+            bound_notes(&set),
+            [
+                Some("on the search bound (Δt ≤ 3 ms)".to_owned()),
+                None,
+                None
+            ]
+        );
+        set.dt_sweep.best_window_ms = 2;
+        set.bayes.best_tau_s = 0.1;
+        set.bayes.best_cos = 0.0;
+        assert_eq!(
+            bound_notes(&set),
+            [
+                None,
+                Some("on the search bound (τ ≤ 100 ms)".to_owned()),
+                Some("on the search bound (cos θ ≥ 0)".to_owned())
+            ]
+        );
+        set.bayes.best_tau_s = 0.012;
+        assert_eq!(
+            bound_notes(&set)[1].as_deref(),
+            Some("on the search bound (τ ≥ 10 ms)")
+        );
+    }
+
+    /// Issue 12: every class's intensive mean is shown, and a fall with grid size is named.
+    #[test]
+    fn every_intensive_mean_is_shown_and_monotonicity_is_checked() {
+        let mut set = set_result("artificial");
+        let table = intensive_table(&set);
+        assert!(table.contains("| grid 0.0 mm | 4.00 | 4.63 |"), "{table}");
+        assert!(table.contains("| grid 2.5 mm | 10.00 | 9.84 |"), "{table}");
+        assert!(
+            table.ends_with("The intensive mean rises with every grid size.\n"),
+            "{table}"
+        );
+        set.intensive_class_means = vec![10.0, 4.0];
+        assert_eq!(
+            monotonicity(&set).unwrap(),
+            "The intensive mean does not rise with grid size at 0.0 → 2.5 mm (10.00 → 4.00)."
+        );
+        set.class_names = vec!["cotton".into(), "denim".into()];
+        assert_eq!(monotonicity(&set), None);
+        assert!(intensive_table(&set).contains("| cotton | 10.00 | — |"));
+    }
+
+    /// Issue 12: a --quick run's table says it is not comparable with the paper's.
+    #[test]
+    fn a_quick_tables_paper_column_is_marked() {
+        let set = set_report(set_result("artificial"), "test", true);
+        let first = accuracy_table(&set).lines().next().unwrap().to_owned();
+        assert!(
+            first.ends_with("| paper, Table 1 (%) — not comparable: --quick run |"),
+            "{first}"
+        );
+    }
+}

@@ -1,0 +1,417 @@
+//! The speed ↔ accuracy trade of neuron simulation: model × integrator × dt × precision ×
+//! spike-time stamping, each point measured for accuracy against a truth and for speed.
+//!
+//! Truths: LIF (`I = 1.04`, from `v = 0`) has the closed form `t_k = k·τ·ln(I/(I − 1))`;
+//! Izhikevich RS (`I = 10`, from −65 mV) is run with RK4 at 1 µs, f64, interpolated times.
+//! Accuracy: spike-count error and the mean / max |t − t_true| over the spikes both runs have
+//! (k-th to k-th). Speed: updates per second of 100 000 such neurons on one thread.
+
+use super::{Table, TradeoffError, mark_front, write_trade};
+use crate::bench::BenchError;
+use crate::report::svg::{Axis, Chart, Marker, PALETTE, Series, panels};
+use neurotac_experiments::neuron_setup::{NeuronKind, NeuronSetup, Precision};
+use neurotac_experiments::threads::with_threads;
+use neurotac_neurons::{Integrator, LifParams};
+use serde::Serialize;
+use std::fmt::Write;
+use std::path::Path;
+
+/// What to sweep.
+#[derive(Debug, Clone, PartialEq)]
+pub struct NeuronTradeoffConfig {
+    /// Time steps (s). Default 10 µs … 1 ms.
+    pub dts_s: Vec<f64>,
+    /// Simulated time of each accuracy run (s). Default 1.
+    pub duration_s: f64,
+    /// Neurons in each speed run. Default 100 000.
+    pub speed_neurons: usize,
+    /// Steps in each speed run (best of three runs is kept). Default 100.
+    pub speed_steps: u64,
+}
+
+impl Default for NeuronTradeoffConfig {
+    fn default() -> Self {
+        Self {
+            dts_s: vec![1e-5, 2e-5, 5e-5, 1e-4, 2e-4, 5e-4, 1e-3],
+            duration_s: 1.0,
+            speed_neurons: 100_000,
+            speed_steps: 100,
+        }
+    }
+}
+
+/// One measured point.
+#[derive(Debug, Clone, Serialize)]
+pub struct NeuronTradeoffRow {
+    /// Model.
+    pub model: NeuronKind,
+    /// Integrator name.
+    pub integrator: &'static str,
+    /// Precision.
+    pub precision: Precision,
+    /// `true` for interpolated spike times, `false` for grid times.
+    pub interpolate: bool,
+    /// Time step (s).
+    pub dt_s: f64,
+    /// Spikes fired.
+    pub spikes: usize,
+    /// Spikes of the truth.
+    pub true_spikes: usize,
+    /// `|spikes − true_spikes|`.
+    pub count_error: usize,
+    /// Mean |t − t_true| over matched spikes (s); `None` without spikes.
+    pub mean_time_error_s: Option<f64>,
+    /// Max |t − t_true| over matched spikes (s); `None` without spikes.
+    pub max_time_error_s: Option<f64>,
+    /// Neuron updates per second, one thread.
+    pub updates_per_s: f64,
+    /// On the model's Pareto front (no other point with the right spike count is both faster
+    /// and more accurate).
+    pub pareto: bool,
+}
+
+/// The reference spike times of `kind` over `duration_s` (see the module docs).
+pub fn truth(kind: NeuronKind, duration_s: f64) -> Result<Vec<f64>, BenchError> {
+    let current = kind.benchmark_current();
+    Ok(match kind {
+        NeuronKind::Lif => LifParams::benchmark().closed_form_spike_times(current, duration_s),
+        NeuronKind::Izhikevich => {
+            let setup = NeuronSetup {
+                integrator: Integrator::Rk4,
+                interpolate: true,
+                ..NeuronSetup::single(kind, Precision::F64)
+            };
+            setup.spike_times(current, 1e-6, duration_s)?
+        }
+    })
+}
+
+/// Measures every point of the sweep (speed on one thread).
+pub fn neuron_tradeoff(
+    config: &NeuronTradeoffConfig,
+) -> Result<Vec<NeuronTradeoffRow>, BenchError> {
+    let mut rows = Vec::new();
+    for kind in [NeuronKind::Lif, NeuronKind::Izhikevich] {
+        let reference = truth(kind, config.duration_s)?;
+        let current = kind.benchmark_current();
+        for &integrator in kind.integrators() {
+            for precision in [Precision::F32, Precision::F64] {
+                for interpolate in [false, true] {
+                    for &dt_s in &config.dts_s {
+                        let single = NeuronSetup {
+                            integrator,
+                            interpolate,
+                            ..NeuronSetup::single(kind, precision)
+                        };
+                        let times = single.spike_times(current, dt_s, config.duration_s)?;
+                        let matched = times.len().min(reference.len());
+                        let errors: Vec<f64> = times
+                            .iter()
+                            .zip(&reference)
+                            .map(|(a, b)| (a - b).abs())
+                            .collect();
+                        let speed_setup = NeuronSetup {
+                            integrator,
+                            interpolate,
+                            ..NeuronSetup::benchmark(kind, precision)
+                        };
+                        let mut best = f64::INFINITY;
+                        for _ in 0..3 {
+                            let (_, wall) = with_threads(1, || {
+                                speed_setup.run_constant(
+                                    config.speed_neurons,
+                                    current,
+                                    dt_s,
+                                    config.speed_steps,
+                                )
+                            })??;
+                            best = best.min(wall);
+                        }
+                        rows.push(NeuronTradeoffRow {
+                            model: kind,
+                            integrator: integrator.name(),
+                            precision,
+                            interpolate,
+                            dt_s,
+                            spikes: times.len(),
+                            true_spikes: reference.len(),
+                            count_error: times.len().abs_diff(reference.len()),
+                            mean_time_error_s: (matched > 0)
+                                .then(|| errors.iter().sum::<f64>() / matched as f64),
+                            max_time_error_s: (matched > 0)
+                                .then(|| errors.iter().copied().fold(0.0, f64::max)),
+                            updates_per_s: config.speed_neurons as f64 * config.speed_steps as f64
+                                / best,
+                            pareto: false,
+                        });
+                    }
+                }
+            }
+        }
+    }
+    mark_pareto(&mut rows);
+    Ok(rows)
+}
+
+/// Marks, per model, the points no other correct-count point beats on both speed and error.
+fn mark_pareto(rows: &mut [NeuronTradeoffRow]) {
+    for model in [NeuronKind::Lif, NeuronKind::Izhikevich] {
+        mark_front(
+            rows,
+            |r| {
+                (r.model == model && r.count_error == 0)
+                    .then_some(r.mean_time_error_s.map(|e| (r.updates_per_s, e)))
+                    .flatten()
+            },
+            |row, on_front| {
+                if row.model == model {
+                    row.pareto = on_front;
+                }
+            },
+        );
+    }
+}
+
+/// The quick settings: three time steps and smaller speed runs (a few seconds).
+pub fn quick(config: &mut NeuronTradeoffConfig) {
+    config.dts_s = vec![1e-5, 1e-4, 1e-3];
+    config.speed_neurons = 20_000;
+}
+
+/// Measures the sweep of `config` and writes `neurons.{csv,md,svg,png}` to `out`.
+pub fn report(
+    config: &NeuronTradeoffConfig,
+    out: &Path,
+) -> Result<Vec<NeuronTradeoffRow>, TradeoffError> {
+    if !(config.duration_s.is_finite() && config.duration_s > 0.0) {
+        return Err(TradeoffError::InvalidParameter {
+            what: "--duration",
+            value: config.duration_s,
+            expected: "finite and > 0",
+        });
+    }
+    let rows = neuron_tradeoff(config)?;
+    write_trade(
+        out,
+        "neurons",
+        &to_csv(&rows),
+        &to_markdown(&rows, config.speed_neurons),
+        &to_svg(&rows),
+    )?;
+    Ok(rows)
+}
+
+fn stamp(r: &NeuronTradeoffRow) -> &'static str {
+    if r.interpolate {
+        "interpolated"
+    } else {
+        "grid"
+    }
+}
+
+fn fmt_opt(x: Option<f64>) -> String {
+    x.map_or_else(|| "—".to_owned(), |v| format!("{v:.3e}"))
+}
+
+/// CSV with one line per point.
+pub fn to_csv(rows: &[NeuronTradeoffRow]) -> String {
+    let mut table = Table::new(&[
+        "model",
+        "integrator",
+        "precision",
+        "spike_times",
+        "dt_s",
+        "spikes",
+        "true_spikes",
+        "count_error",
+        "mean_time_error_s",
+        "max_time_error_s",
+        "updates_per_s",
+        "pareto",
+    ]);
+    let opt = |x: Option<f64>| x.map_or(String::new(), |v| format!("{v:e}"));
+    for r in rows {
+        table.push(vec![
+            r.model.name().to_owned(),
+            r.integrator.to_owned(),
+            r.precision.name().to_owned(),
+            stamp(r).to_owned(),
+            format!("{:e}", r.dt_s),
+            r.spikes.to_string(),
+            r.true_spikes.to_string(),
+            r.count_error.to_string(),
+            opt(r.mean_time_error_s),
+            opt(r.max_time_error_s),
+            format!("{:e}", r.updates_per_s),
+            r.pareto.to_string(),
+        ]);
+    }
+    table.to_csv()
+}
+
+/// The Markdown table of `rows`, in the order given.
+fn table<'a>(rows: impl IntoIterator<Item = &'a NeuronTradeoffRow>) -> String {
+    let mut table = Table::new(&[
+        "model",
+        "integrator",
+        "precision",
+        "spike times",
+        "dt (s)",
+        "spikes (truth)",
+        "mean error (s)",
+        "max error (s)",
+        "updates/s",
+    ]);
+    for r in rows {
+        table.push(vec![
+            r.model.name().to_owned(),
+            r.integrator.to_owned(),
+            r.precision.name().to_owned(),
+            stamp(r).to_owned(),
+            format!("{:e}", r.dt_s),
+            format!("{} ({})", r.spikes, r.true_spikes),
+            fmt_opt(r.mean_time_error_s),
+            fmt_opt(r.max_time_error_s),
+            format!("{:.2e}", r.updates_per_s),
+        ]);
+    }
+    table.to_markdown()
+}
+
+/// The Pareto front of each model as a Markdown table, fastest first within a model.
+pub fn pareto_table(rows: &[NeuronTradeoffRow]) -> String {
+    let mut front: Vec<&NeuronTradeoffRow> = rows.iter().filter(|r| r.pareto).collect();
+    front.sort_by(|a, b| {
+        a.model
+            .name()
+            .cmp(b.model.name())
+            .then(b.updates_per_s.total_cmp(&a.updates_per_s))
+    });
+    table(front)
+}
+
+/// A Markdown report: the Pareto front of each model, then every point (`speed_neurons`: the
+/// population size of the speed runs).
+pub fn to_markdown(rows: &[NeuronTradeoffRow], speed_neurons: usize) -> String {
+    let mut out = String::from("# Neuron simulation: speed ↔ accuracy\n\n");
+    let _ = write!(
+        out,
+        "Truth: LIF closed form (I = 1.04); Izhikevich RS (I = 10) by RK4 at 1 µs. Speed: {speed_neurons} neurons for 100 steps on one thread, the fastest of three runs (a short run that stays in cache; `neurotac bench neurons` measures a 1 s run, 10 000 steps at dt = 0.1 ms, once, on every core, so its per-thread figure is lower on a loaded machine).\n\n"
+    );
+    out.push_str("## Pareto front (no other point with the right spike count is both faster and more accurate)\n\n");
+    out.push_str(&pareto_table(rows));
+    out.push_str("\n## Every point\n\n");
+    out.push_str(&table(rows));
+    out
+}
+
+/// Two panels (LIF, Izhikevich): mean spike-time error against updates/s, one series per
+/// integrator × precision × stamping; points along a series are the time steps.
+pub fn to_svg(rows: &[NeuronTradeoffRow]) -> String {
+    let charts: Vec<Chart> = [NeuronKind::Lif, NeuronKind::Izhikevich]
+        .into_iter()
+        .map(|kind| {
+            let mut series = Vec::new();
+            for (c, &integrator) in kind.integrators().iter().enumerate() {
+                for precision in [Precision::F64, Precision::F32] {
+                    for interpolate in [false, true] {
+                        let points = rows
+                            .iter()
+                            .filter(|r| {
+                                r.model == kind
+                                    && r.integrator == integrator.name()
+                                    && r.precision == precision
+                                    && r.interpolate == interpolate
+                            })
+                            .filter_map(|r| r.mean_time_error_s.map(|e| (r.updates_per_s, e)))
+                            .collect();
+                        series.push(Series {
+                            label: format!(
+                                "{} {} {}",
+                                integrator.name(),
+                                precision.name(),
+                                if interpolate { "interp" } else { "grid" }
+                            ),
+                            points,
+                            color: PALETTE[c % PALETTE.len()].to_owned(),
+                            marker: if interpolate {
+                                Marker::Square
+                            } else {
+                                Marker::Circle
+                            },
+                            filled: precision == Precision::F64,
+                            line: true,
+                        });
+                    }
+                }
+            }
+            Chart {
+                title: format!("{}: spike-time error vs speed (points: dt)", kind.name()),
+                x: Axis::log("neuron updates per second (1 thread)"),
+                y: Axis::log("mean spike-time error (s)"),
+                series,
+            }
+        })
+        .collect();
+    panels(&charts, 1)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sweep_measures_known_truths_and_finds_a_front() {
+        let config = NeuronTradeoffConfig {
+            dts_s: vec![1e-4, 5e-4],
+            duration_s: 0.2,
+            speed_neurons: 2_000,
+            speed_steps: 5,
+        };
+        let rows = neuron_tradeoff(&config).unwrap();
+        // LIF: 4 integrators, Izhikevich: 5; × 2 precisions × 2 stampings × 2 dts.
+        assert_eq!(rows.len(), (4 + 5) * 2 * 2 * 2);
+        let lif_exact_grid = rows
+            .iter()
+            .find(|r| {
+                r.model == NeuronKind::Lif
+                    && r.integrator == "exact"
+                    && !r.interpolate
+                    && r.precision == Precision::F64
+                    && r.dt_s == 1e-4
+            })
+            .unwrap();
+        // 0.2 s / 32.58 ms = 6 spikes; grid stamps lag the truth by less than a step.
+        assert_eq!((lif_exact_grid.spikes, lif_exact_grid.true_spikes), (6, 6));
+        let max = lif_exact_grid.max_time_error_s.unwrap();
+        assert!(max > 0.0 && max < 1e-4 * 6.0, "{max}");
+        // Interpolation is far more accurate than grid stamping for the same integrator.
+        let interp = rows
+            .iter()
+            .find(|r| {
+                r.model == NeuronKind::Lif
+                    && r.integrator == "exact"
+                    && r.interpolate
+                    && r.precision == Precision::F64
+                    && r.dt_s == 1e-4
+            })
+            .unwrap();
+        assert!(
+            interp.mean_time_error_s.unwrap() < lif_exact_grid.mean_time_error_s.unwrap() / 10.0
+        );
+        for kind in [NeuronKind::Lif, NeuronKind::Izhikevich] {
+            assert!(
+                rows.iter().any(|r| r.model == kind && r.pareto),
+                "{kind:?} has a front"
+            );
+        }
+        assert!(
+            rows.iter()
+                .all(|r| r.updates_per_s.is_finite() && r.updates_per_s > 0.0)
+        );
+        let csv = to_csv(&rows);
+        assert_eq!(csv.lines().count(), rows.len() + 1);
+        assert!(to_markdown(&rows, 1000).contains("## Pareto front"));
+        assert!(to_svg(&rows).contains("lif: spike-time error vs speed"));
+    }
+}

@@ -1,0 +1,366 @@
+//! The speed ↔ accuracy trade of the multi-unit Van Rossum distance, measured as
+//! classification accuracy: the exact distance (Markage recursion) against the distance of the
+//! synaptic traces a network samples at `trace_dt`, in `f64` or `f32`
+//! ([`neurotac_core::distance::trace_sampled`]).
+//!
+//! For each method: wall and CPU time of the N × N matrix (from the readouts: trains or trace
+//! records), leave-one-out KNN accuracy at (τ, cos θ), and the relative error of the distance
+//! `|D_h − D| / D` over every pair of distinct samples with `D > 0` (mean and max). The Pareto
+//! front is taken on (matrix speed, LOO accuracy).
+
+use super::{Table, TradeoffError, error_series, mark_front, write_trade};
+use crate::report::svg::{Axis, Chart, Marker, panels};
+use neurotac_core::coding::TraceRecord;
+use neurotac_core::distance::check_cos;
+use neurotac_core::{CodingError, Knn, SpikeDataset};
+use neurotac_experiments::error::ExperimentError;
+use neurotac_experiments::neuron_setup::Precision;
+use neurotac_experiments::protocols::Accuracy;
+use neurotac_experiments::search::bayes::VanRossumInput;
+use neurotac_experiments::timing::{Timing, timed};
+use rayon::prelude::*;
+use std::path::Path;
+
+/// What to measure.
+#[derive(Debug, Clone, PartialEq)]
+pub struct VrTradeoffConfig {
+    /// Kernel time constant τ (s). Default 0.076 (the paper's best).
+    pub tau_s: f64,
+    /// cos θ in [0, 1]. Default 0.4 (the paper's best).
+    pub cos: f64,
+    /// KNN neighbours. Default 4 (the paper's).
+    pub k: usize,
+    /// Trace steps to try (s). Default 0.1, 1, 5, 20 ms.
+    pub trace_dts_s: Vec<f64>,
+    /// Arithmetic of the traces. Default f64 and f32.
+    pub precisions: Vec<Precision>,
+    /// Use every `⌈N / samples⌉`-th sample (all classes keep samples); `None`: all.
+    pub samples: Option<usize>,
+}
+
+impl Default for VrTradeoffConfig {
+    fn default() -> Self {
+        Self {
+            tau_s: 0.076,
+            cos: 0.4,
+            k: 4,
+            trace_dts_s: vec![1e-4, 1e-3, 5e-3, 2e-2],
+            precisions: vec![Precision::F64, Precision::F32],
+            samples: None,
+        }
+    }
+}
+
+/// One method.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct VrTradeoffRow {
+    /// `exact`, or `traces`.
+    pub method: &'static str,
+    /// Trace step (s); `None` for the exact distance.
+    pub trace_dt_s: Option<f64>,
+    /// Arithmetic.
+    pub precision: Precision,
+    /// Time of the N × N matrix pair (`LL²`, `SP²`) from the readouts.
+    pub timing: Timing,
+    /// Leave-one-out KNN accuracy at (τ, cos θ).
+    pub loo: Accuracy,
+    /// Mean relative error of the distance over the pairs (0 for exact).
+    pub mean_relative_error: f64,
+    /// Max relative error of the distance over the pairs.
+    pub max_relative_error: f64,
+    /// No other method is both faster and more accurate.
+    pub pareto: bool,
+}
+
+/// The measured trade.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct VrTradeoff {
+    /// Samples used.
+    pub samples: usize,
+    /// τ (s).
+    pub tau_s: f64,
+    /// cos θ.
+    pub cos: f64,
+    /// KNN neighbours.
+    pub k: usize,
+    /// The exact distance first, then every trace step × precision in the order given.
+    pub rows: Vec<VrTradeoffRow>,
+}
+
+/// Measures the trade on `data` (labelled; see the module docs).
+pub fn measure(
+    data: &SpikeDataset,
+    config: &VrTradeoffConfig,
+) -> Result<VrTradeoff, ExperimentError> {
+    check_cos(config.cos)?;
+    let stride = config
+        .samples
+        .map_or(1, |s| data.len().div_ceil(s.max(1)).max(1));
+    let picked: Vec<usize> = (0..data.len()).step_by(stride).collect();
+    let obs: Vec<_> = picked
+        .iter()
+        .map(|&i| data.observations()[i].clone())
+        .collect();
+    let labels: Vec<usize> = picked.iter().map(|&i| data.labels()[i]).collect();
+    let n = obs.len();
+    if n < 2 || labels.len() != n {
+        return Err(ExperimentError::InvalidParameter {
+            what: "labelled samples",
+            value: n as f64,
+            expected: "at least 2 (distances are between pairs), every one labelled",
+        });
+    }
+    let knn = Knn::new(config.k)?;
+    let evaluate = |input: VanRossumInput<'_>| -> Result<_, ExperimentError> {
+        let (m, timing) = timed(|| input.matrices(config.tau_s));
+        let d2 = m?.squared(config.cos)?;
+        let loo = Accuracy::of(&knn.leave_one_out(d2.view(), &labels)?, &labels);
+        Ok((d2, timing, loo))
+    };
+    let (exact, timing, loo) = evaluate(VanRossumInput::Exact(&obs))?;
+    let mut rows = vec![VrTradeoffRow {
+        method: "exact",
+        trace_dt_s: None,
+        precision: Precision::F64,
+        timing,
+        loo,
+        mean_relative_error: 0.0,
+        max_relative_error: 0.0,
+        pareto: false,
+    }];
+    for &h in &config.trace_dts_s {
+        let records = obs
+            .par_iter()
+            .map(|o| TraceRecord::of_trains(o, h))
+            .collect::<Result<Vec<_>, CodingError>>()?;
+        for &precision in &config.precisions {
+            let input = VanRossumInput::Traces {
+                records: &records,
+                precision,
+            };
+            let (sampled, timing, loo) = evaluate(input)?;
+            let (mut max_rel, mut sum_rel, mut pairs) = (0.0f64, 0.0, 0usize);
+            for i in 0..n {
+                for j in i + 1..n {
+                    let (e, s) = (exact[[i, j]].sqrt(), sampled[[i, j]].sqrt());
+                    if e > 0.0 {
+                        let rel = (s - e).abs() / e;
+                        max_rel = max_rel.max(rel);
+                        sum_rel += rel;
+                        pairs += 1;
+                    }
+                }
+            }
+            rows.push(VrTradeoffRow {
+                method: "traces",
+                trace_dt_s: Some(h),
+                precision,
+                timing,
+                loo,
+                mean_relative_error: sum_rel / pairs.max(1) as f64,
+                max_relative_error: max_rel,
+                pareto: false,
+            });
+        }
+    }
+    mark_front(
+        &mut rows,
+        |r| Some((1.0 / r.timing.wall_s.max(1e-9), 1.0 - r.loo.mean)),
+        |r, on_front| r.pareto = on_front,
+    );
+    Ok(VrTradeoff {
+        samples: n,
+        tau_s: config.tau_s,
+        cos: config.cos,
+        k: config.k,
+        rows,
+    })
+}
+
+/// The quick settings: 60 samples, two trace steps, f64 only.
+pub fn quick(config: &mut VrTradeoffConfig) {
+    config.samples = Some(60);
+    config.trace_dts_s = vec![1e-3, 2e-2];
+    config.precisions = vec![Precision::F64];
+}
+
+/// [`measure`]s the trade and writes `vr.{csv,md,svg,png}` to `out`.
+pub fn report(
+    data: &SpikeDataset,
+    config: &VrTradeoffConfig,
+    out: &Path,
+) -> Result<VrTradeoff, TradeoffError> {
+    let sweep = measure(data, config)?;
+    write_trade(
+        out,
+        "vr",
+        &to_csv(&sweep),
+        &to_markdown(&sweep),
+        &to_svg(&sweep),
+    )?;
+    Ok(sweep)
+}
+
+fn dt_cell(r: &VrTradeoffRow) -> String {
+    r.trace_dt_s.map_or("—".into(), |h| format!("{}", h * 1e3))
+}
+
+/// CSV: one line per method.
+pub fn to_csv(sweep: &VrTradeoff) -> String {
+    let mut table = Table::new(&[
+        "method",
+        "trace_dt_s",
+        "precision",
+        "wall_s",
+        "cpu_s",
+        "loo_accuracy",
+        "mean_relative_error",
+        "max_relative_error",
+        "pareto",
+    ]);
+    for r in &sweep.rows {
+        table.push(vec![
+            r.method.into(),
+            r.trace_dt_s.map_or(String::new(), |h| format!("{h:e}")),
+            r.precision.name().into(),
+            format!("{:e}", r.timing.wall_s),
+            r.timing.cpu_s.map_or(String::new(), |c| format!("{c}")),
+            format!("{}", r.loo.mean),
+            format!("{:e}", r.mean_relative_error),
+            format!("{:e}", r.max_relative_error),
+            r.pareto.to_string(),
+        ]);
+    }
+    table.to_csv()
+}
+
+fn table<'a>(rows: impl IntoIterator<Item = &'a VrTradeoffRow>) -> String {
+    let mut table = Table::new(&[
+        "method",
+        "trace dt (ms)",
+        "precision",
+        "LOO accuracy",
+        "mean rel. error",
+        "max rel. error",
+        "matrix time",
+    ]);
+    for r in rows {
+        table.push(vec![
+            r.method.into(),
+            dt_cell(r),
+            r.precision.name().into(),
+            format!("{:.1} %", 100.0 * r.loo.mean),
+            format!("{:.2e}", r.mean_relative_error),
+            format!("{:.2e}", r.max_relative_error),
+            r.timing.to_string(),
+        ]);
+    }
+    table.to_markdown()
+}
+
+/// The Pareto front (fastest first) as a Markdown table.
+pub fn pareto_table(sweep: &VrTradeoff) -> String {
+    let mut front: Vec<&VrTradeoffRow> = sweep.rows.iter().filter(|r| r.pareto).collect();
+    front.sort_by(|a, b| a.timing.wall_s.total_cmp(&b.timing.wall_s));
+    table(front)
+}
+
+/// A Markdown report: every method.
+pub fn to_markdown(sweep: &VrTradeoff) -> String {
+    let mut out = format!(
+        "# Van Rossum distance: exact vs synaptic traces\n\n{} samples, τ = {} s, cos θ = {}, \
+         KNN k = {} (leave-one-out). Matrix time: `LL²` and `SP²` of all pairs from the \
+         readouts (trains or trace records), {} threads.\n\n",
+        sweep.samples,
+        sweep.tau_s,
+        sweep.cos,
+        sweep.k,
+        rayon::current_num_threads()
+    );
+    out.push_str(&table(&sweep.rows));
+    out.push_str("\nPareto front (matrix speed, LOO accuracy):\n\n");
+    out.push_str(&pareto_table(sweep));
+    out
+}
+
+/// LOO accuracy and mean relative error against matrix wall time, one point per method.
+pub fn to_svg(sweep: &VrTradeoff) -> String {
+    let points = |f: fn(&VrTradeoffRow) -> f64| -> Vec<(f64, f64)> {
+        sweep.rows.iter().map(|r| (r.timing.wall_s, f(r))).collect()
+    };
+    let accuracy = Chart {
+        title: format!(
+            "Van Rossum: exact vs traces ({} samples; LOO accuracy)",
+            sweep.samples
+        ),
+        x: Axis::log("wall time of the N × N matrix (s)"),
+        y: Axis::linear("leave-one-out accuracy"),
+        series: vec![error_series(
+            "methods",
+            0,
+            Marker::Circle,
+            points(|r| r.loo.mean),
+        )],
+    };
+    let error = Chart {
+        title: "relative error of the distance (traces vs exact)".into(),
+        x: Axis::log("wall time of the N × N matrix (s)"),
+        y: Axis::log("mean relative error"),
+        series: vec![error_series(
+            "mean",
+            1,
+            Marker::Square,
+            sweep
+                .rows
+                .iter()
+                .filter(|r| r.mean_relative_error > 0.0)
+                .map(|r| (r.timing.wall_s, r.mean_relative_error))
+                .collect(),
+        )],
+    };
+    panels(&[accuracy, error], 2)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use neurotac_experiments::datasets::synthetic::{SyntheticConfig, synthetic_dataset};
+
+    #[test]
+    fn every_method_gets_accuracy_and_the_trace_error_shrinks_with_the_step() {
+        let data = synthetic_dataset(&SyntheticConfig {
+            samples: 40,
+            classes: 4,
+            channels: 6,
+            ..SyntheticConfig::default()
+        });
+        let config = VrTradeoffConfig {
+            trace_dts_s: vec![2e-2, 1e-3, 1e-5],
+            samples: Some(20),
+            ..VrTradeoffConfig::default()
+        };
+        let t = measure(&data, &config).unwrap();
+        assert_eq!(t.samples, 20);
+        assert_eq!(t.rows.len(), 1 + 3 * 2);
+        assert_eq!(
+            (t.rows[0].method, t.rows[0].mean_relative_error),
+            ("exact", 0.0)
+        );
+        assert!(t.rows.iter().all(|r| r.loo.n == 20));
+        assert!(t.rows.iter().any(|r| r.pareto));
+        let f64_errors: Vec<f64> = t
+            .rows
+            .iter()
+            .filter(|r| r.method == "traces" && r.precision == Precision::F64)
+            .map(|r| r.mean_relative_error)
+            .collect();
+        assert!(
+            f64_errors[0] > f64_errors[1] && f64_errors[1] > f64_errors[2],
+            "{f64_errors:?}"
+        );
+        assert!(f64_errors[2] < 1e-3, "{f64_errors:?}");
+        // At a 10 µs step the traces rank the neighbours as the exact distance does.
+        assert_eq!(t.rows.last().unwrap().loo.mean, t.rows[0].loo.mean);
+        assert!(to_csv(&t).lines().count() == 8 && to_markdown(&t).contains("Pareto front"));
+    }
+}

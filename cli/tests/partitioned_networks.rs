@@ -1,0 +1,84 @@
+//! The CUBA network and the afferent pipeline partitioned over 1, 2 and 3 ranks (threads of
+//! this process, [`ThreadRanks`]) give every rank exactly the spikes of one process.
+
+use neurotac_cli::bench::{
+    CubaConfig, activity_taxels, afferent_network, afferent_network_on, cuba, cuba_spikes_on,
+};
+use neurotac_core::ranks::ThreadRanks;
+use neurotac_core::{OneProcess, Ranks};
+use neurotac_experiments::afferents::AfferentConfig;
+
+#[test]
+fn cuba_spikes_as_in_one_process_on_1_2_and_3_ranks() {
+    let config = CubaConfig {
+        duration_s: 0.05,
+        ..CubaConfig::default()
+    };
+    let (one, spikes) = cuba_spikes_on(config, &OneProcess).unwrap();
+    assert!(
+        spikes.excitatory.len() > 1000 && spikes.inhibitory.len() > 200,
+        "{one:?}: CUBA must be active"
+    );
+    assert_eq!((one.ranks, one.exchanges, one.exchange_s), (1, 0, 0.0));
+    let plain = cuba(config).unwrap();
+    assert_eq!((plain.spikes, plain.synapses), (one.spikes, one.synapses));
+    for size in 1..=3 {
+        let per_rank = ThreadRanks::run(size, |ranks| cuba_spikes_on(config, ranks).unwrap());
+        for (rank, (result, got)) in per_rank.into_iter().enumerate() {
+            assert!(
+                got == spikes,
+                "{size} ranks, rank {rank}: {} + {} spikes, one process {} + {}",
+                got.excitatory.len(),
+                got.inhibitory.len(),
+                spikes.excitatory.len(),
+                spikes.inhibitory.len()
+            );
+            assert_eq!(
+                (result.spikes, result.synapses, result.ranks),
+                (one.spikes, one.synapses, size)
+            );
+            // One exchange per step: CUBA's delay is one step.
+            let exchanges = if size == 1 { 0 } else { 500 };
+            assert_eq!(result.exchanges, exchanges);
+        }
+    }
+}
+
+#[test]
+fn the_afferent_pipeline_spikes_as_in_one_process_on_1_2_and_3_ranks() {
+    let (duration_s, dt_s) = (0.5, 1e-4);
+    let taxels = activity_taxels(49, 0.6, 40.0, duration_s, 3);
+    for config in [AfferentConfig::lif(), AfferentConfig::izhikevich()] {
+        for event_driven in [false, true] {
+            let (mut net, id) = afferent_network(&taxels, config, dt_s, event_driven).unwrap();
+            net.run(duration_s).unwrap();
+            let one = net.readout(id).spikes().to_vec();
+            assert!(one.len() > 100, "{} spikes", one.len());
+            for size in 1..=3 {
+                let per_rank = ThreadRanks::run(size, |ranks| {
+                    let (mut net, id) = afferent_network_on(
+                        &taxels,
+                        config,
+                        dt_s,
+                        event_driven,
+                        ranks.rank(),
+                        size,
+                    )
+                    .unwrap();
+                    net.run_on(duration_s, ranks).unwrap();
+                    let active = !net.event_driven_populations().is_empty();
+                    (net.readout(id).spikes().to_vec(), active)
+                });
+                for (rank, (got, active)) in per_rank.into_iter().enumerate() {
+                    assert!(
+                        got == one,
+                        "{config:?}, event-driven {event_driven}, {size} ranks, rank {rank}: {} spikes, one process {}",
+                        got.len(),
+                        one.len()
+                    );
+                    assert_eq!(active, event_driven);
+                }
+            }
+        }
+    }
+}
