@@ -107,14 +107,9 @@ pub(crate) fn distances<'py>(
     threads: Option<usize>,
 ) -> PyResult<Bound<'py, PyArray2<f64>>> {
     let py = dataset.py();
-    let name = CodingName::ALL
-        .into_iter()
-        .find(|c| c.key() == coding)
-        .ok_or_else(|| {
-            invalid(format!(
-                "coding = '{coding}': expected 'intensive', 'spatial', 'temporal' or 'spatiotemporal'"
-            ))
-        })?;
+    let name: CodingName = coding
+        .parse()
+        .map_err(|e| invalid(format!("coding = '{coding}': {e}")))?;
     let data = dataset_from_py(dataset)?;
     let parameters = || -> Result<CodingParameters, ExperimentError> {
         let window_ms = dt.map(|dt| whole_ms(dt, "dt")).transpose()?;
