@@ -38,6 +38,10 @@ use neurotac_neurons::{
 };
 use rayon::prelude::*;
 
+/// How long an afferent network keeps running after a sample's duration (s), so the
+/// responses to the last taxel spikes (synapse τ 5 ms plus the neuron's latency) are recorded.
+pub const AFFERENT_TAIL_S: f64 = 0.05;
+
 /// Settings of an afferent network.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct AfferentConfig {

@@ -234,7 +234,7 @@ impl ReadoutNetwork {
 /// any thread count. `progress` is called once per sample.
 ///
 /// Without afferents each sample runs for its duration; with them for
-/// [`AFFERENT_TAIL_S`](crate::reproduce::AFFERENT_TAIL_S) longer, and an afferent spike after
+/// [`AFFERENT_TAIL_S`](crate::afferents::AFFERENT_TAIL_S) longer, and an afferent spike after
 /// the duration is an error ([`ExperimentError::DurationShorterThanData`]) as it is for any
 /// dataset.
 pub fn encode_through_graph(
@@ -247,7 +247,7 @@ pub fn encode_through_graph(
     let n_channels = data.n_channels();
     let run_s = duration_ms as f64 * 1e-3
         + if afferents.is_some() {
-            crate::reproduce::AFFERENT_TAIL_S
+            crate::afferents::AFFERENT_TAIL_S
         } else {
             0.0
         };
@@ -377,7 +377,7 @@ mod tests {
         let data = small_set();
         for config in [AfferentConfig::lif(), AfferentConfig::izhikevich()] {
             let graph = encode_through_graph(&data, Some(config), VrFrom::Exact, &|| ()).unwrap();
-            let run_s = data.duration_s().unwrap() + crate::reproduce::AFFERENT_TAIL_S;
+            let run_s = data.duration_s().unwrap() + crate::afferents::AFFERENT_TAIL_S;
             let recorded = afferent_dataset(&data, run_s, config, &|| ()).unwrap();
             assert_same(&graph, &encode_offline(&recorded, VrFrom::Exact).unwrap());
             assert!(graph.path.contains("afferents"), "{}", graph.path);

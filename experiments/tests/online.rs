@@ -3,7 +3,7 @@
 
 use neurotac_core::distance::{VanRossum, euclidean_distance_matrix};
 use neurotac_core::ndarray::Array2;
-use neurotac_core::{EventBuffer, Knn, SpikeDataset};
+use neurotac_core::{EventBuffer, Knn, OneProcess, SpikeDataset};
 use neurotac_experiments::coding::{Coding, CodingName};
 use neurotac_experiments::datasets::simulated::{TextureSet, simulate_set};
 use neurotac_experiments::online::eval::subset;
@@ -34,6 +34,7 @@ fn slides() -> (SpikeDataset, BTreeMap<(usize, usize), EventBuffer>) {
             Ok(())
         },
         &|| {},
+        &OneProcess,
     )
     .unwrap();
     (set.dataset, events.into_inner().unwrap())
@@ -148,6 +149,7 @@ fn small_training() -> OnlineTraining {
         &params,
         &|_, _| Ok(()),
         &|| {},
+        &OneProcess,
     )
     .unwrap();
     OnlineTraining::new(&set.dataset, None).unwrap()

@@ -7,10 +7,12 @@
 //! | [`synthetic`] | seeded NeuroTac-like spike datasets for benchmarks and trials |
 //! | [`metadata`] | the typed metadata every dataset carries: `duration_s` and the transduction settings |
 
+mod error;
 pub mod metadata;
 pub mod recorded;
 pub mod simulated;
 pub mod synthetic;
+mod texture_set;
 
 // The simulated sets are what most callers (the simulator check, the trade-offs) use.
 pub use simulated::{

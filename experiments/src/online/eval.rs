@@ -8,13 +8,13 @@
 use super::{Decision, OnlineClassifier, OnlineTraining, Recogniser, latency_percentiles};
 use crate::coding::Coding;
 use crate::datasets::simulated::{
-    DatasetsError, TextureSet, TrialJob, camera_seed, load_or_simulate_with, map_trials,
+    DatasetsError, TextureSet, TrialJob, camera_seed, load_or_simulate, map_trials,
     prepare_textures, trial_seed,
 };
 use crate::error::ExperimentError;
 use crate::menu::Menu;
 use crate::protocols::stratified_split;
-use neurotac_core::{EventBuffer, SpikeDataset};
+use neurotac_core::{EventBuffer, OneProcess, SpikeDataset};
 use neurotac_sensor::sim::{Camera, SimParams, paper_transduction};
 use std::path::Path;
 
@@ -90,13 +90,14 @@ pub fn evaluate_online(
     progress: &(dyn Fn() + Sync),
 ) -> Result<OnlineEval, ExperimentError> {
     let sim_error = |e: DatasetsError| ExperimentError::Datasets(Box::new(e));
-    let data = load_or_simulate_with(
+    let data = load_or_simulate(
         config.set,
         config.trials,
         config.seed,
         &config.params,
         cache_dir,
         &|| {},
+        &OneProcess,
     )
     .map_err(sim_error)?;
     let labels = data.labels();

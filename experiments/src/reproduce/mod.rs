@@ -33,8 +33,8 @@ pub mod phases;
 mod run;
 
 pub use run::{
-    AFFERENT_TAIL_S, AfferentRun, Report, ReproduceConfig, ReproduceError, SetReport, Source,
-    example_samples, run, run_on,
+    AfferentRun, Report, ReproduceConfig, ReproduceError, SetReport, Source, example_samples, run,
+    run_on,
 };
 
 use crate::coding::{CodingName, class_means_of};

@@ -7,7 +7,7 @@ use super::phases::Phases;
 use super::{PipelineConfig, SetResult, run_encoded_on};
 use crate::afferents::AfferentConfig;
 use crate::datasets::recorded::{RecordedError, list_recorded, load_recorded, skipped_entries};
-use crate::datasets::simulated::{DatasetsError, TextureSet, load_or_simulate_on};
+use crate::datasets::simulated::{DatasetsError, TextureSet, load_or_simulate};
 use crate::error::ExperimentError;
 use crate::progress::Progress;
 use crate::readouts::{EncodedSet, encode_through_graph};
@@ -18,10 +18,6 @@ use neurotac_sensor::sim::{CalibratedParameter, SimParams};
 use neurotac_sensor::taxel::{TaxelLayout, TransductionConfig};
 use serde::Serialize;
 use std::path::PathBuf;
-
-/// How long the afferent network keeps running after a sample's duration (s), so the
-/// responses to the last taxel spikes (synapse τ 5 ms plus the neuron's latency) are recorded.
-pub const AFFERENT_TAIL_S: f64 = 0.05;
 
 /// A set to run: the bundled simulated texture set, or a recorded dataset folder (one
 /// sub-folder of event files per class, see [`crate::datasets::recorded`]).
@@ -189,7 +185,7 @@ pub fn run(
 }
 
 /// [`run`] split over `ranks`: the simulated datasets
-/// ([`load_or_simulate_on`]), the distance matrices and the searches
+/// ([`load_or_simulate`]), the distance matrices and the searches
 /// ([`run_encoded_on`](super::run_encoded_on)) are computed by all ranks together, and every
 /// rank returns the one-process report (timings aside). The readout and afferent networks
 /// and the transduction of recorded datasets run on every rank alike. Nothing is written but
@@ -238,12 +234,11 @@ fn load_source(
             );
             let (seed, cache) = (config.seed, &config.cache);
             let advance = || progress.advance(1);
-            let data =
-                load_or_simulate_on(*set, trials, seed, &config.params, cache, &advance, ranks)
-                    .map_err(|source| ReproduceError::Simulated {
-                        set: set.name(),
-                        source,
-                    })?;
+            let data = load_or_simulate(*set, trials, seed, &config.params, cache, &advance, ranks)
+                .map_err(|source| ReproduceError::Simulated {
+                    set: set.name(),
+                    source,
+                })?;
             progress.finish();
             let how = format!(
                 "simulated, {trials} slides per texture, seed {seed}, cache {}",

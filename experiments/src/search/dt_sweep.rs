@@ -44,6 +44,7 @@
 
 use crate::error::ExperimentError;
 use crate::protocols::Accuracy;
+use lanes::Lane;
 use neighbours::Neighbours;
 use neurotac_core::coding::pooled_bin_counts;
 use neurotac_core::knn::vote;
@@ -53,11 +54,10 @@ use rayon::prelude::*;
 use serde::Serialize;
 use std::ops::Range;
 
+mod lanes;
 mod neighbours;
 
-/// Δ values per block (lanes of the inner loop): the paper's 200 windows in one block of
-/// 16-lane vectors.
-pub const LANES: usize = 208;
+pub use lanes::LANES;
 
 /// Lags per block of the byte correlogram (7 vectors of 64 bytes: `|d| < 224`).
 const LAG_LANES: usize = 448;
@@ -80,37 +80,6 @@ pub struct DtSweep {
     /// Its accuracy, with standard deviation and Wilson interval.
     pub best: Accuracy,
 }
-
-/// Wrapping integer lanes (`i32` when the distances fit, `i64` otherwise).
-trait Lane: Copy + Default + PartialOrd + Send + Sync + 'static {
-    const MIN: Self;
-    const MAX: Self;
-    fn wadd(self, o: Self) -> Self;
-    fn wsub(self, o: Self) -> Self;
-    fn wmul(self, o: Self) -> Self;
-    fn from_i64(x: i64) -> Self;
-    fn to_i64(self) -> i64;
-}
-
-macro_rules! lane {
-    ($($t:ty),*) => {$(
-        impl Lane for $t {
-            const MIN: Self = <$t>::MIN;
-            const MAX: Self = <$t>::MAX;
-            #[inline(always)]
-            fn wadd(self, o: Self) -> Self { self.wrapping_add(o) }
-            #[inline(always)]
-            fn wsub(self, o: Self) -> Self { self.wrapping_sub(o) }
-            #[inline(always)]
-            fn wmul(self, o: Self) -> Self { self.wrapping_mul(o) }
-            #[inline(always)]
-            fn from_i64(x: i64) -> Self { x as $t }
-            #[inline(always)]
-            fn to_i64(self) -> i64 { self as i64 }
-        }
-    )*};
-}
-lane!(i32, i64);
 
 /// One sample: its spike bins (sorted, with repeats); the counts in its first and in its last
 /// `m` bins, `C[m]` and `n − C[T − m]`, for `m < Δ_max` (zero padded to whole blocks); and either

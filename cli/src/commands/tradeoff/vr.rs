@@ -71,6 +71,8 @@ pub fn run(args: VrArgs) -> anyhow::Result<()> {
                 1,
                 &SimParams::default(),
                 &default_cache_dir(),
+                &|| {},
+                &neurotac_core::OneProcess,
             )?
         }
     };

@@ -1,6 +1,6 @@
 //! The fused leave-one-out's neighbour lists: every sample's `k` nearest at every window.
 
-use super::{LANES, Lane};
+use super::lanes::{LANES, Lane};
 use rayon::prelude::*;
 
 /// The `k` nearest seen so far of every sample at every window, ordered by `(distance, index)`

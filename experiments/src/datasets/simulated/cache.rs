@@ -1,0 +1,124 @@
+//! The on-disk cache of simulated datasets: keyed by everything that determines a dataset
+//! ([`cache_path`]), read or simulated and stored ([`load_or_simulate`]).
+
+use super::{DatasetsError, SIMULATED_DATASET_VERSION, TextureSet, dataset_meta, simulate_set};
+use neurotac_core::{Ranks, SpikeDataset};
+use neurotac_sensor::sim::{SimParams, SimulationError};
+use std::path::{Path, PathBuf};
+
+/// FNV-1a 64 of the metadata's JSON text: the cache key.
+pub(super) fn cache_key(meta: &serde_json::Map<String, serde_json::Value>) -> u64 {
+    let text = serde_json::to_string(meta).expect("metadata serialises");
+    text.bytes().fold(0xcbf2_9ce4_8422_2325, |h, b| {
+        (h ^ b as u64).wrapping_mul(0x0000_0100_0000_01b3)
+    })
+}
+
+/// The cache folder of simulated datasets shared by `neurotac reproduce` and `neurotac
+/// simulate`: `$NEUROTAC_CACHE` if set, else `$XDG_CACHE_HOME/neurotac`, else
+/// `~/.cache/neurotac` (`./.neurotac-cache` without a home folder). Deleting the folder clears
+/// the cache; a dataset is simulated again when next needed.
+pub fn default_cache_dir() -> PathBuf {
+    if let Some(p) = std::env::var_os("NEUROTAC_CACHE") {
+        return p.into();
+    }
+    if let Some(p) = std::env::var_os("XDG_CACHE_HOME") {
+        return PathBuf::from(p).join("neurotac");
+    }
+    match std::env::var_os("HOME") {
+        Some(h) => PathBuf::from(h).join(".cache").join("neurotac"),
+        None => PathBuf::from(".neurotac-cache"),
+    }
+}
+
+/// The cache file of a dataset in `cache_dir`.
+pub fn cache_path(
+    set: TextureSet,
+    trials: usize,
+    seed: u64,
+    params: &SimParams,
+    cache_dir: &Path,
+) -> PathBuf {
+    let key = cache_key(&dataset_meta(set, trials, seed, params));
+    cache_dir.join(format!(
+        "{}-v{SIMULATED_DATASET_VERSION}-n{trials}-s{seed}-{key:016x}.bin",
+        set.name()
+    ))
+}
+
+/// The dataset of `set` with `trials` slides per texture, simulated from `seed` with `params`:
+/// read from `cache_dir` when a dataset with exactly the same metadata (version, set, trials,
+/// seed, parameters, transduction) is there, else simulated in parallel and stored (binary
+/// [`SpikeDataset`], written atomically). `progress` is called once per simulated trial.
+///
+/// On several `ranks` every rank reads the cache, or the ranks simulate the dataset together
+/// ([`simulate_set`]) and rank 0 stores it. Collective; `&OneProcess` for one process.
+pub fn load_or_simulate(
+    set: TextureSet,
+    trials: usize,
+    seed: u64,
+    params: &SimParams,
+    cache_dir: &Path,
+    progress: &(dyn Fn() + Sync),
+    ranks: &dyn Ranks,
+) -> Result<SpikeDataset, DatasetsError> {
+    Ok(load_or_simulate_cached(set, trials, seed, params, cache_dir, progress, ranks)?.0)
+}
+
+/// [`load_or_simulate`], also saying whether the dataset came from the cache (the cache
+/// file is read once).
+pub(super) fn load_or_simulate_cached(
+    set: TextureSet,
+    trials: usize,
+    seed: u64,
+    params: &SimParams,
+    cache_dir: &Path,
+    progress: &(dyn Fn() + Sync),
+    ranks: &dyn Ranks,
+) -> Result<(SpikeDataset, bool), DatasetsError> {
+    if trials == 0 {
+        return Err(SimulationError::ZeroTrials.into());
+    }
+    params.validate()?;
+    let path = cache_path(set, trials, seed, params, cache_dir);
+    // Every rank must take the same branch: they agree on whether the cache was usable.
+    let cached = read_cached(&path, &dataset_meta(set, trials, seed, params));
+    let usable = ranks.all_gather_bytes(&[u8::from(cached.is_some())])?;
+    if let Some(cached) = cached.filter(|_| usable.iter().all(|b| b == &[1])) {
+        return Ok((cached, true));
+    }
+    let simulated = simulate_set(set, trials, seed, params, &|_, _| Ok(()), progress, ranks)?;
+    if ranks.is_root() {
+        store(&simulated.dataset, cache_dir, &path)?;
+    }
+    Ok((simulated.dataset, false))
+}
+
+/// The cached dataset at `path` if it exists, decodes and carries every entry of `meta`
+/// (besides them it holds the event statistics of the run).
+fn read_cached(
+    path: &Path,
+    meta: &serde_json::Map<String, serde_json::Value>,
+) -> Option<SpikeDataset> {
+    let data = match SpikeDataset::load(path) {
+        Ok(data) => data,
+        Err(e) if path.exists() => {
+            let e = neurotac_core::error_chain(&e);
+            eprintln!("warning: cached dataset unusable ({e}); simulating it again");
+            return None;
+        }
+        Err(_) => return None,
+    };
+    meta.iter()
+        .all(|(k, v)| data.meta().get(k) == Some(v))
+        .then_some(data)
+}
+
+/// Writes `dataset` to `path` (binary, checksummed) through a temporary file and a rename.
+pub fn store(dataset: &SpikeDataset, dir: &Path, path: &Path) -> Result<(), DatasetsError> {
+    std::fs::create_dir_all(dir).map_err(|source| DatasetsError::Io {
+        path: dir.to_owned(),
+        source,
+    })?;
+    Ok(dataset.save_binary(path)?)
+}

@@ -1,0 +1,188 @@
+//! `neurotac simulate`: a simulated set and its files ([`generate`]), optionally every trial's
+//! pixel events ([`PixelEventFiles`], [`write_events_csv`]).
+
+use super::cache::{cache_path, load_or_simulate_cached, store};
+use super::{DatasetsError, TextureSet, TrialJob, simulate_set};
+use crate::coding::class_means;
+use crate::export::{OutputFormat, dataset_bytes};
+use crate::progress::Progress;
+use neurotac_core::{EventBuffer, Ranks, SpikeDataset};
+use neurotac_sensor::sim::{EventLabel, SimParams, SimulatedTrial, SimulationError};
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+/// How `generate` writes every trial's pixel events.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum PixelEventFiles {
+    /// One event file per trial in the format of this extension (`aedat4`, `aedat`, `aedat3`,
+    /// `txt`, `csv`).
+    Format(String),
+    /// CSV with a `pin` column (source pin, −1 for noise), see [`write_events_csv`].
+    LabelledCsv,
+}
+
+/// What [`generate`] simulates and writes (`neurotac simulate`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct GenerateConfig {
+    /// The texture set.
+    pub set: TextureSet,
+    /// Slides per texture (≥ 1).
+    pub trials: usize,
+    /// Seed of the dataset.
+    pub seed: u64,
+    /// Simulator parameters.
+    pub params: SimParams,
+    /// Output folder: `<set>.bin`, optionally `<set>.json`, `<set>.npz` and
+    /// `events/<class>/<trial>.<ext>`.
+    pub out: PathBuf,
+    /// Cache folder of simulated datasets.
+    pub cache: PathBuf,
+    /// Also write the dataset in these forms (JSON, numpy `.npz`; see [`crate::export`]).
+    pub also: Vec<OutputFormat>,
+    /// Also write every trial's pixel events (the dataset is then always simulated, and cached).
+    pub pixel_events: Option<PixelEventFiles>,
+}
+
+/// What [`generate`] made.
+#[derive(Debug, Clone)]
+pub struct Generated {
+    /// The dataset.
+    pub dataset: SpikeDataset,
+    /// `true` when it was read from the cache rather than simulated.
+    pub from_cache: bool,
+    /// The binary dataset written (`<out>/<set>.bin`).
+    pub binary: PathBuf,
+    /// The other forms written ([`GenerateConfig::also`]), in that order.
+    pub also: Vec<PathBuf>,
+    /// Mean spikes per taxel of each class (index = label).
+    pub class_means: Vec<f64>,
+}
+
+/// Simulates (or reads from the cache) the dataset of `config` and writes its files; `progress`
+/// sees one stage with one step per simulated trial. Runs on the current rayon pool.
+///
+/// On several `ranks` the trials are split over them ([`simulate_set`]); each rank writes
+/// its own trials' pixel-event files and rank 0 writes the datasets (and the cache), which are
+/// byte-identical to a one-process run's. Collective.
+pub fn generate(
+    config: &GenerateConfig,
+    progress: &dyn Progress,
+    ranks: &dyn Ranks,
+) -> Result<Generated, DatasetsError> {
+    let GenerateConfig {
+        set,
+        trials,
+        seed,
+        params,
+        out,
+        cache,
+        ..
+    } = config;
+    let (set, trials, seed) = (*set, *trials, *seed);
+    if trials == 0 {
+        return Err(SimulationError::ZeroTrials.into());
+    }
+    let io = |path: &Path| {
+        let path = path.to_owned();
+        move |source| DatasetsError::Io { path, source }
+    };
+    std::fs::create_dir_all(out).map_err(io(out))?;
+    let cache_file = cache_path(set, trials, seed, params, cache);
+    progress.stage(set.name(), (trials * set.textures().len()) as u64);
+    let advance = || progress.advance(1);
+    let (dataset, from_cache) = match &config.pixel_events {
+        None => load_or_simulate_cached(set, trials, seed, params, cache, &advance, ranks)?,
+        Some(files) => {
+            let names = set.class_names();
+            let dir = out.join("events");
+            let each = |job: &TrialJob, trial: &SimulatedTrial| {
+                let folder = dir.join(format!(
+                    "{:02}-{}",
+                    job.class,
+                    names[job.class].replace(' ', "_")
+                ));
+                std::fs::create_dir_all(&folder).map_err(io(&folder))?;
+                match files {
+                    PixelEventFiles::LabelledCsv => {
+                        let path = folder.join(format!("{:03}.csv", job.trial));
+                        write_events_csv(&path, &trial.events, Some(&trial.labels))
+                    }
+                    PixelEventFiles::Format(ext) => {
+                        let path = folder.join(format!("{:03}.{ext}", job.trial));
+                        Ok(neurotac_sensor::format::write_file(&path, &trial.events)?)
+                    }
+                }
+            };
+            let simulated = simulate_set(set, trials, seed, params, &each, &advance, ranks)?;
+            // Cache it too, so experiments find it.
+            if ranks.is_root() {
+                store(&simulated.dataset, cache, &cache_file)?;
+            }
+            (simulated.dataset, false)
+        }
+    };
+    progress.finish();
+    let binary = out.join(format!("{}.bin", set.name()));
+    let root = ranks.is_root();
+    if root {
+        dataset.save_binary(&binary)?;
+    }
+    let mut also = Vec::new();
+    for &format in &config.also {
+        let path = out.join(format!("{}.{}", set.name(), format.extensions()[0]));
+        if root {
+            let bytes = dataset_bytes(&dataset, format).map_err(io(&path))?;
+            neurotac_core::io::write(&path, bytes).map_err(io(&path))?;
+        }
+        also.push(path);
+    }
+    let class_means = class_means(&dataset).1;
+    Ok(Generated {
+        dataset,
+        from_cache,
+        binary,
+        also,
+        class_means,
+    })
+}
+
+/// Writes pixel events as CSV: a header `t,x,y,on` (t in µs, `on` 1/0), one event per line;
+/// with `labels`, a fifth column `pin` (source pin, −1 for noise).
+///
+/// This is the simulator's own minimal writer; the event-file formats of the DAVIS stack
+/// supersede it.
+pub fn write_events_csv(
+    path: &Path,
+    events: &EventBuffer,
+    labels: Option<&[EventLabel]>,
+) -> Result<(), DatasetsError> {
+    let io = |source| DatasetsError::Io {
+        path: path.to_owned(),
+        source,
+    };
+    let mut w = neurotac_core::io::AtomicFile::create(path).map_err(io)?;
+    let header = if labels.is_some() {
+        "t,x,y,on,pin\n"
+    } else {
+        "t,x,y,on\n"
+    };
+    w.write_all(header.as_bytes()).map_err(io)?;
+    for (i, e) in events.iter().enumerate() {
+        match labels {
+            Some(l) => {
+                let pin = l[i].pin().map_or(-1, |p| p as i64);
+                writeln!(
+                    w,
+                    "{},{},{},{},{pin}",
+                    e.t.0,
+                    e.x,
+                    e.y,
+                    u8::from(e.polarity)
+                )
+            }
+            None => writeln!(w, "{},{},{},{}", e.t.0, e.x, e.y, u8::from(e.polarity)),
+        }
+        .map_err(io)?;
+    }
+    w.commit().map_err(io)
+}
