@@ -25,6 +25,7 @@ fn dt_sweep_loo_1100(c: &mut Criterion) {
                     4500,
                     200,
                     Knn::default(),
+                    &neurotac_core::OneProcess,
                 )
                 .unwrap(),
             )

@@ -17,7 +17,12 @@ pub fn run(trials: usize, cache: &Path) -> Result<Report, ReproduceError> {
     config.trials = Some(trials);
     config.pipeline.bayes.epochs = 20;
     let artificial = [Source::Simulated(TextureSet::Artificial)];
-    reproduce::run(&config, &artificial, &NoProgress)
+    reproduce::run(
+        &config,
+        &artificial,
+        &NoProgress,
+        &neurotac_core::OneProcess,
+    )
 }
 
 #[allow(dead_code)]

@@ -1,5 +1,5 @@
 //! The paper's four codings by name ([`CodingName`]), the distance matrix of a coding
-//! ([`coding_distances`], or [`coding_distances_on`] split over ranks) and the sample duration
+//! ([`coding_distances`], or [`coding_distances`] split over ranks) and the sample duration
 //! the temporal coding windows ([`sample_duration_ms`]). The CLI's `--coding` is
 //! [`CodingName`] itself.
 //!
@@ -17,7 +17,7 @@ use neurotac_core::coding::{
     IntensiveCoding, SpatialCoding, TemporalCoding, duration_ms_of, feature_matrix, whole_ms,
 };
 use neurotac_core::distance::{VanRossum, check_cos, euclidean_distance_matrix_on};
-use neurotac_core::{MultiSpikeTrain, OneProcess, Ranks, SpikeDataset};
+use neurotac_core::{MultiSpikeTrain, Ranks, SpikeDataset};
 use serde::Serialize;
 
 /// The paper's four codings, in its order.
@@ -177,20 +177,13 @@ fn missing(coding: CodingName, what: &'static str) -> ExperimentError {
 
 /// The N × N distance matrix of `observations` under `coding`: Euclidean distances of its
 /// features, or the exact multi-unit Van Rossum distance for the spatiotemporal coding.
-pub fn coding_distances(
-    observations: &[MultiSpikeTrain],
-    coding: CodingName,
-    parameters: &CodingParameters,
-) -> Result<Array2<f64>, ExperimentError> {
-    coding_distances_on(observations, coding, parameters, &OneProcess)
-}
-
-/// [`coding_distances`] split over `ranks`: every rank computes the features (cheap), the
+///
+/// Split over `ranks` (`&OneProcess` for one process): every rank computes the features (cheap), the
 /// rows of the matrix are split over the ranks ([`euclidean_distance_matrix_on`],
 /// [`PreparedVanRossum::matrices_on`](neurotac_core::distance::PreparedVanRossum::matrices_on))
 /// and every rank returns the whole matrix, bit for bit the one-process one. Collective: every
 /// rank must call it.
-pub fn coding_distances_on(
+pub fn coding_distances(
     observations: &[MultiSpikeTrain],
     coding: CodingName,
     parameters: &CodingParameters,
@@ -339,12 +332,30 @@ mod tests {
         let d = two_samples(None);
         let obs = d.observations();
         // Intensive: mean counts 1.0 and 1.5 → distance 0.5.
-        let m = coding_distances(obs, CodingName::Intensive, &Default::default()).unwrap();
+        let m = coding_distances(
+            obs,
+            CodingName::Intensive,
+            &Default::default(),
+            &neurotac_core::OneProcess,
+        )
+        .unwrap();
         assert_eq!(m[[0, 1]], 0.5);
         // Spatial: counts (2, 0) vs (1, 2) → √5.
-        let m = coding_distances(obs, CodingName::Spatial, &Default::default()).unwrap();
+        let m = coding_distances(
+            obs,
+            CodingName::Spatial,
+            &Default::default(),
+            &neurotac_core::OneProcess,
+        )
+        .unwrap();
         assert!((m[[1, 0]] - 5f64.sqrt()).abs() < 1e-12);
-        let e = coding_distances(obs, CodingName::Temporal, &Default::default()).unwrap_err();
+        let e = coding_distances(
+            obs,
+            CodingName::Temporal,
+            &Default::default(),
+            &neurotac_core::OneProcess,
+        )
+        .unwrap_err();
         assert!(e.to_string().contains("--dt"), "{e}");
         let p = CodingParameters {
             window_ms: Some(10),
@@ -352,12 +363,25 @@ mod tests {
             tau_s: Some(0.01),
             cos: Some(0.5),
         };
-        let m = coding_distances(obs, CodingName::Temporal, &p).unwrap();
+        let m =
+            coding_distances(obs, CodingName::Temporal, &p, &neurotac_core::OneProcess).unwrap();
         assert!(m[[0, 1]] > 0.0 && m[[0, 0]] == 0.0);
-        let m = coding_distances(obs, CodingName::Spatiotemporal, &p).unwrap();
+        let m = coding_distances(
+            obs,
+            CodingName::Spatiotemporal,
+            &p,
+            &neurotac_core::OneProcess,
+        )
+        .unwrap();
         assert!(m[[0, 1]] > 0.0 && (m[[0, 1]] - m[[1, 0]]).abs() < 1e-12);
         let no_cos = CodingParameters { cos: None, ..p };
-        let e = coding_distances(obs, CodingName::Spatiotemporal, &no_cos).unwrap_err();
+        let e = coding_distances(
+            obs,
+            CodingName::Spatiotemporal,
+            &no_cos,
+            &neurotac_core::OneProcess,
+        )
+        .unwrap_err();
         assert!(e.to_string().contains("cos θ"), "{e}");
     }
 

@@ -343,7 +343,11 @@ mod tests {
         assert_eq!(graph.bins, offline.bins);
         assert_eq!(graph.trains, offline.trains);
         assert_eq!(graph.traces, offline.traces);
-        let matrices = |s: &EncodedSet| s.van_rossum_input().matrices(0.03).unwrap();
+        let matrices = |s: &EncodedSet| {
+            s.van_rossum_input()
+                .matrices(0.03, &neurotac_core::OneProcess)
+                .unwrap()
+        };
         let (g, o) = (matrices(graph), matrices(offline));
         for (a, b) in g.ll2.iter().zip(&o.ll2).chain(g.sp2.iter().zip(&o.sp2)) {
             assert!((a - b).abs() <= 1e-12 * b.abs().max(1e-300), "{a} vs {b}");

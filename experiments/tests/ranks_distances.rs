@@ -5,19 +5,17 @@
 use neurotac_core::ndarray::Array2;
 use neurotac_core::ranks::ThreadRanks;
 use neurotac_core::{Knn, SpikeDataset};
-use neurotac_experiments::coding::{
-    CodingName, CodingParameters, coding_distances, coding_distances_on,
-};
+use neurotac_experiments::coding::{CodingName, CodingParameters, coding_distances};
 use neurotac_experiments::datasets::synthetic::{SyntheticConfig, synthetic_dataset};
 use neurotac_experiments::menu::Menu;
 use neurotac_experiments::neuron_setup::Precision;
 use neurotac_experiments::progress::NoProgress;
 use neurotac_experiments::readouts::{VrFrom, encode_offline};
-use neurotac_experiments::reproduce::{PipelineConfig, SetResult, run_encoded, run_encoded_on};
+use neurotac_experiments::reproduce::{PipelineConfig, SetResult, run_encoded};
 use neurotac_experiments::search::bayes::{
     BayesConfig, BayesResult, VanRossumInput, VanRossumObjective, bayes_optimise,
 };
-use neurotac_experiments::search::dt_sweep::{dt_sweep, dt_sweep_on};
+use neurotac_experiments::search::dt_sweep::dt_sweep;
 
 /// Rank counts checked (5 leaves some ranks a single row of the smaller matrices' triangles).
 const RANK_COUNTS: [usize; 4] = [1, 2, 3, 5];
@@ -48,10 +46,16 @@ fn coding_distances_on_ranks_are_the_one_process_matrices() {
         cos: Some(0.4),
     };
     for &coding in CodingName::ALL {
-        let want = coding_distances(data.observations(), coding, &parameters).unwrap();
+        let want = coding_distances(
+            data.observations(),
+            coding,
+            &parameters,
+            &neurotac_core::OneProcess,
+        )
+        .unwrap();
         for size in RANK_COUNTS {
             let got = ThreadRanks::run(size, |r| {
-                coding_distances_on(data.observations(), coding, &parameters, r).unwrap()
+                coding_distances(data.observations(), coding, &parameters, r).unwrap()
             });
             for (rank, m) in got.iter().enumerate() {
                 assert_eq!(bits(m), bits(&want), "{coding:?}, rank {rank} of {size}");
@@ -65,9 +69,9 @@ fn dt_sweep_on_ranks_is_the_one_process_sweep() {
     let data = small();
     let (obs, labels) = (data.observations(), data.labels());
     let knn = Knn::default();
-    let want = dt_sweep(obs, labels, 600, 90, knn).unwrap();
+    let want = dt_sweep(obs, labels, 600, 90, knn, &neurotac_core::OneProcess).unwrap();
     for size in RANK_COUNTS {
-        let got = ThreadRanks::run(size, |r| dt_sweep_on(obs, labels, 600, 90, knn, r).unwrap());
+        let got = ThreadRanks::run(size, |r| dt_sweep(obs, labels, 600, 90, knn, r).unwrap());
         for (rank, sweep) in got.iter().enumerate() {
             assert_eq!(sweep, &want, "rank {rank} of {size}");
         }
@@ -135,10 +139,19 @@ fn the_pipeline_on_ranks_is_the_one_process_pipeline() {
     config.bayes.epochs = 10;
     config.bayes.tau_step_s = 0.03;
     config.bayes.cos_step = 0.25;
-    let want = outcome(&run_encoded("small", &set, &config, &NoProgress).unwrap());
+    let want = outcome(
+        &run_encoded(
+            "small",
+            &set,
+            &config,
+            &NoProgress,
+            &neurotac_core::OneProcess,
+        )
+        .unwrap(),
+    );
     for size in [2, 3] {
         let got = ThreadRanks::run(size, |r| {
-            outcome(&run_encoded_on("small", &set, &config, &NoProgress, r).unwrap())
+            outcome(&run_encoded("small", &set, &config, &NoProgress, r).unwrap())
         });
         for (rank, result) in got.iter().enumerate() {
             assert_eq!(result, &want, "rank {rank} of {size}");

@@ -126,7 +126,12 @@ pub(crate) fn distances<'py>(
     };
     let parameters = parameters().or_value_error()?;
     let matrix: Array2<f64> = detached(py, threads, || {
-        coding_distances(data.observations(), name, &parameters)
+        coding_distances(
+            data.observations(),
+            name,
+            &parameters,
+            &neurotac_core::OneProcess,
+        )
     })?
     .or_value_error()?;
     Ok(matrix.into_pyarray(py))

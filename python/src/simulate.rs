@@ -3,11 +3,11 @@
 use crate::dataset::dataset_to_py;
 use crate::errors::{OrRaise, invalid};
 use crate::threads::detached;
+use neurotac_core::OneProcess;
 use neurotac_experiments::datasets::simulated::{
     DatasetsError, TextureSet, load_or_simulate, simulate_set,
 };
 use neurotac_sensor::sim::SimParams;
-use neurotac_core::OneProcess;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::path::PathBuf;
@@ -50,7 +50,16 @@ pub(crate) fn simulate<'py>(
     let data = detached(py, threads, || -> Result<_, DatasetsError> {
         match &cache_dir {
             Some(dir) => load_or_simulate(set, trials, seed, &params, dir, &|| {}, &OneProcess),
-            None => Ok(simulate_set(set, trials, seed, &params, &|_, _| Ok(()), &|| {}, &OneProcess)?.dataset),
+            None => Ok(simulate_set(
+                set,
+                trials,
+                seed,
+                &params,
+                &|_, _| Ok(()),
+                &|| {},
+                &OneProcess,
+            )?
+            .dataset),
         }
     })?
     .or_raise()?;

@@ -4,7 +4,7 @@ use super::load_labelled;
 use crate::commands::args;
 use clap::{Args, ValueEnum};
 use neurotac_core::{Knn, Ranks};
-use neurotac_experiments::coding::{CodingName, coding_distances_on};
+use neurotac_experiments::coding::{CodingName, coding_distances};
 use neurotac_experiments::export::{MATRIX_FORMATS, OutputFormat, write_matrix};
 use neurotac_experiments::protocols::{Protocol, evaluate};
 use neurotac_experiments::timing::timed;
@@ -67,7 +67,7 @@ pub struct ClassifyArgs {
     force: bool,
 }
 
-/// On several ranks the distance matrix's rows are split over them ([`coding_distances_on`]);
+/// On several ranks the distance matrix's rows are split over them ([`coding_distances`]);
 /// rank 0 alone runs the protocol on it and prints.
 pub fn run(args: ClassifyArgs, ranks: &dyn Ranks) -> anyhow::Result<()> {
     if let Some(path) = &args.matrix {
@@ -91,7 +91,7 @@ pub fn run(args: ClassifyArgs, ranks: &dyn Ranks) -> anyhow::Result<()> {
     let coding =
         super::distances::coding_parameters(&data, args.dt, args.duration, args.tau, args.cos)?;
     let (distances, distance_time) =
-        timed(|| coding_distances_on(data.observations(), args.coding, &coding, ranks));
+        timed(|| coding_distances(data.observations(), args.coding, &coding, ranks));
     let distances = distances?;
     if !ranks.is_root() {
         return Ok(());

@@ -8,7 +8,7 @@ use clap::{Args, ValueEnum};
 use neurotac_core::coding::whole_ms;
 use neurotac_core::{Ranks, SpikeDataset};
 use neurotac_experiments::coding::{
-    CodingName, CodingParameters, coding_distances_on, mean_spikes_per_channel, sample_duration_ms,
+    CodingName, CodingParameters, coding_distances, mean_spikes_per_channel, sample_duration_ms,
 };
 use neurotac_experiments::export::{MATRIX_FORMATS, OutputFormat, write_matrix};
 use neurotac_experiments::timing::timed;
@@ -54,7 +54,7 @@ pub struct DistancesArgs {
     force: bool,
 }
 
-/// On several ranks the matrix's rows are split over them ([`coding_distances_on`]); every
+/// On several ranks the matrix's rows are split over them ([`coding_distances`]); every
 /// rank checks the output path first, rank 0 alone writes the matrix and prints.
 pub fn run(args: DistancesArgs, ranks: &dyn Ranks) -> anyhow::Result<()> {
     neurotac_core::io::check_distinct(&args.input, &args.output)?;
@@ -70,7 +70,7 @@ pub fn run(args: DistancesArgs, ranks: &dyn Ranks) -> anyhow::Result<()> {
     };
     let parameters = coding_parameters(&data, args.dt, args.duration, args.tau, args.cos)?;
     let (matrix, timing) =
-        timed(|| coding_distances_on(data.observations(), coding, &parameters, ranks));
+        timed(|| coding_distances(data.observations(), coding, &parameters, ranks));
     let matrix = matrix?;
     if !ranks.is_root() {
         return Ok(());

@@ -19,7 +19,7 @@ use neurotac_experiments::neuron_setup::NeuronKind;
 use neurotac_experiments::neuron_setup::Precision;
 use neurotac_experiments::progress::{NoProgress, Progress};
 use neurotac_experiments::readouts::VrFrom;
-use neurotac_experiments::reproduce::{ReproduceConfig, SetReport, Source, run_on};
+use neurotac_experiments::reproduce::{self, ReproduceConfig, SetReport, Source};
 use neurotac_experiments::threads::with_threads;
 use neurotac_experiments::timing::timed;
 use neurotac_sensor::sim::SimParams;
@@ -92,7 +92,7 @@ pub struct ReproduceArgs {
 }
 
 /// On several ranks the simulation, the distance matrices and the searches are split over them
-/// ([`run_on`]); every rank checks the report folder first, rank 0 alone shows progress,
+/// ([`reproduce::run`]); every rank checks the report folder first, rank 0 alone shows progress,
 /// prints and writes the report.
 pub fn run(args: ReproduceArgs, ranks: &dyn Ranks) -> anyhow::Result<()> {
     check_destination(&args.out, args.force)?;
@@ -133,7 +133,9 @@ pub fn run(args: ReproduceArgs, ranks: &dyn Ranks) -> anyhow::Result<()> {
         false => &NoProgress,
     };
     let (written, total) = timed(|| -> anyhow::Result<()> {
-        let report = with_threads(args.threads, || run_on(&config, &sources, progress, ranks))??;
+        let report = with_threads(args.threads, || {
+            reproduce::run(&config, &sources, progress, ranks)
+        })??;
         if !ranks.is_root() {
             return Ok(());
         }

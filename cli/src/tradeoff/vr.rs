@@ -112,7 +112,7 @@ pub fn measure(
     }
     let knn = Knn::new(config.k)?;
     let evaluate = |input: VanRossumInput<'_>| -> Result<_, ExperimentError> {
-        let (m, timing) = timed(|| input.matrices(config.tau_s));
+        let (m, timing) = timed(|| input.matrices(config.tau_s, &neurotac_core::OneProcess));
         let d2 = m?.squared(config.cos)?;
         let loo = Accuracy::of(&knn.leave_one_out(d2.view(), &labels)?, &labels);
         Ok((d2, timing, loo))

@@ -9,7 +9,7 @@
 //! the search (optimistic, like the paper's).
 //!
 //! [`run`] is a whole reproduction (datasets from each [`Source`], the pipeline, the afferent
-//! variant) into one [`Report`] ([`run_on`]: its simulation, distance matrices and searches
+//! variant) into one [`Report`] ([`run`]: its simulation, distance matrices and searches
 //! split over ranks, every rank ending with the one-process report); [`run_set`] is one
 //! labelled set through the pipeline;
 //! [`paper`] holds the paper's numbers to compare with; [`phases`] splits a simulated set's
@@ -34,7 +34,6 @@ mod run;
 
 pub use run::{
     AfferentRun, Report, ReproduceConfig, ReproduceError, SetReport, Source, example_samples, run,
-    run_on,
 };
 
 use crate::coding::{CodingName, class_means_of};
@@ -43,12 +42,12 @@ use crate::progress::Progress;
 use crate::protocols::{Evaluation, Protocol, evaluate};
 use crate::readouts::{EncodedSet, VrFrom, encode_offline};
 use crate::search::bayes::{BayesConfig, BayesResult, VanRossumObjective, bayes_optimise};
-use crate::search::dt_sweep::{DtSweep, dt_sweep_of_bins_on};
+use crate::search::dt_sweep::{DtSweep, dt_sweep_of_bins};
 use crate::timing::{Timing, timed};
 use ndarray::Array2;
 use neurotac_core::coding::write_window_features;
 use neurotac_core::distance::euclidean_distance_matrix_on;
-use neurotac_core::{Knn, KnnError, OneProcess, Ranks, SpikeDataset};
+use neurotac_core::{Knn, KnnError, Ranks, SpikeDataset};
 use serde::Serialize;
 
 /// Settings of the pipeline; [`PipelineConfig::paper`] is the paper's protocol.
@@ -232,6 +231,7 @@ pub fn run_set(
         &encode_offline(data, config.vr_from)?,
         config,
         progress,
+        &neurotac_core::OneProcess,
     )
 }
 
@@ -250,21 +250,13 @@ fn temporal_features(set: &EncodedSet, window_ms: u32) -> Array2<f64> {
 
 /// Runs the paper's pipeline on the coding readouts of one labelled set (see the module docs
 /// and [`crate::readouts`]).
-pub fn run_encoded(
-    name: &str,
-    set: &EncodedSet,
-    config: &PipelineConfig,
-    progress: &dyn Progress,
-) -> Result<SetResult, ExperimentError> {
-    run_encoded_on(name, set, config, progress, &OneProcess)
-}
-
+///
 /// [`run_encoded`] split over `ranks`: the distance matrices
 /// ([`euclidean_distance_matrix_on`], [`VanRossumObjective::on_ranks`]) and the Δt sweep
-/// ([`dt_sweep_of_bins_on`]) are computed by all ranks together, the rest (KNN protocols, the
+/// ([`dt_sweep_of_bins`]) are computed by all ranks together, the rest (KNN protocols, the
 /// optimiser) by every rank alike, so every rank returns the one-process result. Collective:
 /// every rank must call it.
-pub fn run_encoded_on(
+pub fn run_encoded(
     name: &str,
     set: &EncodedSet,
     config: &PipelineConfig,
@@ -316,7 +308,7 @@ pub fn run_encoded_on(
             0,
         );
         let (sweep, dt_sweep_time) =
-            timed(|| dt_sweep_of_bins_on(&set.bins, labels, max_window, knn, ranks));
+            timed(|| dt_sweep_of_bins(&set.bins, labels, max_window, knn, ranks));
         let sweep = sweep?;
         progress.finish();
         let dt = sweep.best_window_ms;

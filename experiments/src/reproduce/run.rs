@@ -4,7 +4,7 @@
 use super::confusions::{LooAnalysis, loo_analysis};
 use super::paper;
 use super::phases::Phases;
-use super::{PipelineConfig, SetResult, run_encoded_on};
+use super::{PipelineConfig, SetResult, run_encoded};
 use crate::afferents::AfferentConfig;
 use crate::datasets::recorded::{RecordedError, list_recorded, load_recorded, skipped_entries};
 use crate::datasets::simulated::{DatasetsError, TextureSet, load_or_simulate};
@@ -12,7 +12,7 @@ use crate::error::ExperimentError;
 use crate::progress::Progress;
 use crate::readouts::{EncodedSet, encode_through_graph};
 use crate::timing::{Timing, timed};
-use neurotac_core::{MultiSpikeTrain, OneProcess, Ranks, SpikeDataset};
+use neurotac_core::{MultiSpikeTrain, Ranks, SpikeDataset};
 use neurotac_sensor::filter::MapStart;
 use neurotac_sensor::sim::{CalibratedParameter, SimParams};
 use neurotac_sensor::taxel::{TaxelLayout, TransductionConfig};
@@ -176,21 +176,14 @@ pub struct Report {
 
 /// Runs the paper's pipeline on every source in order (on the current rayon pool) and gathers
 /// the report. `progress` sees every long stage, and one note per dataset ready.
-pub fn run(
-    config: &ReproduceConfig,
-    sources: &[Source],
-    progress: &dyn Progress,
-) -> Result<Report, ReproduceError> {
-    run_on(config, sources, progress, &OneProcess)
-}
-
-/// [`run`] split over `ranks`: the simulated datasets
+///
+/// Split over `ranks` (`&OneProcess` for one process): the simulated datasets
 /// ([`load_or_simulate`]), the distance matrices and the searches
-/// ([`run_encoded_on`](super::run_encoded_on)) are computed by all ranks together, and every
+/// ([`run_encoded`](super::run_encoded)) are computed by all ranks together, and every
 /// rank returns the one-process report (timings aside). The readout and afferent networks
 /// and the transduction of recorded datasets run on every rank alike. Nothing is written but
 /// the dataset cache, by rank 0. Collective: every rank must call it.
-pub fn run_on(
+pub fn run(
     config: &ReproduceConfig,
     sources: &[Source],
     progress: &dyn Progress,
@@ -321,7 +314,7 @@ fn run_source(
         out
     };
     let pipeline = |set: &EncodedSet, what: &'static str| {
-        run_encoded_on(&name, set, &config.pipeline, progress, ranks).map_err(|source| {
+        run_encoded(&name, set, &config.pipeline, progress, ranks).map_err(|source| {
             ReproduceError::Pipeline {
                 name: name.clone(),
                 what,
@@ -399,12 +392,12 @@ mod tests {
         let mut config = ReproduceConfig::quick(1, dir.path().join("cache"));
         let missing = Source::Recorded(dir.path().join("nope"));
         assert!(matches!(
-            run(&config, &[missing], &NoProgress),
+            run(&config, &[missing], &NoProgress, &neurotac_core::OneProcess),
             Err(ReproduceError::Recorded(RecordedError::Missing { .. }))
         ));
         config.trials = Some(0);
         assert!(matches!(
-            run(&config, &[], &NoProgress),
+            run(&config, &[], &NoProgress, &neurotac_core::OneProcess),
             Err(ReproduceError::ZeroTrials)
         ));
     }

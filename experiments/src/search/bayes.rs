@@ -328,13 +328,10 @@ pub enum VanRossumInput<'a> {
 
 impl VanRossumInput<'_> {
     /// `LL²` and `SP²` at `tau_s`.
-    pub fn matrices(&self, tau_s: f64) -> Result<VanRossumMatrices, ExperimentError> {
-        self.matrices_on(tau_s, &OneProcess)
-    }
-
-    /// [`matrices`](Self::matrices) split over `ranks` ([`VanRossum::matrices_on`],
+    ///
+    /// Split over `ranks` (`&OneProcess` for one process) ([`VanRossum::matrices_on`],
     /// [`trace_matrices_on`]): every rank returns the one-process matrices. Collective.
-    pub fn matrices_on(
+    pub fn matrices(
         &self,
         tau_s: f64,
         ranks: &dyn Ranks,
@@ -407,7 +404,7 @@ impl<'a> VanRossumObjective<'a> {
             self.cache.push(entry);
             return Ok(m);
         }
-        let m = Arc::new(self.input.matrices_on(tau_s, self.ranks)?);
+        let m = Arc::new(self.input.matrices(tau_s, self.ranks)?);
         self.matrices_computed += 1;
         if self.cache.len() == self.capacity {
             self.cache.remove(0);

@@ -38,7 +38,7 @@
 //! the `(distance, index)` order of [`neurotac_core::knn::TopK`], which gives the same
 //! neighbours for any chunking (thread count), and voted on with its tie rules.
 //!
-//! Over several ranks ([`dt_sweep_on`]) each rank takes a block of rows balanced by pair
+//! Over several ranks ([`dt_sweep`]) each rank takes a block of rows balanced by pair
 //! count, merges its chunks' lists, and the ranks' lists are all-gathered and merged the same
 //! way: the same neighbours, so the same predictions, at any rank count.
 
@@ -49,7 +49,7 @@ use neighbours::Neighbours;
 use neurotac_core::coding::pooled_bin_counts;
 use neurotac_core::knn::vote;
 use neurotac_core::ranks::balanced_blocks;
-use neurotac_core::{Knn, KnnError, MultiSpikeTrain, OneProcess, Ranks, RanksError};
+use neurotac_core::{Knn, KnnError, MultiSpikeTrain, Ranks, RanksError};
 use rayon::prelude::*;
 use serde::Serialize;
 use std::ops::Range;
@@ -312,25 +312,9 @@ pub fn window_squared_distances(
 
 /// Runs the sweep over `Δt = 1..=max_window_ms` ms on samples of `duration_ms` (spikes outside
 /// `[0, T)` are not part of a sample), leave-one-out with `knn`.
+///
+/// Split over `ranks` (`&OneProcess` for one process) ([`dt_sweep_of_bins`]). Collective.
 pub fn dt_sweep(
-    observations: &[MultiSpikeTrain],
-    labels: &[usize],
-    duration_ms: u32,
-    max_window_ms: u32,
-    knn: Knn,
-) -> Result<DtSweep, ExperimentError> {
-    dt_sweep_on(
-        observations,
-        labels,
-        duration_ms,
-        max_window_ms,
-        knn,
-        &OneProcess,
-    )
-}
-
-/// [`dt_sweep`] split over `ranks` ([`dt_sweep_of_bins_on`]). Collective.
-pub fn dt_sweep_on(
     observations: &[MultiSpikeTrain],
     labels: &[usize],
     duration_ms: u32,
@@ -338,7 +322,7 @@ pub fn dt_sweep_on(
     knn: Knn,
     ranks: &dyn Ranks,
 ) -> Result<DtSweep, ExperimentError> {
-    dt_sweep_of_bins_on(
+    dt_sweep_of_bins(
         &bins_of(observations, duration_ms),
         labels,
         max_window_ms,
@@ -350,27 +334,18 @@ pub fn dt_sweep_on(
 /// [`dt_sweep`] from each sample's pooled spike count per 1-ms bin (e.g. a temporal coding
 /// readout's [`bin_counts`](neurotac_core::coding::TemporalCoding::bin_counts)); all samples
 /// have the same number of bins, the duration `T` in ms.
-pub fn dt_sweep_of_bins(
-    bins: &[Vec<u32>],
-    labels: &[usize],
-    max_window_ms: u32,
-    knn: Knn,
-) -> Result<DtSweep, ExperimentError> {
-    dt_sweep_of_bins_on(bins, labels, max_window_ms, knn, &OneProcess)
-}
-
+///
 /// [`dt_sweep_of_bins`] split over `ranks`: the pairs of samples are split over the ranks
-/// ([`leave_one_out_predictions_of_bins_on`]), and every rank returns the one-process sweep.
+/// ([`leave_one_out_predictions_of_bins`]), and every rank returns the one-process sweep.
 /// Collective: every rank must call it.
-pub fn dt_sweep_of_bins_on(
+pub fn dt_sweep_of_bins(
     bins: &[Vec<u32>],
     labels: &[usize],
     max_window_ms: u32,
     knn: Knn,
     ranks: &dyn Ranks,
 ) -> Result<DtSweep, ExperimentError> {
-    let predictions =
-        leave_one_out_predictions_of_bins_on(bins, labels, max_window_ms, knn, ranks)?;
+    let predictions = leave_one_out_predictions_of_bins(bins, labels, max_window_ms, knn, ranks)?;
     let n = labels.len();
     let accuracy: Vec<f64> = predictions
         .iter()
@@ -407,19 +382,12 @@ pub fn leave_one_out_predictions(
         labels,
         max_window_ms,
         knn,
+        &neurotac_core::OneProcess,
     )
 }
 
 /// [`leave_one_out_predictions`] from per-ms pooled bin counts (see [`dt_sweep_of_bins`]).
-pub fn leave_one_out_predictions_of_bins(
-    counts: &[Vec<u32>],
-    labels: &[usize],
-    max_window_ms: u32,
-    knn: Knn,
-) -> Result<Vec<Vec<usize>>, ExperimentError> {
-    leave_one_out_predictions_of_bins_on(counts, labels, max_window_ms, knn, &OneProcess)
-}
-
+///
 /// [`leave_one_out_predictions_of_bins`] split over `ranks`: each rank computes the pairs
 /// `(a, b)`, `a < b`, of a block of rows `a` balanced by pair count (row `a` has `N − a − 1`),
 /// for every window at once; the ranks' `k` nearest of every sample at every window are
@@ -430,7 +398,7 @@ pub fn leave_one_out_predictions_of_bins(
 /// come from one correlogram over all lags `|d| < Δ_max` (module docs): a rank given only some
 /// windows would still pay for nearly all of it, while a block of pairs costs its share, and
 /// only the neighbour lists (`N × Δ_max × k` entries) travel.
-pub fn leave_one_out_predictions_of_bins_on(
+pub fn leave_one_out_predictions_of_bins(
     counts: &[Vec<u32>],
     labels: &[usize],
     max_window_ms: u32,

@@ -5,7 +5,7 @@ use crate::commands::load_labelled;
 use clap::Args;
 use neurotac_core::{Knn, Ranks};
 use neurotac_experiments::coding::sample_duration_ms;
-use neurotac_experiments::search::dt_sweep::dt_sweep_on;
+use neurotac_experiments::search::dt_sweep::dt_sweep;
 use neurotac_experiments::timing::timed;
 use std::path::PathBuf;
 
@@ -32,14 +32,14 @@ pub struct DtArgs {
     json: bool,
 }
 
-/// On several ranks the pairs of samples are split over them ([`dt_sweep_on`]); rank 0 alone
+/// On several ranks the pairs of samples are split over them ([`dt_sweep`]); rank 0 alone
 /// prints.
 pub fn run(args: DtArgs, ranks: &dyn Ranks) -> anyhow::Result<()> {
     let data = load_labelled(&args.input)?;
     let t = sample_duration_ms(&data, args.duration)?;
     let knn = Knn::new(args.k)?;
     let (sweep, timing) = timed(|| {
-        dt_sweep_on(
+        dt_sweep(
             data.observations(),
             data.labels(),
             t,

@@ -111,7 +111,7 @@ fn assert_predictions_match(obs: &[MultiSpikeTrain], labels: &[usize], t: u32, d
         let want = knn.leave_one_out(d2.view(), labels).unwrap();
         assert_eq!(fast[delta as usize - 1], want, "T={t} Δ={delta}");
     }
-    let sweep = dt_sweep(obs, labels, t, dm, knn).unwrap();
+    let sweep = dt_sweep(obs, labels, t, dm, knn, &neurotac_core::OneProcess).unwrap();
     for (p, &acc) in fast.iter().zip(&sweep.accuracy) {
         assert_eq!(acc, Accuracy::of(p, labels).mean);
     }
@@ -179,7 +179,15 @@ fn predictions_are_identical_at_any_thread_count() {
 #[test]
 fn the_best_window_is_the_first_with_the_highest_accuracy() {
     let d = small();
-    let sweep = dt_sweep(d.observations(), d.labels(), 600, 85, Knn::default()).unwrap();
+    let sweep = dt_sweep(
+        d.observations(),
+        d.labels(),
+        600,
+        85,
+        Knn::default(),
+        &neurotac_core::OneProcess,
+    )
+    .unwrap();
     assert_eq!(sweep.windows_ms.len(), 85);
     let best = sweep.accuracy.iter().cloned().fold(0.0, f64::max);
     assert_eq!(sweep.best.mean, best);
@@ -210,20 +218,51 @@ fn row_chunks_of_all_ranks_cover_every_row_once() {
 #[test]
 fn bad_sweeps_are_typed_errors() {
     let d = small();
-    assert!(dt_sweep(d.observations(), d.labels(), 600, 601, Knn::default()).is_err());
-    assert!(dt_sweep(d.observations(), d.labels(), 600, 0, Knn::default()).is_err());
+    assert!(
+        dt_sweep(
+            d.observations(),
+            d.labels(),
+            600,
+            601,
+            Knn::default(),
+            &neurotac_core::OneProcess
+        )
+        .is_err()
+    );
+    assert!(
+        dt_sweep(
+            d.observations(),
+            d.labels(),
+            600,
+            0,
+            Knn::default(),
+            &neurotac_core::OneProcess
+        )
+        .is_err()
+    );
     assert!(matches!(
         dt_sweep(
             &d.observations()[..3],
             &d.labels()[..3],
             600,
             10,
-            Knn::default()
+            Knn::default(),
+            &neurotac_core::OneProcess
         ),
         Err(ExperimentError::Knn(KnnError::KTooLarge {
             k: 4,
             n_train: 2
         }))
     ));
-    assert!(dt_sweep(d.observations(), &d.labels()[1..], 600, 10, Knn::default()).is_err());
+    assert!(
+        dt_sweep(
+            d.observations(),
+            &d.labels()[1..],
+            600,
+            10,
+            Knn::default(),
+            &neurotac_core::OneProcess
+        )
+        .is_err()
+    );
 }
