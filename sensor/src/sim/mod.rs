@@ -65,8 +65,9 @@ use crate::filter::MapStart;
 use crate::geometry::PinGeometry;
 use crate::taxel::{TaxelLayout, Transducer, TransductionConfig, TransductionCounts};
 use mechanics::Mechanics;
+use neurotac_core::seed_hash::splitmix64;
 use neurotac_core::{EventBuffer, MultiSpikeTrain};
-use pixel::{RawEvent, mix64};
+use pixel::RawEvent;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
@@ -272,7 +273,7 @@ impl Simulator {
         with_noise: bool,
     ) -> SimulatedTrial {
         let params = self.params;
-        let mut rng = ChaCha8Rng::seed_from_u64(mix64(seed ^ 0x6d65_6368));
+        let mut rng = ChaCha8Rng::seed_from_u64(splitmix64(seed ^ 0x6d65_6368));
         let mounting = Mounting::of_specimen(
             &params,
             self.camera.rig_seed,
@@ -294,7 +295,7 @@ impl Simulator {
             &self.camera,
             &self.trajectories,
             duration_s,
-            mix64(seed ^ 0x7069_7865_6c73),
+            splitmix64(seed ^ 0x7069_7865_6c73),
             with_noise,
             &mut self.raw,
         );

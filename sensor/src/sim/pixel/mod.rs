@@ -161,15 +161,6 @@ impl PinMotion for super::mechanics::PinTrajectories {
     }
 }
 
-/// SplitMix64 finaliser: a well-mixed hash of a 64-bit value.
-#[inline]
-pub(crate) fn mix64(mut z: u64) -> u64 {
-    z = z.wrapping_add(0x9e37_79b9_7f4a_7c15);
-    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-    z ^ (z >> 31)
-}
-
 impl PixelModel {
     /// Prepares patches around `pins_px` (rest positions, px), lookup tables and state for
     /// `camera`. Allocates; each run reuses everything.
