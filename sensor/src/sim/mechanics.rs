@@ -44,8 +44,9 @@
 //! onset jitter per slide.
 
 use super::params::SimParams;
+use super::random::gaussian;
 use super::slip_front::{ContactState, PinShear, SlipFront};
-use super::texture::{Surface, TextureField, gaussian};
+use super::texture::{Surface, TextureField};
 use neurotac_core::seed_hash::{fnv1a, splitmix64};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;

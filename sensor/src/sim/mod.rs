@@ -47,6 +47,7 @@ pub mod natural;
 pub mod parameter_sources;
 pub mod params;
 pub mod pixel;
+mod random;
 pub mod slip_front;
 pub mod texture;
 

@@ -9,7 +9,7 @@
 
 use super::fft::{Complex, fft2, frequency_index};
 use super::layer::Layer;
-use super::texture::{gaussian, poisson};
+use super::random::{gaussian, poisson};
 use neurotac_core::seed_hash::fnv1a;
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
