@@ -3,7 +3,8 @@
 //! times, the hardware-like refractory reset, noise events resetting the pixel (v2e), and the
 //! output time with latency and jitter (see the parent module's docs for the equations).
 
-use super::{NOISE_LABEL, PixelModel, RawEvent};
+use super::PixelModel;
+use super::event::{NOISE_LABEL, RawEvent};
 use neurotac_core::seed_hash::splitmix64;
 use neurotac_core::time::{s_to_us, us_to_s};
 

@@ -3,10 +3,11 @@
 //!
 //! | concept | file | what it holds |
 //! |---|---|---|
+//! | a simulated event and its label | `event.rs` | [`EventLabel`], [`NOISE_LABEL`], the unsorted event |
 //! | rendering (§3.1) | `render.rs` | pin discs → log intensity, lookup tables, pixel patches |
 //! | DVS pixel (§3.2) | `dvs.rs` | photoreceptor low-pass, threshold crossings, refractory reset, output timing |
 //! | noise (§3.2) | `noise.rs` | leak and shot noise, drawn per pixel as Poisson events |
-//! | orchestration | here | [`PixelModel`], adaptive patch steps, [`EventLabel`] |
+//! | orchestration | here | [`PixelModel`], adaptive patch steps |
 //!
 //!
 //! **Rendering** (pin discs, the closed-form pixel-area average, lookup tables): `render.rs`.
@@ -54,46 +55,18 @@
 //! motion is slow).
 
 mod dvs;
+mod event;
 mod noise;
 mod render;
+
+pub(crate) use event::RawEvent;
+pub use event::{EventLabel, NOISE_LABEL};
 
 use super::camera::Camera;
 use super::params::SimParams;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
-use render::{Patches, Tables};
-
-/// Label of noise events (see [`EventLabel`]).
-pub const NOISE_LABEL: u8 = u8::MAX;
-
-/// Ground truth of one pixel event: the pin whose motion caused it, or noise.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub struct EventLabel(pub u8);
-
-impl EventLabel {
-    /// The noise label.
-    pub const NOISE: EventLabel = EventLabel(NOISE_LABEL);
-
-    /// `true` for a noise event.
-    pub fn is_noise(self) -> bool {
-        self.0 == NOISE_LABEL
-    }
-
-    /// The source pin of a signal event.
-    pub fn pin(self) -> Option<usize> {
-        (!self.is_noise()).then_some(self.0 as usize)
-    }
-}
-
-/// One simulated event before sorting.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(crate) struct RawEvent {
-    pub t_us: i64,
-    pub y: u16,
-    pub x: u16,
-    pub on: bool,
-    pub label: u8,
-}
+use render::{Patches, Tables, render_pixel};
 
 /// Statistics of one run of the pixel model.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
@@ -263,6 +236,19 @@ impl PixelModel {
             }
         }
         stats
+    }
+
+    /// Log intensity and photoreceptor rate of patch pixel `j` of pin `own`'s patch, for the
+    /// pins at their current displacements ([`render_pixel`]).
+    #[inline(always)]
+    pub(super) fn render(&self, j: usize, own: usize) -> (f32, f32) {
+        render_pixel(
+            &self.tables,
+            &self.patches,
+            (&self.pin_dx, &self.pin_dy),
+            j,
+            own,
+        )
     }
 
     fn update_pins(&mut self, patch: usize, motion: &impl PinMotion, t: f64) {
