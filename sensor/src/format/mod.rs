@@ -36,8 +36,6 @@
 pub mod aedat2;
 pub mod aedat3;
 pub mod aedat4;
-#[cfg(test)]
-mod bad_input;
 mod contract;
 mod escape;
 mod flatbuffer;
