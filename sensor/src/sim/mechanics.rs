@@ -132,7 +132,8 @@ impl Mounting {
     }
 }
 
-/// The per-slide physical draws (spec §2.1; issue 12 item 4).
+/// The per-slide physical draws (spec §2.1; variability is hierarchical, §8: what a texture
+/// keeps for the whole recording is its [`Mounting`], what changes per slide is here).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct TrialDraw {
     /// Lateral offset y₀ of the texture (mm).

@@ -6,7 +6,7 @@
 //! | stage (spec §) | module | main types |
 //! |---|---|---|
 //! | parameters (§1–3, §7) | [`params`] | [`SimParams`] |
-//! | skin-on-texture contact (issue 12) | [`contact`] | [`SkinContact`] |
+//! | skin-on-texture contact (§2.2, §8) | [`contact`] | [`SkinContact`] |
 //! | textures, friction (§2.1, §2.4) | [`texture`] | [`Texture`], [`TextureField`], [`Surface`] |
 //! | natural textures as materials (§2.4) | [`natural`] | [`NATURAL_TEXTURES`], [`NaturalTexture`] |
 //! | a compliant texture in series with the dome | [`layer`] | [`layer::Layer`], [`layer::Press`] |

@@ -41,18 +41,17 @@
 //!
 //! **Noise** (leak and shot noise as Poisson events): `noise.rs`.
 //!
-//! **Why slow pins give isolated events (issue 12 item 6).** A pin edge moving fast (onset
-//! snap, hundreds of px/s) fires its edge pixels within a fraction of a millisecond, so the
-//! 8-neighbour, 5 ms BA filter keeps them. A pin drifting a few px/s changes an edge pixel's
-//! log intensity by only ≈ |∂L/∂x|·v ≈ 0.7 px⁻¹ × 5 px/s ≈ 3.5 s⁻¹, so each crossing of
-//! C ≈ 0.2 takes ≈ 60 ms and neighbouring pixels cross at times that differ by the threshold
-//! mismatch: σ_C/(|∂L/∂x|·v) ≈ 0.03/3.5 s⁻¹ ≈ 9 ms — more than the BA window. Isolated
-//! events are therefore physical for slow sub-pixel motion: the per-pixel threshold mismatch
-//! is a property of the sensor (σ_C = 0.03 in v2e; 2.1 % contrast mismatch measured on the
-//! DVS128, Lichtsteiner et al., JSSC 2008), not a rendering artefact, and the rendering is
-//! kept. `neurotac simulate check` reports the share of signal events the filter keeps per
-//! grid (≈ 78 % on the flat plate and fine grids, ≈ 45 % on coarse grids, where the steady
-//! motion is slow).
+//! **Why slow pins give isolated events.** A pin edge moving fast (onset snap, hundreds of px/s)
+//! fires its edge pixels within a fraction of a millisecond, so the 8-neighbour, 5 ms BA filter
+//! keeps them. A pin drifting a few px/s changes an edge pixel's log intensity by only ≈ |∂L/∂x|·v
+//! ≈ 0.7 px⁻¹ × 5 px/s ≈ 3.5 s⁻¹, so each crossing of C ≈ 0.2 takes ≈ 60 ms and neighbouring pixels
+//! cross at times that differ by the threshold mismatch: σ_C/(|∂L/∂x|·v) ≈ 0.03/3.5 s⁻¹ ≈ 9 ms —
+//! more than the BA window. Isolated events are therefore physical for slow sub-pixel motion: the
+//! per-pixel threshold mismatch is a property of the sensor (σ_C = 0.03 in v2e; 2.1 % contrast
+//! mismatch measured on the DVS128, Lichtsteiner et al., JSSC 2008), not a rendering artefact, and
+//! the rendering is kept. `neurotac simulate check` reports the share of signal events the filter
+//! keeps per grid (≈ 78 % on the flat plate and fine grids, ≈ 45 % on coarse grids, where the
+//! steady motion is slow).
 
 mod dvs;
 mod event;
