@@ -70,8 +70,7 @@ pub struct Mounting {
 }
 
 impl Mounting {
-    /// A texture's key for [`new`](Self::new): FNV-1a of its name
-    /// ([`neurotac_core::seed_hash::fnv1a`]).
+    /// A texture's key for [`new`](Self::new): FNV-1a of its name ([`fnv1a`]).
     pub fn texture_key(name: &str) -> u64 {
         fnv1a(name.as_bytes())
     }

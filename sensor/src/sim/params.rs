@@ -92,9 +92,8 @@ pub enum PeriodRule {
 }
 
 /// Contact mechanics: skin-on-texture contact, skin → pin transfer, friction and stick-slip
-/// shear (spec §2.2, and §8's texture-dependent friction, partial contact and pin-scale
-/// traction). Three fields are calibrated
-/// ([`SimParams::calibrated_parameters`]); every other default is a prior with its source.
+/// shear (spec §2.2, §8). Three fields are calibrated ([`SimParams::calibrated_parameters`]);
+/// every other default is a prior with its source.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ContactParams {
