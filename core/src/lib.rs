@@ -17,6 +17,7 @@
 //! | the KNN head | [`knn`]: [`Knn`] (leave-one-out in one pass, documented tie rules) |
 //! | several processes (MPI ranks, or threads in tests) | [`ranks`]: [`Ranks`], [`OneProcess`], [`ranks::balanced_blocks`] |
 //! | special functions | [`special`]: `erfc` |
+//! | seed hashes (names and parameters → seeds, seed mixing) | [`seed_hash`]: FNV-1a [`seed_hash::fnv1a`], SplitMix64 [`seed_hash::splitmix64`] |
 //! | outputs never half-written | [`io`]: [`AtomicFile`], [`AtomicDir`], [`io::check_distinct`] (input ≠ output) |
 //! | errors | [`SpikeError`], [`DatasetError`], [`GraphError`], [`ModelError`], [`CodingError`], [`DistanceError`], [`KnnError`], [`SameFileError`], [`CoreError`] |
 //!
@@ -43,6 +44,7 @@ pub mod io;
 pub mod knn;
 pub mod model;
 pub mod ranks;
+pub mod seed_hash;
 pub mod special;
 pub mod spikes;
 #[doc(hidden)]

@@ -1,14 +1,14 @@
-//! The committed fuzz corpus (`fuzz/corpus/<target>/`), replayed on stable (issue 14): every
-//! file goes through every reader — each format's own reader, AEDAT 4.0 with and without the
-//! input length, format detection — and what a reader delivers goes through every writer and
-//! back (read → write → read gives the same events, or the writer refuses with a typed
-//! `Unrepresentable`). Nothing may panic, every reader hands out bounded chunks whose events lie
-//! inside the sensor and match its counters, the events decoded are bounded by the input size,
-//! and the memory a file's reading allocates stays under a budget set by its size.
+//! The committed fuzz corpus (`fuzz/corpus/<target>/`), replayed on stable (no nightly, no
+//! cargo-fuzz): every file goes through every reader — each format's own reader, AEDAT 4.0 with
+//! and without the input length, format detection — and what a reader delivers goes through
+//! every writer and back (read → write → read gives the same events, or the writer refuses with
+//! a typed `Unrepresentable`). Nothing may panic, every reader hands out bounded chunks whose
+//! events lie inside the sensor and match its counters, the events decoded are bounded by the
+//! input size, and the memory a file's reading allocates stays under a budget set by its size.
 //!
-//! The corpus is minimised by `cargo fuzz cmin` and holds the cases of issues 5 and 14 (cut
-//! headers and magics, NUL bytes, too many fields, timestamps AEDAT 2.0 cannot hold, …);
-//! `fuzz/README.md` says how it is grown.
+//! The corpus is minimised by `cargo fuzz cmin` and holds the bad-input cases the readers were
+//! fixed for (cut headers and magics, NUL bytes, too many fields, timestamps AEDAT 2.0 cannot
+//! hold, …); `fuzz/README.md` says how it is grown.
 
 use neurotac_core::EventBuffer;
 use neurotac_sensor::FormatError;
@@ -271,7 +271,7 @@ fn every_corpus_file_through_every_reader_and_writer() {
             largest_peak = largest_peak.max(used);
         }
     }
-    // The committed corpus stays small (issue 14: at most 2 MB of distinct files in all).
+    // The committed corpus stays small (at most 2 MB of distinct files in all).
     assert!(total_bytes <= 2_000_000, "corpus of {total_bytes} bytes");
     eprintln!(
         "replayed {files} distinct corpus files ({total_bytes} bytes); largest allocation peak {largest_peak} bytes"

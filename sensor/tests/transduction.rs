@@ -390,7 +390,7 @@ fn chain_taxel_events(
     }
 }
 
-/// Issue 13 (one transduction pipeline): the transducer is the stage chain fused; without
+/// One transduction pipeline: the transducer is the stage chain fused; without
 /// re-centring (which only the fused loop feeds back) both give the same taxel events, with
 /// and without the refractory filter, however either input is chunked.
 #[test]

@@ -1,15 +1,12 @@
-//! The DAVIS240 driver above the raw USB calls: open checks, default configuration and
-//! libcaer's start/stop order (davis240.md §1.1–1.5). [`Davis::start`] hands the camera to a
-//! [`DavisStream`] (module `stream`: the reader thread and its bounded ring of buffers).
+//! The DAVIS240 driver above the raw USB calls: open checks, default configuration, register
+//! reads and writes, and the registers that stop the camera (davis240.md §1.1–1.5). Starting it
+//! ([`Davis::start`]) and streaming from it live in module `stream`.
 
-use super::decode::{DecoderConfig, UsbDecoder};
+use super::decode::DecoderConfig;
 use super::protocol::*;
-use super::stream::{DavisStream, Ring, reader_loop};
 use super::transport::{DeviceInfo, Transport, TransportError};
 use crate::error::DeviceError;
 use std::sync::Arc;
-use std::sync::atomic::AtomicBool;
-use std::time::Duration;
 
 /// What the device reports about itself at open (SYSINFO, DVS, APS and IMU registers; §1.4–1.5).
 #[derive(Debug, Clone, PartialEq)]
@@ -99,7 +96,9 @@ pub struct Davis<T: Transport> {
     pub(super) info: DavisInfo,
 }
 
-fn usb(operation: String) -> impl FnOnce(TransportError) -> DeviceError {
+/// Maps a transport error of `operation` to a [`DeviceError`] (an unplugged camera to
+/// [`DeviceError::Disconnected`]).
+pub(super) fn transport_error(operation: String) -> impl FnOnce(TransportError) -> DeviceError {
     move |e| match e {
         TransportError::Disconnected => DeviceError::Disconnected {
             bytes_received: 0,
@@ -118,7 +117,7 @@ fn read_register<T: Transport>(t: &T, module: u16, param: u16) -> Result<u32, De
     let what = || format!("register read (module {module}, param {param})");
     let n = t
         .control_in(VENDOR_REQUEST_FPGA_CONFIG, module, param, &mut buf)
-        .map_err(usb(what()))?;
+        .map_err(transport_error(what()))?;
     if n != 4 {
         return Err(DeviceError::Usb {
             operation: what(),
@@ -141,7 +140,7 @@ pub(super) fn write_register<T: Transport>(
         param,
         &value.to_be_bytes(),
     )
-    .map_err(usb(format!(
+    .map_err(transport_error(format!(
         "register write (module {module}, param {param})"
     )))?;
     Ok(())
@@ -163,7 +162,7 @@ fn write_registers<T: Transport>(t: &T, registers: &[Register]) -> Result<(), De
             0,
             &data,
         )
-        .map_err(usb(format!(
+        .map_err(transport_error(format!(
             "multiple register write ({} registers)",
             batch.len()
         )))?;
@@ -403,91 +402,15 @@ impl<T: Transport> Davis<T> {
             (MUX, mux::RUN_CHIP, 0),
         ]
     }
-
-    /// Starts streaming in libcaer's order (§1.5): everything off, 10 ms, clear the endpoint halt
-    /// and start the reader thread; chip on, 200 ms for the biases; USB, timestamps and MUX on,
-    /// 50 ms; then DVS (and APS/IMU/external input if asked) on.
-    pub fn start(self, options: StartOptions) -> Result<DavisStream<T>, DeviceError> {
-        let t = &*self.transport;
-        for (m, p, v) in self.all_off() {
-            write_register(t, m, p, v)?;
-        }
-        std::thread::sleep(Duration::from_millis(10));
-        t.clear_halt(DATA_ENDPOINT)
-            .map_err(usb("clear halt on endpoint 0x82".into()))?;
-        let ring = Arc::new(Ring::new(
-            options.ring_buffers.max(2),
-            options.buffer_bytes.max(512),
-        ));
-        let stop = Arc::new(AtomicBool::new(false));
-        let reader = {
-            let (transport, ring, stop) = (
-                Arc::clone(&self.transport),
-                Arc::clone(&ring),
-                Arc::clone(&stop),
-            );
-            let spare = vec![0u8; options.buffer_bytes.max(512)];
-            std::thread::Builder::new()
-                .name("davis-usb-reader".into())
-                .spawn(move || reader_loop(&*transport, &ring, &stop, spare))
-                .map_err(|e| DeviceError::Usb {
-                    operation: "starting the reader thread".into(),
-                    message: e.to_string(),
-                })?
-        };
-        let decoder = UsbDecoder::new(self.info.decoder_config());
-        let stream = DavisStream {
-            davis: self,
-            ring,
-            stop,
-            reader: Some(reader),
-            decoder,
-            events: 0,
-            stopped: false,
-        };
-        let t = &*stream.davis.transport;
-        let steps: [(&[Register], u64); 3] = [
-            (&[(MUX, mux::RUN_CHIP, 1)], 200),
-            (
-                &[
-                    (USB, usb::RUN, 1),
-                    (MUX, mux::TIMESTAMP_RUN, 1),
-                    (MUX, mux::RUN, 1),
-                ],
-                50,
-            ),
-            (
-                &[
-                    (DVS, dvs::RUN, 1),
-                    (APS, aps::RUN, u32::from(options.aps)),
-                    (IMU, imu::RUN_ACCELEROMETER, u32::from(options.imu)),
-                    (IMU, imu::RUN_GYROSCOPE, u32::from(options.imu)),
-                    (IMU, imu::RUN_TEMPERATURE, u32::from(options.imu)),
-                    (
-                        EXTINPUT,
-                        extinput::RUN_DETECTOR,
-                        u32::from(options.external_input),
-                    ),
-                ],
-                0,
-            ),
-        ];
-        for (registers, settle_ms) in steps {
-            for &(m, p, v) in registers {
-                write_register(t, m, p, v)?;
-            }
-            std::thread::sleep(Duration::from_millis(settle_ms));
-        }
-        Ok(stream)
-    }
 }
 
 #[cfg(test)]
 mod tests {
+    use super::super::decode::UsbDecoder;
     use super::super::transport::{ControlRecord, ReplayEnd, ReplayTransport};
     use super::*;
     use neurotac_core::EventBuffer;
-    use std::time::Instant;
+    use std::time::{Duration, Instant};
 
     fn fx2() -> DeviceInfo {
         DeviceInfo {

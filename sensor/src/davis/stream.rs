@@ -1,5 +1,5 @@
-//! A streaming DAVIS240: the reader thread and its bounded ring of buffers (davis240.md §1.2),
-//! decoded on the consumer side (§1.6).
+//! A streaming DAVIS240: [`Davis::start`] in libcaer's order (davis240.md §1.5), the reader
+//! thread and its bounded ring of buffers (§1.2), decoded on the consumer side (§1.6).
 //!
 //! ```text
 //! reader thread: bulk IN 0x82 → free buffer → ring (filled)       overflow → freewheel buffer, counted as dropped
@@ -12,8 +12,10 @@
 //! [`DeviceError::Disconnected`].
 
 use super::decode::{DecodeStats, UsbDecoder};
-use super::device::{Davis, DavisInfo, write_register};
-use super::protocol::DATA_ENDPOINT;
+use super::device::{Davis, DavisInfo, StartOptions, transport_error, write_register};
+use super::protocol::{
+    APS, DATA_ENDPOINT, DVS, EXTINPUT, IMU, MUX, Register, USB, aps, dvs, extinput, imu, mux, usb,
+};
 use super::transport::{Transport, TransportError};
 use crate::error::DeviceError;
 use neurotac_core::EventBuffer;
@@ -43,13 +45,13 @@ struct RingState {
 /// The bounded ring between the reader thread and the consumer: a fixed set of buffers
 /// allocated once, moving between a free list and a queue of filled ones.
 #[derive(Debug)]
-pub(super) struct Ring {
+struct Ring {
     state: Mutex<RingState>,
     ready: Condvar,
 }
 
 impl Ring {
-    pub(super) fn new(buffers: usize, bytes: usize) -> Self {
+    fn new(buffers: usize, bytes: usize) -> Self {
         Self {
             state: Mutex::new(RingState {
                 filled: VecDeque::with_capacity(buffers),
@@ -68,7 +70,7 @@ impl Ring {
 }
 
 /// Bulk reads into free ring buffers; when none is free, into `spare`, counted as dropped.
-pub(super) fn reader_loop<T: Transport>(t: &T, ring: &Ring, stop: &AtomicBool, mut spare: Vec<u8>) {
+fn reader_loop<T: Transport>(t: &T, ring: &Ring, stop: &AtomicBool, mut spare: Vec<u8>) {
     let timeout = Duration::from_millis(100);
     let end = loop {
         if stop.load(Ordering::Acquire) {
@@ -105,15 +107,94 @@ pub(super) fn reader_loop<T: Transport>(t: &T, ring: &Ring, stop: &AtomicBool, m
     ring.ready.notify_all();
 }
 
+impl<T: Transport> Davis<T> {
+    /// Starts streaming in libcaer's order (§1.5): everything off, 10 ms, clear the endpoint halt
+    /// and start the reader thread; chip on, 200 ms for the biases; USB, timestamps and MUX on,
+    /// 50 ms; then DVS (and APS/IMU/external input if asked) on.
+    pub fn start(self, options: StartOptions) -> Result<DavisStream<T>, DeviceError> {
+        let t = &*self.transport;
+        for (m, p, v) in self.all_off() {
+            write_register(t, m, p, v)?;
+        }
+        std::thread::sleep(Duration::from_millis(10));
+        t.clear_halt(DATA_ENDPOINT)
+            .map_err(transport_error("clear halt on endpoint 0x82".into()))?;
+        let ring = Arc::new(Ring::new(
+            options.ring_buffers.max(2),
+            options.buffer_bytes.max(512),
+        ));
+        let stop = Arc::new(AtomicBool::new(false));
+        let reader = {
+            let (transport, ring, stop) = (
+                Arc::clone(&self.transport),
+                Arc::clone(&ring),
+                Arc::clone(&stop),
+            );
+            let spare = vec![0u8; options.buffer_bytes.max(512)];
+            std::thread::Builder::new()
+                .name("davis-usb-reader".into())
+                .spawn(move || reader_loop(&*transport, &ring, &stop, spare))
+                .map_err(|e| DeviceError::Usb {
+                    operation: "starting the reader thread".into(),
+                    message: e.to_string(),
+                })?
+        };
+        let decoder = UsbDecoder::new(self.info.decoder_config());
+        let stream = DavisStream {
+            davis: self,
+            ring,
+            stop,
+            reader: Some(reader),
+            decoder,
+            events: 0,
+            stopped: false,
+        };
+        let t = &*stream.davis.transport;
+        let steps: [(&[Register], u64); 3] = [
+            (&[(MUX, mux::RUN_CHIP, 1)], 200),
+            (
+                &[
+                    (USB, usb::RUN, 1),
+                    (MUX, mux::TIMESTAMP_RUN, 1),
+                    (MUX, mux::RUN, 1),
+                ],
+                50,
+            ),
+            (
+                &[
+                    (DVS, dvs::RUN, 1),
+                    (APS, aps::RUN, u32::from(options.aps)),
+                    (IMU, imu::RUN_ACCELEROMETER, u32::from(options.imu)),
+                    (IMU, imu::RUN_GYROSCOPE, u32::from(options.imu)),
+                    (IMU, imu::RUN_TEMPERATURE, u32::from(options.imu)),
+                    (
+                        EXTINPUT,
+                        extinput::RUN_DETECTOR,
+                        u32::from(options.external_input),
+                    ),
+                ],
+                0,
+            ),
+        ];
+        for (registers, settle_ms) in steps {
+            for &(m, p, v) in registers {
+                write_register(t, m, p, v)?;
+            }
+            std::thread::sleep(Duration::from_millis(settle_ms));
+        }
+        Ok(stream)
+    }
+}
+
 /// A streaming DAVIS240: decodes the ring's buffers on the consumer side (davis240.md §1.2, §1.6).
 pub struct DavisStream<T: Transport> {
     pub(super) davis: Davis<T>,
-    pub(super) ring: Arc<Ring>,
-    pub(super) stop: Arc<AtomicBool>,
-    pub(super) reader: Option<JoinHandle<()>>,
-    pub(super) decoder: UsbDecoder,
-    pub(super) events: u64,
-    pub(super) stopped: bool,
+    ring: Arc<Ring>,
+    stop: Arc<AtomicBool>,
+    reader: Option<JoinHandle<()>>,
+    decoder: UsbDecoder,
+    events: u64,
+    stopped: bool,
 }
 
 impl<T: Transport> DavisStream<T> {

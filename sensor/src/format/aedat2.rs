@@ -19,9 +19,9 @@
 //! line names another chip than a DAVIS240 is refused (its layout differs); a header without one
 //! is read as DAVIS240.
 
+use super::contract::{EventReader, EventWriter, READ_BLOCK, ReadStats, ReaderEnd, io_error};
 use super::header::{HeaderSpec, read_header};
 use super::input::Input;
-use super::{EventReader, EventWriter, READ_BLOCK, ReadStats, ReaderEnd, io_error};
 use crate::error::FormatError;
 use neurotac_core::EventBuffer;
 use std::io::{Read, Write};

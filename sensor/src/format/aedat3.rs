@@ -8,9 +8,11 @@
 //! time = `(eventTSOverflow << 31) | timestamp`. Other packet types are skipped (counted), as are
 //! invalid events (valid bit 0) and the unused capacity past `eventNumber`.
 
+use super::contract::{
+    DAVIS240_SIZE, EventReader, EventWriter, READ_BLOCK, ReadStats, ReaderEnd, io_error,
+};
 use super::header::{HeaderSpec, read_header};
 use super::input::Input;
-use super::{DAVIS240_SIZE, EventReader, EventWriter, READ_BLOCK, ReadStats, ReaderEnd, io_error};
 use crate::error::FormatError;
 use neurotac_core::EventBuffer;
 use std::io::{Read, Write};

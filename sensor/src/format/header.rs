@@ -12,6 +12,7 @@
 //! the end a header needs) is [`FormatError::TruncatedHeader`] at the byte where it ends; an
 //! AEDAT 2.0 header therefore needs its sentinel or at least one data byte.
 
+use super::escape::escape;
 use super::input::Input;
 use crate::error::FormatError;
 use std::io::Read;
@@ -77,7 +78,7 @@ pub(crate) fn read_header<R: Read>(
         if !line.is_empty() && !line.ends_with(b"\n") && version.starts_with(&line) {
             return Err(truncated(input, "the rest of the version line"));
         }
-        let found = super::escape(&line[..line.len().min(16)]);
+        let found = escape(&line[..line.len().min(16)]);
         return Err(input.invalid(0, "version line", found, format!("`{}`", spec.version)));
     }
     if !line.ends_with(b"\n") {
@@ -103,7 +104,7 @@ pub(crate) fn read_header<R: Read>(
             return Err(truncated(input, spec.expected_end));
         }
         if first[0] != b'#' {
-            let found = super::escape(&line[..line.len().min(16)]);
+            let found = escape(&line[..line.len().min(16)]);
             return Err(input.invalid(at, "header line", found, "a line starting with `#`"));
         }
         bytes.extend_from_slice(&line);

@@ -9,8 +9,11 @@
 //! Coordinates are top-left; polarity 1 = ON, 0 = OFF (−1 is also read as OFF). Lines end with
 //! LF or CRLF; empty lines are skipped. Events outside 240 × 180 are skipped and counted.
 
+use super::contract::{
+    DAVIS240_SIZE, EventReader, EventWriter, READ_BLOCK, ReadStats, ReaderEnd, io_error,
+};
+use super::escape::escape_text;
 use super::input::Input;
-use super::{DAVIS240_SIZE, EventReader, EventWriter, READ_BLOCK, ReadStats, ReaderEnd, io_error};
 use crate::error::FormatError;
 use neurotac_core::EventBuffer;
 use std::io::{Read, Write};
@@ -174,7 +177,7 @@ impl<R: Read> TextReader<R> {
             line: self.line,
             offset,
             field,
-            found: super::escape_text(&line[a..b], FOUND_MAX_BYTES),
+            found: escape_text(&line[a..b], FOUND_MAX_BYTES),
             expected,
         }
     }

@@ -2,7 +2,7 @@
 //! drawn once per camera.
 
 use super::params::SimParams;
-use super::texture::gaussian;
+use super::random::gaussian;
 use crate::geometry::{DAVIS240_HEIGHT, DAVIS240_WIDTH};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;

@@ -1,4 +1,5 @@
-//! The skin-on-texture contact, solved once per texture (issue 12 item 2).
+//! The skin-on-texture contact, solved once per texture (spec §2.2 step 2, and the non-linear
+//! partial contact of §8: the skin's sag grows with the gap until it meets the floor).
 //!
 //! **Model.** The 1 mm skin pressed on a texture is a membrane of tension T on a Winkler
 //! foundation (the gel, stiffness k per area) under the nominal contact pressure q, resting on

@@ -44,9 +44,10 @@
 //! onset jitter per slide.
 
 use super::params::SimParams;
-use super::pixel::mix64;
+use super::random::gaussian;
 use super::slip_front::{ContactState, PinShear, SlipFront};
-use super::texture::{Surface, TextureField, gaussian};
+use super::texture::{Surface, TextureField};
+use neurotac_core::seed_hash::{fnv1a, splitmix64};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -69,11 +70,9 @@ pub struct Mounting {
 }
 
 impl Mounting {
-    /// A texture's key for [`new`](Self::new): FNV-1a of its name.
+    /// A texture's key for [`new`](Self::new): FNV-1a of its name ([`fnv1a`]).
     pub fn texture_key(name: &str) -> u64 {
-        name.bytes().fold(0xcbf2_9ce4_8422_2325u64, |h, b| {
-            (h ^ b as u64).wrapping_mul(0x0000_0100_0000_01b3)
-        })
+        fnv1a(name.as_bytes())
     }
 
     /// The mounting of the texture with key `texture_key` ([`texture_key`](Self::texture_key))
@@ -93,9 +92,9 @@ impl Mounting {
     ) -> Self {
         let k = &params.kinematics;
         let name_hash = texture_key;
-        let mut day = ChaCha8Rng::seed_from_u64(mix64(rig_seed ^ 0x6461_7900));
+        let mut day = ChaCha8Rng::seed_from_u64(splitmix64(rig_seed ^ 0x6461_7900));
         let day_friction = (1.0 + params.contact.friction_day_sd * gaussian(&mut day)).max(0.5);
-        let mut rng = ChaCha8Rng::seed_from_u64(mix64(rig_seed ^ mix64(name_hash)));
+        let mut rng = ChaCha8Rng::seed_from_u64(splitmix64(rig_seed ^ splitmix64(name_hash)));
         let lateral_offset_mm = (rng.random::<f64>() - 0.5) * k.lateral_offset_range_mm;
         let start_phase_mm = rng.random::<f64>() * k.start_phase_range_mm;
         // Three sinusoids of equal amplitude: variance 3a²/2 = σ².
@@ -104,7 +103,8 @@ impl Mounting {
             let period = 50.0 + 350.0 * rng.random::<f64>();
             (a, period, std::f64::consts::TAU * rng.random::<f64>())
         });
-        let mut specimen = ChaCha8Rng::seed_from_u64(mix64(rig_seed ^ mix64(name_hash ^ 0x7370)));
+        let mut specimen =
+            ChaCha8Rng::seed_from_u64(splitmix64(rig_seed ^ splitmix64(name_hash ^ 0x7370)));
         let specimen_friction = if friction_spread > 0.0 {
             (1.0 + friction_spread * gaussian(&mut specimen)).max(0.3)
         } else {
@@ -131,7 +131,8 @@ impl Mounting {
     }
 }
 
-/// The per-slide physical draws (spec §2.1; issue 12 item 4).
+/// The per-slide physical draws (spec §2.1; variability is hierarchical, §8: what a texture
+/// keeps for the whole recording is its [`Mounting`], what changes per slide is here).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct TrialDraw {
     /// Lateral offset y₀ of the texture (mm).

@@ -6,7 +6,7 @@
 //! | stage (spec §) | module | main types |
 //! |---|---|---|
 //! | parameters (§1–3, §7) | [`params`] | [`SimParams`] |
-//! | skin-on-texture contact (issue 12) | [`contact`] | [`SkinContact`] |
+//! | skin-on-texture contact (§2.2, §8) | [`contact`] | [`SkinContact`] |
 //! | textures, friction (§2.1, §2.4) | [`texture`] | [`Texture`], [`TextureField`], [`Surface`] |
 //! | natural textures as materials (§2.4) | [`natural`] | [`NATURAL_TEXTURES`], [`NaturalTexture`] |
 //! | a compliant texture in series with the dome | [`layer`] | [`layer::Layer`], [`layer::Press`] |
@@ -47,6 +47,7 @@ pub mod natural;
 pub mod parameter_sources;
 pub mod params;
 pub mod pixel;
+mod random;
 pub mod slip_front;
 pub mod texture;
 
@@ -65,8 +66,9 @@ use crate::filter::MapStart;
 use crate::geometry::PinGeometry;
 use crate::taxel::{TaxelLayout, Transducer, TransductionConfig, TransductionCounts};
 use mechanics::Mechanics;
+use neurotac_core::seed_hash::splitmix64;
 use neurotac_core::{EventBuffer, MultiSpikeTrain};
-use pixel::{RawEvent, mix64};
+use pixel::RawEvent;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
@@ -272,7 +274,7 @@ impl Simulator {
         with_noise: bool,
     ) -> SimulatedTrial {
         let params = self.params;
-        let mut rng = ChaCha8Rng::seed_from_u64(mix64(seed ^ 0x6d65_6368));
+        let mut rng = ChaCha8Rng::seed_from_u64(splitmix64(seed ^ 0x6d65_6368));
         let mounting = Mounting::of_specimen(
             &params,
             self.camera.rig_seed,
@@ -294,7 +296,7 @@ impl Simulator {
             &self.camera,
             &self.trajectories,
             duration_s,
-            mix64(seed ^ 0x7069_7865_6c73),
+            splitmix64(seed ^ 0x7069_7865_6c73),
             with_noise,
             &mut self.raw,
         );

@@ -9,7 +9,8 @@
 
 use super::fft::{Complex, fft2, frequency_index};
 use super::layer::Layer;
-use super::texture::{gaussian, poisson};
+use super::random::{gaussian, poisson};
+use neurotac_core::seed_hash::fnv1a;
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::f64::consts::{PI, TAU};
@@ -186,13 +187,6 @@ pub const NATURAL_TEXTURES: [NaturalTexture; 20] = {
     ]
 };
 
-/// A seed from a texture name (FNV-1a), so each natural texture is one fixed sample.
-fn name_seed(name: &str) -> u64 {
-    name.bytes().fold(0xcbf2_9ce4_8422_2325, |h, b| {
-        (h ^ b as u64).wrapping_mul(0x0000_0100_0000_01b3)
-    })
-}
-
 fn weave_height(t: &NaturalTexture, x: f64, y: f64, grain: &[f64]) -> f64 {
     let (p, a) = (t.period_mm, t.amplitude_mm);
     if p <= 0.0 || a == 0.0 {
@@ -246,7 +240,8 @@ fn weave_height(t: &NaturalTexture, x: f64, y: f64, grain: &[f64]) -> f64 {
 pub(crate) fn natural_heights(t: &NaturalTexture) -> Vec<f64> {
     let (nx, ny, dx) = (NATURAL_NX, NATURAL_NY, NATURAL_DX_MM);
     let (lx, ly) = (nx as f64 * dx, ny as f64 * dx);
-    let mut rng = ChaCha8Rng::seed_from_u64(name_seed(t.name));
+    // Seeded by the name alone (FNV-1a), so each natural texture is one fixed sample.
+    let mut rng = ChaCha8Rng::seed_from_u64(fnv1a(t.name.as_bytes()));
     let mut h = vec![0.0; nx * ny];
     // Periodic weave.
     let mut grain = Vec::new();

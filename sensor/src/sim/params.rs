@@ -11,7 +11,7 @@ pub use super::parameter_sources::PARAMETER_SOURCES;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
-/// Robot kinematics and the variability a robot arm has (spec §2.1; issue 12 item 4).
+/// Robot kinematics and the variability a robot arm has (spec §2.1; hierarchical, §8).
 ///
 /// Variability is hierarchical, as in a real recording: the texture's **mounting** (lateral
 /// offset y₀ and start phase) is drawn once per texture and rig (dataset) and is the same for
@@ -45,7 +45,7 @@ pub struct KinematicsParams {
     /// slide, mm). Default 10 (one period of the coarsest grid).
     pub start_phase_range_mm: f64,
     /// Draw offset and phase independently for every slide instead of once per mounting.
-    /// Default `false` (a robot repeats its path; issue 12 item 4).
+    /// Default `false` (a robot repeats its path, spec §8).
     pub per_slide_offsets: bool,
     /// Per-slide positioning jitter (standard deviation, mm) of the offset and the phase: the
     /// arm's position repeatability. Default 0.01 (ABB IRB120 product specification: position
@@ -92,8 +92,8 @@ pub enum PeriodRule {
 }
 
 /// Contact mechanics: skin-on-texture contact, skin → pin transfer, friction and stick-slip
-/// shear (spec §2.2; issue 12 items 1–3). Three fields are calibrated
-/// ([`SimParams::calibrated_parameters`]); every other default is a prior with its source.
+/// shear (spec §2.2, §8). Three fields are calibrated ([`SimParams::calibrated_parameters`]);
+/// every other default is a prior with its source.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ContactParams {

@@ -1,6 +1,7 @@
 //! Textures: the 11 bump grids and the 20 natural textures as height fields, put in contact
 //! with the skin once per texture and filtered into the fields the pins feel (spec §2.1,
-//! §2.2 steps 1–3, §2.4; issue 12 items 1–3, 7).
+//! §2.2 steps 1–3, §2.4, and what §8 asks for: friction that follows the contact, a partial
+//! contact whose sag grows with the gap, a pin-scale tangential channel at the bump edges).
 //!
 //! A texture becomes a [`TextureField`] and a [`Surface`] through [`Texture::prepare`]:
 //! 1. the skin-on-texture contact is solved ([`super::contact`]): the conformed skin surface
@@ -38,8 +39,6 @@ use super::natural::{
     natural_heights,
 };
 use super::params::{ContactParams, PeriodRule, SimParams};
-use rand::RngExt;
-use rand_chacha::ChaCha8Rng;
 use std::f64::consts::TAU;
 
 /// The 11 bump-grid sizes of the paper (mm).
@@ -58,7 +57,7 @@ pub enum Texture {
 }
 
 /// Friction, micro-slip and contact facts of a texture against the skin (spec §2.2 step 5,
-/// §2.4; issue 12 item 1).
+/// §2.4; friction follows the contact, §8).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Surface {
     /// Static friction μ_s (before the recording's shared factor and drift).
@@ -473,30 +472,6 @@ fn grid_heights(size_mm: f64, contact: &ContactParams) -> (Vec<f64>, usize, f64)
     (h, n, dx)
 }
 
-/// A standard normal draw (Box–Muller).
-pub(crate) fn gaussian(rng: &mut ChaCha8Rng) -> f64 {
-    let u1 = 1.0 - rng.random::<f64>();
-    let u2 = rng.random::<f64>();
-    (-2.0 * u1.ln()).sqrt() * (TAU * u2).cos()
-}
-
-/// A Poisson draw of mean `mean` (inversion for small means, normal approximation above 50).
-pub(crate) fn poisson(rng: &mut ChaCha8Rng, mean: f64) -> u64 {
-    if mean <= 0.0 {
-        return 0;
-    }
-    if mean > 50.0 {
-        return (mean + mean.sqrt() * gaussian(rng)).round().max(0.0) as u64;
-    }
-    let limit = (-mean).exp();
-    let (mut k, mut p) = (0u64, rng.random::<f64>());
-    while p > limit {
-        k += 1;
-        p *= rng.random::<f64>();
-    }
-    k
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -559,7 +534,7 @@ mod tests {
 
     #[test]
     fn friction_and_the_onset_snap_differ_between_grids() {
-        // Issue 12 item 1: friction follows the contact, so the snap (μ_s − μ_k) and the stick
+        // Friction follows the contact (spec §8), so the snap (μ_s − μ_k) and the stick
         // distance (μ_s) are texture-dependent.
         let surfaces: Vec<Surface> = GRID_SIZES_MM
             .iter()

@@ -30,7 +30,7 @@ mod writer;
 pub use reader::Aedat4Reader;
 pub use writer::Aedat4Writer;
 
-use super::DAVIS240_SIZE;
+use super::contract::DAVIS240_SIZE;
 
 /// The magic line.
 const MAGIC: &[u8; 14] = b"#!AER-DAT4.0\r\n";

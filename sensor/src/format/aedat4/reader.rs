@@ -6,9 +6,10 @@ use super::{
     MAX_PACKET_BYTES, event_stream,
 };
 use crate::error::FormatError;
+use crate::format::contract::{DAVIS240_SIZE, EventReader, ReadStats, ReaderEnd};
+use crate::format::escape::escape;
 use crate::format::flatbuffer::{Buffer, u32_at};
 use crate::format::input::Input;
-use crate::format::{DAVIS240_SIZE, EventReader, ReadStats, ReaderEnd, escape};
 use neurotac_core::EventBuffer;
 use std::io::Read;
 use std::path::PathBuf;

@@ -4,7 +4,7 @@
 use super::framing::lz4_frame_encode;
 use super::{Compression, EVENT_BYTES, MAGIC, PACKET_EVENTS};
 use crate::error::FormatError;
-use crate::format::{DAVIS240_SIZE, EventWriter, io_error};
+use crate::format::contract::{DAVIS240_SIZE, EventWriter, io_error};
 use neurotac_core::EventBuffer;
 use std::io::{Seek, SeekFrom, Write};
 use std::path::PathBuf;

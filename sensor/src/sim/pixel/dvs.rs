@@ -3,7 +3,9 @@
 //! times, the hardware-like refractory reset, noise events resetting the pixel (v2e), and the
 //! output time with latency and jitter (see the parent module's docs for the equations).
 
-use super::{NOISE_LABEL, PixelModel, RawEvent, mix64};
+use super::PixelModel;
+use super::event::{NOISE_LABEL, RawEvent};
+use neurotac_core::seed_hash::splitmix64;
 use neurotac_core::time::{s_to_us, us_to_s};
 
 /// e^(−x) for x ≥ 0 in f32, inlined (absolute error < 3·10⁻⁷; flushes to ≈ 2⁻¹²⁵ beyond
@@ -36,7 +38,7 @@ impl PixelModel {
             self.l_filt[j] = l;
             self.l_ref[j] = if random {
                 // A 24-bit uniform in [0, 1): L̃ − L_ref = u·(C⁺ + C⁻) − C⁻.
-                let u = (mix64(seed ^ mix64(0x7265_6600 ^ j as u64)) >> 40) as f32
+                let u = (splitmix64(seed ^ splitmix64(0x7265_6600 ^ j as u64)) >> 40) as f32
                     / (1u32 << 24) as f32;
                 l + self.c_off[j] - u * (self.c_on[j] + self.c_off[j])
             } else {
@@ -184,7 +186,7 @@ impl PixelModel {
         let p = &self.params.pixel;
         let k = self.n_events[j];
         self.n_events[j] = k + 1;
-        let h = mix64(seed ^ mix64(((j as u64) << 32) | k as u64));
+        let h = splitmix64(seed ^ splitmix64(((j as u64) << 32) | k as u64));
         let u = ((h >> 11) as f64 + 0.5) / (1u64 << 53) as f64;
         let t = te + p.latency_s - p.latency_jitter_s * u.ln();
         let owner = self.patch_owner(j) as u8;

@@ -3,10 +3,11 @@
 //!
 //! | concept | file | what it holds |
 //! |---|---|---|
+//! | a simulated event and its label | `event.rs` | [`EventLabel`], [`NOISE_LABEL`], the unsorted event |
 //! | rendering (§3.1) | `render.rs` | pin discs → log intensity, lookup tables, pixel patches |
 //! | DVS pixel (§3.2) | `dvs.rs` | photoreceptor low-pass, threshold crossings, refractory reset, output timing |
 //! | noise (§3.2) | `noise.rs` | leak and shot noise, drawn per pixel as Poisson events |
-//! | orchestration | here | [`PixelModel`], adaptive patch steps, [`EventLabel`] |
+//! | orchestration | here | [`PixelModel`], adaptive patch steps |
 //!
 //!
 //! **Rendering** (pin discs, the closed-form pixel-area average, lookup tables): `render.rs`.
@@ -40,60 +41,31 @@
 //!
 //! **Noise** (leak and shot noise as Poisson events): `noise.rs`.
 //!
-//! **Why slow pins give isolated events (issue 12 item 6).** A pin edge moving fast (onset
-//! snap, hundreds of px/s) fires its edge pixels within a fraction of a millisecond, so the
-//! 8-neighbour, 5 ms BA filter keeps them. A pin drifting a few px/s changes an edge pixel's
-//! log intensity by only ≈ |∂L/∂x|·v ≈ 0.7 px⁻¹ × 5 px/s ≈ 3.5 s⁻¹, so each crossing of
-//! C ≈ 0.2 takes ≈ 60 ms and neighbouring pixels cross at times that differ by the threshold
-//! mismatch: σ_C/(|∂L/∂x|·v) ≈ 0.03/3.5 s⁻¹ ≈ 9 ms — more than the BA window. Isolated
-//! events are therefore physical for slow sub-pixel motion: the per-pixel threshold mismatch
-//! is a property of the sensor (σ_C = 0.03 in v2e; 2.1 % contrast mismatch measured on the
-//! DVS128, Lichtsteiner et al., JSSC 2008), not a rendering artefact, and the rendering is
-//! kept. `neurotac simulate check` reports the share of signal events the filter keeps per
-//! grid (≈ 78 % on the flat plate and fine grids, ≈ 45 % on coarse grids, where the steady
-//! motion is slow).
+//! **Why slow pins give isolated events.** A pin edge moving fast (onset snap, hundreds of px/s)
+//! fires its edge pixels within a fraction of a millisecond, so the 8-neighbour, 5 ms BA filter
+//! keeps them. A pin drifting a few px/s changes an edge pixel's log intensity by only ≈ |∂L/∂x|·v
+//! ≈ 0.7 px⁻¹ × 5 px/s ≈ 3.5 s⁻¹, so each crossing of C ≈ 0.2 takes ≈ 60 ms and neighbouring pixels
+//! cross at times that differ by the threshold mismatch: σ_C/(|∂L/∂x|·v) ≈ 0.03/3.5 s⁻¹ ≈ 9 ms —
+//! more than the BA window. Isolated events are therefore physical for slow sub-pixel motion: the
+//! per-pixel threshold mismatch is a property of the sensor (σ_C = 0.03 in v2e; 2.1 % contrast
+//! mismatch measured on the DVS128, Lichtsteiner et al., JSSC 2008), not a rendering artefact, and
+//! the rendering is kept. `neurotac simulate check` reports the share of signal events the filter
+//! keeps per grid (≈ 78 % on the flat plate and fine grids, ≈ 45 % on coarse grids, where the
+//! steady motion is slow).
 
 mod dvs;
+mod event;
 mod noise;
 mod render;
+
+pub(crate) use event::RawEvent;
+pub use event::{EventLabel, NOISE_LABEL};
 
 use super::camera::Camera;
 use super::params::SimParams;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
-use render::{Patches, Tables};
-
-/// Label of noise events (see [`EventLabel`]).
-pub const NOISE_LABEL: u8 = u8::MAX;
-
-/// Ground truth of one pixel event: the pin whose motion caused it, or noise.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub struct EventLabel(pub u8);
-
-impl EventLabel {
-    /// The noise label.
-    pub const NOISE: EventLabel = EventLabel(NOISE_LABEL);
-
-    /// `true` for a noise event.
-    pub fn is_noise(self) -> bool {
-        self.0 == NOISE_LABEL
-    }
-
-    /// The source pin of a signal event.
-    pub fn pin(self) -> Option<usize> {
-        (!self.is_noise()).then_some(self.0 as usize)
-    }
-}
-
-/// One simulated event before sorting.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(crate) struct RawEvent {
-    pub t_us: i64,
-    pub y: u16,
-    pub x: u16,
-    pub on: bool,
-    pub label: u8,
-}
+use render::{Patches, Tables, render_pixel};
 
 /// Statistics of one run of the pixel model.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
@@ -159,15 +131,6 @@ impl PinMotion for super::mechanics::PinTrajectories {
     fn time_to_travel(&self, pin: usize, t_s: f64, distance_px: f32, limit_s: f64) -> f64 {
         super::mechanics::PinTrajectories::time_to_travel(self, pin, t_s, distance_px, limit_s)
     }
-}
-
-/// SplitMix64 finaliser: a well-mixed hash of a 64-bit value.
-#[inline]
-pub(crate) fn mix64(mut z: u64) -> u64 {
-    z = z.wrapping_add(0x9e37_79b9_7f4a_7c15);
-    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-    z ^ (z >> 31)
 }
 
 impl PixelModel {
@@ -272,6 +235,19 @@ impl PixelModel {
             }
         }
         stats
+    }
+
+    /// Log intensity and photoreceptor rate of patch pixel `j` of pin `own`'s patch, for the
+    /// pins at their current displacements ([`render_pixel`]).
+    #[inline(always)]
+    pub(super) fn render(&self, j: usize, own: usize) -> (f32, f32) {
+        render_pixel(
+            &self.tables,
+            &self.patches,
+            (&self.pin_dx, &self.pin_dy),
+            j,
+            own,
+        )
     }
 
     fn update_pins(&mut self, patch: usize, motion: &impl PinMotion, t: f64) {

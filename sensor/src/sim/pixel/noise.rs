@@ -5,7 +5,8 @@
 //! straight to the output; those of patch pixels are queued per pixel for the DVS model, which
 //! resets the pixel at each (v2e: L_ref ← L̃). Hot pixels are not modelled.
 
-use super::{NOISE_LABEL, PixelModel, RawEvent};
+use super::PixelModel;
+use super::event::{NOISE_LABEL, RawEvent};
 use crate::sim::camera::Camera;
 use neurotac_core::time::{s_to_us, us_to_s};
 use rand::RngExt;

@@ -4,7 +4,7 @@
 //! lin-log intensity and photoreceptor rate against coverage; and the pixel patches around the
 //! pins (each pixel sees its nearest pin and the second-nearest within the patch radius).
 
-use super::{NOISE_LABEL, PixelModel};
+use super::event::NOISE_LABEL;
 use crate::sim::params::SimParams;
 use neurotac_core::special::erfc;
 
@@ -190,24 +190,24 @@ impl Patches {
     }
 }
 
-impl PixelModel {
-    #[inline(always)]
-    pub(super) fn render(&self, j: usize, own: usize) -> (f32, f32) {
-        let p = &self.patches;
-        let (ex, ey) = (
-            p.own_dx[j] - self.pin_dx[own],
-            p.own_dy[j] - self.pin_dy[own],
-        );
-        let mut cover = self.tables.coverage(ex * ex + ey * ey);
-        let other = p.other[j];
-        if other != NOISE_LABEL {
-            let o = other as usize;
-            let (fx, fy) = (
-                p.other_dx[j] - self.pin_dx[o],
-                p.other_dy[j] - self.pin_dy[o],
-            );
-            cover += self.tables.coverage(fx * fx + fy * fy);
-        }
-        self.tables.log_and_rate(cover)
+/// Log intensity and photoreceptor rate of patch pixel `j` of pin `own`'s patch, for pins
+/// displaced by (`pin_dx`, `pin_dy`) (px, per pin): the coverage of its owner pin plus that of
+/// its second pin, if any, through the tables.
+#[inline(always)]
+pub(super) fn render_pixel(
+    tables: &Tables,
+    p: &Patches,
+    (pin_dx, pin_dy): (&[f32], &[f32]),
+    j: usize,
+    own: usize,
+) -> (f32, f32) {
+    let (ex, ey) = (p.own_dx[j] - pin_dx[own], p.own_dy[j] - pin_dy[own]);
+    let mut cover = tables.coverage(ex * ex + ey * ey);
+    let other = p.other[j];
+    if other != NOISE_LABEL {
+        let o = other as usize;
+        let (fx, fy) = (p.other_dx[j] - pin_dx[o], p.other_dy[j] - pin_dy[o]);
+        cover += tables.coverage(fx * fx + fy * fy);
     }
+    tables.log_and_rate(cover)
 }

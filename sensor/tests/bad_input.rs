@@ -1,10 +1,32 @@
-//! Bad input, one test per case of issue 5: truncated files and packets, wrong magic, a header
-//! that never ends, packet sizes larger than the file, corrupt compressed payloads, zero-length
-//! packets, timestamps going backwards, coordinates out of range. Each gives a typed error or a
-//! documented, counted skip. Also: every reader streams an endless input in bounded chunks.
+//! Event files that are bad in every way a file can be (davis240.md §2): truncated files and
+//! packets, wrong magic, a header that never ends, packet sizes larger than the file, corrupt
+//! compressed payloads, zero-length packets, timestamps going backwards, coordinates out of
+//! range. Each gives a typed error or a documented, counted skip ([`ReadStats`]). Also: every
+//! reader streams an endless input in bounded chunks. Only the public API is used.
 
-use super::*;
-use neurotac_core::{Event, Timestamp};
+use neurotac_core::{Event, EventBuffer, Timestamp};
+use neurotac_sensor::FormatError;
+use neurotac_sensor::format::{
+    Aedat2Reader, Aedat2Writer, Aedat3Reader, Aedat3Writer, Aedat4Reader, Compression, CsvReader,
+    EcdTextReader, EventReader, EventWriter, Format, ReadStats, aedat2, aedat4, reader_from_bytes,
+    to_bytes,
+};
+use std::io::Read;
+use std::path::Path;
+
+/// The bound on a chunk that [`EventReader::read_chunk`] documents ("at most a few hundred
+/// thousand" events): the readers' block size in bytes, 2¹⁸, since an event takes at least one
+/// byte of input.
+const CHUNK_BOUND: usize = 1 << 18;
+
+/// Where the header of an encoding ends (the byte after its end line).
+fn header_end(bytes: &[u8], end_line: &[u8]) -> usize {
+    bytes
+        .windows(end_line.len())
+        .position(|w| w == end_line)
+        .unwrap()
+        + end_line.len()
+}
 
 fn events(n: usize) -> EventBuffer {
     (0..n)
@@ -62,13 +84,7 @@ fn every_reader_streams_an_endless_input_in_bounded_chunks() {
         let bytes = encode(format, &ev);
         let data_start = match format {
             Format::Aedat2 => bytes.len() - 8 * ev.len(),
-            Format::Aedat3 => {
-                bytes
-                    .windows(14)
-                    .position(|w| w == b"#!END-HEADER\r\n")
-                    .unwrap()
-                    + 14
-            }
+            Format::Aedat3 => header_end(&bytes, b"#!END-HEADER\r\n"),
             Format::Aedat4(_) => {
                 18 + u32::from_le_bytes(bytes[14..18].try_into().unwrap()) as usize
             }
@@ -105,12 +121,12 @@ fn every_reader_streams_an_endless_input_in_bounded_chunks() {
         for _ in 0..12 {
             chunk.clear();
             let n = reader.read_chunk(&mut chunk).unwrap();
-            assert!(n > 0 && n <= READ_BLOCK, "{format:?}: chunk of {n} events");
+            assert!(n > 0 && n <= CHUNK_BOUND, "{format:?}: chunk of {n} events");
             total += n;
         }
         assert!(total >= 12, "{format:?}");
         assert!(
-            chunk.t.capacity() <= 4 * READ_BLOCK,
+            chunk.t.capacity() <= 4 * CHUNK_BOUND,
             "{format:?}: the buffer stays bounded"
         );
     }
@@ -190,16 +206,12 @@ fn truncated_files_deliver_what_precedes_and_then_a_typed_error() {
         );
     }
     let aedat3 = encode(Format::Aedat3, &ev);
-    let header_end = aedat3
-        .windows(14)
-        .position(|w| w == b"#!END-HEADER\r\n")
-        .unwrap()
-        + 14;
-    let (_, _, err) = read(&aedat3[..header_end + 20]);
+    let data_start = header_end(&aedat3, b"#!END-HEADER\r\n");
+    let (_, _, err) = read(&aedat3[..data_start + 20]);
     assert!(
         matches!(err, Some(FormatError::Truncated { expected, .. }) if expected.contains("packet header"))
     );
-    let (_, _, err) = read(&aedat3[..header_end - 5]);
+    let (_, _, err) = read(&aedat3[..data_start - 5]);
     assert!(
         matches!(err, Some(FormatError::TruncatedHeader { expected, .. }) if expected.contains("END-HEADER"))
     );
@@ -417,13 +429,9 @@ fn packet_sizes_larger_than_the_file_are_rejected_without_allocating_them() {
     // AEDAT 3.1: a capacity of 2^31 − 1 events in a small file is read block by block and ends
     // as truncated.
     let mut bytes = encode(Format::Aedat3, &events(100));
-    let header_end = bytes
-        .windows(14)
-        .position(|w| w == b"#!END-HEADER\r\n")
-        .unwrap()
-        + 14;
+    let data_start = header_end(&bytes, b"#!END-HEADER\r\n");
     for field in [16, 20] {
-        bytes[header_end + field..header_end + field + 4].copy_from_slice(&i32::MAX.to_le_bytes());
+        bytes[data_start + field..data_start + field + 4].copy_from_slice(&i32::MAX.to_le_bytes());
     }
     let (got, _, err) = read(&bytes);
     assert_eq!(got.len(), 100);
@@ -432,7 +440,7 @@ fn packet_sizes_larger_than_the_file_are_rejected_without_allocating_them() {
         "{err:?}"
     );
     // eventNumber above eventCapacity, negative sizes.
-    bytes[header_end + 16..header_end + 20].copy_from_slice(&5i32.to_le_bytes());
+    bytes[data_start + 16..data_start + 20].copy_from_slice(&5i32.to_le_bytes());
     assert!(matches!(
         read(&bytes).2,
         Some(FormatError::Invalid {
@@ -440,7 +448,7 @@ fn packet_sizes_larger_than_the_file_are_rejected_without_allocating_them() {
             ..
         })
     ));
-    bytes[header_end + 4..header_end + 8].copy_from_slice(&(-8i32).to_le_bytes());
+    bytes[data_start + 4..data_start + 8].copy_from_slice(&(-8i32).to_le_bytes());
     assert!(matches!(
         read(&bytes).2,
         Some(FormatError::Invalid {
@@ -501,12 +509,8 @@ fn zero_length_packets_are_skipped_and_counted() {
     assert_eq!(stats.skipped, 2);
     // AEDAT 3.1: an empty polarity packet and a non-polarity packet between the header and data.
     let bytes = encode(Format::Aedat3, &ev);
-    let header_end = bytes
-        .windows(14)
-        .position(|w| w == b"#!END-HEADER\r\n")
-        .unwrap()
-        + 14;
-    let mut with_empty = bytes[..header_end].to_vec();
+    let data_start = header_end(&bytes, b"#!END-HEADER\r\n");
+    let mut with_empty = bytes[..data_start].to_vec();
     let mut empty = [0u8; 28];
     empty[0] = 1;
     empty[4] = 8;
@@ -517,7 +521,7 @@ fn zero_length_packets_are_skipped_and_counted() {
     special[16] = 1;
     with_empty.extend_from_slice(&special);
     with_empty.extend_from_slice(&[0; 8]);
-    with_empty.extend_from_slice(&bytes[header_end..]);
+    with_empty.extend_from_slice(&bytes[data_start..]);
     let (got, stats, err) = read(&with_empty);
     assert!(err.is_none(), "{err:?}");
     assert_eq!(got, ev);
@@ -611,15 +615,6 @@ fn text_errors_name_line_field_and_offset() {
         }
         other => panic!("{other:?}"),
     }
-}
-
-/// Where the header of an encoding ends (the byte after its end line).
-fn header_end(bytes: &[u8], end_line: &[u8]) -> usize {
-    bytes
-        .windows(end_line.len())
-        .position(|w| w == end_line)
-        .unwrap()
-        + end_line.len()
 }
 
 #[test]
