@@ -454,13 +454,12 @@ impl CubaSpikes {
     /// bits, little-endian): equal checksums mean identical spikes, to compare runs on
     /// different rank counts.
     pub fn checksum(&self) -> u64 {
-        let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+        let mut h = neurotac_core::seed_hash::Fnv1a::new();
         for &(i, t) in self.excitatory.iter().chain(&self.inhibitory) {
-            for b in i.to_le_bytes().into_iter().chain(t.to_bits().to_le_bytes()) {
-                h = (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3);
-            }
+            h.write(&i.to_le_bytes());
+            h.write(&t.to_bits().to_le_bytes());
         }
-        h
+        h.finish()
     }
 }
 

@@ -9,9 +9,7 @@ use std::path::{Path, PathBuf};
 /// FNV-1a 64 of the metadata's JSON text: the cache key.
 pub(super) fn cache_key(meta: &serde_json::Map<String, serde_json::Value>) -> u64 {
     let text = serde_json::to_string(meta).expect("metadata serialises");
-    text.bytes().fold(0xcbf2_9ce4_8422_2325, |h, b| {
-        (h ^ b as u64).wrapping_mul(0x0000_0100_0000_01b3)
-    })
+    neurotac_core::seed_hash::fnv1a(text.as_bytes())
 }
 
 /// The cache folder of simulated datasets shared by `neurotac reproduce` and `neurotac

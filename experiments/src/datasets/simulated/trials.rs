@@ -3,27 +3,20 @@
 
 use super::{DatasetsError, TextureSet};
 use neurotac_core::MultiSpikeTrain;
+use neurotac_core::seed_hash::splitmix64;
 use neurotac_sensor::sim::{
     Camera, PreparedTexture, SimParams, SimulatedTrial, Simulator, taxel_spikes,
 };
 use rayon::prelude::*;
 
-/// SplitMix64 finaliser.
-fn mix(mut z: u64) -> u64 {
-    z = z.wrapping_add(0x9e37_79b9_7f4a_7c15);
-    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-    z ^ (z >> 31)
-}
-
 /// The seed of trial `trial` of class `class` of `set` in a dataset seeded with `seed`.
 pub fn trial_seed(seed: u64, set: TextureSet, class: usize, trial: usize) -> u64 {
-    mix(mix(mix(mix(seed) ^ set.id()) ^ class as u64) ^ trial as u64)
+    splitmix64(splitmix64(splitmix64(splitmix64(seed) ^ set.id()) ^ class as u64) ^ trial as u64)
 }
 
 /// The seed of the camera (fixed-pattern noise) of a dataset seeded with `seed`.
 pub fn camera_seed(seed: u64) -> u64 {
-    mix(seed ^ 0xca3e_7a00)
+    splitmix64(seed ^ 0xca3e_7a00)
 }
 
 /// One trial to simulate: its class, index and texture.
