@@ -1,4 +1,4 @@
-//! The real DAVIS240C recording of `../shared/data/davis240/` in every format (issue 5): every
+//! The real DAVIS240C recording of `../shared/data/davis240/` in every format: every
 //! reader decodes the same 118 558 events, event for event, and the USB word stream decodes to
 //! the expected 64-bit timestamps across the 2^31 µs big wrap.
 
@@ -200,7 +200,7 @@ fn times_past_the_big_wrap_survive_every_format() {
 
 #[test]
 fn the_background_activity_keep_masks_match_the_recording() {
-    // The masks are the oracle of the noise filter (issue 6); here: they load and fit the events.
+    // The masks are the oracle of the noise filter; here: they load and fit the events.
     let Some(dir) = data_dir() else { return };
     for (file, kept) in [
         ("pick_ba_keep_2000us.npy", 70_563),

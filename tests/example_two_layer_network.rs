@@ -1,4 +1,4 @@
-//! The `two_layer_network` example's own code, run and checked (issue 16 item 5).
+//! The `two_layer_network` example's own code, run and checked.
 
 #[path = "../examples/two_layer_network.rs"]
 mod example;

@@ -1,4 +1,4 @@
-//! Hot loops allocate nothing after warm-up (issue 5): the USB decoder fed chunk by chunk, and
+//! Hot loops allocate nothing after warm-up: the USB decoder fed chunk by chunk, and
 //! every file reader handing out chunk after chunk into a reused buffer. Counted by a global
 //! allocator that tallies this thread's allocations.
 

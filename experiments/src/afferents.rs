@@ -199,7 +199,7 @@ pub fn afferent_dataset(
 mod tests {
     use super::*;
 
-    /// Issue 16 item 6: the afferents summate, by design (module docs). Two taxel events Δ
+    /// The afferents summate, by design (module docs). Two taxel events Δ
     /// apart: LIF gives a third spike while Δ < 17 ms, Izhikevich RS two spikes at any Δ.
     #[test]
     fn close_taxel_events_summate_in_the_lif_afferent_and_not_in_the_rs_one() {

@@ -1,4 +1,4 @@
-//! Issue 17: the online recogniser's decision at the end of each replayed slide equals the
+//! The online recogniser's decision at the end of each replayed slide equals the
 //! offline classifier's prediction for that sample, for all four codings.
 
 use neurotac_core::distance::{VanRossum, euclidean_distance_matrix};

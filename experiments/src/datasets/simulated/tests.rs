@@ -134,7 +134,7 @@ fn events_csv_has_a_header_and_labels() {
     assert!(text.contains(",-1\n"));
 }
 
-/// Issue 13: simulated sets state their sample duration, and every spike lies inside it.
+/// Simulated sets state their sample duration, and every spike lies inside it.
 #[test]
 fn simulated_sets_state_their_duration() {
     let p = short_params();
@@ -160,7 +160,7 @@ fn simulated_sets_state_their_duration() {
     assert!(latest.fold(0.0, f64::max) < duration_s);
     assert_eq!(sample_duration_s(&SimParams::default()), 4.55);
 }
-/// Issue 13: `neurotac simulate`'s generation is a library call.
+/// `neurotac simulate`'s generation is a library call.
 #[test]
 fn generate_writes_the_dataset_then_reads_it_from_the_cache() {
     use crate::progress::NoProgress;
