@@ -388,14 +388,7 @@ pub type CubaBuilder = (
 
 /// [`CubaBuilder`] for `config` in precision `F`.
 pub fn cuba_builder<F: Real>(config: &CubaConfig) -> Result<CubaBuilder, GraphError> {
-    let params = LifParams {
-        tau_m_s: 0.02,
-        v_rest: -49.0,
-        v_th: -50.0,
-        v_reset: -60.0,
-        t_ref_s: 5e-3,
-        v_min: f64::NEG_INFINITY,
-    };
+    let params = LifParams::cuba();
     let population = |n: usize, seed: u64| {
         Lif::<F>::new(n, params)
             .with_integrator(Integrator::Exact)

@@ -120,6 +120,21 @@ impl LifParams {
         Self::default()
     }
 
+    /// The neurons of the CUBA network (Vogels & Abbott, J. Neurosci. 2005; Brian2's `CUBA`
+    /// example), in mV: τ_m = 20 ms, E_l = −49 mV, threshold −50 mV, reset −60 mV, refractory
+    /// 5 ms, no floor. Its threshold is below 0, so the fused loop may leave out the floor and
+    /// the flush to zero.
+    pub fn cuba() -> Self {
+        Self {
+            tau_m_s: 0.02,
+            v_rest: -49.0,
+            v_th: -50.0,
+            v_reset: -60.0,
+            t_ref_s: 5e-3,
+            v_min: f64::NEG_INFINITY,
+        }
+    }
+
     /// The period `T = τ_m·ln((v∞ − v_reset)/(v∞ − v_th))` (s) of a neuron from `v_reset` under
     /// the constant input `current` (`v∞ = v_rest + current`), without the refractory period;
     /// `None` when `v∞ ≤ v_th` (it never fires). For the defaults, `T = τ·ln(I/(I − 1))`.

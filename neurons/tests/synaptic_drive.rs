@@ -88,14 +88,7 @@ fn assert_fused_equals_plain(
 
 /// CUBA's neurons (mV; threshold below 0: the fused loop may leave out floor and flush).
 fn cuba_params() -> LifParams {
-    LifParams {
-        tau_m_s: 0.02,
-        v_rest: -49.0,
-        v_th: -50.0,
-        v_reset: -60.0,
-        t_ref_s: 5e-3,
-        v_min: f64::NEG_INFINITY,
-    }
+    LifParams::cuba()
 }
 
 fn lif<F: Real>(
