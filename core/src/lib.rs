@@ -34,6 +34,7 @@
 #![deny(missing_docs)]
 
 pub mod coding;
+mod currents;
 pub mod dataset;
 pub mod distance;
 pub mod error;

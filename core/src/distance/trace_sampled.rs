@@ -27,10 +27,10 @@
 use super::van_rossum::VanRossumMatrices;
 use super::{check_tau, symmetric_matrices_on};
 use crate::coding::TraceRecord;
+use crate::currents::FLUSH_TO_ZERO;
 #[cfg(test)]
 use crate::error::CodingError;
 use crate::error::DistanceError;
-use crate::graph::FLUSH_TO_ZERO;
 use crate::ranks::{OneProcess, Ranks};
 use crate::spikes::MultiSpikeTrain;
 use rayon::prelude::*;

@@ -72,6 +72,7 @@ mod readout;
 mod synapse;
 mod weight;
 
+pub use crate::currents::{DecayingCurrents, FLUSH_TO_ZERO, SynapticDrive};
 pub use builder::NetworkBuilder;
 pub use ids::{
     CurrentId, InputId, NetworkConfig, NodeId, PopulationId, ProjectionId, ReadoutId,
@@ -83,9 +84,7 @@ pub use readout::{
     Readout, ReadoutContext, SpikeRecorder, StateRecorder, StateSampler, StepView,
     SynapticCurrentSampler, SynapticTraceRecorder, TraceRecorder, TraceSampler,
 };
-pub use synapse::{
-    Connectivity, DecayingCurrents, ExpSynapse, FLUSH_TO_ZERO, Synapse, SynapticDrive,
-};
+pub use synapse::{Connectivity, ExpSynapse, Synapse};
 pub use weight::one_spike_weight;
 
 #[cfg(test)]
