@@ -6,11 +6,9 @@ use super::ids::{
     ReadoutSource, SpikingNode,
 };
 use super::input::{CurrentInput, SpikeSource};
-use super::network::{
-    ActiveSet, DEFAULT_EPOCH_STEPS, ExchangeStats, Network, Partition, RunningKind, RunningNode,
-    RunningSource,
-};
+use super::network::{DEFAULT_EPOCH_STEPS, ExchangeStats, Network, Partition};
 use super::readout::{Readout, SpikeRecorder, StateRecorder, SynapticTraceRecorder};
+use super::running::{ActiveSet, RunningKind, RunningNode, RunningSource};
 use super::synapse::{Connectivity, ExpSynapse, RunningProjection};
 use crate::error::GraphError;
 use crate::model::{NeuronModel, SpikeBuffer};

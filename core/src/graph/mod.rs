@@ -69,6 +69,7 @@ mod ids;
 mod input;
 mod network;
 mod readout;
+mod running;
 mod synapse;
 mod weight;
 

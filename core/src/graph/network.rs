@@ -5,79 +5,19 @@ use super::exchange::{pack_epoch, unpack_epoch};
 use super::ids::{InputId, NodeId, ReadoutId};
 use super::input::{CurrentInput, SpikeSource};
 use super::readout::{Readout, ReadoutContext, StepView};
+use super::running::{ActiveSet, RunningKind, RunningNode, RunningSource};
 use super::synapse::RunningProjection;
 use crate::currents::{DecayingCurrents, SynapticDrive, flush};
 use crate::error::GraphError;
-use crate::model::{NeuronModel, SpikeBuffer};
+use crate::model::SpikeBuffer;
 use crate::ranks::{OneProcess, Ranks};
 use std::any::Any;
-use std::ops::{ControlFlow, Range};
+use std::ops::ControlFlow;
 use std::time::Instant;
 
 /// Steps per epoch of a network partitioned over ranks that has no population → population
 /// projection (otherwise the epoch is the smallest delay of such a projection, in steps).
 pub const DEFAULT_EPOCH_STEPS: u64 = 64;
-
-pub(super) enum RunningKind {
-    Spikes(Box<dyn SpikeSource>),
-    Population(Box<dyn NeuronModel>),
-}
-
-pub(super) struct RunningNode {
-    pub(super) name: String,
-    /// Neurons (channels) of the whole node.
-    pub(super) size: usize,
-    /// The neurons this rank computes (`0..size` in one process; spike sources always whole).
-    pub(super) local: Range<usize>,
-    pub(super) kind: RunningKind,
-    /// Ring of this node's spikes, one buffer per step, long enough for its largest delay.
-    pub(super) history: Vec<SpikeBuffer>,
-    /// Summed input current of the local neurons (populations).
-    pub(super) input: Vec<f64>,
-    /// Projections targeting this node.
-    pub(super) incoming: Vec<usize>,
-    /// Current sources injected into this node.
-    pub(super) currents: Vec<usize>,
-    /// Event-driven populations: the neurons with synaptic input (see
-    /// [`NetworkBuilder::event_driven`](super::NetworkBuilder::event_driven)).
-    pub(super) active: Option<ActiveSet>,
-}
-
-/// The neurons of an event-driven population whose synaptic current is nonzero, ascending.
-pub(super) struct ActiveSet {
-    list: Vec<u32>,
-    /// The neurons of `list` whose current is still nonzero after this step's decay.
-    next: Vec<u32>,
-    flag: Vec<bool>,
-    sorted: bool,
-}
-
-impl ActiveSet {
-    pub(super) fn new(n: usize) -> Self {
-        Self {
-            list: Vec::new(),
-            next: Vec::new(),
-            flag: vec![false; n],
-            sorted: true,
-        }
-    }
-
-    #[inline]
-    fn mark(&mut self, j: u32) {
-        if !std::mem::replace(&mut self.flag[j as usize], true) {
-            self.sorted &= self.list.last().is_none_or(|&l| l < j);
-            self.list.push(j);
-        }
-    }
-
-    fn clear(&mut self) {
-        self.list
-            .iter()
-            .for_each(|&j| self.flag[j as usize] = false);
-        self.list.clear();
-        self.sorted = true;
-    }
-}
 
 /// Which rank of how many a network was built for, and its epoch.
 pub(super) struct Partition {
@@ -94,11 +34,6 @@ pub(super) struct Partition {
 pub(super) struct ExchangeStats {
     pub(super) seconds: f64,
     pub(super) count: u64,
-}
-
-pub(super) enum RunningSource {
-    Node(usize),
-    Projection(usize),
 }
 
 /// What a call to [`Network::run`] did.
@@ -290,7 +225,7 @@ impl Network {
 
     /// Runs `steps` steps (fewer if a readout asks to stop), then calls every readout's `finish`.
     /// Every 256 steps and at the end, each population's
-    /// [`check_divergence`](NeuronModel::check_divergence) runs; a divergence is an error.
+    /// [`check_divergence`](crate::NeuronModel::check_divergence) runs; a divergence is an error.
     /// A network partitioned over several ranks runs with [`run_steps_on`](Self::run_steps_on)
     /// only ([`GraphError::RanksMismatch`] here).
     pub fn run_steps(&mut self, steps: u64) -> Result<RunSummary, GraphError> {
