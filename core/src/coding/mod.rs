@@ -45,9 +45,10 @@ mod spatial;
 mod spatiotemporal;
 mod temporal;
 
+pub use crate::distance::TraceRecord;
 pub use intensive::IntensiveCoding;
 pub use spatial::SpatialCoding;
-pub use spatiotemporal::{SpatiotemporalCoding, TraceRecord};
+pub use spatiotemporal::SpatiotemporalCoding;
 pub use temporal::{
     TemporalCoding, duration_ms_of, pooled_bin_counts, spike_bin_ms, whole_ms,
     write_window_features,

@@ -24,9 +24,9 @@
 //! [`FLUSH_TO_ZERO`] become 0, as in a projection. The arithmetic runs in
 //! `f64` or `f32` ([`TracePrecision`]), the trade a network storing `f32` traces makes.
 
+use super::trace_record::TraceRecord;
 use super::van_rossum::VanRossumMatrices;
 use super::{check_tau, symmetric_matrices_on};
-use crate::coding::TraceRecord;
 use crate::currents::FLUSH_TO_ZERO;
 #[cfg(test)]
 use crate::error::CodingError;
