@@ -400,7 +400,7 @@ mod tests {
         let id = b.add_readout(input, coding).unwrap();
         let mut net = b.build(NetworkConfig { dt_s: 1e-4 }).unwrap();
         net.run(0.31).unwrap();
-        let from_network = net.readout(id).trace_record().unwrap().unwrap();
+        let from_network = net.readout(id).unwrap().trace_record().unwrap().unwrap();
         assert_eq!(from_network, TraceRecord::of_trains(&sample, 1e-4).unwrap());
     }
 

@@ -59,7 +59,7 @@
 //! let mut net = b.build(NetworkConfig { dt_s: 1e-3 })?;
 //! net.run(0.02)?;
 //! // The current is e^(−k·dt/τ) in the k-th step after the spike: above 0.5 for k = 0..=3.
-//! assert_eq!(net.readout(spikes).counts(), vec![4, 0]);
+//! assert_eq!(net.readout(spikes)?.counts(), vec![4, 0]);
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 

@@ -2,7 +2,7 @@
 //! the [module docs](super)).
 
 use super::exchange::{pack_epoch, unpack_epoch};
-use super::ids::{InputId, NodeId, ReadoutId};
+use super::ids::{InputId, NodeId, ReadoutId, checked_index};
 use super::input::{CurrentInput, SpikeSource};
 use super::readout::{Readout, ReadoutContext, StepView};
 use super::running::{ActiveSet, RunningKind, RunningNode, RunningSource};
@@ -47,6 +47,8 @@ pub struct RunSummary {
 
 /// A built, runnable network. See the [module docs](super) for the phase order of a step.
 pub struct Network {
+    /// The brand of the builder this network was built from: the ids it accepts.
+    pub(super) brand: u64,
     pub(super) dt_s: f64,
     pub(super) step: u64,
     pub(super) nodes: Vec<RunningNode>,
@@ -89,10 +91,11 @@ impl Network {
         &self.pruned
     }
 
-    /// `true` when `node` was kept (some readout depends on it).
-    pub fn is_active(&self, node: impl Into<NodeId>) -> bool {
-        let node: NodeId = node.into();
-        self.node_index.get(node.0).is_some_and(Option::is_some)
+    /// `true` when `node` was kept (some readout depends on it). An id of another builder is a
+    /// [`GraphError::ForeignId`].
+    pub fn is_active(&self, node: impl Into<NodeId>) -> Result<bool, GraphError> {
+        let index = checked_index(node.into(), self.brand)?;
+        Ok(self.node_index.get(index).is_some_and(Option::is_some))
     }
 
     /// Neuron updates done since build or the last [`reset`](Self::reset): every neuron of a
@@ -154,27 +157,30 @@ impl Network {
             .sum()
     }
 
-    /// The readout `id`, typed.
-    pub fn readout<T: Readout>(&self, id: ReadoutId<T>) -> &T {
-        let any: &dyn Any = self.readouts[id.index].1.as_ref();
-        any.downcast_ref::<T>()
-            .expect("a ReadoutId<T> always names a readout of type T")
+    /// The readout `id`, typed. An id of another builder is a [`GraphError::ForeignId`].
+    pub fn readout<T: Readout>(&self, id: ReadoutId<T>) -> Result<&T, GraphError> {
+        let index = checked_index(id, self.brand)?;
+        let any: &dyn Any = self.readouts[index].1.as_ref();
+        Ok(any
+            .downcast_ref::<T>()
+            .expect("a ReadoutId<T> of this network's builder names a readout of type T"))
     }
 
     /// Replaces a spike source (e.g. the next sample's taxel trains) keeping everything else;
     /// the new source must have the same number of channels. Call [`reset`](Self::reset) to
-    /// start it from time 0.
+    /// start it from time 0. An id of another builder is a [`GraphError::ForeignId`].
     pub fn replace_spike_input(
         &mut self,
         node: InputId,
         source: impl SpikeSource + 'static,
     ) -> Result<(), GraphError> {
+        let index = checked_index(node, self.brand)?;
         let i = self
             .node_index
-            .get(node.0)
+            .get(index)
             .copied()
             .flatten()
-            .ok_or(GraphError::UnknownNode(node.0))?;
+            .ok_or(GraphError::UnknownNode(index))?;
         let n = &mut self.nodes[i];
         if !matches!(n.kind, RunningKind::Spikes(_)) {
             return Err(GraphError::WrongRole {
