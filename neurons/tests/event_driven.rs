@@ -1,5 +1,5 @@
-//! Event-driven populations (issue 16 item 4): work follows activity, spikes stay those of the
-//! clock-driven network.
+//! Event-driven populations: work follows activity, spikes stay those of the clock-driven
+//! network.
 
 use neurotac_core::{
     Connectivity, ExpSynapse, MultiSpikeTrain, Network, NetworkBuilder, NetworkConfig, NeuronModel,
