@@ -100,7 +100,7 @@ pub fn run() -> Result<Outcome, Box<dyn std::error::Error>> {
             net.replace_spike_input(input, SpikeArrayInput::new(sample(class, trial)))?;
             net.reset();
             net.run(DURATION_S)?;
-            records.push(net.readout(readout).trace_record().expect("traces on")?);
+            records.push(net.readout(readout)?.trace_record().expect("traces on")?);
             labels.push(class);
         }
     }

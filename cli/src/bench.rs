@@ -267,7 +267,7 @@ pub fn afferent_activity(
         })?;
         result?;
         let steps = net.steps_done();
-        let out = net.readout(spikes).spikes().to_vec();
+        let out = net.readout(spikes)?.spikes().to_vec();
         Ok((
             ActivityRun {
                 wall_s,
@@ -463,8 +463,8 @@ pub fn cuba_spikes_on(
 ) -> Result<(CubaResult, CubaSpikes), BenchError> {
     let (result, net, [re, ri]) = run_cuba(config, ranks)?;
     let spikes = CubaSpikes {
-        excitatory: net.readout(re).spikes().to_vec(),
-        inhibitory: net.readout(ri).spikes().to_vec(),
+        excitatory: net.readout(re)?.spikes().to_vec(),
+        inhibitory: net.readout(ri)?.spikes().to_vec(),
     };
     Ok((result, spikes))
 }
@@ -481,7 +481,7 @@ fn run_cuba(
     let start = Instant::now();
     let summary = net.run_on(config.duration_s, ranks)?;
     let run_s = start.elapsed().as_secs_f64();
-    let spikes = net.readout(re).spikes().len() + net.readout(ri).spikes().len();
+    let spikes = net.readout(re)?.spikes().len() + net.readout(ri)?.spikes().len();
     let neurons = config.n_exc + config.n_inh;
     let simulated = summary.steps as f64 * config.dt_s;
     // Each rank holds the synapses onto its own neurons.

@@ -52,7 +52,7 @@ fn the_afferent_pipeline_spikes_as_in_one_process_on_1_2_and_3_ranks() {
         for event_driven in [false, true] {
             let (mut net, id) = afferent_network(&taxels, config, dt_s, event_driven).unwrap();
             net.run(duration_s).unwrap();
-            let one = net.readout(id).spikes().to_vec();
+            let one = net.readout(id).unwrap().spikes().to_vec();
             assert!(one.len() > 100, "{} spikes", one.len());
             for size in 1..=3 {
                 let per_rank = ThreadRanks::run(size, |ranks| {
@@ -67,7 +67,7 @@ fn the_afferent_pipeline_spikes_as_in_one_process_on_1_2_and_3_ranks() {
                     .unwrap();
                     net.run_on(duration_s, ranks).unwrap();
                     let active = !net.event_driven_populations().is_empty();
-                    (net.readout(id).spikes().to_vec(), active)
+                    (net.readout(id).unwrap().spikes().to_vec(), active)
                 });
                 for (rank, (got, active)) in per_rank.into_iter().enumerate() {
                     assert!(

@@ -626,7 +626,8 @@ mod tests {
         assert!(big.to_binary().len() < big.to_json_string().len());
     }
 
-    /// The version-1 form of a dataset (no checksum), as files written before issue 14 hold it.
+    /// The version-1 form of a dataset (no checksum), as files written before the format had a
+    /// checksum hold it.
     fn version_1(d: &SpikeDataset) -> Vec<u8> {
         let mut bytes = d.to_binary();
         bytes.truncate(bytes.len() - CHECKSUM_BYTES);

@@ -172,6 +172,22 @@ pub enum GraphError {
     /// A projection id that this builder did not hand out.
     #[error("unknown projection id {0}")]
     UnknownProjection(usize),
+    /// An id handed out by another [`NetworkBuilder`](crate::NetworkBuilder), used with this
+    /// builder or with the [`Network`](crate::Network) built from it. Each builder brands the
+    /// ids it hands out with a number of its own (kept by its network), so an id is never taken
+    /// for whatever has the same index in another network.
+    #[error(
+        "{kind} id of network builder #{id_brand} used with builder #{builder_brand} (or its network): an id works only with the builder that handed it out and the network built from it"
+    )]
+    ForeignId {
+        /// What the id names: "population", "spike input", "current input", "node",
+        /// "projection" or "readout".
+        kind: &'static str,
+        /// The brand of the builder that handed the id out.
+        id_brand: u64,
+        /// The brand of the builder (or of the network built from it) it was used with.
+        builder_brand: u64,
+    },
     /// The node cannot play the role asked of it (e.g. a current source as a spike source).
     #[error("node '{node}' is a {kind}, which cannot be {role}")]
     WrongRole {

@@ -35,6 +35,7 @@
 #![deny(missing_docs)]
 
 pub mod coding;
+mod currents;
 pub mod dataset;
 pub mod distance;
 pub mod error;

@@ -14,8 +14,8 @@
 //! state is known to be past threshold. Interpolating models give the linear threshold crossing
 //! inside the step. Spike sources (inputs) give the spike's own time within the step.
 
+use crate::currents::SynapticDrive;
 use crate::error::ModelError;
-use crate::graph::SynapticDrive;
 use std::ops::Range;
 
 /// The spikes of one node in one time step: neuron indices and in-step fractions.

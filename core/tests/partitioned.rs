@@ -214,7 +214,7 @@ fn two_populations(
 type Spikes = [Vec<(u32, f64)>; 3];
 
 fn spikes(net: &Network, r: &Recorders) -> Spikes {
-    [r.a, r.b, r.input].map(|id| net.readout(id).spikes().to_vec())
+    [r.a, r.b, r.input].map(|id| net.readout(id).unwrap().spikes().to_vec())
 }
 
 /// Runs `steps` (in several calls) in one process and over 1, 2 and 3 thread ranks; every
@@ -405,7 +405,7 @@ fn a_stop_request_takes_effect_at_the_end_of_the_epoch() {
     let mut net = b.build(NetworkConfig { dt_s: DT }).unwrap();
     let one = net.run(1.0).unwrap();
     assert!(one.stopped_early);
-    let seen = net.readout(stop).2;
+    let seen = net.readout(stop).unwrap().2;
     assert_eq!(seen, one.steps);
     let per_rank = ThreadRanks::run(3, |ranks| {
         let (b, stop) = network();
@@ -413,7 +413,7 @@ fn a_stop_request_takes_effect_at_the_end_of_the_epoch() {
             .build_partitioned(NetworkConfig { dt_s: DT }, ranks.rank(), 3)
             .unwrap();
         let summary = net.run_on(1.0, ranks).unwrap();
-        (summary, net.readout(stop).2)
+        (summary, net.readout(stop).unwrap().2)
     });
     // Epochs of 2 steps: the run ends at the end of the stop step's epoch.
     let at_epoch_end = one.steps.div_ceil(2) * 2;

@@ -166,7 +166,7 @@ pub fn afferent_response(
 ) -> Result<MultiSpikeTrain, GraphError> {
     let mut net = build_afferent_network(SpikeArrayInput::new(taxels.clone()), config)?;
     net.network.run(duration_s)?;
-    Ok(net.network.readout(net.spikes).to_spike_trains())
+    Ok(net.network.readout(net.spikes)?.to_spike_trains())
 }
 
 /// Runs every sample of `data` through its own afferent network for `duration_s` (in

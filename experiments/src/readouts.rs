@@ -216,11 +216,11 @@ impl ReadoutNetwork {
         self.network.reset();
         self.network.run(run_s)?;
         let n = &self.network;
-        let st = n.readout(self.spatiotemporal);
+        let st = n.readout(self.spatiotemporal)?;
         Ok(SampleReadouts {
-            intensive: n.readout(self.intensive).features()[0],
-            spatial: n.readout(self.spatial).features(),
-            bins: n.readout(self.temporal).bin_counts().to_vec(),
+            intensive: n.readout(self.intensive)?.features()[0],
+            spatial: n.readout(self.spatial)?.features(),
+            bins: n.readout(self.temporal)?.bin_counts().to_vec(),
             trains: st.trains(),
             trace: st.trace_record().transpose()?,
         })

@@ -26,7 +26,7 @@
 //! let spikes = b.record_spikes(lif)?;
 //! let mut net = b.build(NetworkConfig { dt_s: 1e-4 })?;
 //! net.run(0.1)?;
-//! assert!(net.readout(spikes).counts().iter().all(|&c| c == 9)); // period τ·ln 3 = 11 ms
+//! assert!(net.readout(spikes)?.counts().iter().all(|&c| c == 9)); // period τ·ln 3 = 11 ms
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 #![deny(missing_docs)]

@@ -1,4 +1,4 @@
-//! Issue 14 item 6: a numerical blow-up is a typed error naming the step, never firing.
+//! Divergence: a numerical blow-up is a typed error naming the step, never firing.
 
 use neurotac_core::{CurrentInput, GraphError, ModelError, NetworkBuilder, NetworkConfig};
 use neurotac_neurons::{

@@ -1,5 +1,5 @@
-//! Event-driven populations (issue 16 item 4): work follows activity, spikes stay those of the
-//! clock-driven network.
+//! Event-driven populations: work follows activity, spikes stay those of the clock-driven
+//! network.
 
 use neurotac_core::{
     Connectivity, ExpSynapse, MultiSpikeTrain, Network, NetworkBuilder, NetworkConfig, NeuronModel,
@@ -68,7 +68,7 @@ fn afferents(
     let model = Lif::<f64>::new(input.n_channels(), lif).with_integrator(Integrator::Exact);
     let (mut net, spikes) = pipeline(input, model, event_driven, false);
     net.run(1.0).unwrap();
-    let out = net.readout(spikes).spikes().to_vec();
+    let out = net.readout(spikes).unwrap().spikes().to_vec();
     (net, out)
 }
 
@@ -135,7 +135,7 @@ fn izhikevich_afferents(
         .with_initial_potential(InitialPotential::Constant(rest));
     let (mut net, spikes) = pipeline(input, model, event_driven, false);
     net.run(1.0).unwrap();
-    let out = net.readout(spikes).spikes().to_vec();
+    let out = net.readout(spikes).unwrap().spikes().to_vec();
     (net, out)
 }
 

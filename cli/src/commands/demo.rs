@@ -39,8 +39,8 @@ pub fn run(args: DemoArgs) -> anyhow::Result<()> {
         .run(args.duration)
         .context("running the afferent network")?;
     let wall_s = start.elapsed().as_secs_f64();
-    let inputs = net.network.readout(net.taxel_spikes).counts();
-    let counts = net.network.readout(net.spikes).counts();
+    let inputs = net.network.readout(net.taxel_spikes)?.counts();
+    let counts = net.network.readout(net.spikes)?.counts();
     let (total_in, total): (usize, usize) = (inputs.iter().sum(), counts.iter().sum());
     if args.json {
         let out = serde_json::json!({

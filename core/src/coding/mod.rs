@@ -36,7 +36,7 @@
 //! net.run(0.030)?;
 //! let mut direct = TemporalCoding::new(0.010, 0.030)?;
 //! direct.encode(&sample);
-//! assert_eq!(net.readout(temporal).features(), direct.features());
+//! assert_eq!(net.readout(temporal)?.features(), direct.features());
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
@@ -45,9 +45,10 @@ mod spatial;
 mod spatiotemporal;
 mod temporal;
 
+pub use crate::distance::TraceRecord;
 pub use intensive::IntensiveCoding;
 pub use spatial::SpatialCoding;
-pub use spatiotemporal::{SpatiotemporalCoding, TraceRecord};
+pub use spatiotemporal::SpatiotemporalCoding;
 pub use temporal::{
     TemporalCoding, duration_ms_of, pooled_bin_counts, spike_bin_ms, whole_ms,
     write_window_features,
@@ -204,7 +205,7 @@ mod tests {
         let id = b.add_readout(input, coding).unwrap();
         let mut net = b.build(NetworkConfig { dt_s }).unwrap();
         net.run(0.3).unwrap();
-        net.readout(id).clone()
+        net.readout(id).unwrap().clone()
     }
 
     #[test]

@@ -22,6 +22,7 @@
 //! rank must call them, in the same order.
 
 pub mod euclidean;
+pub(crate) mod trace_record;
 pub mod trace_sampled;
 pub mod van_rossum;
 
@@ -30,6 +31,7 @@ pub use euclidean::{
     squared_euclidean, squared_euclidean_cross_matrix, squared_euclidean_matrix,
     squared_euclidean_matrix_on,
 };
+pub use trace_record::TraceRecord;
 pub use trace_sampled::{
     TracePrecision, trace_matrices, trace_matrices_on, trace_sampled_matrices,
 };

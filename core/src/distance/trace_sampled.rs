@@ -24,13 +24,13 @@
 //! [`FLUSH_TO_ZERO`] become 0, as in a projection. The arithmetic runs in
 //! `f64` or `f32` ([`TracePrecision`]), the trade a network storing `f32` traces makes.
 
+use super::trace_record::TraceRecord;
 use super::van_rossum::VanRossumMatrices;
 use super::{check_tau, symmetric_matrices_on};
-use crate::coding::TraceRecord;
+use crate::currents::FLUSH_TO_ZERO;
 #[cfg(test)]
 use crate::error::CodingError;
 use crate::error::DistanceError;
-use crate::graph::FLUSH_TO_ZERO;
 use crate::ranks::{OneProcess, Ranks};
 use crate::spikes::MultiSpikeTrain;
 use rayon::prelude::*;
@@ -400,7 +400,7 @@ mod tests {
         let id = b.add_readout(input, coding).unwrap();
         let mut net = b.build(NetworkConfig { dt_s: 1e-4 }).unwrap();
         net.run(0.31).unwrap();
-        let from_network = net.readout(id).trace_record().unwrap().unwrap();
+        let from_network = net.readout(id).unwrap().trace_record().unwrap().unwrap();
         assert_eq!(from_network, TraceRecord::of_trains(&sample, 1e-4).unwrap());
     }
 

@@ -54,6 +54,7 @@ mod centred;
 mod cross;
 mod growing;
 
+pub use centred::CENTRED_EXP_LIMIT;
 pub use growing::{GrowingLive, GrowingVanRossum};
 
 use super::{
@@ -67,9 +68,6 @@ use cross::{CrossIndex, NewSample, prepared_trains};
 use ndarray::Array2;
 use rayon::prelude::*;
 use std::sync::OnceLock;
-
-/// Largest `span/(2τ)` for which the centred-exponential evaluation is used (module docs).
-pub const CENTRED_EXP_LIMIT: f64 = 690.0;
 
 /// Multi-unit Van Rossum distance with kernel time constant `tau_s`.
 ///

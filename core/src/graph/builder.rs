@@ -2,15 +2,13 @@
 //! readouts need and prepared into a [`Network`] (see the [module docs](super)).
 
 use super::ids::{
-    CurrentId, InputId, NetworkConfig, NodeId, PopulationId, ProjectionId, ReadoutId,
-    ReadoutSource, SpikingNode,
+    Branded, CurrentId, InputId, NetworkConfig, NodeId, PopulationId, ProjectionId, ReadoutId,
+    ReadoutSource, SpikingNode, checked_index, fresh_brand,
 };
 use super::input::{CurrentInput, SpikeSource};
-use super::network::{
-    ActiveSet, DEFAULT_EPOCH_STEPS, ExchangeStats, Network, Partition, RunningKind, RunningNode,
-    RunningSource,
-};
+use super::network::{DEFAULT_EPOCH_STEPS, ExchangeStats, Network, Partition};
 use super::readout::{Readout, SpikeRecorder, StateRecorder, SynapticTraceRecorder};
+use super::running::{ActiveSet, RunningKind, RunningNode, RunningSource};
 use super::synapse::{Connectivity, ExpSynapse, RunningProjection};
 use crate::error::GraphError;
 use crate::model::{NeuronModel, SpikeBuffer};
@@ -48,8 +46,12 @@ struct ProjectionSpec {
 }
 
 /// Describes a network node by node; [`build`](Self::build) checks it and prunes it.
-#[derive(Default)]
+///
+/// Each builder brands the ids it hands out with a number of its own, which the network it
+/// builds keeps: an id of another builder is refused ([`GraphError::ForeignId`]).
 pub struct NetworkBuilder {
+    /// This builder's brand, carried by every id it hands out.
+    pub(super) brand: u64,
     nodes: Vec<NodeSpec>,
     projections: Vec<ProjectionSpec>,
     /// `(current node, population)` injections.
@@ -58,10 +60,23 @@ pub struct NetworkBuilder {
     event_driven: bool,
 }
 
+impl Default for NetworkBuilder {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 impl NetworkBuilder {
-    /// An empty network description.
+    /// An empty network description, with a brand of its own for the ids it hands out.
     pub fn new() -> Self {
-        Self::default()
+        Self {
+            brand: fresh_brand(),
+            nodes: Vec::new(),
+            projections: Vec::new(),
+            injections: Vec::new(),
+            readouts: Vec::new(),
+            event_driven: false,
+        }
     }
 
     fn add(&mut self, name: &str, size: usize, kind: NodeKind) -> Result<NodeId, GraphError> {
@@ -73,11 +88,25 @@ impl NetworkBuilder {
             size,
             kind,
         });
-        Ok(NodeId(self.nodes.len() - 1))
+        Ok(NodeId {
+            index: self.nodes.len() - 1,
+            brand: self.brand,
+        })
     }
 
-    fn node(&self, id: NodeId) -> Result<&NodeSpec, GraphError> {
-        self.nodes.get(id.0).ok_or(GraphError::UnknownNode(id.0))
+    /// The node `id` names: refused when another builder handed it out
+    /// ([`GraphError::ForeignId`], naming the id's kind) or it is out of range.
+    fn node(&self, id: impl Branded + Into<NodeId>) -> Result<&NodeSpec, GraphError> {
+        let index = checked_index(id, self.brand)?;
+        self.nodes.get(index).ok_or(GraphError::UnknownNode(index))
+    }
+
+    /// The projection `id` names (refused as [`node`](Self::node) refuses a node id).
+    fn projection(&self, id: ProjectionId) -> Result<&ProjectionSpec, GraphError> {
+        let index = checked_index(id, self.brand)?;
+        self.projections
+            .get(index)
+            .ok_or(GraphError::UnknownProjection(index))
     }
 
     fn wrong_role(node: &NodeSpec, role: &'static str) -> GraphError {
@@ -115,7 +144,10 @@ impl NetworkBuilder {
     ) -> Result<PopulationId, GraphError> {
         let size = model.len();
         self.add(name, size, NodeKind::Population(Box::new(model)))
-            .map(|n| PopulationId(n.0))
+            .map(|n| PopulationId {
+                index: n.index,
+                brand: n.brand,
+            })
     }
 
     /// Adds a spike source (recorded trains, Poisson, or your own [`SpikeSource`]).
@@ -126,7 +158,10 @@ impl NetworkBuilder {
     ) -> Result<InputId, GraphError> {
         let size = source.len();
         self.add(name, size, NodeKind::Spikes(Box::new(source)))
-            .map(|n| InputId(n.0))
+            .map(|n| InputId {
+                index: n.index,
+                brand: n.brand,
+            })
     }
 
     /// Adds a current source; attach it to populations with [`inject`](Self::inject).
@@ -138,7 +173,10 @@ impl NetworkBuilder {
         current.validate(name)?;
         let size = current.len();
         self.add(name, size, NodeKind::Current(current))
-            .map(|n| CurrentId(n.0))
+            .map(|n| CurrentId {
+                index: n.index,
+                brand: n.brand,
+            })
     }
 
     /// Feeds a current source into a population. The source must have one value per neuron or
@@ -148,11 +186,11 @@ impl NetworkBuilder {
         current: CurrentId,
         population: PopulationId,
     ) -> Result<(), GraphError> {
-        let src = self.node(current.into())?;
+        let src = self.node(current)?;
         if !matches!(src.kind, NodeKind::Current(_)) {
             return Err(Self::wrong_role(src, "injected as a current"));
         }
-        let dst = self.node(population.into())?;
+        let dst = self.node(population)?;
         if !matches!(dst.kind, NodeKind::Population(_)) {
             return Err(Self::wrong_role(dst, "the target of a current"));
         }
@@ -163,7 +201,7 @@ impl NetworkBuilder {
                 got: src.size,
             });
         }
-        self.injections.push((current.0, population.0));
+        self.injections.push((current.index, population.index));
         Ok(())
     }
 
@@ -182,7 +220,6 @@ impl NetworkBuilder {
         connectivity: Connectivity,
         synapse: ExpSynapse,
     ) -> Result<ProjectionId, GraphError> {
-        let (pre, post): (NodeId, NodeId) = (pre.into(), post.into());
         let src = self.node(pre)?;
         if matches!(src.kind, NodeKind::Current(_)) {
             return Err(Self::wrong_role(src, "a presynaptic spike source"));
@@ -207,13 +244,17 @@ impl NetworkBuilder {
             });
         }
         connectivity.validate(&what, src.size, dst.size)?;
+        let (pre, post) = (pre.index(), post.index);
         self.projections.push(ProjectionSpec {
-            pre: pre.0,
-            post: post.0,
+            pre,
+            post,
             connectivity,
             synapse,
         });
-        Ok(ProjectionId(self.projections.len() - 1))
+        Ok(ProjectionId {
+            index: self.projections.len() - 1,
+            brand: self.brand,
+        })
     }
 
     /// Attaches any readout to a population, a spike input or a projection (any of their ids,
@@ -231,14 +272,14 @@ impl NetworkBuilder {
                     return Err(Self::wrong_role(n, "read out (it emits no spikes)"));
                 }
             }
-            ReadoutSource::Projection(p) if p.0 >= self.projections.len() => {
-                return Err(GraphError::UnknownProjection(p.0));
+            ReadoutSource::Projection(p) => {
+                self.projection(p)?;
             }
-            ReadoutSource::Projection(_) => {}
         }
         self.readouts.push((source, Box::new(readout)));
         Ok(ReadoutId {
             index: self.readouts.len() - 1,
+            brand: self.brand,
             _type: PhantomData,
         })
     }
@@ -248,6 +289,8 @@ impl NetworkBuilder {
         &mut self,
         node: impl SpikingNode,
     ) -> Result<ReadoutId<SpikeRecorder>, GraphError> {
+        // Checked here too, so that a foreign id's error names its kind, not just "node".
+        self.node(node)?;
         self.add_readout(ReadoutSource::Node(node.into()), SpikeRecorder::new())
     }
 
@@ -260,7 +303,7 @@ impl NetworkBuilder {
         neurons: Option<Vec<u32>>,
         every_steps: u64,
     ) -> Result<ReadoutId<StateRecorder>, GraphError> {
-        let node = self.node(population.into())?;
+        let node = self.node(population)?;
         let NodeKind::Population(model) = &node.kind else {
             return Err(Self::wrong_role(
                 node,
@@ -289,10 +332,7 @@ impl NetworkBuilder {
         projection: ProjectionId,
         neurons: Option<Vec<u32>>,
     ) -> Result<ReadoutId<SynapticTraceRecorder>, GraphError> {
-        let p = self
-            .projections
-            .get(projection.0)
-            .ok_or(GraphError::UnknownProjection(projection.0))?;
+        let p = self.projection(projection)?;
         let post = &self.nodes[p.post];
         let neurons = self.checked_neurons(neurons, post.size, &post.name)?;
         self.add_readout(
@@ -373,10 +413,10 @@ impl NetworkBuilder {
         let mut stack: Vec<usize> = Vec::new();
         for (source, _) in &self.readouts {
             match *source {
-                ReadoutSource::Node(n) => stack.push(n.0),
+                ReadoutSource::Node(n) => stack.push(n.index),
                 ReadoutSource::Projection(p) => {
-                    proj_needed[p.0] = true;
-                    stack.push(self.projections[p.0].pre);
+                    proj_needed[p.index] = true;
+                    stack.push(self.projections[p.index].pre);
                 }
             }
         }
@@ -516,7 +556,7 @@ impl NetworkBuilder {
                     continue;
                 };
                 let state_read = self.readouts.iter().any(|(source, r)| {
-                    matches!(*source, ReadoutSource::Node(n) if runtime_index[n.0] == Some(i))
+                    matches!(*source, ReadoutSource::Node(n) if runtime_index[n.index] == Some(i))
                         && r.reads_population_state()
                 });
                 if m.event_driven() && node.currents.is_empty() && !state_read {
@@ -529,11 +569,11 @@ impl NetworkBuilder {
             .into_iter()
             .map(|(source, readout)| {
                 let source = match source {
-                    ReadoutSource::Node(n) => {
-                        RunningSource::Node(runtime_index[n.0].expect("readout sources are needed"))
-                    }
+                    ReadoutSource::Node(n) => RunningSource::Node(
+                        runtime_index[n.index].expect("readout sources are needed"),
+                    ),
                     ReadoutSource::Projection(p) => RunningSource::Projection(
-                        projection_index[p.0].expect("read-out projections are needed"),
+                        projection_index[p.index].expect("read-out projections are needed"),
                     ),
                 };
                 (source, readout)
@@ -547,6 +587,7 @@ impl NetworkBuilder {
             Vec::new()
         };
         Ok(Network {
+            brand: self.brand,
             dt_s,
             step: 0,
             nodes,
@@ -599,7 +640,7 @@ impl NetworkBuilder {
         for (source, r) in &self.readouts {
             let (node, reason) = match *source {
                 ReadoutSource::Projection(p) => {
-                    let p = &self.projections[p.0];
+                    let p = &self.projections[p.index];
                     (
                         format!(
                             "projection '{}' → '{}'",
@@ -609,7 +650,7 @@ impl NetworkBuilder {
                     )
                 }
                 ReadoutSource::Node(n) => {
-                    let n = &self.nodes[n.0];
+                    let n = &self.nodes[n.index];
                     if !(matches!(n.kind, NodeKind::Population(_)) && r.reads_population_state()) {
                         continue;
                     }

@@ -8,7 +8,7 @@
 //! (`u32`), and, when flagged, their in-step fractions (`f64`); all little-endian. Fractions
 //! are sent only when one of the population's spikes in the epoch has `φ ≠ 1`.
 
-use super::network::RunningNode;
+use super::running::RunningNode;
 use crate::error::GraphError;
 use crate::model::SpikeBuffer;
 use std::ops::Range;

@@ -59,7 +59,7 @@
 //! let mut net = b.build(NetworkConfig { dt_s: 1e-3 })?;
 //! net.run(0.02)?;
 //! // The current is e^(−k·dt/τ) in the k-th step after the spike: above 0.5 for k = 0..=3.
-//! assert_eq!(net.readout(spikes).counts(), vec![4, 0]);
+//! assert_eq!(net.readout(spikes)?.counts(), vec![4, 0]);
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
@@ -69,9 +69,11 @@ mod ids;
 mod input;
 mod network;
 mod readout;
+mod running;
 mod synapse;
 mod weight;
 
+pub use crate::currents::{DecayingCurrents, FLUSH_TO_ZERO, SynapticDrive};
 pub use builder::NetworkBuilder;
 pub use ids::{
     CurrentId, InputId, NetworkConfig, NodeId, PopulationId, ProjectionId, ReadoutId,
@@ -83,9 +85,7 @@ pub use readout::{
     Readout, ReadoutContext, SpikeRecorder, StateRecorder, StateSampler, StepView,
     SynapticCurrentSampler, SynapticTraceRecorder, TraceRecorder, TraceSampler,
 };
-pub use synapse::{
-    Connectivity, DecayingCurrents, ExpSynapse, FLUSH_TO_ZERO, Synapse, SynapticDrive,
-};
+pub use synapse::{Connectivity, ExpSynapse, Synapse};
 pub use weight::one_spike_weight;
 
 #[cfg(test)]

@@ -2,81 +2,22 @@
 //! the [module docs](super)).
 
 use super::exchange::{pack_epoch, unpack_epoch};
-use super::ids::{InputId, NodeId, ReadoutId};
+use super::ids::{InputId, NodeId, ReadoutId, checked_index};
 use super::input::{CurrentInput, SpikeSource};
 use super::readout::{Readout, ReadoutContext, StepView};
-use super::synapse::{DecayingCurrents, RunningProjection, SynapticDrive, flush};
+use super::running::{ActiveSet, RunningKind, RunningNode, RunningSource};
+use super::synapse::RunningProjection;
+use crate::currents::{DecayingCurrents, SynapticDrive, flush};
 use crate::error::GraphError;
-use crate::model::{NeuronModel, SpikeBuffer};
+use crate::model::SpikeBuffer;
 use crate::ranks::{OneProcess, Ranks};
 use std::any::Any;
-use std::ops::{ControlFlow, Range};
+use std::ops::ControlFlow;
 use std::time::Instant;
 
 /// Steps per epoch of a network partitioned over ranks that has no population → population
 /// projection (otherwise the epoch is the smallest delay of such a projection, in steps).
 pub const DEFAULT_EPOCH_STEPS: u64 = 64;
-
-pub(super) enum RunningKind {
-    Spikes(Box<dyn SpikeSource>),
-    Population(Box<dyn NeuronModel>),
-}
-
-pub(super) struct RunningNode {
-    pub(super) name: String,
-    /// Neurons (channels) of the whole node.
-    pub(super) size: usize,
-    /// The neurons this rank computes (`0..size` in one process; spike sources always whole).
-    pub(super) local: Range<usize>,
-    pub(super) kind: RunningKind,
-    /// Ring of this node's spikes, one buffer per step, long enough for its largest delay.
-    pub(super) history: Vec<SpikeBuffer>,
-    /// Summed input current of the local neurons (populations).
-    pub(super) input: Vec<f64>,
-    /// Projections targeting this node.
-    pub(super) incoming: Vec<usize>,
-    /// Current sources injected into this node.
-    pub(super) currents: Vec<usize>,
-    /// Event-driven populations: the neurons with synaptic input (see
-    /// [`NetworkBuilder::event_driven`](super::NetworkBuilder::event_driven)).
-    pub(super) active: Option<ActiveSet>,
-}
-
-/// The neurons of an event-driven population whose synaptic current is nonzero, ascending.
-pub(super) struct ActiveSet {
-    list: Vec<u32>,
-    /// The neurons of `list` whose current is still nonzero after this step's decay.
-    next: Vec<u32>,
-    flag: Vec<bool>,
-    sorted: bool,
-}
-
-impl ActiveSet {
-    pub(super) fn new(n: usize) -> Self {
-        Self {
-            list: Vec::new(),
-            next: Vec::new(),
-            flag: vec![false; n],
-            sorted: true,
-        }
-    }
-
-    #[inline]
-    fn mark(&mut self, j: u32) {
-        if !std::mem::replace(&mut self.flag[j as usize], true) {
-            self.sorted &= self.list.last().is_none_or(|&l| l < j);
-            self.list.push(j);
-        }
-    }
-
-    fn clear(&mut self) {
-        self.list
-            .iter()
-            .for_each(|&j| self.flag[j as usize] = false);
-        self.list.clear();
-        self.sorted = true;
-    }
-}
 
 /// Which rank of how many a network was built for, and its epoch.
 pub(super) struct Partition {
@@ -95,11 +36,6 @@ pub(super) struct ExchangeStats {
     pub(super) count: u64,
 }
 
-pub(super) enum RunningSource {
-    Node(usize),
-    Projection(usize),
-}
-
 /// What a call to [`Network::run`] did.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct RunSummary {
@@ -111,6 +47,8 @@ pub struct RunSummary {
 
 /// A built, runnable network. See the [module docs](super) for the phase order of a step.
 pub struct Network {
+    /// The brand of the builder this network was built from: the ids it accepts.
+    pub(super) brand: u64,
     pub(super) dt_s: f64,
     pub(super) step: u64,
     pub(super) nodes: Vec<RunningNode>,
@@ -153,10 +91,11 @@ impl Network {
         &self.pruned
     }
 
-    /// `true` when `node` was kept (some readout depends on it).
-    pub fn is_active(&self, node: impl Into<NodeId>) -> bool {
-        let node: NodeId = node.into();
-        self.node_index.get(node.0).is_some_and(Option::is_some)
+    /// `true` when `node` was kept (some readout depends on it). An id of another builder is a
+    /// [`GraphError::ForeignId`].
+    pub fn is_active(&self, node: impl Into<NodeId>) -> Result<bool, GraphError> {
+        let index = checked_index(node.into(), self.brand)?;
+        Ok(self.node_index.get(index).is_some_and(Option::is_some))
     }
 
     /// Neuron updates done since build or the last [`reset`](Self::reset): every neuron of a
@@ -218,27 +157,30 @@ impl Network {
             .sum()
     }
 
-    /// The readout `id`, typed.
-    pub fn readout<T: Readout>(&self, id: ReadoutId<T>) -> &T {
-        let any: &dyn Any = self.readouts[id.index].1.as_ref();
-        any.downcast_ref::<T>()
-            .expect("a ReadoutId<T> always names a readout of type T")
+    /// The readout `id`, typed. An id of another builder is a [`GraphError::ForeignId`].
+    pub fn readout<T: Readout>(&self, id: ReadoutId<T>) -> Result<&T, GraphError> {
+        let index = checked_index(id, self.brand)?;
+        let any: &dyn Any = self.readouts[index].1.as_ref();
+        Ok(any
+            .downcast_ref::<T>()
+            .expect("a ReadoutId<T> of this network's builder names a readout of type T"))
     }
 
     /// Replaces a spike source (e.g. the next sample's taxel trains) keeping everything else;
     /// the new source must have the same number of channels. Call [`reset`](Self::reset) to
-    /// start it from time 0.
+    /// start it from time 0. An id of another builder is a [`GraphError::ForeignId`].
     pub fn replace_spike_input(
         &mut self,
         node: InputId,
         source: impl SpikeSource + 'static,
     ) -> Result<(), GraphError> {
+        let index = checked_index(node, self.brand)?;
         let i = self
             .node_index
-            .get(node.0)
+            .get(index)
             .copied()
             .flatten()
-            .ok_or(GraphError::UnknownNode(node.0))?;
+            .ok_or(GraphError::UnknownNode(index))?;
         let n = &mut self.nodes[i];
         if !matches!(n.kind, RunningKind::Spikes(_)) {
             return Err(GraphError::WrongRole {
@@ -289,7 +231,7 @@ impl Network {
 
     /// Runs `steps` steps (fewer if a readout asks to stop), then calls every readout's `finish`.
     /// Every 256 steps and at the end, each population's
-    /// [`check_divergence`](NeuronModel::check_divergence) runs; a divergence is an error.
+    /// [`check_divergence`](crate::NeuronModel::check_divergence) runs; a divergence is an error.
     /// A network partitioned over several ranks runs with [`run_steps_on`](Self::run_steps_on)
     /// only ([`GraphError::RanksMismatch`] here).
     pub fn run_steps(&mut self, steps: u64) -> Result<RunSummary, GraphError> {

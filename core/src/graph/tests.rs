@@ -117,7 +117,7 @@ fn unreferenced_population_is_never_prepared_or_stepped() {
         0,
         "pruned population was stepped"
     );
-    assert!(net.is_active(used) && !net.is_active(unused));
+    assert!(net.is_active(used).unwrap() && !net.is_active(unused).unwrap());
     assert_eq!(
         net.pruned_nodes(),
         &["unused".to_string(), "drive".to_string()]
@@ -127,7 +127,7 @@ fn unreferenced_population_is_never_prepared_or_stepped() {
         3,
         "the pruned all-to-all projection is not compiled"
     );
-    assert_eq!(net.readout(rec).counts(), vec![1, 1, 1]);
+    assert_eq!(net.readout(rec).unwrap().counts(), vec![1, 1, 1]);
 }
 
 #[test]
@@ -181,7 +181,10 @@ fn builder_rejects_wrong_shapes_roles_and_parameters() {
     ));
     assert!(matches!(
         b.connect(
-            InputId(99),
+            InputId {
+                index: 99,
+                brand: b.brand
+            },
             pop,
             Connectivity::AllToAll { weight: 1.0 },
             syn
@@ -263,7 +266,13 @@ fn builder_rejects_wrong_shapes_roles_and_parameters() {
         Err(GraphError::IndexOutOfRange { .. })
     ));
     assert!(matches!(
-        b.record_synaptic_trace(ProjectionId(7), None),
+        b.record_synaptic_trace(
+            ProjectionId {
+                index: 7,
+                brand: b.brand
+            },
+            None
+        ),
         Err(GraphError::UnknownProjection(7))
     ));
     assert!(
@@ -312,7 +321,7 @@ fn spikes_arrive_after_their_delay_and_decay_exactly() {
     let input_spikes = b.record_spikes(input).unwrap();
     let mut net = b.build(NetworkConfig { dt_s: dt }).unwrap();
     net.run(0.02).unwrap();
-    let tr = net.readout(trace);
+    let tr = net.readout(trace).unwrap();
     assert_eq!(tr.times().len(), 20);
     let trace = tr.trace(0);
     // Emitted in step 10 (t = 10.5 ms lies in [10, 11) ms), delivered 3 steps later; the trace
@@ -324,7 +333,7 @@ fn spikes_arrive_after_their_delay_and_decay_exactly() {
     }
     assert!((tr.times()[13] - 0.014).abs() < 1e-15);
     // The population integrates the current at the start of the step: the undecayed jump.
-    let st = net.readout(state);
+    let st = net.readout(state).unwrap();
     let decay = (-dt / 4e-3f64).exp();
     for (k, &x) in st.trace(0).iter().enumerate().skip(13) {
         assert!((x * decay - trace[k]).abs() < 1e-12, "step {k}");
@@ -332,7 +341,7 @@ fn spikes_arrive_after_their_delay_and_decay_exactly() {
     assert_eq!(st.trace(0)[13], 2.0);
     assert!((st.times()[13] - 0.014).abs() < 1e-15);
     // A spike source's recorded spike keeps its own time.
-    assert_eq!(net.readout(input_spikes).spikes(), &[(0, 0.0105)]);
+    assert_eq!(net.readout(input_spikes).unwrap().spikes(), &[(0, 0.0105)]);
 }
 
 #[test]
@@ -355,8 +364,8 @@ fn population_to_population_delay_counts_from_the_emitting_step() {
     let mut net = b.build(NetworkConfig { dt_s: 1e-3 }).unwrap();
     net.run(0.01).unwrap();
     // `a` spikes in step 0 (stamped at its end, 1 ms); `c` receives it in step 2 (spike at 3 ms).
-    assert_eq!(net.readout(ra).spikes(), &[(0, 1e-3)]);
-    assert_eq!(net.readout(rc).spikes(), &[(0, 3e-3)]);
+    assert_eq!(net.readout(ra).unwrap().spikes(), &[(0, 1e-3)]);
+    assert_eq!(net.readout(rc).unwrap().spikes(), &[(0, 3e-3)]);
 }
 
 #[test]
@@ -385,7 +394,7 @@ fn currents_add_to_synaptic_input() {
     let st = b.record_state(pop, "x", None, 5).unwrap();
     let mut net = b.build(NetworkConfig { dt_s: 1e-3 }).unwrap();
     net.run(0.01).unwrap();
-    let st = net.readout(st);
+    let st = net.readout(st).unwrap();
     assert_eq!(st.times().len(), 2);
     assert_eq!(st.values(), &[0.25, 1.0, 0.75, 1.5]);
 }
@@ -418,7 +427,7 @@ fn a_readout_can_stop_the_run_cleanly() {
             stopped_early: true
         }
     );
-    assert_eq!(net.readout(stop).1, 2);
+    assert_eq!(net.readout(stop).unwrap().1, 2);
     assert!((net.time_s() - 0.003).abs() < 1e-15);
     assert!(net.run(f64::NAN).is_err());
 }
@@ -449,20 +458,190 @@ fn reset_and_replaced_inputs_reproduce_runs() {
     let (mut b, rb, _) = build();
     a.run(0.2).unwrap();
     b.run(0.2).unwrap();
-    let first = a.readout(ra).spikes().to_vec();
+    let first = a.readout(ra).unwrap().spikes().to_vec();
     assert!(!first.is_empty());
-    assert_eq!(first, b.readout(rb).spikes());
+    assert_eq!(first, b.readout(rb).unwrap().spikes());
     a.reset();
     a.run(0.2).unwrap();
-    assert_eq!(a.readout(ra).spikes(), first.as_slice());
+    assert_eq!(a.readout(ra).unwrap().spikes(), first.as_slice());
     // Swap the input for silence: no spikes after a reset.
     a.replace_spike_input(input, trains(vec![vec![]; 20]))
         .unwrap();
     a.reset();
     a.run(0.2).unwrap();
-    assert!(a.readout(ra).spikes().is_empty());
+    assert!(a.readout(ra).unwrap().spikes().is_empty());
     assert!(matches!(
         a.replace_spike_input(input, trains(vec![vec![]; 3])),
         Err(GraphError::SizeMismatch { .. })
     ));
+}
+
+/// A spike input (one channel), a one-neuron population fed by it through a projection, a
+/// current injected into it and a spike readout of it: the same indices in every builder.
+struct Wired {
+    input: InputId,
+    population: PopulationId,
+    current: CurrentId,
+    projection: ProjectionId,
+    spikes: ReadoutId<SpikeRecorder>,
+}
+
+fn wired(b: &mut NetworkBuilder) -> Wired {
+    let input = b.add_spike_input("in", trains(vec![vec![0.0015]])).unwrap();
+    let population = b.add_population("p", Probe::new(1).0).unwrap();
+    let current = b
+        .add_current_input("bias", CurrentInput::constant(0.0))
+        .unwrap();
+    let projection = b
+        .connect(
+            input,
+            population,
+            Connectivity::OneToOne { weight: 1.0 },
+            ExpSynapse::new(1e-3).with_delay(0),
+        )
+        .unwrap();
+    b.inject(current, population).unwrap();
+    let spikes = b.record_spikes(population).unwrap();
+    Wired {
+        input,
+        population,
+        current,
+        projection,
+        spikes,
+    }
+}
+
+#[test]
+fn ids_stay_copy_and_small() {
+    fn copy<T: Copy>() {}
+    copy::<NodeId>();
+    copy::<PopulationId>();
+    copy::<ReadoutId<SpikeRecorder>>();
+    assert!(std::mem::size_of::<PopulationId>() <= 16);
+    assert!(std::mem::size_of::<ReadoutId<SpikeRecorder>>() <= 16);
+}
+
+#[test]
+fn a_builder_refuses_the_ids_of_another_builder() {
+    let (mut a, mut b) = (NetworkBuilder::new(), NetworkBuilder::new());
+    assert_ne!(a.brand, b.brand);
+    let theirs = wired(&mut a);
+    let ours = wired(&mut b);
+    let (a_brand, b_brand) = (a.brand, b.brand);
+    let foreign = |kind| GraphError::ForeignId {
+        kind,
+        id_brand: a_brand,
+        builder_brand: b_brand,
+    };
+    let one_to_one = || Connectivity::OneToOne { weight: 1.0 };
+    let syn = ExpSynapse::new(1e-3).with_delay(0);
+    assert_eq!(
+        b.connect(theirs.input, ours.population, one_to_one(), syn),
+        Err(foreign("spike input"))
+    );
+    assert_eq!(
+        b.connect(ours.input, theirs.population, one_to_one(), syn),
+        Err(foreign("population"))
+    );
+    assert_eq!(
+        b.connect(
+            theirs.population,
+            ours.population,
+            one_to_one(),
+            ExpSynapse::new(1e-3)
+        ),
+        Err(foreign("population"))
+    );
+    assert_eq!(
+        b.inject(theirs.current, ours.population),
+        Err(foreign("current input"))
+    );
+    assert_eq!(
+        b.inject(ours.current, theirs.population),
+        Err(foreign("population"))
+    );
+    assert_eq!(
+        b.record_spikes(theirs.input).map(|_| ()),
+        Err(foreign("spike input"))
+    );
+    assert_eq!(
+        b.record_state(theirs.population, "x", None, 1).map(|_| ()),
+        Err(foreign("population"))
+    );
+    assert_eq!(
+        b.record_synaptic_trace(theirs.projection, None).map(|_| ()),
+        Err(foreign("projection"))
+    );
+    assert_eq!(
+        b.add_readout(theirs.projection, SpikeRecorder::new())
+            .map(|_| ()),
+        Err(foreign("projection"))
+    );
+    assert_eq!(
+        b.add_readout(
+            ReadoutSource::Node(theirs.population.into()),
+            SpikeRecorder::new()
+        )
+        .map(|_| ()),
+        Err(foreign("node"))
+    );
+    let e = b.record_spikes(theirs.population).unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        format!(
+            "population id of network builder #{} used with builder #{} (or its network): an id works only with the builder that handed it out and the network built from it",
+            a_brand, b_brand
+        )
+    );
+    // Nothing was wired by the refused calls, and the builder's own ids still work.
+    b.record_state(ours.population, "x", None, 1).unwrap();
+    b.record_synaptic_trace(ours.projection, None).unwrap();
+    let mut net = b.build(NetworkConfig { dt_s: 1e-3 }).unwrap();
+    assert_eq!(net.n_synapses(), 1);
+    net.run(0.005).unwrap();
+    assert_eq!(net.readout(ours.spikes).unwrap().spikes(), &[(0, 2e-3)]);
+    assert!(net.is_active(ours.input).unwrap());
+}
+
+#[test]
+fn a_network_refuses_the_ids_of_another_builder() {
+    let (mut a, mut b) = (NetworkBuilder::new(), NetworkBuilder::new());
+    let theirs = wired(&mut a);
+    let ours = wired(&mut b);
+    let (a_brand, b_brand) = (a.brand, b.brand);
+    let mut net = b.build(NetworkConfig { dt_s: 1e-3 }).unwrap();
+    let other = a.build(NetworkConfig { dt_s: 1e-3 }).unwrap();
+    let foreign = |kind| GraphError::ForeignId {
+        kind,
+        id_brand: a_brand,
+        builder_brand: b_brand,
+    };
+    net.run(0.005).unwrap();
+    assert_eq!(
+        net.readout(theirs.spikes).map(|_| ()),
+        Err(foreign("readout"))
+    );
+    assert_eq!(net.is_active(theirs.population), Err(foreign("node")));
+    assert_eq!(
+        net.replace_spike_input(theirs.input, trains(vec![vec![]])),
+        Err(foreign("spike input"))
+    );
+    // The other way round too, and each network takes its own builder's ids.
+    assert_eq!(
+        other.readout(ours.spikes).map(|_| ()),
+        Err(GraphError::ForeignId {
+            kind: "readout",
+            id_brand: b_brand,
+            builder_brand: a_brand,
+        })
+    );
+    assert_eq!(net.readout(ours.spikes).unwrap().spikes(), &[(0, 2e-3)]);
+    assert!(other.readout(theirs.spikes).unwrap().spikes().is_empty());
+    assert!(net.is_active(ours.population).unwrap());
+    assert!(net.is_active(ours.current).unwrap());
+    net.replace_spike_input(ours.input, trains(vec![vec![]]))
+        .unwrap();
+    net.reset();
+    net.run(0.005).unwrap();
+    assert!(net.readout(ours.spikes).unwrap().spikes().is_empty());
 }

@@ -51,7 +51,7 @@ pub fn one_spike_weight<M: NeuronModel + 'static>(
         let recorder = b.record_spikes(neuron)?;
         let mut net = b.build(NetworkConfig { dt_s })?;
         net.run(duration)?;
-        Ok(net.readout(recorder).spikes().len())
+        Ok(net.readout(recorder)?.spikes().len())
     };
     if spikes(0.0)? > 0 {
         return Err(GraphError::InvalidParameter {

@@ -420,7 +420,7 @@ impl<'a> Recogniser<'a> {
 
     /// The decision at elapsed time `t_end_s` (`+∞`: whole samples).
     fn decide(&mut self, t_end_s: f64, start: Instant) -> Result<Decision, ExperimentError> {
-        let live = self.network.readout(self.readout).trains();
+        let live = self.network.readout(self.readout)?.trains();
         let training = self.classifier.training;
         let n = training.n_channels();
         let distances: Vec<f64> = match (&self.classifier.prepared, &mut self.live) {

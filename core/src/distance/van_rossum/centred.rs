@@ -30,6 +30,10 @@ use rayon::prelude::*;
 use std::cmp::Ordering;
 use std::ops::Range;
 
+/// Largest `span/(2τ)` for which the centred-exponential evaluation is used
+/// ([module docs](super)).
+pub const CENTRED_EXP_LIMIT: f64 = 690.0;
+
 /// Target number of table cells per spike of a mean sample (pooled) or channel (labelled): the
 /// grid is the next power of two at or above, so cells hold at most one spike of a row sample
 /// with high probability.

@@ -24,8 +24,7 @@
 //! way, and the self products of every prefix of every sample are tabulated in the index, so
 //! prefixes cost no more than whole samples.
 
-use super::CENTRED_EXP_LIMIT;
-use super::centred::{CentredSample, Grid};
+use super::centred::{CENTRED_EXP_LIMIT, CentredSample, Grid};
 use crate::spikes::MultiSpikeTrain;
 
 /// One prepared spike in a channel's sweep: its rank, its sample and `e⁻ = e^{−(t − c₀)/τ}`.

@@ -12,7 +12,8 @@
 //! nothing cancels until `d² = ⟨a,a⟩ + ⟨b,b⟩ − 2⟨a,b⟩`, as offline. Available while every
 //! exponent stays within ±[`CENTRED_EXP_LIMIT`](super::CENTRED_EXP_LIMIT).
 
-use super::{CENTRED_EXP_LIMIT, common_channels, squared_from_products};
+use super::centred::CENTRED_EXP_LIMIT;
+use super::{common_channels, squared_from_products};
 use crate::distance::check_tau;
 use crate::error::DistanceError;
 use crate::spikes::MultiSpikeTrain;
