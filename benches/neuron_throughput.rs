@@ -111,7 +111,11 @@ fn afferent_activity(c: &mut Criterion) {
             g.bench_function(BenchmarkId::new(format!("{model}_{mode}"), active), |b| {
                 b.iter(|| {
                     net.reset();
-                    with_threads(1, || net.run(duration_s).expect("runs")).expect("thread pool")
+                    with_threads(1, || {
+                        net.run(duration_s, &neurotac_core::OneProcess)
+                            .expect("runs")
+                    })
+                    .expect("thread pool")
                 })
             });
         }

@@ -22,7 +22,12 @@ fn van_rossum_matrix(c: &mut Criterion) {
             ..Default::default()
         });
         group.bench_function(format!("{spikes:.0}_spikes_per_unit"), |b| {
-            b.iter(|| black_box(vr.matrices(black_box(data.observations())).unwrap()))
+            b.iter(|| {
+                black_box(
+                    vr.matrices(black_box(data.observations()), &neurotac_core::OneProcess)
+                        .unwrap(),
+                )
+            })
         });
     }
     group.finish();

@@ -43,7 +43,7 @@ pub fn run(duration_s: f64) -> Result<(Vec<usize>, Vec<usize>), GraphError> {
     )?;
     let recorder = b.record_spikes(afferents)?;
     let mut net = b.build(NetworkConfig { dt_s: 1e-4 })?;
-    net.run(duration_s)?;
+    net.run(duration_s, &neurotac_core::OneProcess)?;
     Ok((taxels.counts(), net.readout(recorder)?.counts()))
 }
 

@@ -99,12 +99,13 @@ pub fn run() -> Result<Outcome, Box<dyn std::error::Error>> {
         for trial in 0..PER_CLASS {
             net.replace_spike_input(input, SpikeArrayInput::new(sample(class, trial)))?;
             net.reset();
-            net.run(DURATION_S)?;
+            net.run(DURATION_S, &neurotac_core::OneProcess)?;
             records.push(net.readout(readout)?.trace_record().expect("traces on")?);
             labels.push(class);
         }
     }
-    let d2: Array2<f64> = trace_matrices::<f64>(&records, 0.02)?.squared(0.5)?;
+    let d2: Array2<f64> =
+        trace_matrices::<f64>(&records, 0.02, &neurotac_core::OneProcess)?.squared(0.5)?;
     let predicted = Knn::new(3)?.leave_one_out(d2.view(), &labels)?;
     Ok(Outcome {
         labels,

@@ -205,7 +205,7 @@ pub fn afferent_network(
 
 /// [`afferent_network`] for rank `rank` of `size` ranks
 /// ([`NetworkBuilder::build_partitioned`]: the taxels replicated, the afferents split into
-/// blocks); run it with [`Network::run_on`] on that group. Every rank's recorder ends with
+/// blocks); run it with [`Network::run`] on that group. Every rank's recorder ends with
 /// every afferent's spikes.
 pub fn afferent_network_on(
     taxels: &MultiSpikeTrain,
@@ -262,7 +262,7 @@ pub fn afferent_activity(
         let (mut net, spikes) = afferent_network(&taxels, config, dt_s, event_driven)?;
         let (result, wall_s) = with_threads(1, || {
             let start = Instant::now();
-            let result = net.run(duration_s);
+            let result = net.run(duration_s, &neurotac_core::OneProcess);
             (result, start.elapsed().as_secs_f64())
         })?;
         result?;
@@ -479,7 +479,7 @@ fn run_cuba(
     let mut net = b.build_partitioned(config_net, ranks.rank(), ranks.size())?;
     let build_s = start.elapsed().as_secs_f64();
     let start = Instant::now();
-    let summary = net.run_on(config.duration_s, ranks)?;
+    let summary = net.run(config.duration_s, ranks)?;
     let run_s = start.elapsed().as_secs_f64();
     let spikes = net.readout(re)?.spikes().len() + net.readout(ri)?.spikes().len();
     let neurons = config.n_exc + config.n_inh;

@@ -26,7 +26,7 @@ fn spikes<F: Real>(zero_current: bool) -> [Vec<(u32, f64)>; 2] {
         }
     }
     let mut net = b.build(NetworkConfig { dt_s: config.dt_s }).unwrap();
-    net.run(0.2).unwrap();
+    net.run(0.2, &neurotac_core::OneProcess).unwrap();
     recorders.map(|r| net.readout(r).unwrap().spikes().to_vec())
 }
 

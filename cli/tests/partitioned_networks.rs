@@ -51,7 +51,7 @@ fn the_afferent_pipeline_spikes_as_in_one_process_on_1_2_and_3_ranks() {
     for config in [AfferentConfig::lif(), AfferentConfig::izhikevich()] {
         for event_driven in [false, true] {
             let (mut net, id) = afferent_network(&taxels, config, dt_s, event_driven).unwrap();
-            net.run(duration_s).unwrap();
+            net.run(duration_s, &neurotac_core::OneProcess).unwrap();
             let one = net.readout(id).unwrap().spikes().to_vec();
             assert!(one.len() > 100, "{} spikes", one.len());
             for size in 1..=3 {
@@ -65,7 +65,7 @@ fn the_afferent_pipeline_spikes_as_in_one_process_on_1_2_and_3_ranks() {
                         size,
                     )
                     .unwrap();
-                    net.run_on(duration_s, ranks).unwrap();
+                    net.run(duration_s, ranks).unwrap();
                     let active = !net.event_driven_populations().is_empty();
                     (net.readout(id).unwrap().spikes().to_vec(), active)
                 });

@@ -5,8 +5,7 @@
 use ndarray::Array2;
 use neurotac_core::coding::TraceRecord;
 use neurotac_core::distance::{
-    VanRossumMatrices, euclidean_distance_matrix, euclidean_distance_matrix_on,
-    squared_euclidean_matrix, squared_euclidean_matrix_on, trace_matrices, trace_matrices_on,
+    VanRossumMatrices, euclidean_distance_matrix, squared_euclidean_matrix, trace_matrices,
 };
 use neurotac_core::ranks::ThreadRanks;
 use neurotac_core::{MultiSpikeTrain, VanRossum};
@@ -50,9 +49,9 @@ fn check_van_rossum(samples: &[MultiSpikeTrain], tau_s: f64, centred: Option<boo
     if let Some(centred) = centred {
         assert_eq!(prepared.is_centred(), centred);
     }
-    let want = prepared.matrices();
+    let want = prepared.matrices(&neurotac_core::OneProcess).unwrap();
     for size in RANK_COUNTS {
-        let got = ThreadRanks::run(size, |r| vr.matrices_on(samples, r).unwrap());
+        let got = ThreadRanks::run(size, |r| vr.matrices(samples, r).unwrap());
         for (rank, m) in got.iter().enumerate() {
             let what = format!("{} samples, rank {rank} of {size}", samples.len());
             assert_same_matrices(m, &want, &what);
@@ -87,14 +86,14 @@ fn euclidean_on_ranks_is_the_one_process_matrix() {
         // 19 columns: lanes and remainder of the summation both count.
         let f = Array2::from_shape_fn((n, 19), |(i, j)| ((i * 31 + j * 7) as f64).sin() * 1e3);
         let (squared, plain) = (
-            squared_euclidean_matrix(f.view()).unwrap(),
-            euclidean_distance_matrix(f.view()).unwrap(),
+            squared_euclidean_matrix(f.view(), &neurotac_core::OneProcess).unwrap(),
+            euclidean_distance_matrix(f.view(), &neurotac_core::OneProcess).unwrap(),
         );
         for size in RANK_COUNTS {
             let got = ThreadRanks::run(size, |r| {
                 (
-                    squared_euclidean_matrix_on(f.view(), r).unwrap(),
-                    euclidean_distance_matrix_on(f.view(), r).unwrap(),
+                    squared_euclidean_matrix(f.view(), r).unwrap(),
+                    euclidean_distance_matrix(f.view(), r).unwrap(),
                 )
             });
             for (rank, (s, p)) in got.iter().enumerate() {
@@ -112,14 +111,14 @@ fn trace_sampled_on_ranks_is_the_one_process_matrix() {
         .map(|o| TraceRecord::of_trains(o, 1e-4).unwrap())
         .collect();
     let (want64, want32) = (
-        trace_matrices::<f64>(&records, 0.02).unwrap(),
-        trace_matrices::<f32>(&records, 0.02).unwrap(),
+        trace_matrices::<f64>(&records, 0.02, &neurotac_core::OneProcess).unwrap(),
+        trace_matrices::<f32>(&records, 0.02, &neurotac_core::OneProcess).unwrap(),
     );
     for size in RANK_COUNTS {
         let got = ThreadRanks::run(size, |r| {
             (
-                trace_matrices_on::<f64>(&records, 0.02, r).unwrap(),
-                trace_matrices_on::<f32>(&records, 0.02, r).unwrap(),
+                trace_matrices::<f64>(&records, 0.02, r).unwrap(),
+                trace_matrices::<f32>(&records, 0.02, r).unwrap(),
             )
         });
         for (rank, (m64, m32)) in got.iter().enumerate() {
@@ -135,7 +134,7 @@ fn errors_are_the_same_on_every_rank() {
     let mut mixed = samples(4, 3, 1.0, 7);
     mixed.push(MultiSpikeTrain::empty(2));
     let vr = VanRossum::new(0.02).unwrap();
-    let errors = ThreadRanks::run(3, |r| vr.matrices_on(&mixed, r).unwrap_err().to_string());
+    let errors = ThreadRanks::run(3, |r| vr.matrices(&mixed, r).unwrap_err().to_string());
     assert!(errors.iter().all(|e| e == &errors[0]), "{errors:?}");
     assert!(errors[0].contains("sample 4"), "{}", errors[0]);
 }

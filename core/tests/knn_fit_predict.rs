@@ -83,7 +83,7 @@ fn assert_fitted_equals_square(
 fn check_feature_coding<C: FeatureCoding>(coding: &C, what: &str) {
     let (samples, labels) = labelled_samples(1);
     let features = feature_matrix(coding, &samples).unwrap();
-    let d = euclidean_distance_matrix(features.view()).unwrap();
+    let d = euclidean_distance_matrix(features.view(), &neurotac_core::OneProcess).unwrap();
     let cross = euclidean_cross_matrix(
         features.slice(s![N_TRAIN.., ..]),
         features.slice(s![..N_TRAIN, ..]),
@@ -116,7 +116,11 @@ fn temporal_coding_fit_predict_equals_the_square_knn() {
 fn spatiotemporal_coding_fit_predict_equals_the_square_knn() {
     let (samples, labels) = labelled_samples(2);
     let vr = VanRossum::new(TAU_S).unwrap();
-    let d = vr.matrices(&samples).unwrap().distances(COS).unwrap();
+    let d = vr
+        .matrices(&samples, &neurotac_core::OneProcess)
+        .unwrap()
+        .distances(COS)
+        .unwrap();
     // New samples against the prepared training set only.
     let prepared = vr.prepare(&samples[..N_TRAIN]).unwrap();
     let cross = prepared
@@ -155,7 +159,7 @@ fn a_live_prefix_is_classified_against_the_training_prefixes() {
         let cut: Vec<MultiSpikeTrain> = samples[..=N_TRAIN].iter().map(prefix).collect();
         let all = VanRossum::new(TAU_S)
             .unwrap()
-            .matrices(&cut)
+            .matrices(&cut, &neurotac_core::OneProcess)
             .unwrap()
             .distances(COS)
             .unwrap();

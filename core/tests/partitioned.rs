@@ -1,5 +1,5 @@
 //! Networks partitioned over ranks ([`NetworkBuilder::build_partitioned`],
-//! [`Network::run_on`]) give, on every rank, exactly the readouts of one process: the same
+//! [`Network::run`]) give, on every rank, exactly the readouts of one process: the same
 //! spikes, bit for bit, in the same order, whatever the number of ranks.
 
 use neurotac_core::ranks::ThreadRanks;
@@ -226,7 +226,7 @@ fn same_spikes_on_any_rank_count(
     let (b, r) = network();
     let mut net = b.build(NetworkConfig { dt_s: DT }).unwrap();
     for &steps in runs {
-        net.run_steps(steps).unwrap();
+        net.run_steps(steps, &neurotac_core::OneProcess).unwrap();
     }
     let one = spikes(&net, &r);
     assert!(
@@ -241,7 +241,7 @@ fn same_spikes_on_any_rank_count(
             let config = NetworkConfig { dt_s: DT };
             let mut net = b.build_partitioned(config, ranks.rank(), size).unwrap();
             for &steps in runs {
-                net.run_steps_on(steps, ranks).unwrap();
+                net.run_steps(steps, ranks).unwrap();
             }
             (spikes(&net, &r), net.steps_done(), net.exchanges())
         });
@@ -343,14 +343,14 @@ fn epochs_last_the_smallest_population_delay_and_are_timed() {
     let (b, _) = two_populations((37, 23), Leaky::new, false);
     let mut one = b.build(NetworkConfig { dt_s: DT }).unwrap();
     assert_eq!((one.epoch_steps(), one.rank(), one.n_ranks()), (2, 0, 1));
-    one.run_on(0.01, &OneProcess).unwrap();
+    one.run(0.01, &OneProcess).unwrap();
     assert_eq!((one.exchanges(), one.exchange_s()), (0, 0.0));
     let stats = ThreadRanks::run(2, |ranks| {
         let (b, _) = two_populations((37, 23), Leaky::new, false);
         let mut net = b
             .build_partitioned(NetworkConfig { dt_s: DT }, ranks.rank(), 2)
             .unwrap();
-        net.run_steps_on(101, ranks).unwrap();
+        net.run_steps(101, ranks).unwrap();
         let stats = (net.epoch_steps(), net.exchanges(), net.exchange_s() > 0.0);
         net.reset();
         (stats, net.exchanges())
@@ -403,7 +403,7 @@ fn a_stop_request_takes_effect_at_the_end_of_the_epoch() {
     };
     let (b, stop) = network();
     let mut net = b.build(NetworkConfig { dt_s: DT }).unwrap();
-    let one = net.run(1.0).unwrap();
+    let one = net.run(1.0, &neurotac_core::OneProcess).unwrap();
     assert!(one.stopped_early);
     let seen = net.readout(stop).unwrap().2;
     assert_eq!(seen, one.steps);
@@ -412,7 +412,7 @@ fn a_stop_request_takes_effect_at_the_end_of_the_epoch() {
         let mut net = b
             .build_partitioned(NetworkConfig { dt_s: DT }, ranks.rank(), 3)
             .unwrap();
-        let summary = net.run_on(1.0, ranks).unwrap();
+        let summary = net.run(1.0, ranks).unwrap();
         (summary, net.readout(stop).unwrap().2)
     });
     // Epochs of 2 steps: the run ends at the end of the stop step's epoch.
@@ -488,14 +488,14 @@ fn what_cannot_run_partitioned_is_a_typed_error() {
         rank,
         size,
     };
-    assert_eq!(build(1).run(0.01).unwrap_err(), mismatch(0, 1));
     assert_eq!(
-        build(1).run_on(0.01, &OneProcess).unwrap_err(),
+        build(1).run(0.01, &neurotac_core::OneProcess).unwrap_err(),
         mismatch(0, 1)
     );
-    let e = ThreadRanks::run(3, |r| build(1).run_on(0.01, r).unwrap_err());
+    assert_eq!(build(1).run(0.01, &OneProcess).unwrap_err(), mismatch(0, 1));
+    let e = ThreadRanks::run(3, |r| build(1).run(0.01, r).unwrap_err());
     assert_eq!(e[2], mismatch(2, 3));
-    assert!(build(0).run_on(f64::NAN, &OneProcess).is_err());
+    assert!(build(0).run(f64::NAN, &OneProcess).is_err());
 }
 
 /// Rank 1 of 2 whose "other rank" sends `garbage`.
@@ -557,15 +557,15 @@ fn malformed_messages_and_failed_communication_are_typed_errors() {
         (counts(1_000), "neuron 1000"),
         ([counts(0), vec![9]].concat(), "left over"),
     ] {
-        let e = build(1).run_steps_on(2, &Liar(garbage)).unwrap_err();
+        let e = build(1).run_steps(2, &Liar(garbage)).unwrap_err();
         assert!(
             matches!(&e, GraphError::Exchange { step: 2, reason } if reason.contains(what)),
             "{e}"
         );
     }
     // A well-formed message from the other rank is accepted.
-    assert!(build(1).run_steps_on(2, &Liar(counts(0))).is_ok());
-    let e = build(0).run_steps_on(10, &Broken).unwrap_err();
+    assert!(build(1).run_steps(2, &Liar(counts(0))).is_ok());
+    let e = build(0).run_steps(10, &Broken).unwrap_err();
     assert!(e.to_string().contains("cable cut"), "{e}");
 }
 
@@ -580,7 +580,7 @@ fn a_divergence_on_one_rank_stops_every_rank() {
         let mut net = b
             .build_partitioned(NetworkConfig { dt_s: DT }, ranks.rank(), 3)
             .unwrap();
-        net.run_on(0.1, ranks).unwrap_err()
+        net.run(0.1, ranks).unwrap_err()
     });
     // Neuron 30 of `a` (37 neurons) is rank 2's.
     assert!(matches!(&errors[2], GraphError::Model { population, .. } if population == "a"));

@@ -165,7 +165,7 @@ pub fn afferent_response(
     config: AfferentConfig,
 ) -> Result<MultiSpikeTrain, GraphError> {
     let mut net = build_afferent_network(SpikeArrayInput::new(taxels.clone()), config)?;
-    net.network.run(duration_s)?;
+    net.network.run(duration_s, &neurotac_core::OneProcess)?;
     Ok(net.network.readout(net.spikes)?.to_spike_trains())
 }
 

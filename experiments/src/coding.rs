@@ -16,7 +16,7 @@ use ndarray::Array2;
 use neurotac_core::coding::{
     IntensiveCoding, SpatialCoding, TemporalCoding, duration_ms_of, feature_matrix, whole_ms,
 };
-use neurotac_core::distance::{VanRossum, check_cos, euclidean_distance_matrix_on};
+use neurotac_core::distance::{VanRossum, check_cos, euclidean_distance_matrix};
 use neurotac_core::{MultiSpikeTrain, Ranks, SpikeDataset};
 use serde::Serialize;
 
@@ -179,8 +179,8 @@ fn missing(coding: CodingName, what: &'static str) -> ExperimentError {
 /// features, or the exact multi-unit Van Rossum distance for the spatiotemporal coding.
 ///
 /// Split over `ranks` (`&OneProcess` for one process): every rank computes the features (cheap), the
-/// rows of the matrix are split over the ranks ([`euclidean_distance_matrix_on`],
-/// [`PreparedVanRossum::matrices_on`](neurotac_core::distance::PreparedVanRossum::matrices_on))
+/// rows of the matrix are split over the ranks ([`euclidean_distance_matrix`],
+/// [`PreparedVanRossum::matrices`](neurotac_core::distance::PreparedVanRossum::matrices))
 /// and every rank returns the whole matrix, bit for bit the one-process one. Collective: every
 /// rank must call it.
 pub fn coding_distances(
@@ -206,11 +206,11 @@ pub fn coding_distances(
             let (tau_s, cos) = Coding::of(coding).with(parameters).tau_and_cos()?;
             check_cos(cos)?;
             return Ok(VanRossum::new(tau_s)?
-                .matrices_on(observations, ranks)?
+                .matrices(observations, ranks)?
                 .distances(cos)?);
         }
     };
-    Ok(euclidean_distance_matrix_on(features.view(), ranks)?)
+    Ok(euclidean_distance_matrix(features.view(), ranks)?)
 }
 
 /// The sample duration in whole ms that the temporal coding windows: `given_s` if given, else

@@ -13,7 +13,8 @@
 //! use neurotac_experiments::progress::NoProgress;
 //! use neurotac_experiments::reproduce::{ReproduceConfig, Source, run};
 //! let config = ReproduceConfig::quick(1, std::env::temp_dir().join("neurotac-cache"));
-//! let report = run(&config, &[Source::Simulated(TextureSet::Artificial)], &NoProgress)?;
+//! let artificial = [Source::Simulated(TextureSet::Artificial)];
+//! let report = run(&config, &artificial, &NoProgress, &neurotac_core::OneProcess)?;
 //! println!("{}", serde_json::to_string_pretty(&report.sets[0].direct)?);
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```

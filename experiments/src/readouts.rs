@@ -214,7 +214,7 @@ impl ReadoutNetwork {
         self.network
             .replace_spike_input(self.input, SpikeArrayInput::new(sample.clone()))?;
         self.network.reset();
-        self.network.run(run_s)?;
+        self.network.run(run_s, &neurotac_core::OneProcess)?;
         let n = &self.network;
         let st = n.readout(self.spatiotemporal)?;
         Ok(SampleReadouts {

@@ -81,21 +81,22 @@ fn final_online_decisions_equal_the_offline_predictions() {
     let codings = [
         (
             Coding::of(CodingName::Intensive),
-            euclidean_distance_matrix(encoded.intensive.view()).unwrap(),
+            euclidean_distance_matrix(encoded.intensive.view(), &neurotac_core::OneProcess)
+                .unwrap(),
         ),
         (
             Coding::of(CodingName::Spatial),
-            euclidean_distance_matrix(encoded.spatial.view()).unwrap(),
+            euclidean_distance_matrix(encoded.spatial.view(), &neurotac_core::OneProcess).unwrap(),
         ),
         (
             Coding::temporal(window_ms),
-            euclidean_distance_matrix(temporal.view()).unwrap(),
+            euclidean_distance_matrix(temporal.view(), &neurotac_core::OneProcess).unwrap(),
         ),
         (
             Coding::spatiotemporal(tau_s, cos),
             VanRossum::new(tau_s)
                 .unwrap()
-                .matrices(&encoded.trains)
+                .matrices(&encoded.trains, &neurotac_core::OneProcess)
                 .unwrap()
                 .distances(cos)
                 .unwrap(),

@@ -25,7 +25,7 @@
 //! b.inject(drive, lif)?;
 //! let spikes = b.record_spikes(lif)?;
 //! let mut net = b.build(NetworkConfig { dt_s: 1e-4 })?;
-//! net.run(0.1)?;
+//! net.run(0.1, &neurotac_core::OneProcess)?;
 //! assert!(net.readout(spikes)?.counts().iter().all(|&c| c == 9)); // period τ·ln 3 = 11 ms
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```

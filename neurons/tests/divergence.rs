@@ -162,7 +162,7 @@ fn networks_report_divergence_as_a_model_error() {
     b.inject(drive, pop).unwrap();
     let _spikes = b.record_spikes(pop).unwrap();
     let mut net = b.build(NetworkConfig { dt_s: 1e-4 }).unwrap();
-    match net.run(1.0) {
+    match net.run(1.0, &neurotac_core::OneProcess) {
         Err(GraphError::Model {
             population,
             source: ModelError::Diverged { step: 0, .. },

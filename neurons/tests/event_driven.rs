@@ -67,7 +67,7 @@ fn afferents(
 ) -> (Network, Vec<(u32, f64)>) {
     let model = Lif::<f64>::new(input.n_channels(), lif).with_integrator(Integrator::Exact);
     let (mut net, spikes) = pipeline(input, model, event_driven, false);
-    net.run(1.0).unwrap();
+    net.run(1.0, &neurotac_core::OneProcess).unwrap();
     let out = net.readout(spikes).unwrap().spikes().to_vec();
     (net, out)
 }
@@ -134,7 +134,7 @@ fn izhikevich_afferents(
     let model = Izhikevich::<f64>::new(input.n_channels(), params)
         .with_initial_potential(InitialPotential::Constant(rest));
     let (mut net, spikes) = pipeline(input, model, event_driven, false);
-    net.run(1.0).unwrap();
+    net.run(1.0, &neurotac_core::OneProcess).unwrap();
     let out = net.readout(spikes).unwrap().spikes().to_vec();
     (net, out)
 }
@@ -230,8 +230,8 @@ fn izhikevich_away_from_rest_is_stepped_until_it_settles() {
     let model = Izhikevich::<f64>::new(10, IzhikevichParams::rs());
     let (mut clock, _) = pipeline(&input, model.clone(), false, false);
     let (mut event, _) = pipeline(&input, model, true, false);
-    clock.run(1.0).unwrap();
-    event.run(1.0).unwrap();
+    clock.run(1.0, &neurotac_core::OneProcess).unwrap();
+    event.run(1.0, &neurotac_core::OneProcess).unwrap();
     let updates = event.neuron_updates();
     assert!(
         updates > 10 * 1_000 && updates < clock.neuron_updates(),

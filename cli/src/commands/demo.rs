@@ -36,7 +36,7 @@ pub fn run(args: DemoArgs) -> anyhow::Result<()> {
         build_afferent_network(source, config).context("building the afferent network")?;
     let start = std::time::Instant::now();
     net.network
-        .run(args.duration)
+        .run(args.duration, &neurotac_core::OneProcess)
         .context("running the afferent network")?;
     let wall_s = start.elapsed().as_secs_f64();
     let inputs = net.network.readout(net.taxel_spikes)?.counts();

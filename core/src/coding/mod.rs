@@ -33,7 +33,7 @@
 //! let taxels = b.add_spike_input("taxels", SpikeArrayInput::new(sample.clone()))?;
 //! let temporal = b.add_readout(taxels, TemporalCoding::new(0.010, 0.030)?)?;
 //! let mut net = b.build(NetworkConfig { dt_s: 1e-4 })?;
-//! net.run(0.030)?;
+//! net.run(0.030, &neurotac_core::OneProcess)?;
 //! let mut direct = TemporalCoding::new(0.010, 0.030)?;
 //! direct.encode(&sample);
 //! assert_eq!(net.readout(temporal)?.features(), direct.features());
@@ -204,7 +204,7 @@ mod tests {
             .unwrap();
         let id = b.add_readout(input, coding).unwrap();
         let mut net = b.build(NetworkConfig { dt_s }).unwrap();
-        net.run(0.3).unwrap();
+        net.run(0.3, &crate::OneProcess).unwrap();
         net.readout(id).unwrap().clone()
     }
 
@@ -311,7 +311,10 @@ mod tests {
             MultiSpikeTrain::from_channels(vec![vec![0.010, 0.030], vec![0.020]]).unwrap(),
             MultiSpikeTrain::from_channels(vec![vec![0.015], vec![0.020, 0.050]]).unwrap(),
         ];
-        let exact = VanRossum::new(tau).unwrap().matrices(&on_grid).unwrap();
+        let exact = VanRossum::new(tau)
+            .unwrap()
+            .matrices(&on_grid, &crate::OneProcess)
+            .unwrap();
         let sampled = trace_sampled_matrices(&on_grid, tau, 1e-3).unwrap();
         for c in [0.0, 0.4, 1.0] {
             let (e, s) = (
@@ -335,7 +338,7 @@ mod tests {
             .collect();
         let exact = VanRossum::new(tau)
             .unwrap()
-            .matrices(&off_grid)
+            .matrices(&off_grid, &crate::OneProcess)
             .unwrap()
             .squared(0.4)
             .unwrap();

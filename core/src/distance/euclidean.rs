@@ -3,7 +3,7 @@
 
 use super::{row_matrices, symmetric_matrices_on};
 use crate::error::DistanceError;
-use crate::ranks::{OneProcess, Ranks};
+use crate::ranks::Ranks;
 use ndarray::{Array2, ArrayView2};
 
 /// `Σ_f (x_f − y_f)²`, summed in eight fixed lanes then in lane order (vectorises; the order,
@@ -36,24 +36,19 @@ fn check_features(features: &ArrayView2<'_, f64>) -> Result<(), DistanceError> {
 
 /// The `N × N` matrix of squared Euclidean distances between the rows of `features`
 /// (rejecting NaN/±∞ features, naming row and column).
-pub fn squared_euclidean_matrix(
-    features: ArrayView2<'_, f64>,
-) -> Result<Array2<f64>, DistanceError> {
-    squared_euclidean_matrix_on(features, &OneProcess)
-}
-
+///
 /// [`squared_euclidean_matrix`] split over `ranks`: each rank computes a block of
 /// upper-triangle rows balanced by pair count, then the blocks are all-gathered, so every rank
 /// returns the one-process matrix, bit for bit. Collective: every rank must call it.
 ///
 /// ```
-/// use neurotac_core::distance::{squared_euclidean_matrix, squared_euclidean_matrix_on};
+/// use neurotac_core::distance::{squared_euclidean_matrix};
 /// use neurotac_core::ranks::ThreadRanks;
 /// let f = ndarray::array![[0.0, 0.0], [3.0, 4.0], [6.0, 8.0]];
-/// let on_two = ThreadRanks::run(2, |r| squared_euclidean_matrix_on(f.view(), r).unwrap());
-/// assert!(on_two.iter().all(|m| *m == squared_euclidean_matrix(f.view()).unwrap()));
+/// let on_two = ThreadRanks::run(2, |r| squared_euclidean_matrix(f.view(), r).unwrap());
+/// assert!(on_two.iter().all(|m| *m == squared_euclidean_matrix(f.view(), &neurotac_core::OneProcess).unwrap()));
 /// ```
-pub fn squared_euclidean_matrix_on(
+pub fn squared_euclidean_matrix(
     features: ArrayView2<'_, f64>,
     ranks: &dyn Ranks,
 ) -> Result<Array2<f64>, DistanceError> {
@@ -68,19 +63,14 @@ pub fn squared_euclidean_matrix_on(
 }
 
 /// The `N × N` matrix of Euclidean distances between the rows of `features`.
-pub fn euclidean_distance_matrix(
-    features: ArrayView2<'_, f64>,
-) -> Result<Array2<f64>, DistanceError> {
-    euclidean_distance_matrix_on(features, &OneProcess)
-}
-
-/// [`euclidean_distance_matrix`] split over `ranks` (as [`squared_euclidean_matrix_on`]).
+///
+/// [`euclidean_distance_matrix`] split over `ranks` (as [`squared_euclidean_matrix`]).
 /// Collective.
-pub fn euclidean_distance_matrix_on(
+pub fn euclidean_distance_matrix(
     features: ArrayView2<'_, f64>,
     ranks: &dyn Ranks,
 ) -> Result<Array2<f64>, DistanceError> {
-    Ok(squared_euclidean_matrix_on(features, ranks)?.mapv_into(f64::sqrt))
+    Ok(squared_euclidean_matrix(features, ranks)?.mapv_into(f64::sqrt))
 }
 
 /// The `n_new × n_train` matrix of squared Euclidean distances `‖x_i − y_j‖²` between the rows
@@ -129,7 +119,7 @@ pub fn squared_euclidean_cross_matrix(
 /// let live = array![[6.0, 8.0]];
 /// let d = euclidean_cross_matrix(live.view(), train.view())?;
 /// assert_eq!(d, array![[10.0, 5.0]]);
-/// let all = euclidean_distance_matrix(concatenate![Axis(0), train, live].view())?;
+/// let all = euclidean_distance_matrix(concatenate![Axis(0), train, live].view(), &neurotac_core::OneProcess)?;
 /// assert_eq!(d.row(0), all.row(2).slice(ndarray::s![..2]));
 /// # Ok::<(), neurotac_core::DistanceError>(())
 /// ```
@@ -148,7 +138,7 @@ mod tests {
     #[test]
     fn matrix_is_symmetric_with_known_values() {
         let f = array![[0.0, 0.0], [3.0, 4.0], [6.0, 8.0]];
-        let d = euclidean_distance_matrix(f.view()).unwrap();
+        let d = euclidean_distance_matrix(f.view(), &crate::OneProcess).unwrap();
         assert_eq!(
             d,
             array![[0.0, 5.0, 10.0], [5.0, 0.0, 5.0], [10.0, 5.0, 0.0]]
@@ -168,8 +158,8 @@ mod tests {
         // 19 columns for lanes and remainder, and a row repeated across the two sets.
         let f = Array2::from_shape_fn((11, 19), |(i, j)| ((i * 31 + j * 7) as f64).sin() * 1e3);
         let (train, new) = (f.slice(ndarray::s![..7, ..]), f.slice(ndarray::s![6.., ..]));
-        let square = euclidean_distance_matrix(f.view()).unwrap();
-        let squared = squared_euclidean_matrix(f.view()).unwrap();
+        let square = euclidean_distance_matrix(f.view(), &crate::OneProcess).unwrap();
+        let squared = squared_euclidean_matrix(f.view(), &crate::OneProcess).unwrap();
         let cross = euclidean_cross_matrix(new, train).unwrap();
         let cross2 = squared_euclidean_cross_matrix(new, train).unwrap();
         assert_eq!(cross.dim(), (5, 7));
@@ -230,7 +220,7 @@ mod tests {
     #[test]
     fn non_finite_features_are_named() {
         let f = array![[0.0, 1.0], [f64::NAN, 2.0]];
-        match squared_euclidean_matrix(f.view()) {
+        match squared_euclidean_matrix(f.view(), &crate::OneProcess) {
             Err(DistanceError::NonFiniteFeature {
                 row: 1,
                 column: 0,
@@ -242,7 +232,9 @@ mod tests {
         }
         let empty = Array2::<f64>::zeros((0, 3));
         assert_eq!(
-            squared_euclidean_matrix(empty.view()).unwrap().dim(),
+            squared_euclidean_matrix(empty.view(), &crate::OneProcess)
+                .unwrap()
+                .dim(),
             (0, 0)
         );
     }

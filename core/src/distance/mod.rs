@@ -13,8 +13,8 @@
 //! that are not in the training set, hold the entries the square matrix of both sets would.
 //!
 //! The square matrices can be split over several processes ([`Ranks`], e.g. MPI ranks): the
-//! `…_on` functions ([`squared_euclidean_matrix_on`], [`euclidean_distance_matrix_on`],
-//! [`PreparedVanRossum::matrices_on`], [`trace_matrices_on`]) have each rank compute a
+//! `…_on` functions ([`squared_euclidean_matrix`], [`euclidean_distance_matrix`],
+//! [`PreparedVanRossum::matrices`], [`trace_matrices`]) have each rank compute a
 //! contiguous block of rows, balanced by cost (an upper-triangle row `i` of `N` costs
 //! `N − i − 1` pairs; a full row of the centred Van Rossum evaluation costs `N`), and
 //! all-gather the blocks. Since entries do not depend on how rows are blocked, every rank then
@@ -27,14 +27,11 @@ pub mod trace_sampled;
 pub mod van_rossum;
 
 pub use euclidean::{
-    euclidean_cross_matrix, euclidean_distance_matrix, euclidean_distance_matrix_on,
-    squared_euclidean, squared_euclidean_cross_matrix, squared_euclidean_matrix,
-    squared_euclidean_matrix_on,
+    euclidean_cross_matrix, euclidean_distance_matrix, squared_euclidean,
+    squared_euclidean_cross_matrix, squared_euclidean_matrix,
 };
 pub use trace_record::TraceRecord;
-pub use trace_sampled::{
-    TracePrecision, trace_matrices, trace_matrices_on, trace_sampled_matrices,
-};
+pub use trace_sampled::{TracePrecision, trace_matrices, trace_sampled_matrices};
 pub use van_rossum::{
     GrowingLive, GrowingVanRossum, PreparedVanRossum, VanRossum, VanRossumMatrices, combine_squared,
 };

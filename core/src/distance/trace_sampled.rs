@@ -31,7 +31,7 @@ use crate::currents::FLUSH_TO_ZERO;
 #[cfg(test)]
 use crate::error::CodingError;
 use crate::error::DistanceError;
-use crate::ranks::{OneProcess, Ranks};
+use crate::ranks::Ranks;
 use crate::spikes::MultiSpikeTrain;
 use rayon::prelude::*;
 use std::ops::{Add, Mul};
@@ -165,17 +165,11 @@ struct Prepared<R> {
 ///
 /// All records must have the same channel count and step. Every entry is computed in a fixed
 /// order from its two records alone, so the matrices are identical at any thread count.
-pub fn trace_matrices<R: TracePrecision>(
-    records: &[TraceRecord],
-    tau_s: f64,
-) -> Result<VanRossumMatrices, DistanceError> {
-    trace_matrices_on::<R>(records, tau_s, &OneProcess)
-}
-
-/// [`trace_matrices`] split over `ranks`: each rank computes a block of upper-triangle rows
+///
+/// Split over `ranks` (`&OneProcess` for one process): each rank computes a block of upper-triangle rows
 /// balanced by pair count, then the blocks are all-gathered, so every rank returns the
 /// one-process matrices, bit for bit. Collective: every rank must call it.
-pub fn trace_matrices_on<R: TracePrecision>(
+pub fn trace_matrices<R: TracePrecision>(
     records: &[TraceRecord],
     tau_s: f64,
     ranks: &dyn Ranks,
@@ -265,7 +259,7 @@ pub fn trace_sampled_matrices(
                 .map_err(|source| DistanceError::TraceRecord { sample, source })
         })
         .collect::<Result<Vec<_>, _>>()?;
-    trace_matrices::<f64>(&records, tau_s)
+    trace_matrices::<f64>(&records, tau_s, &crate::OneProcess)
 }
 
 #[cfg(test)]
@@ -315,7 +309,7 @@ mod tests {
             .iter()
             .map(|o| TraceRecord::of_trains(o, h).unwrap())
             .collect();
-        let m = trace_matrices::<f64>(&records, tau).unwrap();
+        let m = trace_matrices::<f64>(&records, tau, &crate::OneProcess).unwrap();
         let q = (-h / tau).exp();
         for i in 0..4 {
             for j in 0..4 {
@@ -357,13 +351,16 @@ mod tests {
                 .unwrap()
             })
             .collect();
-        let exact = VanRossum::new(tau).unwrap().matrices(&on_grid).unwrap();
+        let exact = VanRossum::new(tau)
+            .unwrap()
+            .matrices(&on_grid, &crate::OneProcess)
+            .unwrap();
         let traces = trace_sampled_matrices(&obs, tau, h).unwrap();
         let f32_records: Vec<TraceRecord> = obs
             .iter()
             .map(|o| TraceRecord::of_trains(o, h).unwrap())
             .collect();
-        let single = trace_matrices::<f32>(&f32_records, tau).unwrap();
+        let single = trace_matrices::<f32>(&f32_records, tau, &crate::OneProcess).unwrap();
         for c in [0.0, 0.4, 1.0] {
             let (e, t, s) = (
                 exact.squared(c).unwrap(),
@@ -399,7 +396,7 @@ mod tests {
             .unwrap();
         let id = b.add_readout(input, coding).unwrap();
         let mut net = b.build(NetworkConfig { dt_s: 1e-4 }).unwrap();
-        net.run(0.31).unwrap();
+        net.run(0.31, &crate::OneProcess).unwrap();
         let from_network = net.readout(id).unwrap().trace_record().unwrap().unwrap();
         assert_eq!(from_network, TraceRecord::of_trains(&sample, 1e-4).unwrap());
     }
@@ -433,6 +430,6 @@ mod tests {
         assert!(coding.trace_record().is_none());
         let other_step = TraceRecord::of_trains(&s, 2e-3).unwrap();
         let one = TraceRecord::of_trains(&s, 1e-3).unwrap();
-        assert!(trace_matrices::<f64>(&[one, other_step], 0.01).is_err());
+        assert!(trace_matrices::<f64>(&[one, other_step], 0.01, &crate::OneProcess).is_err());
     }
 }

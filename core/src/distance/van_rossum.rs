@@ -48,7 +48,7 @@
 //! `D²` smaller than 0 by rounding (about 10⁻¹⁵ for identical samples) is clamped to 0, as
 //! pymuvr does. Every entry is computed in a fixed order from its two samples alone, so the
 //! matrices are identical at any thread count, and at any rank count when their rows are split
-//! over several processes ([`PreparedVanRossum::matrices_on`]).
+//! over several processes ([`PreparedVanRossum::matrices`]).
 
 mod centred;
 mod cross;
@@ -266,22 +266,15 @@ impl VanRossum {
         })
     }
 
-    /// `LL²` and `SP²` for every pair of `observations` (parallel over rows).
+    /// `LL²` and `SP²` for every pair of `observations` (parallel over rows); split over
+    /// `ranks` ([`PreparedVanRossum::matrices`]; every rank prepares the samples), collective;
+    /// `&OneProcess` for one process.
     pub fn matrices(
-        &self,
-        observations: &[MultiSpikeTrain],
-    ) -> Result<VanRossumMatrices, DistanceError> {
-        Ok(self.prepare(observations)?.matrices())
-    }
-
-    /// [`matrices`](Self::matrices) split over `ranks`
-    /// ([`PreparedVanRossum::matrices_on`]; every rank prepares the samples). Collective.
-    pub fn matrices_on(
         &self,
         observations: &[MultiSpikeTrain],
         ranks: &dyn Ranks,
     ) -> Result<VanRossumMatrices, DistanceError> {
-        self.prepare(observations)?.matrices_on(ranks)
+        self.prepare(observations)?.matrices(ranks)
     }
 
     /// `D²(c)` between two samples with the same channel count.
@@ -555,8 +548,9 @@ impl PreparedVanRossum {
         Ok(VanRossumMatrices { tau_s, ll2, sp2 })
     }
 
-    /// `LL²` and `SP²` for every pair of the prepared samples (parallel over rows).
-    pub fn matrices(&self) -> VanRossumMatrices {
+    /// `LL²` and `SP²` for every pair of the prepared samples in this process (parallel over
+    /// rows).
+    fn matrices_in_one_process(&self) -> VanRossumMatrices {
         let [ll2, sp2] = match &self.evaluation {
             Evaluation::Centred { grid, samples, .. } => {
                 let halves = centred::half_product_rows(samples, grid, 0..samples.len());
@@ -573,7 +567,9 @@ impl PreparedVanRossum {
         }
     }
 
-    /// [`matrices`](Self::matrices) split over `ranks`: each rank computes a contiguous block
+    /// `LL²` and `SP²` for every pair of the prepared samples (parallel over rows).
+    ///
+    /// Split over `ranks` (`&OneProcess` for one process): each rank computes a contiguous block
     /// of rows (parallel within the rank), then the blocks are all-gathered, so every rank
     /// returns the one-process matrices, bit for bit, at any rank count. The centred
     /// evaluation computes whole rows of half products, so its rows are split evenly; the
@@ -587,11 +583,14 @@ impl PreparedVanRossum {
     ///     .map(|i| MultiSpikeTrain::from_channels(vec![vec![0.01 * i as f64], vec![0.2]]))
     ///     .collect::<Result<_, _>>()?;
     /// let prepared = VanRossum::new(0.05)?.prepare(&samples)?;
-    /// let on_three = ThreadRanks::run(3, |r| prepared.matrices_on(r).unwrap());
-    /// assert!(on_three.iter().all(|m| *m == prepared.matrices()));
+    /// let on_three = ThreadRanks::run(3, |r| prepared.matrices(r).unwrap());
+    /// assert!(on_three.iter().all(|m| *m == prepared.matrices(&neurotac_core::OneProcess).unwrap()));
     /// # Ok::<(), Box<dyn std::error::Error>>(())
     /// ```
-    pub fn matrices_on(&self, ranks: &dyn Ranks) -> Result<VanRossumMatrices, DistanceError> {
+    pub fn matrices(&self, ranks: &dyn Ranks) -> Result<VanRossumMatrices, DistanceError> {
+        if ranks.size() == 1 {
+            return Ok(self.matrices_in_one_process());
+        }
         let [ll2, sp2] = match &self.evaluation {
             Evaluation::Centred { grid, samples, .. } => {
                 let n = samples.len();

@@ -370,7 +370,7 @@ impl NetworkBuilder {
     }
 
     /// [`build`](Self::build), for rank `rank` of `size` ranks that compute the network
-    /// together ([`Network::run_on`]; the scheme of NEST and Arbor):
+    /// together ([`Network::run`]; the scheme of NEST and Arbor):
     /// - every population of `N` neurons is split into contiguous blocks
     ///   ([`even_block`](crate::ranks::even_block)`(N, rank, size)`), and this rank instantiates
     ///   only its block ([`NeuronModel::restrict`]; a model that cannot be restricted is a

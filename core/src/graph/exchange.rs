@@ -1,6 +1,6 @@
 //! The spike exchange of a network partitioned over ranks: one rank's spikes of an epoch packed
 //! into bytes, and every rank's unpacked into the spike histories (see
-//! [`Network::run_steps_on`](super::Network::run_steps_on)).
+//! [`Network::run_steps`](super::Network::run_steps)).
 //!
 //! A message is a status byte (0, or 1 when the rank's populations diverged), then, for every
 //! exchanged population in node order: the spike count of each step of the epoch (`u32`), a

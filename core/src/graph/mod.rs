@@ -27,13 +27,13 @@
 //! 5. **readouts**: each sees this step's spikes of its source, the population state at
 //!    `t_k + dt`, or the projection currents at `t_k + dt` (decayed, before the next delivery).
 //!    In a run over several ranks, the readouts see an epoch's steps after its spike exchange
-//!    (spikes only; see [`Network::run_steps_on`]).
+//!    (spikes only; see [`Network::run_steps`]).
 //!
 //! # Partitioned over ranks
 //! [`NetworkBuilder::build_partitioned`] builds one rank's share of a network that several
 //! ranks ([`Ranks`](crate::Ranks): MPI processes, or threads in tests) compute together: each
 //! population is split into contiguous blocks of neurons, one per rank, inputs are replicated,
-//! and each rank keeps the synapses onto its own neurons. [`Network::run_on`] steps the local
+//! and each rank keeps the synapses onto its own neurons. [`Network::run`] steps the local
 //! neurons and exchanges spikes once per epoch (the smallest population → population delay),
 //! so readouts see, and end with, exactly the spikes of one process.
 //!
@@ -57,7 +57,7 @@
 //! b.connect(input, relay, Connectivity::OneToOne { weight: 1.0 }, ExpSynapse::new(5e-3).with_delay(0))?;
 //! let spikes = b.record_spikes(relay)?;
 //! let mut net = b.build(NetworkConfig { dt_s: 1e-3 })?;
-//! net.run(0.02)?;
+//! net.run(0.02, &neurotac_core::OneProcess)?;
 //! // The current is e^(−k·dt/τ) in the k-th step after the spike: above 0.5 for k = 0..=3.
 //! assert_eq!(net.readout(spikes)?.counts(), vec![4, 0]);
 //! # Ok::<(), Box<dyn std::error::Error>>(())

@@ -10,7 +10,7 @@ use super::synapse::RunningProjection;
 use crate::currents::{DecayingCurrents, SynapticDrive, flush};
 use crate::error::GraphError;
 use crate::model::SpikeBuffer;
-use crate::ranks::{OneProcess, Ranks};
+use crate::ranks::Ranks;
 use std::any::Any;
 use std::ops::ControlFlow;
 use std::time::Instant;
@@ -119,7 +119,7 @@ impl Network {
         self.partition.size
     }
 
-    /// Steps per epoch of a partitioned run ([`run_on`](Self::run_on)): the smallest delay of
+    /// Steps per epoch of a partitioned run ([`run`](Self::run)): the smallest delay of
     /// a kept population → population projection, or [`DEFAULT_EPOCH_STEPS`] without one.
     /// Ranks exchange spikes once per epoch.
     pub fn epoch_steps(&self) -> u64 {
@@ -224,18 +224,8 @@ impl Network {
         }
     }
 
-    /// Runs for `duration_s` (rounded to whole steps), then calls every readout's `finish`.
-    pub fn run(&mut self, duration_s: f64) -> Result<RunSummary, GraphError> {
-        self.run_on(duration_s, &OneProcess)
-    }
-
-    /// Runs `steps` steps (fewer if a readout asks to stop), then calls every readout's `finish`.
-    /// Every 256 steps and at the end, each population's
-    /// [`check_divergence`](crate::NeuronModel::check_divergence) runs; a divergence is an error.
-    /// A network partitioned over several ranks runs with [`run_steps_on`](Self::run_steps_on)
-    /// only ([`GraphError::RanksMismatch`] here).
-    pub fn run_steps(&mut self, steps: u64) -> Result<RunSummary, GraphError> {
-        self.check_ranks(0, 1)?;
+    /// [`run_steps`](Self::run_steps) of a network built for one process.
+    fn run_steps_in_one_process(&mut self, steps: u64) -> Result<RunSummary, GraphError> {
         if !self.begun {
             self.begin_readouts();
         }
@@ -275,10 +265,13 @@ impl Network {
         }
     }
 
-    /// [`run`](Self::run) on the group of ranks the network was built for
-    /// ([`NetworkBuilder::build_partitioned`](super::NetworkBuilder::build_partitioned)); every
-    /// rank of the group must call it with the same duration.
-    pub fn run_on(&mut self, duration_s: f64, ranks: &dyn Ranks) -> Result<RunSummary, GraphError> {
+    /// Runs for `duration_s` (rounded to whole steps), then calls every readout's `finish`.
+    ///
+    /// `ranks` is the group of ranks the network was built for: [`OneProcess`](crate::OneProcess)
+    /// for [`NetworkBuilder::build`](super::NetworkBuilder::build), the group of
+    /// [`NetworkBuilder::build_partitioned`](super::NetworkBuilder::build_partitioned) otherwise,
+    /// every rank of which must call it with the same duration.
+    pub fn run(&mut self, duration_s: f64, ranks: &dyn Ranks) -> Result<RunSummary, GraphError> {
         let steps = duration_s / self.dt_s;
         if !(steps.is_finite() && steps >= 0.0) {
             return Err(GraphError::InvalidParameter {
@@ -287,12 +280,16 @@ impl Network {
                 expected: "finite and ≥ 0",
             });
         }
-        self.run_steps_on(steps.round() as u64, ranks)
+        self.run_steps(steps.round() as u64, ranks)
     }
 
-    /// [`run_steps`](Self::run_steps) on the group of ranks the network was built for; every
-    /// rank of the group must call it with the same `steps`. A group other than the build's
-    /// is a [`GraphError::RanksMismatch`]. On one rank this is `run_steps`.
+    /// Runs `steps` steps (fewer if a readout asks to stop), then calls every readout's `finish`.
+    /// Every 256 steps and at the end, each population's
+    /// [`check_divergence`](crate::NeuronModel::check_divergence) runs; a divergence is an error.
+    ///
+    /// `ranks` is the group of ranks the network was built for ([`OneProcess`](crate::OneProcess)
+    /// for one process); every rank of the group must call it with the same `steps`. A group
+    /// other than the build's is a [`GraphError::RanksMismatch`].
     ///
     /// # Epochs
     /// Over several ranks the run advances in epochs of [`epoch_steps`](Self::epoch_steps)
@@ -309,14 +306,10 @@ impl Network {
     /// steps, and [`RunSummary::steps`] counts them). Divergence is checked before every
     /// exchange on each rank, and reported to all: the rank that diverged returns its
     /// [`GraphError::Model`], the others [`GraphError::PeerDiverged`].
-    pub fn run_steps_on(
-        &mut self,
-        steps: u64,
-        ranks: &dyn Ranks,
-    ) -> Result<RunSummary, GraphError> {
+    pub fn run_steps(&mut self, steps: u64, ranks: &dyn Ranks) -> Result<RunSummary, GraphError> {
         self.check_ranks(ranks.rank(), ranks.size())?;
         if self.partition.size == 1 {
-            return self.run_steps(steps);
+            return self.run_steps_in_one_process(steps);
         }
         if !self.begun {
             self.begin_readouts();
@@ -355,7 +348,7 @@ impl Network {
     }
 
     /// Exchanges the spikes of steps `from..self.step` of every partitioned population between
-    /// the ranks (see [`run_steps_on`](Self::run_steps_on)), timing it.
+    /// the ranks (see [`run_steps`](Self::run_steps)), timing it.
     fn exchange_epoch(&mut self, from: u64, ranks: &dyn Ranks) -> Result<(), GraphError> {
         let start = Instant::now();
         let to = self.step;

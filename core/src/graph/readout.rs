@@ -50,7 +50,7 @@ pub trait Readout: Any + Send {
     /// Called after every step; return `ControlFlow::Break(())` to stop the run cleanly after
     /// this step. (Over several ranks, called for each step of an epoch after the epoch's
     /// spike exchange, and a stop takes effect at the end of the epoch; see
-    /// [`Network::run_steps_on`](crate::Network::run_steps_on).)
+    /// [`Network::run_steps`](crate::Network::run_steps).)
     fn on_step(&mut self, view: &StepView<'_>) -> ControlFlow<()>;
 
     /// Called when a run ends (normally or by a stop request).

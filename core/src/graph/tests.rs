@@ -104,7 +104,7 @@ fn unreferenced_population_is_never_prepared_or_stepped() {
     b.inject(drive, unused).unwrap();
     let rec = b.record_spikes(used).unwrap();
     let mut net = b.build(NetworkConfig { dt_s: 1e-3 }).unwrap();
-    net.run(0.01).unwrap();
+    net.run(0.01, &crate::OneProcess).unwrap();
     assert_eq!(used_prepared.load(Ordering::Relaxed), 1);
     assert_eq!(used_stepped.load(Ordering::Relaxed), 10);
     assert_eq!(
@@ -136,7 +136,7 @@ fn a_network_without_readouts_models_nothing() {
     let (p, prepared, _) = Probe::new(10);
     b.add_population("p", p).unwrap();
     let mut net = b.build(NetworkConfig::default()).unwrap();
-    net.run(1.0).unwrap();
+    net.run(1.0, &crate::OneProcess).unwrap();
     assert_eq!(prepared.load(Ordering::Relaxed), 0);
 }
 
@@ -320,7 +320,7 @@ fn spikes_arrive_after_their_delay_and_decay_exactly() {
     let state = b.record_state(pop, "x", None, 1).unwrap();
     let input_spikes = b.record_spikes(input).unwrap();
     let mut net = b.build(NetworkConfig { dt_s: dt }).unwrap();
-    net.run(0.02).unwrap();
+    net.run(0.02, &crate::OneProcess).unwrap();
     let tr = net.readout(trace).unwrap();
     assert_eq!(tr.times().len(), 20);
     let trace = tr.trace(0);
@@ -362,7 +362,7 @@ fn population_to_population_delay_counts_from_the_emitting_step() {
     .unwrap();
     let (ra, rc) = (b.record_spikes(a).unwrap(), b.record_spikes(c).unwrap());
     let mut net = b.build(NetworkConfig { dt_s: 1e-3 }).unwrap();
-    net.run(0.01).unwrap();
+    net.run(0.01, &crate::OneProcess).unwrap();
     // `a` spikes in step 0 (stamped at its end, 1 ms); `c` receives it in step 2 (spike at 3 ms).
     assert_eq!(net.readout(ra).unwrap().spikes(), &[(0, 1e-3)]);
     assert_eq!(net.readout(rc).unwrap().spikes(), &[(0, 3e-3)]);
@@ -393,7 +393,7 @@ fn currents_add_to_synaptic_input() {
     b.inject(c2, pop).unwrap();
     let st = b.record_state(pop, "x", None, 5).unwrap();
     let mut net = b.build(NetworkConfig { dt_s: 1e-3 }).unwrap();
-    net.run(0.01).unwrap();
+    net.run(0.01, &crate::OneProcess).unwrap();
     let st = net.readout(st).unwrap();
     assert_eq!(st.times().len(), 2);
     assert_eq!(st.values(), &[0.25, 1.0, 0.75, 1.5]);
@@ -419,7 +419,7 @@ fn a_readout_can_stop_the_run_cleanly() {
         .unwrap();
     let stop = b.add_readout(input, StopAfter(2, 0)).unwrap();
     let mut net = b.build(NetworkConfig { dt_s: 1e-3 }).unwrap();
-    let summary = net.run(1.0).unwrap();
+    let summary = net.run(1.0, &crate::OneProcess).unwrap();
     assert_eq!(
         summary,
         RunSummary {
@@ -429,7 +429,7 @@ fn a_readout_can_stop_the_run_cleanly() {
     );
     assert_eq!(net.readout(stop).unwrap().1, 2);
     assert!((net.time_s() - 0.003).abs() < 1e-15);
-    assert!(net.run(f64::NAN).is_err());
+    assert!(net.run(f64::NAN, &crate::OneProcess).is_err());
 }
 
 #[test]
@@ -456,19 +456,19 @@ fn reset_and_replaced_inputs_reproduce_runs() {
     };
     let (mut a, ra, input) = build();
     let (mut b, rb, _) = build();
-    a.run(0.2).unwrap();
-    b.run(0.2).unwrap();
+    a.run(0.2, &crate::OneProcess).unwrap();
+    b.run(0.2, &crate::OneProcess).unwrap();
     let first = a.readout(ra).unwrap().spikes().to_vec();
     assert!(!first.is_empty());
     assert_eq!(first, b.readout(rb).unwrap().spikes());
     a.reset();
-    a.run(0.2).unwrap();
+    a.run(0.2, &crate::OneProcess).unwrap();
     assert_eq!(a.readout(ra).unwrap().spikes(), first.as_slice());
     // Swap the input for silence: no spikes after a reset.
     a.replace_spike_input(input, trains(vec![vec![]; 20]))
         .unwrap();
     a.reset();
-    a.run(0.2).unwrap();
+    a.run(0.2, &crate::OneProcess).unwrap();
     assert!(a.readout(ra).unwrap().spikes().is_empty());
     assert!(matches!(
         a.replace_spike_input(input, trains(vec![vec![]; 3])),
@@ -598,7 +598,7 @@ fn a_builder_refuses_the_ids_of_another_builder() {
     b.record_synaptic_trace(ours.projection, None).unwrap();
     let mut net = b.build(NetworkConfig { dt_s: 1e-3 }).unwrap();
     assert_eq!(net.n_synapses(), 1);
-    net.run(0.005).unwrap();
+    net.run(0.005, &crate::OneProcess).unwrap();
     assert_eq!(net.readout(ours.spikes).unwrap().spikes(), &[(0, 2e-3)]);
     assert!(net.is_active(ours.input).unwrap());
 }
@@ -616,7 +616,7 @@ fn a_network_refuses_the_ids_of_another_builder() {
         id_brand: a_brand,
         builder_brand: b_brand,
     };
-    net.run(0.005).unwrap();
+    net.run(0.005, &crate::OneProcess).unwrap();
     assert_eq!(
         net.readout(theirs.spikes).map(|_| ()),
         Err(foreign("readout"))
@@ -642,6 +642,6 @@ fn a_network_refuses_the_ids_of_another_builder() {
     net.replace_spike_input(ours.input, trains(vec![vec![]]))
         .unwrap();
     net.reset();
-    net.run(0.005).unwrap();
+    net.run(0.005, &crate::OneProcess).unwrap();
     assert!(net.readout(ours.spikes).unwrap().spikes().is_empty());
 }

@@ -50,7 +50,7 @@ pub fn one_spike_weight<M: NeuronModel + 'static>(
         b.connect(input, neuron, Connectivity::OneToOne { weight }, synapse)?;
         let recorder = b.record_spikes(neuron)?;
         let mut net = b.build(NetworkConfig { dt_s })?;
-        net.run(duration)?;
+        net.run(duration, &crate::OneProcess)?;
         Ok(net.readout(recorder)?.spikes().len())
     };
     if spikes(0.0)? > 0 {

@@ -410,8 +410,10 @@ impl<'a> Recogniser<'a> {
             .replace_spike_input(self.input, SpikeArrayInput::new(window))?;
         let t_end_s = (self.windows + 1) as f64 * self.window_us as f64 * 1e-6;
         let target = (t_end_s / self.network.dt_s()).round() as u64;
-        self.network
-            .run_steps(target.saturating_sub(self.network.steps_done()))?;
+        self.network.run_steps(
+            target.saturating_sub(self.network.steps_done()),
+            &neurotac_core::OneProcess,
+        )?;
         self.windows += 1;
         let decision = self.decide(t_end_s, start)?;
         self.decisions.push(decision);

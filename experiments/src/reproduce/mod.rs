@@ -22,7 +22,8 @@
 //! use neurotac_experiments::progress::NoProgress;
 //! use neurotac_experiments::reproduce::{ReproduceConfig, Source, run};
 //! let config = ReproduceConfig::quick(1, "cache".into());
-//! let report = run(&config, &[Source::Simulated(TextureSet::Artificial)], &NoProgress)?;
+//! let artificial = [Source::Simulated(TextureSet::Artificial)];
+//! let report = run(&config, &artificial, &NoProgress, &neurotac_core::OneProcess)?;
 //! println!("{:.2}", report.sets[0].direct.mean_spikes_per_taxel);
 //! # Ok::<(), neurotac_experiments::reproduce::ReproduceError>(())
 //! ```
@@ -46,7 +47,7 @@ use crate::search::dt_sweep::{DtSweep, dt_sweep_of_bins};
 use crate::timing::{Timing, timed};
 use ndarray::Array2;
 use neurotac_core::coding::write_window_features;
-use neurotac_core::distance::euclidean_distance_matrix_on;
+use neurotac_core::distance::euclidean_distance_matrix;
 use neurotac_core::{Knn, KnnError, Ranks, SpikeDataset};
 use serde::Serialize;
 
@@ -252,7 +253,7 @@ fn temporal_features(set: &EncodedSet, window_ms: u32) -> Array2<f64> {
 /// and [`crate::readouts`]).
 ///
 /// [`run_encoded`] split over `ranks`: the distance matrices
-/// ([`euclidean_distance_matrix_on`], [`VanRossumObjective::on_ranks`]) and the Δt sweep
+/// ([`euclidean_distance_matrix`], [`VanRossumObjective::on_ranks`]) and the Δt sweep
 /// ([`dt_sweep_of_bins`]) are computed by all ranks together, the rest (KNN protocols, the
 /// optimiser) by every rank alike, so every rank returns the one-process result. Collective:
 /// every rank must call it.
@@ -289,7 +290,7 @@ pub fn run_encoded(
             labels,
             n_classes,
             config,
-            || Ok(euclidean_distance_matrix_on(set.intensive.view(), ranks)?),
+            || Ok(euclidean_distance_matrix(set.intensive.view(), ranks)?),
         )?;
         progress.advance(1);
         let spatial = score(
@@ -298,7 +299,7 @@ pub fn run_encoded(
             labels,
             n_classes,
             config,
-            || Ok(euclidean_distance_matrix_on(set.spatial.view(), ranks)?),
+            || Ok(euclidean_distance_matrix(set.spatial.view(), ranks)?),
         )?;
         progress.finish();
 
@@ -324,7 +325,7 @@ pub fn run_encoded(
             config,
             || {
                 let features = temporal_features(set, dt);
-                Ok(euclidean_distance_matrix_on(features.view(), ranks)?)
+                Ok(euclidean_distance_matrix(features.view(), ranks)?)
             },
         )?;
 

@@ -24,7 +24,7 @@ use crate::error::ExperimentError;
 use crate::neuron_setup::Precision;
 use crate::protocols::Accuracy;
 use neurotac_core::coding::TraceRecord;
-use neurotac_core::distance::{VanRossum, VanRossumMatrices, trace_matrices_on};
+use neurotac_core::distance::{VanRossum, VanRossumMatrices, trace_matrices};
 use neurotac_core::special::erfc;
 use neurotac_core::{Knn, MultiSpikeTrain, OneProcess, Ranks};
 use rand::{RngExt, SeedableRng};
@@ -329,23 +329,23 @@ pub enum VanRossumInput<'a> {
 impl VanRossumInput<'_> {
     /// `LL²` and `SP²` at `tau_s`.
     ///
-    /// Split over `ranks` (`&OneProcess` for one process) ([`VanRossum::matrices_on`],
-    /// [`trace_matrices_on`]): every rank returns the one-process matrices. Collective.
+    /// Split over `ranks` (`&OneProcess` for one process) ([`VanRossum::matrices`],
+    /// [`trace_matrices`]): every rank returns the one-process matrices. Collective.
     pub fn matrices(
         &self,
         tau_s: f64,
         ranks: &dyn Ranks,
     ) -> Result<VanRossumMatrices, ExperimentError> {
         Ok(match *self {
-            VanRossumInput::Exact(trains) => VanRossum::new(tau_s)?.matrices_on(trains, ranks)?,
+            VanRossumInput::Exact(trains) => VanRossum::new(tau_s)?.matrices(trains, ranks)?,
             VanRossumInput::Traces {
                 records,
                 precision: Precision::F64,
-            } => trace_matrices_on::<f64>(records, tau_s, ranks)?,
+            } => trace_matrices::<f64>(records, tau_s, ranks)?,
             VanRossumInput::Traces {
                 records,
                 precision: Precision::F32,
-            } => trace_matrices_on::<f32>(records, tau_s, ranks)?,
+            } => trace_matrices::<f32>(records, tau_s, ranks)?,
         })
     }
 }
@@ -354,7 +354,7 @@ impl VanRossumInput<'_> {
 /// cached per τ grid index (at most `capacity` matrices, least recently used evicted).
 ///
 /// On several ranks ([`on_ranks`](Self::on_ranks)) every matrix is computed by all of them
-/// together ([`VanRossumInput::matrices_on`]) and every rank gets the same matrices, so the
+/// together ([`VanRossumInput::matrices`]) and every rank gets the same matrices, so the
 /// same accuracies: [`bayes_optimise`] then runs identically on every rank, and the ranks stay
 /// in lock step (every rank misses the cache at the same evaluations, so they all join the
 /// same collectives).

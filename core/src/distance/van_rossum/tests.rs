@@ -87,7 +87,7 @@ fn matches_the_full_cross_unit_definition_in_both_evaluations() {
 fn matrices_are_symmetric_with_zero_diagonal_and_agree_with_pairs() {
     let samples = random_samples(7, 3, 8, 0.5, 2);
     let vr = VanRossum::new(0.02).unwrap();
-    let m = vr.matrices(&samples).unwrap();
+    let m = vr.matrices(&samples, &crate::OneProcess).unwrap();
     let d = m.distances(0.3).unwrap();
     for i in 0..7 {
         assert_eq!(d[[i, i]], 0.0);
@@ -110,10 +110,15 @@ fn one_spike_against_an_empty_train_is_one() {
     }
     assert_eq!(vr.distance(&empty, &empty, 0.5).unwrap(), 0.0);
     // All-empty samples against each other, with no spike anywhere.
-    let m = vr.matrices(&[empty.clone(), empty]).unwrap();
+    let m = vr
+        .matrices(&[empty.clone(), empty], &crate::OneProcess)
+        .unwrap();
     assert_eq!(m.ll2.sum() + m.sp2.sum(), 0.0);
     // No samples at all.
-    assert_eq!(vr.matrices(&[]).unwrap().ll2.dim(), (0, 0));
+    assert_eq!(
+        vr.matrices(&[], &crate::OneProcess).unwrap().ll2.dim(),
+        (0, 0)
+    );
 }
 
 #[test]
@@ -127,17 +132,24 @@ fn coincident_spikes_are_counted_once_each_pair_even_when_repeated() {
     // Pooled trains: two channels spiking together form a within-train repeat of SP².
     let u = trains(vec![vec![0.1], vec![0.1]]);
     let v = trains(vec![vec![0.1], vec![]]);
-    let m = vr.matrices(&[u.clone(), v.clone()]).unwrap();
+    let m = vr
+        .matrices(&[u.clone(), v.clone()], &crate::OneProcess)
+        .unwrap();
     assert!((m.sp2[[0, 1]] - 1.0).abs() < 1e-12, "SP² = 4 + 1 − 2·2");
     assert!((m.ll2[[0, 1]] - 1.0).abs() < 1e-12);
-    assert_eq!(vr.matrices(&[u.clone(), u]).unwrap().sp2[[0, 1]], 0.0);
+    assert_eq!(
+        vr.matrices(&[u.clone(), u], &crate::OneProcess)
+            .unwrap()
+            .sp2[[0, 1]],
+        0.0
+    );
 }
 
 #[test]
 fn long_tau_gives_spike_count_distances() {
     let samples = random_samples(5, 4, 10, 4.5, 3);
     let vr = VanRossum::new(1e7).unwrap();
-    let m = vr.matrices(&samples).unwrap();
+    let m = vr.matrices(&samples, &crate::OneProcess).unwrap();
     for i in 0..5 {
         for j in 0..5 {
             let dn: Vec<f64> = (0..4)
@@ -164,7 +176,9 @@ fn short_tau_counts_non_coincident_spikes() {
     let v = trains(vec![vec![0.002, 0.400], vec![0.3, 0.300001]]);
     for tau in [1e-9, 1e-12] {
         let vr = VanRossum::new(tau).unwrap();
-        let m = vr.matrices(&[u.clone(), v.clone()]).unwrap();
+        let m = vr
+            .matrices(&[u.clone(), v.clone()], &crate::OneProcess)
+            .unwrap();
         // Channel 0: ⟨u,u⟩ = 4 + 2 (the repeated 0.002), ⟨v,v⟩ = 2, ⟨u,v⟩ = 2 ⇒ 4.
         // Channel 1: 1 + 2 − 2·1 = 1.
         assert!(
@@ -203,11 +217,14 @@ fn translation_and_scale_invariant_and_stable_far_from_zero() {
             .collect()
     };
     for tau in [1e-6, 0.076, 1.0, 1e4] {
-        let base = VanRossum::new(tau).unwrap().matrices(&samples).unwrap();
+        let base = VanRossum::new(tau)
+            .unwrap()
+            .matrices(&samples, &crate::OneProcess)
+            .unwrap();
         for (by, scale) in [(1e5, 1.0), (-1e5, 1.0), (0.0, 1e3), (0.0, 1e-3)] {
             let moved = VanRossum::new(tau * scale)
                 .unwrap()
-                .matrices(&shift(by, scale))
+                .matrices(&shift(by, scale), &crate::OneProcess)
                 .unwrap();
             for (a, b) in base
                 .ll2
@@ -231,7 +248,10 @@ fn translation_and_scale_invariant_and_stable_far_from_zero() {
 fn tiny_and_huge_tau_never_overflow() {
     let samples = random_samples(4, 2, 10, 4.5, 5);
     for tau in [1e-300, 1e-12, 1e-3, 1e3, 1e300] {
-        let m = VanRossum::new(tau).unwrap().matrices(&samples).unwrap();
+        let m = VanRossum::new(tau)
+            .unwrap()
+            .matrices(&samples, &crate::OneProcess)
+            .unwrap();
         assert!(
             m.ll2
                 .iter()
@@ -310,7 +330,8 @@ fn bad_parameters_and_shapes_are_typed_errors() {
     }
     let three = trains(vec![vec![], vec![], vec![0.2]]);
     assert!(matches!(
-        vr.matrices(&[a.clone(), a, three]).unwrap_err(),
+        vr.matrices(&[a.clone(), a, three], &crate::OneProcess)
+            .unwrap_err(),
         DistanceError::ChannelCount {
             sample: 2,
             expected: 2,
@@ -347,7 +368,10 @@ fn centred_tables_equal_the_decayed_merges_to_1e_12() {
         let centred = vr.prepare(&samples).unwrap();
         let decayed = vr.prepare_with(&samples, false).unwrap();
         assert!(centred.is_centred() && !decayed.is_centred());
-        let (fast, reference) = (centred.matrices(), decayed.matrices());
+        let (fast, reference) = (
+            centred.matrices(&crate::OneProcess).unwrap(),
+            decayed.matrices(&crate::OneProcess).unwrap(),
+        );
         for (what, f, r) in [
             ("LL²", &fast.ll2, &reference.ll2),
             ("SP²", &fast.sp2, &reference.sp2),
@@ -379,7 +403,7 @@ fn matrices_are_identical_at_any_thread_count() {
             .num_threads(threads)
             .build()
             .unwrap()
-            .install(|| vr.matrices(&samples).unwrap())
+            .install(|| vr.matrices(&samples, &crate::OneProcess).unwrap())
     };
     let one = run(1);
     for threads in [2, 3, 5] {
@@ -430,7 +454,7 @@ fn stacked_reference(
         .chain([&MultiSpikeTrain::empty(channels)])
         .map(|o| o.window(f64::NEG_INFINITY, t_end_s).unwrap())
         .collect();
-    vr.matrices(&stacked).unwrap()
+    vr.matrices(&stacked, &crate::OneProcess).unwrap()
 }
 
 /// New samples for the cross tests: random ones, an empty one, one with empty channels, and
