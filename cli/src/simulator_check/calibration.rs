@@ -14,7 +14,7 @@
 //! 1 % or `rounds` are spent. Every other parameter, and every accuracy, confusion matrix and
 //! chosen Δt / τ / cos θ, is a held-out prediction.
 
-use super::mean;
+use super::statistics::mean;
 use neurotac_experiments::datasets::{
     DatasetsError, TextureSet, TrialJob, camera_seed, jobs_for, map_trials,
 };
