@@ -1,5 +1,5 @@
 //! Calibration of the simulator's three global parameters, each on one of the paper's three
-//! intensive means and nothing else (spec §5 calibration rule; issue 12):
+//! intensive means and nothing else (spec §5 calibration rule):
 //!
 //! | parameter | anchor | target (spikes/taxel) |
 //! |---|---|---|

@@ -102,7 +102,7 @@ pub struct CheckReport {
     pub grid_counts: Vec<(f64, f64, f64)>,
     /// Per grid: the same over the slides of one mounting, as a dataset's class holds them.
     pub one_mounting_counts: Vec<(f64, f64, f64)>,
-    /// Per grid: share of its signal (pin) events the BA filter keeps (issue 12 item 6).
+    /// Per grid: share of its signal (pin) events the BA filter keeps.
     pub signal_kept: Vec<(f64, f64)>,
     /// Trials simulated.
     pub trials_simulated: usize,
