@@ -1,6 +1,8 @@
 //! `neurotac classify`: KNN classification of a dataset under one coding and protocol.
 
-use super::load_labelled;
+use super::coding_parameters::coding_parameters;
+use super::inputs::load_labelled;
+use super::outputs::refuse_existing;
 use crate::commands::args;
 use clap::{Args, ValueEnum};
 use neurotac_core::{Knn, Ranks};
@@ -73,7 +75,7 @@ pub fn run(args: ClassifyArgs, ranks: &dyn Ranks) -> anyhow::Result<()> {
     if let Some(path) = &args.matrix {
         neurotac_core::io::check_distinct(&args.input, path)?;
         OutputFormat::from_path(path, &MATRIX_FORMATS)?;
-        super::refuse_existing([path.as_path()], args.force)?;
+        refuse_existing([path.as_path()], args.force)?;
     }
     let data = load_labelled(&args.input)?;
     let knn = Knn::new(args.k)?;
@@ -88,8 +90,7 @@ pub fn run(args: ClassifyArgs, ranks: &dyn Ranks) -> anyhow::Result<()> {
             seed: args.seed,
         },
     };
-    let coding =
-        super::distances::coding_parameters(&data, args.dt, args.duration, args.tau, args.cos)?;
+    let coding = coding_parameters(&data, args.dt, args.duration, args.tau, args.cos)?;
     let (distances, distance_time) =
         timed(|| coding_distances_on(data.observations(), args.coding, &coding, ranks));
     let distances = distances?;

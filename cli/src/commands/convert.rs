@@ -2,6 +2,7 @@
 //! ECD text and CSV. The input format is detected from its first bytes, the output format from
 //! the extension; the conversion streams chunk by chunk and prints its speed in events/s.
 
+use super::outputs::refuse_existing;
 use anyhow::Context;
 use clap::{Args, ValueEnum};
 use neurotac_core::EventBuffer;
@@ -32,7 +33,7 @@ pub struct ConvertArgs {
 
 pub fn run(args: ConvertArgs) -> anyhow::Result<()> {
     neurotac_core::io::check_distinct(&args.input, &args.output)?;
-    super::refuse_existing([args.output.as_path()], args.force)?;
+    refuse_existing([args.output.as_path()], args.force)?;
     let out_format = match Format::from_extension(&args.output)? {
         Format::Aedat4(_) => Format::Aedat4(match args.compression {
             Codec::None => Compression::None,

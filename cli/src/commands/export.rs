@@ -2,7 +2,8 @@
 //! output's extension — `.npz` for numpy (flat arrays, see `neurotac_experiments::export`),
 //! `.json` or `.bin`.
 
-use super::load_dataset;
+use super::inputs::load_dataset;
+use super::outputs::refuse_existing;
 use clap::Args;
 use neurotac_experiments::export::{DATASET_FORMATS, OutputFormat, write_dataset};
 use std::path::PathBuf;
@@ -22,7 +23,7 @@ pub struct ExportArgs {
 pub fn run(args: ExportArgs) -> anyhow::Result<()> {
     neurotac_core::io::check_distinct(&args.dataset, &args.out)?;
     OutputFormat::from_path(&args.out, &DATASET_FORMATS)?;
-    super::refuse_existing([args.out.as_path()], args.force)?;
+    refuse_existing([args.out.as_path()], args.force)?;
     let data = load_dataset(&args.dataset)?;
     write_dataset(&data, &args.out)?;
     let spikes: usize = data.observations().iter().map(|o| o.total_spikes()).sum();

@@ -2,7 +2,9 @@
 //! file or the live camera, one line per decision change and a final line — and
 //! `recognise --eval`: accuracy against time since the slide start on a simulated set.
 
-use super::{SetArg, load_labelled, refuse_existing};
+use super::inputs::load_labelled;
+use super::options::SetArg;
+use super::outputs::refuse_existing;
 use crate::commands::args;
 use anyhow::{Context, bail};
 use clap::{Args, ValueEnum};

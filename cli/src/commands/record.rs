@@ -5,6 +5,7 @@
 //! unplugged mid-recording, every event received before is written, the file is completed and
 //! the command fails with the disconnection.
 
+use super::outputs::refuse_existing;
 use crate::commands::args;
 use anyhow::Context;
 use clap::Args;
@@ -36,7 +37,7 @@ pub fn run(args: RecordArgs) -> anyhow::Result<()> {
         "--seconds must be a positive number of seconds, got {}",
         args.seconds
     );
-    super::refuse_existing([args.out.as_path()], args.force)?;
+    refuse_existing([args.out.as_path()], args.force)?;
     let format = format::Format::from_extension(&args.out)?;
     let (transport, usb) = RusbTransport::open_first()?;
     let davis = Davis::open(transport, usb).context("opening the DAVIS camera")?;

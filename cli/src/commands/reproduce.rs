@@ -2,7 +2,7 @@
 //! codings, the Δt sweep, the Bayesian optimisation, KNN tables against the paper's, and a
 //! report folder with its figures (see `neurotac_experiments::reproduce`).
 
-use super::SetArg;
+use super::options::SetArg;
 use super::progress::Bars;
 use crate::commands::args;
 use clap::{Args, ValueEnum};

@@ -1,7 +1,8 @@
 //! `neurotac simulate`: the simulated texture datasets, the acceptance check and the
 //! calibration of the simulator (`shared/specs/simulator.md`).
 
-use super::SetArg;
+use super::options::SetArg;
+use super::outputs::refuse_existing;
 use super::progress::{Bars, bar};
 use crate::commands::args;
 use anyhow::Context;
@@ -205,7 +206,7 @@ fn generate(a: GenerateArgs, ranks: &dyn Ranks) -> anyhow::Result<()> {
     if a.pixel_events {
         outputs.push(out.join("events"));
     }
-    super::refuse_existing(outputs.iter().map(|p| p.as_path()), a.force)?;
+    refuse_existing(outputs.iter().map(|p| p.as_path()), a.force)?;
     for set in sets {
         let config = GenerateConfig {
             set,
@@ -260,7 +261,7 @@ fn generate(a: GenerateArgs, ranks: &dyn Ranks) -> anyhow::Result<()> {
 
 fn check(a: CheckArgs) -> anyhow::Result<()> {
     if let Some(out) = &a.out {
-        super::refuse_existing([out.join("check.md").as_path()], a.force)?;
+        refuse_existing([out.join("check.md").as_path()], a.force)?;
     }
     let config = CheckConfig {
         trials: a.trials.max(2),
@@ -322,7 +323,7 @@ fn check(a: CheckArgs) -> anyhow::Result<()> {
 
 fn calibrate_command(a: CalibrateArgs) -> anyhow::Result<()> {
     if let Some(out) = &a.out {
-        super::refuse_existing([out.as_path()], a.force)?;
+        refuse_existing([out.as_path()], a.force)?;
     }
     let params = load_params(a.params.as_deref())?;
     let bar = super::progress::bar("calibrating", 0, "slides");

@@ -1,5 +1,6 @@
 //! `neurotac synth`: writes a seeded synthetic NeuroTac-like texture dataset.
 
+use super::outputs::refuse_existing;
 use crate::commands::args;
 use clap::Args;
 use neurotac_experiments::datasets::synthetic::{SyntheticConfig, synthetic_dataset};
@@ -39,7 +40,7 @@ pub fn run(args: SynthArgs) -> anyhow::Result<()> {
         &args.output,
         &neurotac_experiments::export::DATASET_FORMATS,
     )?;
-    super::refuse_existing([args.output.as_path()], args.force)?;
+    refuse_existing([args.output.as_path()], args.force)?;
     anyhow::ensure!(
         args.spikes_per_unit.is_finite()
             && args.spikes_per_unit > 0.0

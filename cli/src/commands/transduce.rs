@@ -1,6 +1,7 @@
 //! `neurotac transduce`, `neurotac filter` and `neurotac layout`: the NeuroTac transduction
 //! (BA filter → receptive fields → pooling → re-centring) on any event file.
 
+use super::outputs::refuse_existing;
 use crate::commands::args;
 use anyhow::{Context, bail};
 use clap::Args;
@@ -95,7 +96,7 @@ pub fn run_transduce(a: TransduceArgs) -> anyhow::Result<()> {
     // are renamed into place together at the end: a failure leaves none of them.
     check_distinct(&a.input, &a.out)?;
     let format = OutputFormat::from_path(&a.out, &DATASET_FORMATS)?;
-    super::refuse_existing(
+    refuse_existing(
         [a.out.as_path()].into_iter().chain(a.raster.as_deref()),
         a.force,
     )?;
@@ -106,7 +107,7 @@ pub fn run_transduce(a: TransduceArgs) -> anyhow::Result<()> {
     if let Some(path) = &a.raster {
         let png = path.with_extension("png");
         let svg = (png != *path).then(|| path.clone());
-        super::refuse_existing([png.as_path()], a.force)?;
+        refuse_existing([png.as_path()], a.force)?;
         for p in svg.iter().chain(std::iter::once(&png)) {
             check_distinct(&a.input, p)?;
             raster_files.push(create_output(p)?);
@@ -192,7 +193,7 @@ pub struct FilterArgs {
 
 pub fn run_filter(a: FilterArgs) -> anyhow::Result<()> {
     check_distinct(&a.input, &a.output)?;
-    super::refuse_existing([a.output.as_path()], a.force)?;
+    refuse_existing([a.output.as_path()], a.force)?;
     let start = Instant::now();
     let start_mode = ba_start(a.ba_empty_start);
     let c = filter_file(
@@ -239,7 +240,7 @@ pub fn run_layout(a: LayoutArgs) -> anyhow::Result<()> {
     if let Some(path) = &a.out {
         check_distinct(&a.input, path)?;
     }
-    super::refuse_existing(a.out.as_deref(), a.force)?;
+    refuse_existing(a.out.as_deref(), a.force)?;
     let layout = layout_from("auto", &a.input, a.calibration_ms, a.rf_radius_px)?;
     if let Some(path) = &a.out {
         neurotac_core::io::write(path, layout.to_json())

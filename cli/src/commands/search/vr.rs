@@ -1,7 +1,8 @@
 //! `neurotac search vr`: Bayesian optimisation of the spatiotemporal coding's (τ, cos θ).
 
 use crate::commands::args;
-use crate::commands::load_labelled;
+use crate::commands::inputs::load_labelled;
+use crate::commands::outputs::refuse_existing;
 use anyhow::Context;
 use clap::Args;
 use neurotac_core::{Knn, Ranks};
@@ -60,7 +61,7 @@ pub struct VrArgs {
 pub fn run(args: VrArgs, ranks: &dyn Ranks) -> anyhow::Result<()> {
     if let Some(trace) = &args.trace {
         neurotac_core::io::check_distinct(&args.input, trace)?;
-        crate::commands::refuse_existing([trace.as_path()], args.force)?;
+        refuse_existing([trace.as_path()], args.force)?;
     }
     let data = load_labelled(&args.input)?;
     let config = BayesConfig {

@@ -2,7 +2,8 @@
 //! the quick ones), writes each trade's files to a sub-folder of DIR and the summary of all of
 //! them to DIR/tradeoff.md.
 
-use crate::commands::load_dataset;
+use crate::commands::inputs::load_dataset;
+use crate::commands::outputs::refuse_existing;
 use crate::commands::progress::Bars;
 use clap::Args;
 use neurotac_cli::tradeoff::{TradeoffAllConfig, run_all};
@@ -28,7 +29,7 @@ pub struct AllArgs {
 }
 
 pub fn run(args: AllArgs) -> anyhow::Result<()> {
-    crate::commands::refuse_existing([args.out.as_path()], args.force)?;
+    refuse_existing([args.out.as_path()], args.force)?;
     let config = TradeoffAllConfig::new(args.quick);
     let data = match &args.vr_input {
         Some(path) => load_dataset(path)?,

@@ -1,6 +1,7 @@
 //! `neurotac tradeoff neurons`: writes neurons.csv, neurons.md, neurons.svg and neurons.png.
 
 use crate::commands::args;
+use crate::commands::outputs::refuse_existing;
 use clap::Args;
 use neurotac_cli::tradeoff::neurons::{NeuronTradeoffConfig, quick, report, to_markdown};
 use std::path::PathBuf;
@@ -30,7 +31,7 @@ pub fn run(args: NeuronsArgs) -> anyhow::Result<()> {
     if args.quick {
         quick(&mut config);
     }
-    crate::commands::refuse_existing([args.out.join("neurons.csv").as_path()], args.force)?;
+    refuse_existing([args.out.join("neurons.csv").as_path()], args.force)?;
     let rows = report(&config, &args.out)?;
     let markdown = to_markdown(&rows, config.speed_neurons);
     let front_end = markdown.find("\n## Every point").unwrap_or(markdown.len());

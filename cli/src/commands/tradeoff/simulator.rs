@@ -1,6 +1,7 @@
 //! `neurotac tradeoff simulator`: writes simulator.csv, simulator.md, simulator.svg and simulator.png.
 
 use crate::commands::args;
+use crate::commands::outputs::refuse_existing;
 use clap::Args;
 use neurotac_cli::tradeoff::simulator::{SimulatorTradeoffConfig, quick, report, to_markdown};
 use neurotac_sensor::sim::SimParams;
@@ -29,7 +30,7 @@ pub struct SimulatorArgs {
 }
 
 pub fn run(args: SimulatorArgs) -> anyhow::Result<()> {
-    crate::commands::refuse_existing([args.out.join("simulator.csv").as_path()], args.force)?;
+    refuse_existing([args.out.join("simulator.csv").as_path()], args.force)?;
     let mut config = SimulatorTradeoffConfig {
         trials: args.trials,
         seed: args.seed,
