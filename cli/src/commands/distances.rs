@@ -3,6 +3,7 @@
 
 use super::coding_parameters::coding_parameters;
 use super::inputs::load_dataset;
+use super::options::ForceOption;
 use super::outputs::refuse_existing;
 use crate::commands::args;
 use anyhow::bail;
@@ -48,9 +49,8 @@ pub struct DistancesArgs {
     /// or `.npz` (member `matrix`).
     #[arg(long)]
     output: PathBuf,
-    /// Replace existing output files (without it, an existing output is refused).
-    #[arg(long)]
-    force: bool,
+    #[command(flatten)]
+    force: ForceOption,
 }
 
 /// On several ranks the matrix's rows are split over them ([`coding_distances_on`]); every
@@ -58,7 +58,7 @@ pub struct DistancesArgs {
 pub fn run(args: DistancesArgs, ranks: &dyn Ranks) -> anyhow::Result<()> {
     neurotac_core::io::check_distinct(&args.input, &args.output)?;
     OutputFormat::from_path(&args.output, &MATRIX_FORMATS)?;
-    refuse_existing([args.output.as_path()], args.force)?;
+    refuse_existing([args.output.as_path()], args.force.force)?;
     let data = load_dataset(&args.input)?;
     let coding = match (args.metric, args.coding) {
         (Metric::VanRossum, _) => CodingName::Spatiotemporal,

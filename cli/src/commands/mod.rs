@@ -135,3 +135,17 @@ pub fn run(cli: Cli, ranks: &dyn Ranks) -> anyhow::Result<()> {
         Command::Recognise(args) => single("recognise").and_then(|()| recognise::run(args)),
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::Cli;
+    use clap::CommandFactory;
+
+    /// clap's own checks over every command: the flags named by `requires`, `conflicts_with` and
+    /// `required_unless_present` exist, and no flag is declared twice (a shared option group
+    /// flattened beside a flag of the same name).
+    #[test]
+    fn every_command_passes_clap_checks() {
+        Cli::command().debug_assert();
+    }
+}
