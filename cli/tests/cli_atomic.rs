@@ -1,4 +1,4 @@
-//! Issue 14, data loss and fake results: outputs are never half-written, an output that is the
+//! Data loss and fake results: outputs are never half-written, an output that is the
 //! input is refused, report folders are swapped in and stale partial folders removed, and a
 //! corrupt dataset is refused (or, for a cache, simulated again).
 
@@ -124,7 +124,7 @@ fn transduce_with_a_raster_into_a_missing_folder_writes_nothing() {
         s(&raster),
     ]);
     assert!(ok, "{stderr}");
-    // The raster comes as SVG and PNG (issue 15).
+    // The raster comes as SVG and PNG.
     assert_eq!(
         folder_names(dir.path()),
         ["o.json", "r.csv", "r.png", "r.svg"]
@@ -227,7 +227,7 @@ fn classify_refuses_a_one_bit_flipped_dataset_naming_the_file() {
 fn a_corrupt_cache_is_simulated_again_with_a_one_line_warning() {
     let dir = tempfile::tempdir().unwrap();
     let (out, cache) = (dir.path().join("sim"), dir.path().join("cache"));
-    // The second run replaces the first one's output (--force, issue 15).
+    // The second run replaces the first one's output (--force).
     let simulate = || {
         neurotac(&[
             "simulate",

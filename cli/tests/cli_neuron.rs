@@ -1,5 +1,5 @@
-//! `neurotac neuron` and `bench neurons` under hostile numbers and a closed stdout (issue 14,
-//! items 6–10).
+//! `neurotac neuron` and `bench neurons` under hostile numbers (a blow-up, values beyond the
+//! precision, a partial last step, a step bound) and a closed stdout.
 
 mod common;
 

@@ -1,4 +1,4 @@
-//! Issue 15, what a newcomer trips over: numeric flags refused at parse time in the user's
+//! What a newcomer trips over: numeric flags refused at parse time in the user's
 //! terms, one overwrite rule (refuse without --force), one cache, PNG beside every figure.
 
 mod common;

@@ -1,4 +1,4 @@
-//! `neurotac recognise` as a user runs it (issue 17): replaying an event file against a
+//! `neurotac recognise` as a user runs it: replaying an event file against a
 //! training set, `--json`, bad input, and `--eval`.
 
 mod common;

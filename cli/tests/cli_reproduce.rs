@@ -1,4 +1,4 @@
-//! `neurotac reproduce` (issue 8): a small run end to end, its report folder, and its refusals.
+//! `neurotac reproduce`: a small run end to end, its report folder, and its refusals.
 
 mod common;
 
@@ -199,7 +199,7 @@ fn a_recorded_dataset_runs_through_the_same_pipeline() {
         "{stdout}"
     );
     assert!(!stdout.contains("paper, Table"), "{stdout}");
-    // Issue 15: what is not read is listed, not skipped without a word.
+    // What is not read is listed, not skipped without a word.
     assert!(
         stderr.contains("my-textures: skipped 2 entries")
             && stderr.contains("texture0/notes.md, texture1/notes.md"),

@@ -1,4 +1,4 @@
-//! The sensor commands of the `neurotac` binary (issue 5): `devices` and `record` without a
+//! The sensor commands of the `neurotac` binary: `devices` and `record` without a
 //! camera, `convert` between formats.
 
 mod common;
@@ -116,7 +116,7 @@ fn convert_filter_and_transduce_share_one_policy_and_warning() {
     std::fs::write(&ordered, "t,x,y,on\n5,1,2,1\n10,1,2,0\n11,300,2,1\n").unwrap();
     let input = ordered.to_str().unwrap();
     let expected = format!("warning: {input}: skipped 1 events outside the sensor");
-    // The outputs exist from above: replacing them takes --force (issue 15).
+    // The outputs exist from above: replacing them takes --force (the overwrite rule).
     for args in [
         vec!["transduce", input, "--out", spikes.to_str().unwrap()],
         vec!["filter", input, filtered.to_str().unwrap(), "--force"],

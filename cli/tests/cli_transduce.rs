@@ -1,4 +1,4 @@
-//! The transduction commands of the `neurotac` binary (issue 6): `transduce`, `filter`, `layout`.
+//! The transduction commands of the `neurotac` binary: `transduce`, `filter`, `layout`.
 
 mod common;
 
@@ -111,7 +111,7 @@ fn layout_finds_the_pins_and_transduce_accepts_it() {
             spec,
             "--out",
             out.to_str().unwrap(),
-            "--force", // the second spec replaces the first one's output (issue 15)
+            "--force", // the second spec replaces the first one's output (the overwrite rule)
         ]);
         assert!(ok, "{spec}: {stderr}");
         assert_eq!(SpikeDataset::load(&out).unwrap().n_channels(), 49);

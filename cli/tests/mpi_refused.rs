@@ -1,5 +1,5 @@
 //! A build without the `mpi` feature started by `mpirun` with several ranks refuses to run the
-//! job once per rank (issue 18): one line from rank 0, a non-zero exit, nothing written.
+//! job once per rank: one line from rank 0, a non-zero exit, nothing written.
 #![cfg(not(feature = "mpi"))]
 
 mod common;

@@ -1,5 +1,6 @@
 //! `neurotac bench neurons|cuba`: throughput on the cases Brian2 is measured on.
 
+use super::options::{SeedOption, ThreadsOption, help};
 use crate::commands::args;
 use clap::{Args, Subcommand};
 use neurotac_cli::bench::{
@@ -63,9 +64,8 @@ struct NeuronsArgs {
 /// Options shared by every benchmark.
 #[derive(Debug, Args)]
 struct RunOptions {
-    /// Worker threads (0 = one per core).
-    #[arg(value_parser = args::count, allow_negative_numbers = true, long, default_value_t = 0)]
-    threads: usize,
+    #[command(flatten)]
+    threads: ThreadsOption,
     /// Also run the same case in Brian2 (C++ standalone) with this Python and report the ratio.
     #[arg(long, value_name = "PYTHON")]
     brian2: Option<PathBuf>,
@@ -79,6 +79,7 @@ struct RunOptions {
 }
 
 #[derive(Debug, Args)]
+#[command(mut_args(help("seed", "Seed of the connectivity and initial potentials")))]
 struct CubaArgs {
     /// Simulated duration (s).
     #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long, default_value_t = 1.0)]
@@ -86,9 +87,8 @@ struct CubaArgs {
     /// Time step (s).
     #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long, default_value_t = 1e-4)]
     dt: f64,
-    /// Seed of the connectivity and initial potentials.
-    #[arg(long, default_value_t = 1)]
-    seed: u64,
+    #[command(flatten)]
+    seed: SeedOption,
     /// Neurons (80 % excitatory, 20 % inhibitory; Brian2's benchmark: 4000).
     #[arg(value_parser = args::positive_count, allow_negative_numbers = true, long, default_value_t = 4000)]
     neurons: usize,
@@ -167,7 +167,7 @@ fn neurons(a: NeuronsArgs) -> anyhow::Result<()> {
             a.dt,
             a.precision,
             a.integrator,
-            a.run.threads,
+            a.run.threads.threads,
         )
     };
     let mut r = run()?;
@@ -220,21 +220,22 @@ fn cuba_network(a: CubaArgs, ranks: &dyn Ranks) -> anyhow::Result<()> {
     let config = CubaConfig {
         duration_s: a.duration,
         dt_s: a.dt,
-        seed: a.seed,
+        seed: a.seed.seed,
         n_exc,
         n_inh: a.neurons - n_exc,
         probability: a.probability,
     };
-    let (r, spikes, threads) = neurotac_experiments::threads::with_threads(a.run.threads, || {
-        let (mut best, spikes) = cuba_spikes_on(config, ranks)?;
-        for _ in 1..a.run.repeats {
-            let again = cuba_on(config, ranks)?;
-            if again.run_s < best.run_s {
-                best = again;
+    let (r, spikes, threads) =
+        neurotac_experiments::threads::with_threads(a.run.threads.threads, || {
+            let (mut best, spikes) = cuba_spikes_on(config, ranks)?;
+            for _ in 1..a.run.repeats {
+                let again = cuba_on(config, ranks)?;
+                if again.run_s < best.run_s {
+                    best = again;
+                }
             }
-        }
-        Ok::<_, neurotac_cli::bench::BenchError>((best, spikes, rayon::current_num_threads()))
-    })??;
+            Ok::<_, neurotac_cli::bench::BenchError>((best, spikes, rayon::current_num_threads()))
+        })??;
     if !ranks.is_root() {
         return Ok(());
     }

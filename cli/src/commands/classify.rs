@@ -1,6 +1,9 @@
 //! `neurotac classify`: KNN classification of a dataset under one coding and protocol.
 
-use super::load_labelled;
+use super::coding_parameters::coding_parameters;
+use super::inputs::load_labelled;
+use super::options::{ForceOption, SeedOption, help};
+use super::outputs::refuse_existing;
 use crate::commands::args;
 use clap::{Args, ValueEnum};
 use neurotac_core::{Knn, Ranks};
@@ -21,6 +24,10 @@ enum ProtocolArg {
 }
 
 #[derive(Debug, Args)]
+#[command(
+    mut_args(help("seed", "Seed of the split / fold assignment")),
+    mut_args(help("force", "Replace an existing `--matrix` file"))
+)]
 pub struct ClassifyArgs {
     /// Spike dataset (JSON or binary), labelled.
     #[arg(long)]
@@ -49,9 +56,8 @@ pub struct ClassifyArgs {
     /// Folds of the k-fold protocol.
     #[arg(value_parser = args::positive_count, allow_negative_numbers = true, long, default_value_t = 10)]
     folds: usize,
-    /// Seed of the split / fold assignment.
-    #[arg(long, default_value_t = 1)]
-    seed: u64,
+    #[command(flatten)]
+    seed: SeedOption,
     /// Sample duration (s, whole ms); default: meta.duration_s, else one ms past the latest spike.
     #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long)]
     duration: Option<f64>,
@@ -62,9 +68,8 @@ pub struct ClassifyArgs {
     /// or `.npz` (member `matrix`).
     #[arg(long)]
     matrix: Option<PathBuf>,
-    /// Replace an existing `--matrix` file.
-    #[arg(long)]
-    force: bool,
+    #[command(flatten)]
+    force: ForceOption,
 }
 
 /// On several ranks the distance matrix's rows are split over them ([`coding_distances`]);
@@ -73,7 +78,7 @@ pub fn run(args: ClassifyArgs, ranks: &dyn Ranks) -> anyhow::Result<()> {
     if let Some(path) = &args.matrix {
         neurotac_core::io::check_distinct(&args.input, path)?;
         OutputFormat::from_path(path, &MATRIX_FORMATS)?;
-        super::refuse_existing([path.as_path()], args.force)?;
+        refuse_existing([path.as_path()], args.force.force)?;
     }
     let data = load_labelled(&args.input)?;
     let knn = Knn::new(args.k)?;
@@ -81,15 +86,14 @@ pub fn run(args: ClassifyArgs, ranks: &dyn Ranks) -> anyhow::Result<()> {
         ProtocolArg::Loo => Protocol::LeaveOneOut,
         ProtocolArg::Split => Protocol::Split {
             test_fraction: args.test_fraction,
-            seed: args.seed,
+            seed: args.seed.seed,
         },
         ProtocolArg::Kfold => Protocol::KFold {
             folds: args.folds,
-            seed: args.seed,
+            seed: args.seed.seed,
         },
     };
-    let coding =
-        super::distances::coding_parameters(&data, args.dt, args.duration, args.tau, args.cos)?;
+    let coding = coding_parameters(&data, args.dt, args.duration, args.tau, args.cos)?;
     let (distances, distance_time) =
         timed(|| coding_distances(data.observations(), args.coding, &coding, ranks));
     let distances = distances?;

@@ -2,6 +2,8 @@
 //! ECD text and CSV. The input format is detected from its first bytes, the output format from
 //! the extension; the conversion streams chunk by chunk and prints its speed in events/s.
 
+use super::options::ForceOption;
+use super::outputs::refuse_existing;
 use anyhow::Context;
 use clap::{Args, ValueEnum};
 use neurotac_core::EventBuffer;
@@ -22,9 +24,8 @@ pub struct ConvertArgs {
     input: PathBuf,
     /// Output event file; the extension picks the format (.aedat, .aedat3, .aedat4, .txt, .csv).
     output: PathBuf,
-    /// Replace existing output files (without it, an existing output is refused).
-    #[arg(long)]
-    force: bool,
+    #[command(flatten)]
+    force: ForceOption,
     /// Packet compression when writing AEDAT 4.0.
     #[arg(long, value_enum, default_value = "lz4")]
     compression: Codec,
@@ -32,7 +33,7 @@ pub struct ConvertArgs {
 
 pub fn run(args: ConvertArgs) -> anyhow::Result<()> {
     neurotac_core::io::check_distinct(&args.input, &args.output)?;
-    super::refuse_existing([args.output.as_path()], args.force)?;
+    refuse_existing([args.output.as_path()], args.force.force)?;
     let out_format = match Format::from_extension(&args.output)? {
         Format::Aedat4(_) => Format::Aedat4(match args.compression {
             Codec::None => Compression::None,

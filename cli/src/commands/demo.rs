@@ -1,5 +1,6 @@
 //! `neurotac demo`: 49 taxels (Poisson spike trains) → exponential synapses → 49 afferents.
 
+use super::options::{SeedOption, help};
 use crate::commands::args;
 use anyhow::Context;
 use clap::Args;
@@ -8,6 +9,7 @@ use neurotac_experiments::afferents::{AfferentConfig, build_afferent_network};
 use neurotac_experiments::neuron_setup::NeuronKind;
 
 #[derive(Debug, Args)]
+#[command(mut_args(help("seed", "Seed of the taxel spike trains")))]
 pub struct DemoArgs {
     /// Afferent model.
     #[arg(long, value_parser = args::menu::<NeuronKind>(), default_value = "lif")]
@@ -21,9 +23,8 @@ pub struct DemoArgs {
     /// Simulated duration (s).
     #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long, default_value_t = 1.0)]
     duration: f64,
-    /// Seed of the taxel spike trains.
-    #[arg(long, default_value_t = 1)]
-    seed: u64,
+    #[command(flatten)]
+    seed: SeedOption,
     /// Print one JSON object instead of a table.
     #[arg(long)]
     json: bool,
@@ -31,7 +32,7 @@ pub struct DemoArgs {
 
 pub fn run(args: DemoArgs) -> anyhow::Result<()> {
     let config = AfferentConfig::of(args.model);
-    let source = PoissonInput::new(args.taxels, args.rate_hz, args.seed);
+    let source = PoissonInput::new(args.taxels, args.rate_hz, args.seed.seed);
     let mut net =
         build_afferent_network(source, config).context("building the afferent network")?;
     let start = std::time::Instant::now();

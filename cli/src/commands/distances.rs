@@ -1,15 +1,15 @@
 //! `neurotac distances`: the N×N distance matrix of a spike dataset, as JSON
 //! (`{"matrix": [[…]]}`), `.npy` or `.npz` by the output's extension.
 
-use super::load_dataset;
+use super::coding_parameters::coding_parameters;
+use super::inputs::load_dataset;
+use super::options::ForceOption;
+use super::outputs::refuse_existing;
 use crate::commands::args;
 use anyhow::bail;
 use clap::{Args, ValueEnum};
-use neurotac_core::coding::whole_ms;
-use neurotac_core::{Ranks, SpikeDataset};
-use neurotac_experiments::coding::{
-    CodingName, CodingParameters, coding_distances, mean_spikes_per_channel, sample_duration_ms,
-};
+use neurotac_core::Ranks;
+use neurotac_experiments::coding::{CodingName, coding_distances, mean_spikes_per_channel};
 use neurotac_experiments::export::{MATRIX_FORMATS, OutputFormat, write_matrix};
 use neurotac_experiments::timing::timed;
 use std::path::PathBuf;
@@ -49,9 +49,8 @@ pub struct DistancesArgs {
     /// or `.npz` (member `matrix`).
     #[arg(long)]
     output: PathBuf,
-    /// Replace existing output files (without it, an existing output is refused).
-    #[arg(long)]
-    force: bool,
+    #[command(flatten)]
+    force: ForceOption,
 }
 
 /// On several ranks the matrix's rows are split over them ([`coding_distances`]); every
@@ -59,7 +58,7 @@ pub struct DistancesArgs {
 pub fn run(args: DistancesArgs, ranks: &dyn Ranks) -> anyhow::Result<()> {
     neurotac_core::io::check_distinct(&args.input, &args.output)?;
     OutputFormat::from_path(&args.output, &MATRIX_FORMATS)?;
-    super::refuse_existing([args.output.as_path()], args.force)?;
+    refuse_existing([args.output.as_path()], args.force.force)?;
     let data = load_dataset(&args.input)?;
     let coding = match (args.metric, args.coding) {
         (Metric::VanRossum, _) => CodingName::Spatiotemporal,
@@ -85,26 +84,4 @@ pub fn run(args: DistancesArgs, ranks: &dyn Ranks) -> anyhow::Result<()> {
         args.output.display()
     );
     Ok(())
-}
-
-/// The coding parameters of the flags `--dt`, `--duration` (s), `--tau` and `--cos`; the sample
-/// duration only when a window is given (it is only read then).
-pub fn coding_parameters(
-    data: &SpikeDataset,
-    dt_s: Option<f64>,
-    duration_s: Option<f64>,
-    tau_s: Option<f64>,
-    cos: Option<f64>,
-) -> anyhow::Result<CodingParameters> {
-    let window_ms = dt_s.map(|dt| whole_ms(dt, "--dt")).transpose()?;
-    let duration_ms = match window_ms {
-        Some(_) => Some(sample_duration_ms(data, duration_s)?),
-        None => None,
-    };
-    Ok(CodingParameters {
-        window_ms,
-        duration_ms,
-        tau_s,
-        cos,
-    })
 }

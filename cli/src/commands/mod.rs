@@ -2,21 +2,28 @@
 //! To add a command: a module with an `Args` struct (clap derive) and a
 //! `run(args) -> anyhow::Result<()>`, one variant in [`Command`] and one arm in [`run`]. To add
 //! a subcommand to a group (`tradeoff`, `search`), do the same inside the group's `mod.rs`.
+//!
+//! Imports point down: this dispatcher (and each group's `mod.rs`) names its commands, and the
+//! commands name the helpers below them — [`options`] (the shared option groups and `--set`),
+//! [`inputs`] (reading datasets), [`outputs`] (the overwrite rule), [`coding_parameters`],
+//! [`args`] (value parsers) and [`progress`] (bars) — never the dispatcher.
 
-use clap::{Parser, Subcommand, ValueEnum};
-use neurotac_core::{Ranks, SpikeDataset};
-use neurotac_experiments::datasets::simulated::TextureSet;
-use std::path::Path;
+use clap::{Parser, Subcommand};
+use neurotac_core::Ranks;
 
 mod args;
 mod bench;
 mod classify;
+mod coding_parameters;
 mod convert;
 mod demo;
 mod devices;
 mod distances;
 mod export;
+mod inputs;
 mod neuron;
+mod options;
+mod outputs;
 mod progress;
 mod recognise;
 mod record;
@@ -129,55 +136,16 @@ pub fn run(cli: Cli, ranks: &dyn Ranks) -> anyhow::Result<()> {
     }
 }
 
-/// `--set`: which simulated texture set(s).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum SetArg {
-    /// The 11 bump grids (paper: 100 slides each; Table 1).
-    Artificial,
-    /// The 20 natural textures (paper: 50 slides each; Table 2).
-    Natural,
-    /// Both, artificial first.
-    Both,
-}
+#[cfg(test)]
+mod tests {
+    use super::Cli;
+    use clap::CommandFactory;
 
-impl SetArg {
-    /// The sets, in run order.
-    pub fn sets(self) -> Vec<TextureSet> {
-        match self {
-            SetArg::Artificial => vec![TextureSet::Artificial],
-            SetArg::Natural => vec![TextureSet::Natural],
-            SetArg::Both => vec![TextureSet::Artificial, TextureSet::Natural],
-        }
-    }
-}
-
-/// Reads a spike dataset (JSON or binary); the error names the file once.
-pub fn load_dataset(path: &Path) -> anyhow::Result<SpikeDataset> {
-    // The dataset error names file, sample and field; its source chain would repeat it.
-    SpikeDataset::load(path)
-        .map_err(|e| anyhow::anyhow!("reading the spike dataset {}: {e}", path.display()))
-}
-
-/// Reads a labelled spike dataset (classification and searches need labels).
-pub fn load_labelled(path: &Path) -> anyhow::Result<SpikeDataset> {
-    let data = load_dataset(path)?;
-    if data.labels().is_empty() {
-        anyhow::bail!("{}: the dataset has no labels", path.display());
-    }
-    Ok(data)
-}
-
-/// The overwrite rule of every command that writes (README, "Outputs, cache and overwriting"):
-/// an output file or folder that already exists is refused unless `--force` is given.
-pub fn refuse_existing<'a>(
-    outputs: impl IntoIterator<Item = &'a Path>,
-    force: bool,
-) -> anyhow::Result<()> {
-    if force {
-        return Ok(());
-    }
-    match outputs.into_iter().find(|p| p.exists()) {
-        Some(p) => anyhow::bail!("{} already exists (use --force to replace it)", p.display()),
-        None => Ok(()),
+    /// clap's own checks over every command: the flags named by `requires`, `conflicts_with` and
+    /// `required_unless_present` exist, and no flag is declared twice (a shared option group
+    /// flattened beside a flag of the same name).
+    #[test]
+    fn every_command_passes_clap_checks() {
+        Cli::command().debug_assert();
     }
 }

@@ -2,7 +2,9 @@
 //! file or the live camera, one line per decision change and a final line — and
 //! `recognise --eval`: accuracy against time since the slide start on a simulated set.
 
-use super::{SetArg, load_labelled, refuse_existing};
+use super::inputs::load_labelled;
+use super::options::{ForceOption, OutOption, SeedOption, SetArg, SetOption, ThreadsOption, help};
+use super::outputs::refuse_existing;
 use crate::commands::args;
 use anyhow::{Context, bail};
 use clap::{Args, ValueEnum};
@@ -36,6 +38,19 @@ enum SpeedArg {
 }
 
 #[derive(Debug, Args)]
+#[command(
+    mut_args(help("set", "With --eval: the texture set")),
+    mut_args(help("seed", "With --eval: seed of the dataset and of the split")),
+    mut_args(help(
+        "out",
+        "With --eval: the report folder (summary.md, summary.json, accuracy_vs_time.csv/.svg/.png)"
+    )),
+    mut_args(help("force", "Replace an existing --out folder")),
+    mut_args(help(
+        "threads",
+        "With --eval: worker threads over the held-out slides (0 = one per core); each slide's decisions run on one thread"
+    ))
+)]
 pub struct RecogniseArgs {
     /// Labelled spike dataset of training slides (JSON or binary), transduced with the
     /// settings stored in its metadata (those of `neurotac simulate` / `transduce`).
@@ -80,25 +95,19 @@ pub struct RecogniseArgs {
     /// through the online path with every coding (needs --set and --out).
     #[arg(long, requires_all = ["set", "out"])]
     eval: bool,
-    /// With --eval: the texture set.
-    #[arg(long, value_enum)]
-    set: Option<SetArg>,
+    #[command(flatten)]
+    set: SetOption,
     /// With --eval: slides per texture (default: the paper's, 100 artificial / 50 natural).
     #[arg(value_parser = args::positive_count, allow_negative_numbers = true, long)]
     trials: Option<usize>,
-    /// With --eval: seed of the dataset and of the split.
-    #[arg(long, default_value_t = 1)]
-    seed: u64,
-    /// With --eval: the report folder (summary.md, summary.json, accuracy_vs_time.csv/.svg/.png).
-    #[arg(long)]
-    out: Option<PathBuf>,
-    /// Replace an existing --out folder.
-    #[arg(long)]
-    force: bool,
-    /// With --eval: worker threads over the held-out slides (0 = one per core); each slide's
-    /// decisions run on one thread.
-    #[arg(value_parser = args::count, allow_negative_numbers = true, long, default_value_t = 0)]
-    threads: usize,
+    #[command(flatten)]
+    seed: SeedOption,
+    #[command(flatten)]
+    out: OutOption,
+    #[command(flatten)]
+    force: ForceOption,
+    #[command(flatten)]
+    threads: ThreadsOption,
     /// With --eval: the cache of simulated datasets (as `reproduce`).
     #[arg(long)]
     cache: Option<PathBuf>,
@@ -282,9 +291,9 @@ fn decision_json(d: &Decision, names: &[String]) -> serde_json::Value {
 }
 
 fn run_eval(a: &RecogniseArgs) -> anyhow::Result<()> {
-    let out = a.out.as_ref().expect("clap requires --out");
-    refuse_existing([out.as_path()], a.force)?;
-    let set = match a.set.expect("clap requires --set") {
+    let out = a.out.out.as_ref().expect("clap requires --out");
+    refuse_existing([out.as_path()], a.force.force)?;
+    let set = match a.set.set.expect("clap requires --set") {
         SetArg::Artificial => TextureSet::Artificial,
         SetArg::Natural => TextureSet::Natural,
         SetArg::Both => bail!("--eval runs one set at a time: --set artificial or natural"),
@@ -299,7 +308,7 @@ fn run_eval(a: &RecogniseArgs) -> anyhow::Result<()> {
     let config = OnlineEvalConfig {
         set,
         trials: a.trials.unwrap_or_else(|| set.paper_trials()),
-        seed: a.seed,
+        seed: a.seed.seed,
         params: SimParams::default(),
         codings,
         k: a.k,
@@ -312,12 +321,12 @@ fn run_eval(a: &RecogniseArgs) -> anyhow::Result<()> {
         (config.trials as f64 * set.textures().len() as f64 * 0.2).round() as u64,
         "slides",
     );
-    let eval = with_threads(a.threads, || {
+    let eval = with_threads(a.threads.threads, || {
         evaluate_online(&config, &cache, &|| bar.inc(1))
     })??;
     bar.finish_and_clear();
     let summary = summary_md(&eval);
-    write_folder_atomically(out, a.force, |dir| {
+    write_folder_atomically(out, a.force.force, |dir| {
         write(dir, "summary.md", &summary)?;
         write(
             dir,

@@ -5,22 +5,22 @@
 //! unplugged mid-recording, every event received before is written, the file is completed and
 //! the command fails with the disconnection.
 
+use super::options::{ForceOption, OutPathOption, help};
+use super::outputs::refuse_existing;
 use crate::commands::args;
 use anyhow::Context;
 use clap::Args;
 use neurotac_sensor::davis::{Davis, RusbTransport, StartOptions, record};
 use neurotac_sensor::format;
-use std::path::PathBuf;
 use std::time::{Duration, SystemTime, UNIX_EPOCH};
 
 #[derive(Debug, Args)]
+#[command(mut_args(help("out", "Output event file (.aedat4, .aedat, .aedat3, .txt or .csv)")))]
 pub struct RecordArgs {
-    /// Output event file (.aedat4, .aedat, .aedat3, .txt or .csv).
-    #[arg(long)]
-    out: PathBuf,
-    /// Replace existing output files (without it, an existing output is refused).
-    #[arg(long)]
-    force: bool,
+    #[command(flatten)]
+    out: OutPathOption,
+    #[command(flatten)]
+    force: ForceOption,
     /// Recording duration (s).
     #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long)]
     seconds: f64,
@@ -36,8 +36,9 @@ pub fn run(args: RecordArgs) -> anyhow::Result<()> {
         "--seconds must be a positive number of seconds, got {}",
         args.seconds
     );
-    super::refuse_existing([args.out.as_path()], args.force)?;
-    let format = format::Format::from_extension(&args.out)?;
+    let out = &args.out.out;
+    refuse_existing([out.as_path()], args.force.force)?;
+    let format = format::Format::from_extension(out)?;
     let (transport, usb) = RusbTransport::open_first()?;
     let davis = Davis::open(transport, usb).context("opening the DAVIS camera")?;
     println!(
@@ -46,12 +47,12 @@ pub fn run(args: RecordArgs) -> anyhow::Result<()> {
         davis.info().dvs_size_x,
         davis.info().dvs_size_y,
         args.seconds,
-        args.out.display()
+        out.display()
     );
     davis
         .send_default_config()
         .context("configuring the camera")?;
-    let mut writer = format::create_writer_as(&args.out, format)?;
+    let mut writer = format::create_writer_as(out, format)?;
     let mut stream = davis.start(StartOptions::default())?;
     let offset_us = if args.unix_time {
         SystemTime::now()
@@ -63,7 +64,7 @@ pub fn run(args: RecordArgs) -> anyhow::Result<()> {
     };
     let duration = Duration::from_secs_f64(args.seconds);
     let rec = record(&mut stream, &mut *writer, duration, offset_us)
-        .with_context(|| format!("writing {}", args.out.display()))?;
+        .with_context(|| format!("writing {}", out.display()))?;
     println!(
         "{} events in {:.2} s; {} USB packets dropped (ring full); {} out-of-range addresses dropped",
         rec.events,
@@ -75,7 +76,7 @@ pub fn run(args: RecordArgs) -> anyhow::Result<()> {
         return Err(anyhow::Error::new(e).context(format!(
             "recording ended early; the {} events received were written to {}",
             rec.events,
-            args.out.display()
+            out.display()
         )));
     }
     Ok(())

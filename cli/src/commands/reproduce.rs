@@ -2,7 +2,7 @@
 //! codings, the Δt sweep, the Bayesian optimisation, KNN tables against the paper's, and a
 //! report folder with its figures (see `neurotac_experiments::reproduce`).
 
-use super::SetArg;
+use super::options::{ForceOption, SeedOption, SetsOption, ThreadsOption, help};
 use super::progress::Bars;
 use crate::commands::args;
 use clap::{Args, ValueEnum};
@@ -35,19 +35,24 @@ enum VrFromArg {
 }
 
 #[derive(Debug, Args)]
+#[command(
+    mut_args(help(
+        "seed",
+        "Seed of the simulated datasets, the 80/20 split and the optimisation's initial design"
+    )),
+    mut_args(help("threads", "Worker threads (0: all cores)")),
+    mut_args(help("force", "Replace an existing report folder"))
+)]
 pub struct ReproduceArgs {
-    /// Which simulated texture set(s) to run.
-    #[arg(long, value_enum, default_value = "both")]
-    set: SetArg,
-    /// Seed of the simulated datasets, the 80/20 split and the optimisation's initial design.
-    #[arg(long, default_value_t = 1)]
-    seed: u64,
+    #[command(flatten)]
+    set: SetsOption,
+    #[command(flatten)]
+    seed: SeedOption,
     /// Report folder (refused if it exists, unless --force).
     #[arg(long, default_value = "neurotac-report")]
     out: PathBuf,
-    /// Worker threads (0: all cores).
-    #[arg(value_parser = args::count, allow_negative_numbers = true, long, default_value_t = 0)]
-    threads: usize,
+    #[command(flatten)]
+    threads: ThreadsOption,
     /// Bayesian-optimisation evaluations (paper: 1000; --quick: 60).
     #[arg(value_parser = args::positive_count, allow_negative_numbers = true, long)]
     epochs: Option<usize>,
@@ -58,9 +63,8 @@ pub struct ReproduceArgs {
     /// slide (AEDAT 2/3.1/4, ECD text or CSV); --set, --trials and --params then do not apply.
     #[arg(long)]
     dataset: Option<PathBuf>,
-    /// Replace an existing report folder.
-    #[arg(long)]
-    force: bool,
+    #[command(flatten)]
+    force: ForceOption,
     /// A first look in about a minute (once built): 10 slides per texture, 60 epochs, τ on a
     /// 10 ms grid.
     #[arg(long)]
@@ -95,11 +99,11 @@ pub struct ReproduceArgs {
 /// ([`reproduce::run`]); every rank checks the report folder first, rank 0 alone shows progress,
 /// prints and writes the report.
 pub fn run(args: ReproduceArgs, ranks: &dyn Ranks) -> anyhow::Result<()> {
-    check_destination(&args.out, args.force)?;
+    check_destination(&args.out, args.force.force)?;
     let cache = args.cache.clone().unwrap_or_else(default_cache_dir);
     let mut config = match args.quick {
-        true => ReproduceConfig::quick(args.seed, cache),
-        false => ReproduceConfig::paper(args.seed, cache),
+        true => ReproduceConfig::quick(args.seed.seed, cache),
+        false => ReproduceConfig::paper(args.seed.seed, cache),
     };
     config.command = std::iter::once("neurotac".to_owned())
         .chain(std::env::args().skip(1))
@@ -125,7 +129,13 @@ pub fn run(args: ReproduceArgs, ranks: &dyn Ranks) -> anyhow::Result<()> {
     config.afferents = args.afferents.map(AfferentConfig::of);
     let sources: Vec<Source> = match &args.dataset {
         Some(dir) => vec![Source::Recorded(dir.clone())],
-        None => args.set.sets().into_iter().map(Source::Simulated).collect(),
+        None => args
+            .set
+            .set
+            .sets()
+            .into_iter()
+            .map(Source::Simulated)
+            .collect(),
     };
     let bars = Bars::new();
     let progress: &dyn Progress = match ranks.is_root() {
@@ -133,7 +143,7 @@ pub fn run(args: ReproduceArgs, ranks: &dyn Ranks) -> anyhow::Result<()> {
         false => &NoProgress,
     };
     let (written, total) = timed(|| -> anyhow::Result<()> {
-        let report = with_threads(args.threads, || {
+        let report = with_threads(args.threads.threads, || {
             reproduce::run(&config, &sources, progress, ranks)
         })??;
         if !ranks.is_root() {
@@ -141,7 +151,7 @@ pub fn run(args: ReproduceArgs, ranks: &dyn Ranks) -> anyhow::Result<()> {
         }
         report.sets.iter().for_each(print_set);
         bars.stage("writing the report (SVG, PNG, CSV, JSON, Markdown)", 0);
-        let written = write_report(&args.out, &report, args.force);
+        let written = write_report(&args.out, &report, args.force.force);
         bars.finish();
         Ok(written?)
     });

@@ -1,7 +1,10 @@
 //! `neurotac simulate`: the simulated texture datasets, the acceptance check and the
 //! calibration of the simulator (`shared/specs/simulator.md`).
 
-use super::SetArg;
+use super::options::{
+    ForceOption, OutOption, SeedOption, SetOption, ThreadsOption, help, required,
+};
+use super::outputs::refuse_existing;
 use super::progress::{Bars, bar};
 use crate::commands::args;
 use anyhow::Context;
@@ -40,19 +43,29 @@ enum SimulateCommand {
 }
 
 #[derive(Debug, Args)]
+#[command(
+    mut_args(required("set")),
+    mut_args(help(
+        "set",
+        "Texture set: 11 bump grids, the 20 natural textures, or both (one file each)"
+    )),
+    mut_args(help("seed", "Seed of the dataset (camera and every trial)")),
+    mut_args(required("out")),
+    mut_args(help(
+        "out",
+        "Output folder: `<set>.bin` (taxel spike dataset), optionally `<set>.json` and pixel events"
+    ))
+)]
 struct GenerateArgs {
-    /// Texture set: 11 bump grids, the 20 natural textures, or both (one file each).
-    #[arg(long, value_enum, required = true)]
-    set: Option<SetArg>,
+    #[command(flatten)]
+    set: SetOption,
     /// Slides per texture (default: the paper's, 100 artificial / 50 natural).
     #[arg(value_parser = args::positive_count, allow_negative_numbers = true, long)]
     trials: Option<usize>,
-    /// Seed of the dataset (camera and every trial).
-    #[arg(long, default_value_t = 1)]
-    seed: u64,
-    /// Output folder: `<set>.bin` (taxel spike dataset), optionally `<set>.json` and pixel events.
-    #[arg(long, required = true)]
-    out: Option<PathBuf>,
+    #[command(flatten)]
+    seed: SeedOption,
+    #[command(flatten)]
+    out: OutOption,
     /// Simulator parameter file (JSON, every field; see `neurotac simulate params`).
     #[arg(long)]
     params: Option<PathBuf>,
@@ -77,12 +90,10 @@ struct GenerateArgs {
     /// else $XDG_CACHE_HOME/neurotac, else ~/.cache/neurotac; delete the folder to clear it).
     #[arg(long)]
     cache: Option<PathBuf>,
-    /// Worker threads (0 = one per core).
-    #[arg(value_parser = args::count, allow_negative_numbers = true, long, default_value_t = 0)]
-    threads: usize,
-    /// Replace existing output files (without it, an existing output is refused).
-    #[arg(long)]
-    force: bool,
+    #[command(flatten)]
+    threads: ThreadsOption,
+    #[command(flatten)]
+    force: ForceOption,
 }
 
 /// `--format`: the forms written besides `<set>.bin`.
@@ -95,6 +106,7 @@ enum AlsoFormat {
 }
 
 #[derive(Debug, Args)]
+#[command(mut_args(help("out", "Write `check.md` and `check.json` to this folder")))]
 struct CheckArgs {
     /// Slides per grid (≥ 10 for the monotonicity statistic).
     #[arg(value_parser = args::positive_count, allow_negative_numbers = true, long, default_value_t = 10)]
@@ -102,46 +114,42 @@ struct CheckArgs {
     /// Slides of the 0, 2.5 and 5 mm grids for the variability statistic.
     #[arg(value_parser = args::positive_count, allow_negative_numbers = true, long, default_value_t = 20)]
     variability_trials: usize,
-    /// Seed.
-    #[arg(long, default_value_t = 1)]
-    seed: u64,
+    #[command(flatten)]
+    seed: SeedOption,
     /// Simulator parameter file (JSON).
     #[arg(long)]
     params: Option<PathBuf>,
-    /// Write `check.md` and `check.json` to this folder.
-    #[arg(long)]
-    out: Option<PathBuf>,
-    /// Replace existing output files (without it, an existing output is refused).
-    #[arg(long)]
-    force: bool,
-    /// Worker threads (0 = one per core).
-    #[arg(value_parser = args::count, allow_negative_numbers = true, long, default_value_t = 0)]
-    threads: usize,
+    #[command(flatten)]
+    out: OutOption,
+    #[command(flatten)]
+    force: ForceOption,
+    #[command(flatten)]
+    threads: ThreadsOption,
 }
 
 #[derive(Debug, Args)]
+#[command(
+    mut_args(help("out", "Write the calibrated parameter file here (default: print it)")),
+    mut_args(help("force", "Replace an existing `--out` file"))
+)]
 struct CalibrateArgs {
     /// Slides of the anchor grid per bisection step (each on a fresh mounting).
     #[arg(value_parser = args::positive_count, allow_negative_numbers = true, long, default_value_t = 20)]
     trials: usize,
-    /// Seed.
-    #[arg(long, default_value_t = 1)]
-    seed: u64,
+    #[command(flatten)]
+    seed: SeedOption,
     /// Alternations of the lever and conformity-gap fits.
     #[arg(value_parser = args::positive_count, allow_negative_numbers = true, long, default_value_t = 3)]
     rounds: usize,
     /// Simulator parameter file to start from (JSON).
     #[arg(long)]
     params: Option<PathBuf>,
-    /// Write the calibrated parameter file here (default: print it).
-    #[arg(long)]
-    out: Option<PathBuf>,
-    /// Replace an existing `--out` file.
-    #[arg(long)]
-    force: bool,
-    /// Worker threads (0 = one per core).
-    #[arg(value_parser = args::count, allow_negative_numbers = true, long, default_value_t = 0)]
-    threads: usize,
+    #[command(flatten)]
+    out: OutOption,
+    #[command(flatten)]
+    force: ForceOption,
+    #[command(flatten)]
+    threads: ThreadsOption,
 }
 
 fn load_params(path: Option<&Path>) -> anyhow::Result<SimParams> {
@@ -174,13 +182,13 @@ pub fn run(args: SimulateArgs, ranks: &dyn Ranks) -> anyhow::Result<()> {
 }
 
 fn generate(a: GenerateArgs, ranks: &dyn Ranks) -> anyhow::Result<()> {
-    let out = a.out.context("--out is required")?;
+    let out = a.out.out.context("--out is required")?;
     let params = load_params(a.params.as_deref())?;
     let pixel_events = a.pixel_events.then(|| match a.labels {
         true => PixelEventFiles::LabelledCsv,
         false => PixelEventFiles::Format(a.event_format.clone()),
     });
-    let sets = a.set.context("--set is required")?.sets();
+    let sets = a.set.set.context("--set is required")?.sets();
     let mut also: Vec<OutputFormat> = Vec::new();
     for format in a
         .json
@@ -205,12 +213,12 @@ fn generate(a: GenerateArgs, ranks: &dyn Ranks) -> anyhow::Result<()> {
     if a.pixel_events {
         outputs.push(out.join("events"));
     }
-    super::refuse_existing(outputs.iter().map(|p| p.as_path()), a.force)?;
+    refuse_existing(outputs.iter().map(|p| p.as_path()), a.force.force)?;
     for set in sets {
         let config = GenerateConfig {
             set,
             trials: a.trials.unwrap_or(set.paper_trials()),
-            seed: a.seed,
+            seed: a.seed.seed,
             params,
             out: out.clone(),
             cache: a.cache.clone().unwrap_or_else(default_cache_dir),
@@ -219,7 +227,7 @@ fn generate(a: GenerateArgs, ranks: &dyn Ranks) -> anyhow::Result<()> {
         };
         let start = Instant::now();
         let bars = Bars::new();
-        let made = with_threads(a.threads, || {
+        let made = with_threads(a.threads.threads, || {
             neurotac_experiments::datasets::simulated::generate(&config, &bars, ranks)
         })??;
         if !ranks.is_root() {
@@ -259,19 +267,21 @@ fn generate(a: GenerateArgs, ranks: &dyn Ranks) -> anyhow::Result<()> {
 }
 
 fn check(a: CheckArgs) -> anyhow::Result<()> {
-    if let Some(out) = &a.out {
-        super::refuse_existing([out.join("check.md").as_path()], a.force)?;
+    if let Some(out) = &a.out.out {
+        refuse_existing([out.join("check.md").as_path()], a.force.force)?;
     }
     let config = CheckConfig {
         trials: a.trials.max(2),
         variability_trials: a.variability_trials,
-        seed: a.seed,
+        seed: a.seed.seed,
         params: load_params(a.params.as_deref())?,
         ..CheckConfig::default()
     };
     let bar = progress_bar(check_trial_count(&config), "check");
     let start = Instant::now();
-    let report = with_threads(a.threads, || simulator_check(&config, &|| bar.inc(1)))??;
+    let report = with_threads(a.threads.threads, || {
+        simulator_check(&config, &|| bar.inc(1))
+    })??;
     bar.finish_and_clear();
     let markdown = to_markdown(&report);
     for s in &report.statistics {
@@ -307,7 +317,7 @@ fn check(a: CheckArgs) -> anyhow::Result<()> {
         report.trials_simulated,
         start.elapsed().as_secs_f64()
     );
-    if let Some(out) = a.out {
+    if let Some(out) = a.out.out {
         std::fs::create_dir_all(&out).with_context(|| format!("creating {}", out.display()))?;
         neurotac_core::io::write(out.join("check.md"), markdown)
             .with_context(|| format!("writing {}", out.join("check.md").display()))?;
@@ -321,13 +331,13 @@ fn check(a: CheckArgs) -> anyhow::Result<()> {
 }
 
 fn calibrate_command(a: CalibrateArgs) -> anyhow::Result<()> {
-    if let Some(out) = &a.out {
-        super::refuse_existing([out.as_path()], a.force)?;
+    if let Some(out) = &a.out.out {
+        refuse_existing([out.as_path()], a.force.force)?;
     }
     let params = load_params(a.params.as_deref())?;
     let bar = super::progress::bar("calibrating", 0, "slides");
-    let c = with_threads(a.threads, || {
-        calibrate(&params, a.trials, a.seed, a.rounds, &|| bar.inc(1))
+    let c = with_threads(a.threads.threads, || {
+        calibrate(&params, a.trials, a.seed.seed, a.rounds, &|| bar.inc(1))
     })??;
     bar.finish_and_clear();
     for e in &c.entries {
@@ -339,7 +349,7 @@ fn calibrate_command(a: CalibrateArgs) -> anyhow::Result<()> {
     }
     println!("({} slides)", c.slides);
     let text = c.params.to_json_string();
-    match a.out {
+    match a.out.out {
         Some(path) => {
             neurotac_core::io::write(&path, text)
                 .with_context(|| format!("writing {}", path.display()))?;

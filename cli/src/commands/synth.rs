@@ -1,5 +1,7 @@
 //! `neurotac synth`: writes a seeded synthetic NeuroTac-like texture dataset.
 
+use super::options::{ForceOption, SeedOption};
+use super::outputs::refuse_existing;
 use crate::commands::args;
 use clap::Args;
 use neurotac_experiments::datasets::synthetic::{SyntheticConfig, synthetic_dataset};
@@ -26,12 +28,10 @@ pub struct SynthArgs {
     /// Sample duration (s).
     #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long, default_value_t = 4.5)]
     duration: f64,
-    /// Seed.
-    #[arg(long, default_value_t = 1)]
-    seed: u64,
-    /// Replace existing output files (without it, an existing output is refused).
-    #[arg(long)]
-    force: bool,
+    #[command(flatten)]
+    seed: SeedOption,
+    #[command(flatten)]
+    force: ForceOption,
 }
 
 pub fn run(args: SynthArgs) -> anyhow::Result<()> {
@@ -39,7 +39,7 @@ pub fn run(args: SynthArgs) -> anyhow::Result<()> {
         &args.output,
         &neurotac_experiments::export::DATASET_FORMATS,
     )?;
-    super::refuse_existing([args.output.as_path()], args.force)?;
+    refuse_existing([args.output.as_path()], args.force.force)?;
     anyhow::ensure!(
         args.spikes_per_unit.is_finite()
             && args.spikes_per_unit > 0.0
@@ -53,7 +53,7 @@ pub fn run(args: SynthArgs) -> anyhow::Result<()> {
         channels: args.channels,
         spikes_per_unit: args.spikes_per_unit,
         duration_s: args.duration,
-        seed: args.seed,
+        seed: args.seed.seed,
     });
     neurotac_experiments::export::write_dataset(&data, &args.output)?;
     println!(

@@ -1,6 +1,8 @@
 //! `neurotac transduce`, `neurotac filter` and `neurotac layout`: the NeuroTac transduction
 //! (BA filter → receptive fields → pooling → re-centring) on any event file.
 
+use super::options::{ForceOption, OutOption, OutPathOption, help};
+use super::outputs::refuse_existing;
 use crate::commands::args;
 use anyhow::{Context, bail};
 use clap::Args;
@@ -49,6 +51,10 @@ fn ba_start(empty: bool) -> MapStart {
 }
 
 #[derive(Debug, Args)]
+#[command(mut_args(help(
+    "out",
+    "Output spike dataset, format by extension: `.json`, `.bin` (or `.ntspk`, compact binary) or `.npz` (numpy arrays)"
+)))]
 pub struct TransduceArgs {
     /// Event file (AEDAT 2/3.1/4, ECD text, CSV; detected from its first bytes).
     input: PathBuf,
@@ -77,36 +83,34 @@ pub struct TransduceArgs {
     /// Class label name stored in the dataset.
     #[arg(long)]
     label: Option<String>,
-    /// Output spike dataset, format by extension: `.json`, `.bin` (or `.ntspk`, compact
-    /// binary) or `.npz` (numpy arrays).
-    #[arg(long)]
-    out: PathBuf,
+    #[command(flatten)]
+    out: OutPathOption,
     /// Also write a raster plot with spatial and temporal distributions: SVG at this path and
     /// PNG beside it (`r.svg` → `r.svg`, `r.png`).
     #[arg(long)]
     raster: Option<PathBuf>,
-    /// Replace existing output files (without it, an existing output is refused).
-    #[arg(long)]
-    force: bool,
+    #[command(flatten)]
+    force: ForceOption,
 }
 
 pub fn run_transduce(a: TransduceArgs) -> anyhow::Result<()> {
     // Every output is checked against the input and created (hidden) before any work, and all
     // are renamed into place together at the end: a failure leaves none of them.
-    check_distinct(&a.input, &a.out)?;
-    let format = OutputFormat::from_path(&a.out, &DATASET_FORMATS)?;
-    super::refuse_existing(
-        [a.out.as_path()].into_iter().chain(a.raster.as_deref()),
-        a.force,
+    let out = &a.out.out;
+    check_distinct(&a.input, out)?;
+    let format = OutputFormat::from_path(out, &DATASET_FORMATS)?;
+    refuse_existing(
+        [out.as_path()].into_iter().chain(a.raster.as_deref()),
+        a.force.force,
     )?;
-    let mut out_file = create_output(&a.out)?;
+    let mut out_file = create_output(out)?;
     // The raster as SVG at the path given and as PNG beside it (`r.svg` → `r.png`); a path
     // ending in `.png` gets the PNG only.
     let mut raster_files = Vec::new();
     if let Some(path) = &a.raster {
         let png = path.with_extension("png");
         let svg = (png != *path).then(|| path.clone());
-        super::refuse_existing([png.as_path()], a.force)?;
+        refuse_existing([png.as_path()], a.force.force)?;
         for p in svg.iter().chain(std::iter::once(&png)) {
             check_distinct(&a.input, p)?;
             raster_files.push(create_output(p)?);
@@ -131,7 +135,7 @@ pub fn run_transduce(a: TransduceArgs) -> anyhow::Result<()> {
     let bytes = dataset_bytes(&t.dataset, format)?;
     out_file
         .write_all(&bytes)
-        .with_context(|| format!("writing {}", a.out.display()))?;
+        .with_context(|| format!("writing {}", out.display()))?;
     if !raster_files.is_empty() {
         let title = format!(
             "{}: {} taxel spikes",
@@ -166,7 +170,7 @@ pub fn run_transduce(a: TransduceArgs) -> anyhow::Result<()> {
         c.events_in as f64 / t.transducing.as_secs_f64() / 1e6,
         c.events_in as f64 / t.wall.as_secs_f64() / 1e6
     );
-    println!("wrote {}", a.out.display());
+    println!("wrote {}", out.display());
     Ok(())
 }
 
@@ -185,14 +189,13 @@ pub struct FilterArgs {
     /// Also drop events within this refractory period of their own pixel's last event (µs).
     #[arg(value_parser = args::positive_i64, allow_negative_numbers = true, long)]
     refractory_us: Option<i64>,
-    /// Replace existing output files (without it, an existing output is refused).
-    #[arg(long)]
-    force: bool,
+    #[command(flatten)]
+    force: ForceOption,
 }
 
 pub fn run_filter(a: FilterArgs) -> anyhow::Result<()> {
     check_distinct(&a.input, &a.output)?;
-    super::refuse_existing([a.output.as_path()], a.force)?;
+    refuse_existing([a.output.as_path()], a.force.force)?;
     let start = Instant::now();
     let start_mode = ba_start(a.ba_empty_start);
     let c = filter_file(
@@ -218,6 +221,7 @@ pub fn run_filter(a: FilterArgs) -> anyhow::Result<()> {
 }
 
 #[derive(Debug, Args)]
+#[command(mut_args(help("out", "Write the 49 centres as a JSON list of [x, y] (px)")))]
 pub struct LayoutArgs {
     /// Calibration recording (any event file).
     input: PathBuf,
@@ -227,21 +231,20 @@ pub struct LayoutArgs {
     /// Receptive-field radius (px); the paper's fields are 6 px in diameter.
     #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long, default_value_t = 3.0)]
     rf_radius_px: f64,
-    /// Write the 49 centres as a JSON list of [x, y] (px).
-    #[arg(long)]
-    out: Option<PathBuf>,
-    /// Replace existing output files (without it, an existing output is refused).
-    #[arg(long)]
-    force: bool,
+    #[command(flatten)]
+    out: OutOption,
+    #[command(flatten)]
+    force: ForceOption,
 }
 
 pub fn run_layout(a: LayoutArgs) -> anyhow::Result<()> {
-    if let Some(path) = &a.out {
+    let out = a.out.out.as_deref();
+    if let Some(path) = out {
         check_distinct(&a.input, path)?;
     }
-    super::refuse_existing(a.out.as_deref(), a.force)?;
+    refuse_existing(out, a.force.force)?;
     let layout = layout_from("auto", &a.input, a.calibration_ms, a.rf_radius_px)?;
-    if let Some(path) = &a.out {
+    if let Some(path) = out {
         neurotac_core::io::write(path, layout.to_json())
             .with_context(|| format!("writing {}", path.display()))?;
         println!("wrote {}", path.display());

@@ -2,7 +2,7 @@
 //! destination and renamed into place only when complete, so a failed or interrupted run never
 //! leaves a folder that looks finished; an existing destination is replaced only when asked.
 
-use super::ReportError;
+use super::error::ReportError;
 use super::png::PngRenderer;
 use std::path::Path;
 

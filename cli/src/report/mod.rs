@@ -1,10 +1,12 @@
 //! A reproduction's report folder ([`write_report`]): `report.json` (every number), CSV tables
 //! ([`csv`]), figures as SVG ([`svg`], [`figures`]) and PNG ([`png`]), and a `report.md`
 //! ([`markdown`]) that embeds them with the Markdown tables of [`tables`] and
-//! [`class_tables`]; the folder is written atomically ([`folder`]).
+//! [`class_tables`]; the folder is written atomically ([`folder`]), and every failure is a
+//! [`ReportError`].
 
 pub mod class_tables;
 pub mod csv;
+mod error;
 pub mod figures;
 pub mod folder;
 pub mod markdown;
@@ -17,32 +19,10 @@ use folder::{write, write_figure, write_folder_atomically};
 use neurotac_experiments::menu::Menu;
 use neurotac_experiments::reproduce::{Report, SetReport};
 use png::PngRenderer;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use svg::panels;
 
-/// Why a report could not be written.
-#[derive(Debug, thiserror::Error)]
-pub enum ReportError {
-    /// The destination exists and replacing it was not asked for.
-    #[error("{0} already exists (use --force to replace it)")]
-    Exists(PathBuf),
-    /// A figure could not be rasterised.
-    #[error("cannot draw {path}")]
-    Png {
-        /// The PNG's path.
-        path: PathBuf,
-        /// Why.
-        source: png::PngError,
-    },
-    /// A file or folder could not be written.
-    #[error("cannot write {path}")]
-    Io {
-        /// The path.
-        path: PathBuf,
-        /// The I/O error.
-        source: std::io::Error,
-    },
-}
+pub use error::ReportError;
 
 /// Writes `report` into the folder `out` atomically (see [`folder`]); an existing `out` is
 /// replaced only with `force`.

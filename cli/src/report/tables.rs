@@ -432,7 +432,7 @@ pub(crate) mod tests {
         );
     }
 
-    /// Issue 12: a choice on a search bound is flagged, one inside is not.
+    /// A choice on a search bound is flagged, one inside is not.
     #[test]
     fn choices_on_a_search_bound_are_flagged() {
         let mut set = set_result("natural");
@@ -462,7 +462,7 @@ pub(crate) mod tests {
         );
     }
 
-    /// Issue 12: every class's intensive mean is shown, and a fall with grid size is named.
+    /// Every class's intensive mean is shown, and a fall with grid size is named.
     #[test]
     fn every_intensive_mean_is_shown_and_monotonicity_is_checked() {
         let mut set = set_result("artificial");
@@ -483,7 +483,7 @@ pub(crate) mod tests {
         assert!(intensive_table(&set).contains("| cotton | 10.00 | — |"));
     }
 
-    /// Issue 12: a --quick run's table says it is not comparable with the paper's.
+    /// A --quick run's table says it is not comparable with the paper's.
     #[test]
     fn a_quick_tables_paper_column_is_marked() {
         let set = set_report(set_result("artificial"), "test", true);

@@ -1,5 +1,5 @@
 //! Calibration of the simulator's three global parameters, each on one of the paper's three
-//! intensive means and nothing else (spec §5 calibration rule; issue 12):
+//! intensive means and nothing else (spec §5 calibration rule):
 //!
 //! | parameter | anchor | target (spikes/taxel) |
 //! |---|---|---|
@@ -14,7 +14,7 @@
 //! 1 % or `rounds` are spent. Every other parameter, and every accuracy, confusion matrix and
 //! chosen Δt / τ / cos θ, is a held-out prediction.
 
-use super::mean;
+use super::statistics::mean;
 use neurotac_experiments::datasets::{
     DatasetsError, TextureSet, TrialJob, camera_seed, jobs_for, map_trials,
 };

@@ -2,6 +2,7 @@
 //! breakdown, onset-burst timing, noise kept by the BA filter, per-pixel sanity and the
 //! periodicity of the contact pins' event rate (spec §5, statistics 1 and 3–8).
 
+use super::statistics::spearman;
 use neurotac_experiments::datasets::DatasetsError;
 use neurotac_sensor::filter::BackgroundActivityFilter;
 use neurotac_sensor::sim::{
@@ -301,7 +302,7 @@ fn release_order(onset: &OnsetFacts) -> Option<f64> {
         .zip(&onset.release_s)
         .filter_map(|(p, &a)| p.map(|p| (p, a)))
         .unzip();
-    (predicted.len() >= 5).then(|| super::spearman(&predicted, &actual))
+    (predicted.len() >= 5).then(|| spearman(&predicted, &actual))
 }
 
 /// Median over the pins the front reaches of |actual − predicted release time| over the

@@ -6,7 +6,8 @@
 //! Accuracy: spike-count error and the mean / max |t − t_true| over the spikes both runs have
 //! (k-th to k-th). Speed: updates per second of 100 000 such neurons on one thread.
 
-use super::{Table, TradeoffError, mark_front, write_trade};
+use super::error::TradeoffError;
+use super::table::{Table, mark_front, write_trade};
 use crate::bench::BenchError;
 use crate::report::svg::{Axis, Chart, Marker, PALETTE, Series, panels};
 use neurotac_experiments::neuron_setup::{NeuronKind, NeuronSetup, Precision};

@@ -7,7 +7,8 @@
 //! the nearest signal event of the same pixel and polarity in the reference run (tolerance
 //! 0.002); the difference in event counts is reported apart.
 
-use super::{Table, TradeoffError, error_series, mark_front, write_trade};
+use super::error::TradeoffError;
+use super::table::{Table, error_series, mark_front, write_trade};
 use crate::report::svg::{Axis, Chart, Marker, panels};
 use neurotac_experiments::datasets::{DatasetsError, TextureSet, camera_seed, trial_seed};
 use neurotac_experiments::threads::{ThreadPoolError, with_threads};

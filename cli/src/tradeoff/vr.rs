@@ -8,7 +8,8 @@
 //! `|D_h − D| / D` over every pair of distinct samples with `D > 0` (mean and max). The Pareto
 //! front is taken on (matrix speed, LOO accuracy).
 
-use super::{Table, TradeoffError, error_series, mark_front, write_trade};
+use super::error::TradeoffError;
+use super::table::{Table, error_series, mark_front, write_trade};
 use crate::report::svg::{Axis, Chart, Marker, panels};
 use neurotac_core::coding::TraceRecord;
 use neurotac_core::distance::check_cos;

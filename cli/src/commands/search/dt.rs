@@ -1,7 +1,7 @@
 //! `neurotac search dt`: the temporal coding's Δt brute force.
 
 use crate::commands::args;
-use crate::commands::load_labelled;
+use crate::commands::inputs::load_labelled;
 use clap::Args;
 use neurotac_core::{Knn, Ranks};
 use neurotac_experiments::coding::sample_duration_ms;

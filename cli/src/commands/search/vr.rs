@@ -1,7 +1,9 @@
 //! `neurotac search vr`: Bayesian optimisation of the spatiotemporal coding's (τ, cos θ).
 
 use crate::commands::args;
-use crate::commands::load_labelled;
+use crate::commands::inputs::load_labelled;
+use crate::commands::options::{ForceOption, SeedOption, help};
+use crate::commands::outputs::refuse_existing;
 use anyhow::Context;
 use clap::Args;
 use neurotac_core::{Knn, Ranks};
@@ -12,6 +14,7 @@ use neurotac_experiments::timing::timed;
 use std::path::PathBuf;
 
 #[derive(Debug, Args)]
+#[command(mut_args(help("seed", "Seed of the initial design")))]
 pub struct VrArgs {
     /// Spike dataset (JSON or binary), labelled.
     #[arg(long)]
@@ -22,9 +25,8 @@ pub struct VrArgs {
     /// Random initial evaluations.
     #[arg(value_parser = args::positive_count, allow_negative_numbers = true, long, default_value_t = 10)]
     initial: usize,
-    /// Seed of the initial design.
-    #[arg(long, default_value_t = 1)]
-    seed: u64,
+    #[command(flatten)]
+    seed: SeedOption,
     /// Smallest τ (s).
     #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long, default_value_t = 0.010)]
     tau_min: f64,
@@ -46,9 +48,8 @@ pub struct VrArgs {
     /// Write the convergence trace (JSON) here.
     #[arg(long)]
     trace: Option<PathBuf>,
-    /// Replace existing output files (without it, an existing output is refused).
-    #[arg(long)]
-    force: bool,
+    #[command(flatten)]
+    force: ForceOption,
     /// Print one JSON object instead of text.
     #[arg(long)]
     json: bool,
@@ -60,13 +61,13 @@ pub struct VrArgs {
 pub fn run(args: VrArgs, ranks: &dyn Ranks) -> anyhow::Result<()> {
     if let Some(trace) = &args.trace {
         neurotac_core::io::check_distinct(&args.input, trace)?;
-        crate::commands::refuse_existing([trace.as_path()], args.force)?;
+        refuse_existing([trace.as_path()], args.force.force)?;
     }
     let data = load_labelled(&args.input)?;
     let config = BayesConfig {
         epochs: args.epochs,
         initial: args.initial,
-        seed: args.seed,
+        seed: args.seed.seed,
         tau_min_s: args.tau_min,
         tau_max_s: args.tau_max,
         tau_step_s: args.tau_step,
@@ -100,7 +101,7 @@ pub fn run(args: VrArgs, ranks: &dyn Ranks) -> anyhow::Result<()> {
     println!(
         "Bayesian optimisation, {} evaluations (seed {}): best τ = {:.3} s, cos θ = {:.2}, LOO accuracy {:.1} %",
         result.trace.len(),
-        args.seed,
+        args.seed.seed,
         result.best_tau_s,
         result.best_cos,
         100.0 * result.best_value

@@ -2,7 +2,9 @@
 //! the quick ones), writes each trade's files to a sub-folder of DIR and the summary of all of
 //! them to DIR/tradeoff.md.
 
-use crate::commands::load_dataset;
+use crate::commands::inputs::load_dataset;
+use crate::commands::options::{ForceOption, TradeoffOutOption, help};
+use crate::commands::outputs::refuse_existing;
 use crate::commands::progress::Bars;
 use clap::Args;
 use neurotac_cli::tradeoff::{TradeoffAllConfig, run_all};
@@ -10,17 +12,19 @@ use neurotac_experiments::datasets::synthetic::{SyntheticConfig, synthetic_datas
 use std::path::PathBuf;
 
 #[derive(Debug, Args)]
+#[command(mut_args(help(
+    "out",
+    "Output folder (created if needed): tradeoff.md and one sub-folder per trade"
+)))]
 pub struct AllArgs {
-    /// Output folder (created if needed): tradeoff.md and one sub-folder per trade.
-    #[arg(long, default_value = "tradeoff")]
-    out: PathBuf,
+    #[command(flatten)]
+    out: TradeoffOutOption,
     /// Each trade's quick settings (a few seconds in all) instead of the defaults (about half a
     /// minute).
     #[arg(long)]
     quick: bool,
-    /// Replace existing output files (without it, an existing output is refused).
-    #[arg(long)]
-    force: bool,
+    #[command(flatten)]
+    force: ForceOption,
     /// Spike dataset for the Van Rossum trade (default: a seeded synthetic one, 100 samples of
     /// 49 taxels over 4.5 s, 10 classes; 60 samples with --quick).
     #[arg(long)]
@@ -28,7 +32,7 @@ pub struct AllArgs {
 }
 
 pub fn run(args: AllArgs) -> anyhow::Result<()> {
-    crate::commands::refuse_existing([args.out.as_path()], args.force)?;
+    refuse_existing([args.out.out.as_path()], args.force.force)?;
     let config = TradeoffAllConfig::new(args.quick);
     let data = match &args.vr_input {
         Some(path) => load_dataset(path)?,
@@ -38,8 +42,8 @@ pub fn run(args: AllArgs) -> anyhow::Result<()> {
             ..SyntheticConfig::default()
         }),
     };
-    let all = run_all(&config, &data, &args.out, &Bars::new())?;
+    let all = run_all(&config, &data, &args.out.out, &Bars::new())?;
     println!("{}", all.summary);
-    println!("wrote {}", args.out.join("tradeoff.md").display());
+    println!("wrote {}", args.out.out.join("tradeoff.md").display());
     Ok(())
 }

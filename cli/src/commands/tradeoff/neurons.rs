@@ -1,24 +1,23 @@
 //! `neurotac tradeoff neurons`: writes neurons.csv, neurons.md, neurons.svg and neurons.png.
 
 use crate::commands::args;
+use crate::commands::options::{ForceOption, TradeoffOutOption};
+use crate::commands::outputs::refuse_existing;
 use clap::Args;
 use neurotac_cli::tradeoff::neurons::{NeuronTradeoffConfig, quick, report, to_markdown};
-use std::path::PathBuf;
 
 #[derive(Debug, Args)]
 pub struct NeuronsArgs {
-    /// Output folder (created if needed).
-    #[arg(long, default_value = "tradeoff")]
-    out: PathBuf,
+    #[command(flatten)]
+    out: TradeoffOutOption,
     /// Simulated time of each accuracy run (s).
     #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long, default_value_t = 1.0)]
     duration: f64,
     /// Fewer time steps and smaller speed runs (a few seconds).
     #[arg(long)]
     quick: bool,
-    /// Replace existing output files (without it, an existing output is refused).
-    #[arg(long)]
-    force: bool,
+    #[command(flatten)]
+    force: ForceOption,
 }
 
 pub fn run(args: NeuronsArgs) -> anyhow::Result<()> {
@@ -30,8 +29,11 @@ pub fn run(args: NeuronsArgs) -> anyhow::Result<()> {
     if args.quick {
         quick(&mut config);
     }
-    crate::commands::refuse_existing([args.out.join("neurons.csv").as_path()], args.force)?;
-    let rows = report(&config, &args.out)?;
+    refuse_existing(
+        [args.out.out.join("neurons.csv").as_path()],
+        args.force.force,
+    )?;
+    let rows = report(&config, &args.out.out)?;
     let markdown = to_markdown(&rows, config.speed_neurons);
     let front_end = markdown.find("\n## Every point").unwrap_or(markdown.len());
     println!("{}", &markdown[..front_end]);
@@ -39,7 +41,7 @@ pub fn run(args: NeuronsArgs) -> anyhow::Result<()> {
         "{} points in {:.1} s → {}/neurons.{{csv,md,svg,png}}",
         rows.len(),
         start.elapsed().as_secs_f64(),
-        args.out.display()
+        args.out.out.display()
     );
     Ok(())
 }

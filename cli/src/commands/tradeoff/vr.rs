@@ -3,7 +3,7 @@
 //! on a simulated set (`--set`) or a labelled dataset (`--input`).
 
 use crate::commands::args;
-use crate::commands::load_labelled;
+use crate::commands::inputs::load_labelled;
 use clap::Args;
 use neurotac_cli::tradeoff::vr::{VrTradeoffConfig, measure, to_markdown};
 use neurotac_experiments::datasets::simulated::{TextureSet, default_cache_dir, load_or_simulate};
