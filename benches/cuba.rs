@@ -19,9 +19,11 @@ fn cuba_1s(c: &mut Criterion) {
             b.iter_custom(|iters| {
                 (0..iters)
                     .map(|_| {
-                        let r = with_threads(threads, || cuba(CubaConfig::default()))
-                            .expect("pool")
-                            .expect("CUBA builds");
+                        let r = with_threads(threads, || {
+                            cuba(CubaConfig::default(), &neurotac_core::OneProcess)
+                        })
+                        .expect("pool")
+                        .expect("CUBA builds");
                         Duration::from_secs_f64(r.run_s)
                     })
                     .sum()

@@ -106,8 +106,14 @@ fn afferent_activity(c: &mut Criterion) {
             .into_iter()
             .flat_map(|m| [(m, ("clock", false)), (m, ("event", true))])
         {
-            let (mut net, _) =
-                afferent_network(&taxels, config, DT, event_driven).expect("valid network");
+            let (mut net, _) = afferent_network(
+                &taxels,
+                config,
+                DT,
+                event_driven,
+                &neurotac_core::OneProcess,
+            )
+            .expect("valid network");
             g.bench_function(BenchmarkId::new(format!("{model}_{mode}"), active), |b| {
                 b.iter(|| {
                     net.reset();

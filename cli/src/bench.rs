@@ -8,8 +8,7 @@
 use neurotac_core::ranks::all_gather_f64;
 use neurotac_core::{
     Connectivity, ExpSynapse, GraphError, ModelError, MultiSpikeTrain, Network, NetworkBuilder,
-    NetworkConfig, OneProcess, PopulationId, Ranks, RanksError, ReadoutId, SpikeArrayInput,
-    SpikeRecorder,
+    NetworkConfig, PopulationId, Ranks, RanksError, ReadoutId, SpikeArrayInput, SpikeRecorder,
 };
 use neurotac_experiments::afferents::{AfferentConfig, afferent_population};
 use neurotac_experiments::neuron_setup::{NeuronKind, NeuronSetup, Precision};
@@ -193,27 +192,15 @@ pub struct ActivityBenchResult {
 
 /// The afferent pipeline's network: `taxels` → the afferents of `config` (exponential
 /// synapses; [`AfferentConfig::lif`]: τ 5 ms, weight 5, exact, f64) → spike recorder, clock- or
-/// event-driven, at step `dt_s`.
+/// event-driven, at step `dt_s`, built for `ranks` ([`NetworkBuilder::build_partitioned`]: the
+/// taxels replicated, the afferents split into blocks; `&OneProcess` for one process); run it
+/// with [`Network::run`] on that group. Every rank's recorder ends with every afferent's spikes.
 pub fn afferent_network(
     taxels: &MultiSpikeTrain,
     config: AfferentConfig,
     dt_s: f64,
     event_driven: bool,
-) -> Result<(Network, ReadoutId<SpikeRecorder>), GraphError> {
-    afferent_network_on(taxels, config, dt_s, event_driven, 0, 1)
-}
-
-/// [`afferent_network`] for rank `rank` of `size` ranks
-/// ([`NetworkBuilder::build_partitioned`]: the taxels replicated, the afferents split into
-/// blocks); run it with [`Network::run`] on that group. Every rank's recorder ends with
-/// every afferent's spikes.
-pub fn afferent_network_on(
-    taxels: &MultiSpikeTrain,
-    config: AfferentConfig,
-    dt_s: f64,
-    event_driven: bool,
-    rank: usize,
-    size: usize,
+    ranks: &dyn Ranks,
 ) -> Result<(Network, ReadoutId<SpikeRecorder>), GraphError> {
     let mut b = NetworkBuilder::new();
     b.event_driven(event_driven);
@@ -221,7 +208,7 @@ pub fn afferent_network_on(
     let afferents = afferent_population(&mut b, input, taxels.n_channels(), config)?;
     let spikes = b.record_spikes(afferents)?;
     Ok((
-        b.build_partitioned(NetworkConfig { dt_s }, rank, size)?,
+        b.build_partitioned(NetworkConfig { dt_s }, ranks.rank(), ranks.size())?,
         spikes,
     ))
 }
@@ -259,7 +246,13 @@ pub fn afferent_activity(
     }
     let taxels = activity_taxels(n, active, rate_hz, duration_s, seed);
     let run = |event_driven: bool| -> Result<(ActivityRun, Vec<(u32, f64)>), BenchError> {
-        let (mut net, spikes) = afferent_network(&taxels, config, dt_s, event_driven)?;
+        let (mut net, spikes) = afferent_network(
+            &taxels,
+            config,
+            dt_s,
+            event_driven,
+            &neurotac_core::OneProcess,
+        )?;
         let (result, wall_s) = with_threads(1, || {
             let start = Instant::now();
             let result = net.run(duration_s, &neurotac_core::OneProcess);
@@ -430,15 +423,11 @@ pub fn cuba_builder<F: Real>(config: &CubaConfig) -> Result<CubaBuilder, GraphEr
     Ok((b, [exc, inh], recorders))
 }
 
-/// Builds and runs the CUBA network in one process.
-pub fn cuba(config: CubaConfig) -> Result<CubaResult, BenchError> {
-    cuba_on(config, &OneProcess)
-}
-
-/// Builds and runs the CUBA network partitioned over `ranks` (each rank builds and steps its
-/// block of each population; see [`NetworkBuilder::build_partitioned`]). Every rank of the
-/// group must call it; each returns the same spikes and synapse count, and its own timings.
-pub fn cuba_on(config: CubaConfig, ranks: &dyn Ranks) -> Result<CubaResult, BenchError> {
+/// Builds and runs the CUBA network partitioned over `ranks` (`&OneProcess` for one process;
+/// each rank builds and steps its block of each population, see
+/// [`NetworkBuilder::build_partitioned`]). Every rank of the group must call it; each returns
+/// the same spikes and synapse count, and its own timings.
+pub fn cuba(config: CubaConfig, ranks: &dyn Ranks) -> Result<CubaResult, BenchError> {
     run_cuba(config, ranks).map(|(result, _, _)| result)
 }
 
@@ -456,8 +445,8 @@ impl CubaSpikes {
     }
 }
 
-/// [`cuba_on`], with every spike of the run.
-pub fn cuba_spikes_on(
+/// [`cuba`], with every spike of the run.
+pub fn cuba_spikes(
     config: CubaConfig,
     ranks: &dyn Ranks,
 ) -> Result<(CubaResult, CubaSpikes), BenchError> {

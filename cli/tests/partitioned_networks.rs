@@ -1,11 +1,9 @@
 //! The CUBA network and the afferent pipeline partitioned over 1, 2 and 3 ranks (threads of
 //! this process, [`ThreadRanks`]) give every rank exactly the spikes of one process.
 
-use neurotac_cli::bench::{
-    CubaConfig, activity_taxels, afferent_network, afferent_network_on, cuba, cuba_spikes_on,
-};
+use neurotac_cli::bench::{CubaConfig, activity_taxels, afferent_network, cuba, cuba_spikes};
+use neurotac_core::OneProcess;
 use neurotac_core::ranks::ThreadRanks;
-use neurotac_core::{OneProcess, Ranks};
 use neurotac_experiments::afferents::AfferentConfig;
 
 #[test]
@@ -14,16 +12,16 @@ fn cuba_spikes_as_in_one_process_on_1_2_and_3_ranks() {
         duration_s: 0.05,
         ..CubaConfig::default()
     };
-    let (one, spikes) = cuba_spikes_on(config, &OneProcess).unwrap();
+    let (one, spikes) = cuba_spikes(config, &OneProcess).unwrap();
     assert!(
         spikes.excitatory.len() > 1000 && spikes.inhibitory.len() > 200,
         "{one:?}: CUBA must be active"
     );
     assert_eq!((one.ranks, one.exchanges, one.exchange_s), (1, 0, 0.0));
-    let plain = cuba(config).unwrap();
+    let plain = cuba(config, &neurotac_core::OneProcess).unwrap();
     assert_eq!((plain.spikes, plain.synapses), (one.spikes, one.synapses));
     for size in 1..=3 {
-        let per_rank = ThreadRanks::run(size, |ranks| cuba_spikes_on(config, ranks).unwrap());
+        let per_rank = ThreadRanks::run(size, |ranks| cuba_spikes(config, ranks).unwrap());
         for (rank, (result, got)) in per_rank.into_iter().enumerate() {
             assert!(
                 got == spikes,
@@ -50,21 +48,21 @@ fn the_afferent_pipeline_spikes_as_in_one_process_on_1_2_and_3_ranks() {
     let taxels = activity_taxels(49, 0.6, 40.0, duration_s, 3);
     for config in [AfferentConfig::lif(), AfferentConfig::izhikevich()] {
         for event_driven in [false, true] {
-            let (mut net, id) = afferent_network(&taxels, config, dt_s, event_driven).unwrap();
+            let (mut net, id) = afferent_network(
+                &taxels,
+                config,
+                dt_s,
+                event_driven,
+                &neurotac_core::OneProcess,
+            )
+            .unwrap();
             net.run(duration_s, &neurotac_core::OneProcess).unwrap();
             let one = net.readout(id).unwrap().spikes().to_vec();
             assert!(one.len() > 100, "{} spikes", one.len());
             for size in 1..=3 {
                 let per_rank = ThreadRanks::run(size, |ranks| {
-                    let (mut net, id) = afferent_network_on(
-                        &taxels,
-                        config,
-                        dt_s,
-                        event_driven,
-                        ranks.rank(),
-                        size,
-                    )
-                    .unwrap();
+                    let (mut net, id) =
+                        afferent_network(&taxels, config, dt_s, event_driven, ranks).unwrap();
                     net.run(duration_s, ranks).unwrap();
                     let active = !net.event_driven_populations().is_empty();
                     (net.readout(id).unwrap().spikes().to_vec(), active)

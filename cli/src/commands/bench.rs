@@ -3,9 +3,7 @@
 use super::options::{SeedOption, ThreadsOption, help};
 use crate::commands::args;
 use clap::{Args, Subcommand};
-use neurotac_cli::bench::{
-    CubaConfig, afferent_activity, cuba_on, cuba_spikes_on, neuron_throughput,
-};
+use neurotac_cli::bench::{CubaConfig, afferent_activity, cuba, cuba_spikes, neuron_throughput};
 use neurotac_cli::peers::run_brian2;
 use neurotac_core::Ranks;
 use neurotac_experiments::afferents::AfferentConfig;
@@ -227,9 +225,9 @@ fn cuba_network(a: CubaArgs, ranks: &dyn Ranks) -> anyhow::Result<()> {
     };
     let (r, spikes, threads) =
         neurotac_experiments::threads::with_threads(a.run.threads.threads, || {
-            let (mut best, spikes) = cuba_spikes_on(config, ranks)?;
+            let (mut best, spikes) = cuba_spikes(config, ranks)?;
             for _ in 1..a.run.repeats {
-                let again = cuba_on(config, ranks)?;
+                let again = cuba(config, ranks)?;
                 if again.run_s < best.run_s {
                     best = again;
                 }
