@@ -80,6 +80,7 @@
 //! [`ModelError::Diverged`] (`neurotac neuron --model izhikevich --current=-1e5` at 0.1 ms, or
 //! `--current 0 --dt 1e-2`, are such runs).
 
+use crate::family::{AfferentPreset, Benchmark, ModelFamily};
 use crate::integrate::{self, Integrator};
 use crate::population::{
     BlockModel, BlockPopulation, BlockStep, Drive, InitialPotential, for_each_spike, unit_fraction,
@@ -379,6 +380,58 @@ impl<F: Real> Izhikevich<F> {
     /// `(v, u)` of neuron `i` (after `prepare`).
     pub fn state_of(&self, i: usize) -> (f64, f64) {
         (self.variable(0, i), self.variable(1, i))
+    }
+}
+
+/// Izhikevich at every precision, with its presets, benchmark and afferent ([`ModelFamily`]);
+/// `Model<F>` is [`IzhikevichModel<F>`].
+#[derive(Debug, Clone, Copy, Default)]
+pub struct IzhikevichFamily;
+
+impl ModelFamily for IzhikevichFamily {
+    type Params = IzhikevichParams;
+    type Model<F: Real> = IzhikevichModel<F>;
+
+    const LABEL: &'static str = "Izhikevich";
+    const INTEGRATORS: &'static [Integrator] = &[
+        Integrator::Izhikevich2003,
+        Integrator::Euler,
+        Integrator::ExponentialEuler,
+        Integrator::Rk2,
+        Integrator::Rk4,
+    ];
+    const PRESETS: &'static [(&'static str, IzhikevichParams)] = &IzhikevichParams::PRESETS;
+
+    /// Brian2's Izhikevich benchmark: regular spiking ([`IzhikevichParams::rs`]) under
+    /// `I = 10` mV/ms from `v = −65 mV` (tonic firing at 23 Hz).
+    fn benchmark() -> Benchmark<IzhikevichParams> {
+        Benchmark {
+            params: IzhikevichParams::rs(),
+            current: 10.0,
+            initial: InitialPotential::Constant(-65.0),
+        }
+    }
+
+    /// Regular spiking ([`IzhikevichParams::rs`]), Izhikevich's 2003 scheme, starting at its
+    /// resting point (−70 mV; an afferent without input is at rest), weight 20 (mV/ms): one RS
+    /// spike per lone taxel event from rest, and again for an event 20 ms later (a smaller
+    /// weight, 15, is silenced by adaptation on the second).
+    fn afferent() -> AfferentPreset<IzhikevichParams> {
+        let rs = IzhikevichParams::rs();
+        let rest = rs
+            .resting_potential()
+            .expect("RS has a stable resting point");
+        AfferentPreset {
+            params: rs,
+            initial: InitialPotential::Constant(rest),
+            weight: 20.0,
+            description: "Izhikevich RS afferents",
+            bench_description: "Izhikevich RS afferents (izhikevich2003, f64, from rest, held at rest within 1e-3 mV)",
+        }
+    }
+
+    fn preset(name: &str) -> Option<IzhikevichParams> {
+        IzhikevichParams::named(name)
     }
 }
 

@@ -95,18 +95,24 @@ impl IzhikevichParams {
         resting_point(self.a, self.b).map(|(v, _, _)| v)
     }
 
-    /// The preset with this (case-insensitive) name: rs, ib, ch, fs, lts, tc, rz.
+    /// The named presets by their lower-case names, in the order of Izhikevich (2003), Fig. 2.
+    pub const PRESETS: [(&'static str, Self); 7] = [
+        ("rs", Self::rs()),
+        ("ib", Self::ib()),
+        ("ch", Self::ch()),
+        ("fs", Self::fs()),
+        ("lts", Self::lts()),
+        ("tc", Self::tc()),
+        ("rz", Self::rz()),
+    ];
+
+    /// The preset of [`PRESETS`](Self::PRESETS) with this (case-insensitive) name: rs, ib, ch,
+    /// fs, lts, tc, rz.
     pub fn named(name: &str) -> Option<Self> {
-        Some(match name.to_ascii_lowercase().as_str() {
-            "rs" => Self::rs(),
-            "ib" => Self::ib(),
-            "ch" => Self::ch(),
-            "fs" => Self::fs(),
-            "lts" => Self::lts(),
-            "tc" => Self::tc(),
-            "rz" => Self::rz(),
-            _ => return None,
-        })
+        Self::PRESETS
+            .iter()
+            .find(|(key, _)| key.eq_ignore_ascii_case(name))
+            .map(|&(_, params)| params)
     }
 
     /// Checks the fields (finite, representable in `F`, consistent); run by `prepare`.
