@@ -192,8 +192,8 @@ pub struct ActivityBenchResult {
 }
 
 /// The afferent pipeline's network: `taxels` → the afferents of `config` (exponential
-/// synapses; [`AfferentConfig::lif`]: τ 5 ms, weight 5, exact, f64) → spike recorder, clock- or
-/// event-driven, at step `dt_s`.
+/// synapses, τ 5 ms and the model's weight; its default integrator, f64: [`AfferentConfig::of`])
+/// → spike recorder, clock- or event-driven, at step `dt_s`.
 pub fn afferent_network(
     taxels: &MultiSpikeTrain,
     config: AfferentConfig,

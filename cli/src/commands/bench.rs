@@ -295,13 +295,8 @@ fn activity_bench(a: &NeuronsArgs, activity: f64) -> anyhow::Result<()> {
     if a.run.brian2.is_some() {
         anyhow::bail!("--activity has no Brian2 counterpart; drop --brian2");
     }
-    let (config, afferents) = match a.model {
-        NeuronKind::Lif => (AfferentConfig::lif(), "LIF afferents (exact, f64)"),
-        NeuronKind::Izhikevich => (
-            AfferentConfig::izhikevich(),
-            "Izhikevich RS afferents (izhikevich2003, f64, from rest, held at rest within 1e-3 mV)",
-        ),
-    };
+    let config = AfferentConfig::of(a.model);
+    let afferents = config.bench_description();
     let r = afferent_activity(config, a.n, activity, a.rate, a.duration, a.dt, 1)?;
     if a.run.json {
         println!("{}", serde_json::to_string(&r)?);
