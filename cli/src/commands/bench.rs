@@ -8,6 +8,7 @@ use neurotac_cli::bench::{
 use neurotac_cli::peers::run_brian2;
 use neurotac_core::Ranks;
 use neurotac_experiments::afferents::AfferentConfig;
+use neurotac_experiments::menu::Menu;
 use neurotac_experiments::neuron_setup::{NeuronKind, Precision};
 use neurotac_neurons::Integrator;
 use serde_json::{Value, json};
@@ -288,8 +289,13 @@ fn cuba_network(a: CubaArgs, ranks: &dyn Ranks) -> anyhow::Result<()> {
 /// `bench neurons --activity F`: the afferent pipeline clock-driven against event-driven.
 fn activity_bench(a: &NeuronsArgs, activity: f64) -> anyhow::Result<()> {
     if a.integrator.is_some() {
+        let own: Vec<String> = NeuronKind::ALL
+            .iter()
+            .map(|k| format!("{} {}", k.label(), k.default_integrator()))
+            .collect();
         anyhow::bail!(
-            "--activity runs the afferent pipeline with its own integrators (LIF exact, Izhikevich izhikevich2003): drop --integrator"
+            "--activity runs the afferent pipeline with its own integrators ({}): drop --integrator",
+            own.join(", ")
         );
     }
     if a.run.brian2.is_some() {
