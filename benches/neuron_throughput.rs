@@ -1,15 +1,17 @@
-//! Neuron updates per second (N × steps / s) on one core: LIF and Izhikevich, f32 and f64,
-//! every integrator, N = 10³ … 10⁶ at dt = 0.1 ms; plus 10⁷ neurons (memory-bound) and all
-//! cores at 10⁶. The cases are Brian2's: LIF I = 1.04, Izhikevich RS I = 10.
+//! Neuron updates per second (N × steps / s) on one core: every model of the menu
+//! (`NeuronKind::ALL`: LIF, Izhikevich), f32 and f64, every integrator its reports compare,
+//! N = 10³ … 10⁶ at dt = 0.1 ms; plus 10⁷ neurons (memory-bound) and all cores at 10⁶. The cases
+//! are the models' benchmarks, Brian2's: LIF I = 1.04, Izhikevich RS I = 10.
 //!
-//! `afferent_activity`: the afferent pipeline (10⁴ taxels → exponential synapses → LIF exact or
-//! Izhikevich RS from rest, f64, one core) with 0.1 … 100 % of the taxels firing at 20 Hz,
-//! clock- and event-driven;
+//! `afferent_activity`: the afferent pipeline (10⁴ taxels → exponential synapses → each model's
+//! afferents: LIF exact, Izhikevich RS from rest; f64, one core) with 0.1 … 100 % of the taxels
+//! firing at 20 Hz, clock- and event-driven;
 //! "elem/s" there is the *effective* throughput, N × steps per second, whatever was updated.
 //!
 //! `cargo bench --bench neuron_throughput`; criterion reports "elem/s" = neuron updates/s.
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
+use neurotac::experiments::menu::Menu;
 use neurotac::experiments::neuron_setup::{NeuronKind, NeuronSetup, Precision};
 use neurotac::experiments::threads::with_threads;
 use std::time::Duration;
@@ -53,7 +55,7 @@ fn bench_setup(
 }
 
 fn per_core(c: &mut Criterion) {
-    for kind in [NeuronKind::Lif, NeuronKind::Izhikevich] {
+    for &kind in NeuronKind::ALL {
         for precision in [Precision::F32, Precision::F64] {
             for &integrator in kind.integrators() {
                 let setup = NeuronSetup {
@@ -68,7 +70,7 @@ fn per_core(c: &mut Criterion) {
 }
 
 fn memory_bound_and_all_cores(c: &mut Criterion) {
-    for kind in [NeuronKind::Lif, NeuronKind::Izhikevich] {
+    for &kind in NeuronKind::ALL {
         let setup = NeuronSetup::benchmark(kind, Precision::F32);
         bench_setup(
             c,
@@ -96,14 +98,15 @@ fn afferent_activity(c: &mut Criterion) {
         .warm_up_time(Duration::from_millis(300))
         .measurement_time(Duration::from_secs(1));
     g.throughput(Throughput::Elements(n as u64 * (duration_s / DT) as u64));
-    let models = [
-        ("lif", AfferentConfig::lif()),
-        ("izhikevich", AfferentConfig::izhikevich()),
-    ];
+    let models: Vec<_> = NeuronKind::ALL
+        .iter()
+        .map(|&kind| (kind.name(), AfferentConfig::of(kind)))
+        .collect();
     for active in [0.001, 0.01, 0.1, 1.0] {
         let taxels = activity_taxels(n, active, 20.0, duration_s, 1);
         for ((model, config), (mode, event_driven)) in models
-            .into_iter()
+            .iter()
+            .copied()
             .flat_map(|m| [(m, ("clock", false)), (m, ("event", true))])
         {
             let (mut net, _) = afferent_network(

@@ -191,10 +191,11 @@ pub struct ActivityBenchResult {
 }
 
 /// The afferent pipeline's network: `taxels` → the afferents of `config` (exponential
-/// synapses; [`AfferentConfig::lif`]: τ 5 ms, weight 5, exact, f64) → spike recorder, clock- or
-/// event-driven, at step `dt_s`, built for `ranks` ([`NetworkBuilder::build_partitioned`]: the
-/// taxels replicated, the afferents split into blocks; `&OneProcess` for one process); run it
-/// with [`Network::run`] on that group. Every rank's recorder ends with every afferent's spikes.
+/// synapses, τ 5 ms and the model's weight; its default integrator, f64: [`AfferentConfig::of`])
+/// → spike recorder, clock- or event-driven, at step `dt_s`, built for `ranks`
+/// ([`NetworkBuilder::build_partitioned`]: the taxels replicated, the afferents split into
+/// blocks; `&OneProcess` for one process); run it with [`Network::run`] on that group. Every
+/// rank's recorder ends with every afferent's spikes.
 pub fn afferent_network(
     taxels: &MultiSpikeTrain,
     config: AfferentConfig,

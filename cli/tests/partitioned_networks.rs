@@ -5,6 +5,7 @@ use neurotac_cli::bench::{CubaConfig, activity_taxels, afferent_network, cuba, c
 use neurotac_core::OneProcess;
 use neurotac_core::ranks::ThreadRanks;
 use neurotac_experiments::afferents::AfferentConfig;
+use neurotac_experiments::neuron_setup::NeuronKind;
 
 #[test]
 fn cuba_spikes_as_in_one_process_on_1_2_and_3_ranks() {
@@ -46,7 +47,8 @@ fn cuba_spikes_as_in_one_process_on_1_2_and_3_ranks() {
 fn the_afferent_pipeline_spikes_as_in_one_process_on_1_2_and_3_ranks() {
     let (duration_s, dt_s) = (0.5, 1e-4);
     let taxels = activity_taxels(49, 0.6, 40.0, duration_s, 3);
-    for config in [AfferentConfig::lif(), AfferentConfig::izhikevich()] {
+    // The two models whose afferents are event-driven (an idle neuron is skipped).
+    for config in [NeuronKind::Lif, NeuronKind::Izhikevich].map(AfferentConfig::of) {
         for event_driven in [false, true] {
             let (mut net, id) = afferent_network(
                 &taxels,

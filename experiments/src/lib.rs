@@ -28,7 +28,7 @@
 //! | [`search`] | the Δt brute force ([`search::dt_sweep`]) and Bayesian optimisation of (τ, cos θ) ([`search::bayes`]) |
 //! | [`afferents`] | taxel → afferent networks (the `demo` command, `reproduce --afferents`) |
 //! | [`transduce`] | one event file → taxel spike dataset (`neurotac transduce`), layouts (`layout`), event filtering (`filter`) |
-//! | [`neuron_setup`] | one neuron population set up by model, integrator and precision (bench, `neurotac neuron`, trade-offs) |
+//! | [`neuron_setup`] | the menu of neuron models ([`neuron_setup::NeuronKind`]: one registration line per model, dispatching to its `ModelFamily`); one neuron population set up by model, integrator and precision (bench, `neurotac neuron`, trade-offs) |
 //! | [`progress`] | the [`progress::Progress`] trait every long entry point reports to |
 //! | [`threads`] | [`threads::with_threads`]: work on a pool of a chosen size |
 //! | [`timing`] | wall and CPU time of a piece of work |

@@ -1,77 +1,145 @@
-//! The neuron set-ups shared by benchmarks, single-neuron runs and trade-off reports.
+//! The menu of neuron models, [`NeuronKind`], and the neuron set-ups shared by benchmarks,
+//! single-neuron runs and trade-off reports, [`NeuronSetup`].
 //!
-//! The benchmark cases are the ones Brian2 is measured on:
-//! - LIF `dv/dt = (I − v)/τ`, τ = 10 ms, threshold 1, reset 0, `I = 1.04` constant, `v₀`
-//!   uniform in [0, 1) ([`LifParams::benchmark`]);
-//! - Izhikevich regular spiking ([`IzhikevichParams::rs`]) with `I = 10`, `v₀ = −65 mV`.
+//! The menu is one registration list, the `neuron_models!` invocation in this file: each line
+//! names a variant and the model's [`ModelFamily`], and the enum, its keys and
+//! [`NeuronKind::visit`] are generated from it. Whatever depends on the model — its benchmark
+//! case (Brian2's: LIF `I = 1.04` from `v₀` uniform in [0, 1), [`LifFamily`]; Izhikevich RS
+//! `I = 10` from −65 mV, [`IzhikevichFamily`]), its integrators, presets and afferent set-up —
+//! comes from the family, through code generic over [`ModelFamily`] that [`NeuronKind::visit`]
+//! runs for the choice. A new model is its file in `neurotac-neurons` plus one line here.
 
 use crate::menu::Menu;
 use neurotac_core::{ModelError, SpikeBuffer};
 use neurotac_neurons::{
-    InitialPotential, Integrator, Izhikevich, IzhikevichParams, Lif, LifParams, Population,
+    BlockModel, BlockPopulation, FamilyVisitor, InitialPotential, Integrator, ModelFamily,
+    Population,
 };
+#[cfg(doc)]
+use neurotac_neurons::{IzhikevichFamily, LifFamily};
+use std::fmt;
+use std::str::FromStr;
 
-/// A neuron model family.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize)]
-#[serde(rename_all = "lowercase")]
-pub enum NeuronKind {
-    /// Leaky integrate-and-fire.
-    Lif,
-    /// Izhikevich (2003).
-    Izhikevich,
+/// Generates [`NeuronKind`] from the registration list: the enum (one variant per line, in
+/// menu order), its [`Menu`] keys (each family's [`ModelFamily::KEY`]) and [`NeuronKind::visit`].
+macro_rules! neuron_models {
+    ($($(#[$doc:meta])* $variant:ident => $family:ty),+ $(,)?) => {
+        /// A neuron model family: one choice of the menu, registered with its [`ModelFamily`].
+        /// Serialised as its key (`"lif"`).
+        #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+        pub enum NeuronKind {
+            $($(#[$doc])* $variant,)+
+        }
+
+        impl Menu for NeuronKind {
+            const WHAT: &'static str = "neuron model";
+            const ALL: &'static [NeuronKind] = &[$(NeuronKind::$variant),+];
+            fn key(self) -> &'static str {
+                match self {
+                    $(NeuronKind::$variant => <$family as ModelFamily>::KEY,)+
+                }
+            }
+        }
+
+        impl NeuronKind {
+            /// Runs `visitor` for this choice's [`ModelFamily`].
+            pub fn visit<V: FamilyVisitor>(self, visitor: V) -> V::Output {
+                match self {
+                    $(NeuronKind::$variant => visitor.visit::<$family>(),)+
+                }
+            }
+        }
+    };
 }
 
-impl Menu for NeuronKind {
-    const WHAT: &'static str = "neuron model";
-    const ALL: &'static [NeuronKind] = &[NeuronKind::Lif, NeuronKind::Izhikevich];
-    fn key(self) -> &'static str {
-        match self {
-            NeuronKind::Lif => "lif",
-            NeuronKind::Izhikevich => "izhikevich",
+neuron_models! {
+    /// Leaky integrate-and-fire.
+    Lif => neurotac_neurons::LifFamily,
+    /// Izhikevich (2003).
+    Izhikevich => neurotac_neurons::IzhikevichFamily,
+}
+
+crate::menu_text!(NeuronKind);
+
+impl serde::Serialize for NeuronKind {
+    /// As its key, a unit variant (what `#[serde(rename_all = "lowercase")]` derives).
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        serializer.serialize_unit_variant("NeuronKind", *self as u32, self.key())
+    }
+}
+
+/// What the menu shows of a family ([`ReadFacts`]).
+struct Facts {
+    label: &'static str,
+    default_integrator: Integrator,
+    integrators: &'static [Integrator],
+    benchmark_current: f64,
+}
+
+/// Reads a family's [`Facts`].
+struct ReadFacts;
+
+impl FamilyVisitor for ReadFacts {
+    type Output = Facts;
+    fn visit<Fam: ModelFamily>(self) -> Facts {
+        Facts {
+            label: Fam::LABEL,
+            default_integrator: Fam::default_integrator(),
+            integrators: Fam::INTEGRATORS,
+            benchmark_current: Fam::benchmark().current,
         }
     }
 }
-crate::menu_text!(NeuronKind);
+
+/// The closed-form spike times of the single-neuron benchmark ([`NeuronKind::exact_spike_times`]).
+struct ExactSpikeTimes {
+    duration_s: f64,
+}
+
+impl FamilyVisitor for ExactSpikeTimes {
+    type Output = Option<Vec<f64>>;
+    fn visit<Fam: ModelFamily>(self) -> Option<Vec<f64>> {
+        let b = Fam::benchmark();
+        Fam::exact_spike_times(&b.params, b.current, self.duration_s)
+    }
+}
 
 impl NeuronKind {
+    fn facts(self) -> Facts {
+        self.visit(ReadFacts)
+    }
+
     /// Lower-case name (its [`Menu::key`]).
     pub fn name(self) -> &'static str {
         self.key()
     }
 
-    /// The model's default integrator (exact for LIF, Izhikevich's 2003 scheme).
-    pub fn default_integrator(self) -> Integrator {
-        match self {
-            NeuronKind::Lif => Integrator::Exact,
-            NeuronKind::Izhikevich => Integrator::Izhikevich2003,
-        }
+    /// The name in prose ([`ModelFamily::LABEL`]: `"LIF"`, `"Izhikevich"`).
+    pub fn label(self) -> &'static str {
+        self.facts().label
     }
 
-    /// The integrators the model supports, in report order.
+    /// The model's default integrator (exact for LIF, Izhikevich's 2003 scheme).
+    pub fn default_integrator(self) -> Integrator {
+        self.facts().default_integrator
+    }
+
+    /// The integrators a report compares, the default first ([`ModelFamily::INTEGRATORS`]).
     pub fn integrators(self) -> &'static [Integrator] {
-        match self {
-            NeuronKind::Lif => &[
-                Integrator::Exact,
-                Integrator::Euler,
-                Integrator::Rk2,
-                Integrator::Rk4,
-            ],
-            NeuronKind::Izhikevich => &[
-                Integrator::Izhikevich2003,
-                Integrator::Euler,
-                Integrator::ExponentialEuler,
-                Integrator::Rk2,
-                Integrator::Rk4,
-            ],
-        }
+        self.facts().integrators
     }
 
     /// The benchmark input current (LIF 1.04, Izhikevich 10).
     pub fn benchmark_current(self) -> f64 {
-        match self {
-            NeuronKind::Lif => 1.04,
-            NeuronKind::Izhikevich => 10.0,
-        }
+        self.facts().benchmark_current
+    }
+
+    /// The spike times (s) up to `duration_s` of one benchmark neuron starting at rest
+    /// ([`NeuronSetup::single`]) under the benchmark current, in closed form
+    /// ([`ModelFamily::exact_spike_times`]: LIF's `t_k = k·τ·ln(I/(I − 1))`); `None` when the
+    /// model has none.
+    pub fn exact_spike_times(self, duration_s: f64) -> Option<Vec<f64>> {
+        self.visit(ExactSpikeTimes { duration_s })
     }
 }
 
@@ -104,13 +172,94 @@ impl Precision {
     }
 }
 
+/// The name of a parameter preset of a model of the menu ([`ModelFamily::PRESETS`]:
+/// Izhikevich's rs, ib, ch, fs, lts, tc, rz), checked when parsed (case-insensitively) and
+/// held in lower case. A model without a preset of that name (LIF has none) ignores it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct PresetName(&'static str);
+
+impl PresetName {
+    /// The lower-case name.
+    pub fn as_str(self) -> &'static str {
+        self.0
+    }
+}
+
+impl fmt::Display for PresetName {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.0)
+    }
+}
+
+/// A preset name that no model of the menu has.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("unknown {models} preset '{given}' (expected {expected})")]
+pub struct UnknownPreset {
+    /// The name given.
+    pub given: String,
+    /// The models that have presets, in prose (`"Izhikevich"`).
+    pub models: String,
+    /// Every preset name, as a list ending in "or".
+    pub expected: String,
+}
+
+/// A family's label and preset names.
+struct Presets;
+
+impl FamilyVisitor for Presets {
+    type Output = (&'static str, Vec<&'static str>);
+    fn visit<Fam: ModelFamily>(self) -> Self::Output {
+        (
+            Fam::LABEL,
+            Fam::PRESETS.iter().map(|&(name, _)| name).collect(),
+        )
+    }
+}
+
+impl FromStr for PresetName {
+    type Err = UnknownPreset;
+    fn from_str(given: &str) -> Result<Self, UnknownPreset> {
+        let mut models = Vec::new();
+        let mut names: Vec<&'static str> = Vec::new();
+        for kind in NeuronKind::ALL {
+            let (label, presets) = kind.visit(Presets);
+            if !presets.is_empty() {
+                models.push(label);
+            }
+            for name in presets {
+                if !names.contains(&name) {
+                    names.push(name);
+                }
+            }
+        }
+        if let Some(name) = names.iter().find(|n| n.eq_ignore_ascii_case(given)) {
+            return Ok(PresetName(name));
+        }
+        let expected = match names.split_last() {
+            None => "none".to_owned(),
+            Some((last, [])) => (*last).to_owned(),
+            Some((last, rest)) => format!("{} or {last}", rest.join(", ")),
+        };
+        Err(UnknownPreset {
+            given: given.to_owned(),
+            models: if models.is_empty() {
+                NeuronKind::WHAT.to_owned()
+            } else {
+                models.join(" or ")
+            },
+            expected,
+        })
+    }
+}
+
 /// Everything that defines one neuron population set-up.
 #[derive(Debug, Clone, PartialEq)]
 pub struct NeuronSetup {
     /// Model family.
     pub kind: NeuronKind,
-    /// Izhikevich preset (ignored for LIF).
-    pub preset: IzhikevichParams,
+    /// Named parameter preset; `None`, or a preset the model does not have, runs the model's
+    /// benchmark parameters ([`ModelFamily::benchmark`]). Default `None`.
+    pub preset: Option<PresetName>,
     /// Integrator.
     pub integrator: Integrator,
     /// Precision.
@@ -121,58 +270,80 @@ pub struct NeuronSetup {
     pub initial: InitialPotential,
 }
 
+/// The initial potentials of a benchmark population, or of one neuron at rest.
+struct Initial {
+    single: bool,
+}
+
+impl FamilyVisitor for Initial {
+    type Output = InitialPotential;
+    fn visit<Fam: ModelFamily>(self) -> InitialPotential {
+        let b = Fam::benchmark();
+        if self.single {
+            Fam::at_rest(&b.params)
+        } else {
+            b.initial
+        }
+    }
+}
+
+/// Builds the population of a set-up ([`NeuronSetup::population`]).
+struct Build<'a> {
+    setup: &'a NeuronSetup,
+    n: usize,
+}
+
+impl FamilyVisitor for Build<'_> {
+    type Output = Box<dyn Population>;
+    fn visit<Fam: ModelFamily>(self) -> Box<dyn Population> {
+        let params = self
+            .setup
+            .preset
+            .and_then(|p| Fam::preset(p.as_str()))
+            .unwrap_or_else(|| Fam::benchmark().params);
+        match self.setup.precision {
+            Precision::F32 => self.setup.build::<Fam::Model<f32>>(self.n, params),
+            Precision::F64 => self.setup.build::<Fam::Model<f64>>(self.n, params),
+        }
+    }
+}
+
 impl NeuronSetup {
-    /// The benchmark set-up of `kind` (see the module docs), default integrator, grid times.
+    /// The benchmark set-up of `kind` ([`ModelFamily::benchmark`]: parameters and initial
+    /// potentials), default integrator, grid times.
     pub fn benchmark(kind: NeuronKind, precision: Precision) -> Self {
-        let initial = match kind {
-            NeuronKind::Lif => InitialPotential::Uniform {
-                low: 0.0,
-                high: 1.0,
-                seed: 2020,
-            },
-            NeuronKind::Izhikevich => InitialPotential::Constant(-65.0),
-        };
         Self {
             kind,
-            preset: IzhikevichParams::rs(),
+            preset: None,
             integrator: kind.default_integrator(),
             precision,
             interpolate: false,
-            initial,
+            initial: kind.visit(Initial { single: false }),
         }
     }
 
-    /// One neuron starting at rest (LIF `v = 0`, Izhikevich `v = −65 mV`): the single-neuron
-    /// runs whose truths are known (LIF closed form, fine-step RK4).
+    /// One neuron starting at rest ([`ModelFamily::at_rest`]: LIF `v = 0`, Izhikevich
+    /// `v = −65 mV`): the single-neuron runs whose truths are known (closed forms, fine-step
+    /// RK4).
     pub fn single(kind: NeuronKind, precision: Precision) -> Self {
-        let initial = match kind {
-            NeuronKind::Lif => InitialPotential::Constant(0.0),
-            NeuronKind::Izhikevich => InitialPotential::Constant(-65.0),
-        };
         Self {
-            initial,
+            initial: kind.visit(Initial { single: true }),
             ..Self::benchmark(kind, precision)
         }
     }
 
     /// A population of `n` neurons of this set-up, as a network node.
     pub fn population(&self, n: usize) -> Box<dyn Population> {
-        macro_rules! build {
-            ($model:ident, $float:ty, $params:expr) => {
-                Box::new(
-                    $model::<$float>::new(n, $params)
-                        .with_integrator(self.integrator)
-                        .with_interpolation(self.interpolate)
-                        .with_initial_potential(self.initial.clone()),
-                )
-            };
-        }
-        match (self.kind, self.precision) {
-            (NeuronKind::Lif, Precision::F32) => build!(Lif, f32, LifParams::benchmark()),
-            (NeuronKind::Lif, Precision::F64) => build!(Lif, f64, LifParams::benchmark()),
-            (NeuronKind::Izhikevich, Precision::F32) => build!(Izhikevich, f32, self.preset),
-            (NeuronKind::Izhikevich, Precision::F64) => build!(Izhikevich, f64, self.preset),
-        }
+        self.kind.visit(Build { setup: self, n })
+    }
+
+    fn build<M: BlockModel>(&self, n: usize, params: M::Params) -> Box<dyn Population> {
+        Box::new(
+            BlockPopulation::<M>::new(n, params)
+                .with_integrator(self.integrator)
+                .with_interpolation(self.interpolate)
+                .with_initial_potential(self.initial.clone()),
+        )
     }
 
     /// Runs `n` neurons for `steps` steps of `dt_s` under the constant `current`, without
@@ -218,5 +389,95 @@ impl NeuronSetup {
             times.extend(spikes.fractions().iter().map(|phi| (k as f64 + phi) * dt_s));
         }
         Ok(times)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use neurotac_neurons::{Izhikevich, IzhikevichParams, check_family};
+
+    /// Runs [`check_family`] for a family.
+    struct Check;
+
+    impl FamilyVisitor for Check {
+        type Output = Result<(), String>;
+        fn visit<Fam: ModelFamily>(self) -> Self::Output {
+            check_family::<Fam>()
+        }
+    }
+
+    #[test]
+    fn every_registered_model_is_consistent_and_named_by_its_key() {
+        for &kind in NeuronKind::ALL {
+            kind.visit(Check).unwrap();
+            assert_eq!(kind.key().parse::<NeuronKind>(), Ok(kind));
+            let json = serde_json::to_string(&kind).unwrap();
+            assert_eq!(json, format!("\"{}\"", kind.key()));
+            assert_eq!(kind.integrators()[0], kind.default_integrator());
+        }
+        assert_eq!(
+            NeuronKind::ALL[..2],
+            [NeuronKind::Lif, NeuronKind::Izhikevich]
+        );
+        assert_eq!(
+            (NeuronKind::Lif.label(), NeuronKind::Izhikevich.label()),
+            ("LIF", "Izhikevich")
+        );
+    }
+
+    #[test]
+    fn the_benchmark_and_single_set_ups_are_brian2s_cases() {
+        let lif = NeuronSetup::benchmark(NeuronKind::Lif, Precision::F32);
+        assert_eq!(lif.integrator, Integrator::Exact);
+        assert_eq!(
+            lif.initial,
+            InitialPotential::Uniform {
+                low: 0.0,
+                high: 1.0,
+                seed: 2020
+            }
+        );
+        assert_eq!(NeuronKind::Lif.benchmark_current(), 1.04);
+        let single = NeuronSetup::single(NeuronKind::Lif, Precision::F64);
+        assert_eq!(single.initial, InitialPotential::Constant(0.0));
+        let rs = NeuronSetup::benchmark(NeuronKind::Izhikevich, Precision::F64);
+        assert_eq!(rs.integrator, Integrator::Izhikevich2003);
+        assert_eq!(rs.initial, InitialPotential::Constant(-65.0));
+        assert_eq!(NeuronKind::Izhikevich.benchmark_current(), 10.0);
+        let single = NeuronSetup::single(NeuronKind::Izhikevich, Precision::F64);
+        assert_eq!(single.initial, InitialPotential::Constant(-65.0));
+    }
+
+    #[test]
+    fn a_preset_is_any_models_and_is_ignored_by_a_model_without_it() {
+        let fs: PresetName = "FS".parse().unwrap();
+        assert_eq!(fs.as_str(), "fs");
+        let e = "xyz".parse::<PresetName>().unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "unknown Izhikevich preset 'xyz' (expected rs, ib, ch, fs, lts, tc or rz)"
+        );
+        let run = |kind, preset| {
+            let setup = NeuronSetup {
+                preset,
+                ..NeuronSetup::single(kind, Precision::F64)
+            };
+            setup
+                .spike_times(kind.benchmark_current(), 1e-4, 0.3)
+                .unwrap()
+        };
+        let mut direct = Izhikevich::<f64>::new(1, IzhikevichParams::fs());
+        let direct_spikes = direct.run_constant(10.0, 1e-4, 3000).unwrap();
+        let with_fs = run(NeuronKind::Izhikevich, Some(fs));
+        assert_eq!(with_fs.len() as u64, direct_spikes);
+        assert_ne!(with_fs, run(NeuronKind::Izhikevich, None));
+        // LIF has no presets: `fs` leaves it at its benchmark parameters.
+        assert_eq!(run(NeuronKind::Lif, Some(fs)), run(NeuronKind::Lif, None));
+        assert_eq!(
+            NeuronKind::Lif.exact_spike_times(0.1).map(|t| t.len()),
+            Some(3)
+        );
+        assert_eq!(NeuronKind::Izhikevich.exact_spike_times(0.1), None);
     }
 }

@@ -17,7 +17,6 @@
 use crate::afferents::{AfferentConfig, afferent_population};
 use crate::coding::sample_duration_ms;
 use crate::error::ExperimentError;
-use crate::neuron_setup::NeuronKind;
 use crate::neuron_setup::Precision;
 use crate::search::bayes::VanRossumInput;
 use ndarray::Array2;
@@ -293,11 +292,9 @@ pub fn encode_through_graph(
             needed_ms,
         });
     }
-    let layer = match afferents.map(|a| a.model) {
-        None => String::new(),
-        Some(NeuronKind::Lif) => " → exponential synapses → LIF afferents (event-driven)".into(),
-        Some(NeuronKind::Izhikevich) => " → exponential synapses → Izhikevich RS afferents".into(),
-    };
+    let layer = afferents.map_or_else(String::new, |a| {
+        format!(" → exponential synapses → {}", a.description())
+    });
     Ok(EncodedSet {
         labels: data.labels().to_vec(),
         class_names: data.class_names().to_vec(),
@@ -317,6 +314,8 @@ mod tests {
     use super::*;
     use crate::afferents::afferent_dataset;
     use crate::datasets::synthetic::{SyntheticConfig, synthetic_dataset};
+    use crate::menu::Menu;
+    use crate::neuron_setup::NeuronKind;
     use crate::search::bayes::VanRossumInput;
 
     fn small_set() -> SpikeDataset {
@@ -379,7 +378,7 @@ mod tests {
     #[test]
     fn with_afferents_the_readouts_watch_the_afferents_and_equal_recording_them() {
         let data = small_set();
-        for config in [AfferentConfig::lif(), AfferentConfig::izhikevich()] {
+        for config in NeuronKind::ALL.iter().map(|&k| AfferentConfig::of(k)) {
             let graph = encode_through_graph(&data, Some(config), VrFrom::Exact, &|| ()).unwrap();
             let run_s = data.duration_s().unwrap() + crate::afferents::AFFERENT_TAIL_S;
             let recorded = afferent_dataset(&data, run_s, config, &|| ()).unwrap();
@@ -394,7 +393,12 @@ mod tests {
         let data = small_set();
         let run = |threads| {
             crate::threads::with_threads(threads, || {
-                encode_through_graph(&data, Some(AfferentConfig::lif()), VrFrom::Exact, &|| ())
+                encode_through_graph(
+                    &data,
+                    Some(AfferentConfig::of(NeuronKind::Lif)),
+                    VrFrom::Exact,
+                    &|| (),
+                )
             })
             .unwrap()
             .unwrap()

@@ -16,6 +16,12 @@
 //! [`BlockPopulation`]'s. Each model flags steps whose result left its dynamics (divergence;
 //! see the models' docs), reported by [`neurotac_core::NeuronModel::check_divergence`].
 //!
+//! Each model is also a [`ModelFamily`] ([`LifFamily`], [`IzhikevichFamily`]): the model at
+//! every precision with the set-ups the applications run it in — its benchmark case, named
+//! presets, afferent set-up and closed-form spike times if any — declared in the model's file.
+//! Applications write generic code over a family and reach the one chosen at run time through a
+//! [`FamilyVisitor`] ([`family`]), so a new model is its own file plus one registration.
+//!
 //! ```
 //! use neurotac_neurons::{Integrator, Lif, LifParams};
 //! use neurotac_core::{CurrentInput, NetworkBuilder, NetworkConfig};
@@ -31,6 +37,7 @@
 //! ```
 #![deny(missing_docs)]
 
+pub mod family;
 pub mod integrate;
 pub mod izhikevich;
 pub mod lif;
@@ -38,9 +45,12 @@ pub mod population;
 pub mod real;
 pub mod run;
 
+pub use family::{AfferentPreset, Benchmark, FamilyVisitor, ModelFamily, check_family};
 pub use integrate::{Integrator, UnknownIntegrator};
-pub use izhikevich::{Izhikevich, IzhikevichModel, IzhikevichParams, IzhikevichState};
-pub use lif::{Lif, LifModel, LifParams, LifState};
+pub use izhikevich::{
+    Izhikevich, IzhikevichFamily, IzhikevichModel, IzhikevichParams, IzhikevichState,
+};
+pub use lif::{Lif, LifFamily, LifModel, LifParams, LifState};
 pub use population::{
     ActiveNeurons, ActiveStep, BlockModel, BlockPopulation, BlockStep, DIVERGENCE_CHECK_STEPS,
     Drive, InitialPotential, Population,

@@ -7,6 +7,7 @@ use neurotac_cli::bench::{CubaConfig, afferent_activity, cuba, cuba_spikes, neur
 use neurotac_cli::peers::run_brian2;
 use neurotac_core::Ranks;
 use neurotac_experiments::afferents::AfferentConfig;
+use neurotac_experiments::menu::Menu;
 use neurotac_experiments::neuron_setup::{NeuronKind, Precision};
 use neurotac_neurons::Integrator;
 use serde_json::{Value, json};
@@ -287,20 +288,20 @@ fn cuba_network(a: CubaArgs, ranks: &dyn Ranks) -> anyhow::Result<()> {
 /// `bench neurons --activity F`: the afferent pipeline clock-driven against event-driven.
 fn activity_bench(a: &NeuronsArgs, activity: f64) -> anyhow::Result<()> {
     if a.integrator.is_some() {
+        let own: Vec<String> = NeuronKind::ALL
+            .iter()
+            .map(|k| format!("{} {}", k.label(), k.default_integrator()))
+            .collect();
         anyhow::bail!(
-            "--activity runs the afferent pipeline with its own integrators (LIF exact, Izhikevich izhikevich2003): drop --integrator"
+            "--activity runs the afferent pipeline with its own integrators ({}): drop --integrator",
+            own.join(", ")
         );
     }
     if a.run.brian2.is_some() {
         anyhow::bail!("--activity has no Brian2 counterpart; drop --brian2");
     }
-    let (config, afferents) = match a.model {
-        NeuronKind::Lif => (AfferentConfig::lif(), "LIF afferents (exact, f64)"),
-        NeuronKind::Izhikevich => (
-            AfferentConfig::izhikevich(),
-            "Izhikevich RS afferents (izhikevich2003, f64, from rest, held at rest within 1e-3 mV)",
-        ),
-    };
+    let config = AfferentConfig::of(a.model);
+    let afferents = config.bench_description();
     let r = afferent_activity(config, a.n, activity, a.rate, a.duration, a.dt, 1)?;
     if a.run.json {
         println!("{}", serde_json::to_string(&r)?);

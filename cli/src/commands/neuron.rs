@@ -4,10 +4,8 @@
 use crate::commands::args;
 use anyhow::{Context, bail};
 use clap::Args;
-use neurotac_experiments::neuron_setup::{NeuronKind, NeuronSetup, Precision};
-use neurotac_neurons::{
-    DEFAULT_MAX_STEPS, Integrator, IzhikevichParams, stream_spike_times, whole_steps,
-};
+use neurotac_experiments::neuron_setup::{NeuronKind, NeuronSetup, Precision, PresetName};
+use neurotac_neurons::{DEFAULT_MAX_STEPS, Integrator, stream_spike_times, whole_steps};
 use std::io::Write;
 use std::ops::ControlFlow;
 
@@ -58,12 +56,7 @@ pub fn check_precision(flag: &str, value: f64, precision: Precision) -> anyhow::
 }
 
 pub fn run(args: NeuronArgs) -> anyhow::Result<()> {
-    let Some(preset) = IzhikevichParams::named(&args.preset) else {
-        bail!(
-            "unknown Izhikevich preset '{}' (expected rs, ib, ch, fs, lts, tc or rz)",
-            args.preset
-        );
-    };
+    let preset: PresetName = args.preset.parse()?;
     for (flag, value) in [
         ("current", args.current),
         ("duration", args.duration),
@@ -86,7 +79,7 @@ pub fn run(args: NeuronArgs) -> anyhow::Result<()> {
         );
     }
     let setup = NeuronSetup {
-        preset,
+        preset: Some(preset),
         integrator: args.integrator.unwrap_or(args.model.default_integrator()),
         interpolate: args.interpolate,
         ..NeuronSetup::single(args.model, args.precision)

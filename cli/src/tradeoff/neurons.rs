@@ -1,8 +1,9 @@
 //! The speed ↔ accuracy trade of neuron simulation: model × integrator × dt × precision ×
 //! spike-time stamping, each point measured for accuracy against a truth and for speed.
 //!
-//! Truths: LIF (`I = 1.04`, from `v = 0`) has the closed form `t_k = k·τ·ln(I/(I − 1))`;
-//! Izhikevich RS (`I = 10`, from −65 mV) is run with RK4 at 1 µs, f64, interpolated times.
+//! Every model of the menu, on its benchmark case from rest. Truths: the model's closed form
+//! where it has one (LIF, `I = 1.04` from `v = 0`: `t_k = k·τ·ln(I/(I − 1))`), else RK4 at 1 µs,
+//! f64, interpolated times (Izhikevich RS, `I = 10` from −65 mV).
 //! Accuracy: spike-count error and the mean / max |t − t_true| over the spikes both runs have
 //! (k-th to k-th). Speed: updates per second of 100 000 such neurons on one thread.
 
@@ -10,9 +11,10 @@ use super::error::TradeoffError;
 use super::table::{Table, mark_front, write_trade};
 use crate::bench::BenchError;
 use crate::report::svg::{Axis, Chart, Marker, PALETTE, Series, panels};
+use neurotac_experiments::menu::Menu;
 use neurotac_experiments::neuron_setup::{NeuronKind, NeuronSetup, Precision};
 use neurotac_experiments::threads::with_threads;
-use neurotac_neurons::{Integrator, LifParams};
+use neurotac_neurons::Integrator;
 use serde::Serialize;
 use std::fmt::Write;
 use std::path::Path;
@@ -73,18 +75,15 @@ pub struct NeuronTradeoffRow {
 
 /// The reference spike times of `kind` over `duration_s` (see the module docs).
 pub fn truth(kind: NeuronKind, duration_s: f64) -> Result<Vec<f64>, BenchError> {
-    let current = kind.benchmark_current();
-    Ok(match kind {
-        NeuronKind::Lif => LifParams::benchmark().closed_form_spike_times(current, duration_s),
-        NeuronKind::Izhikevich => {
-            let setup = NeuronSetup {
-                integrator: Integrator::Rk4,
-                interpolate: true,
-                ..NeuronSetup::single(kind, Precision::F64)
-            };
-            setup.spike_times(current, 1e-6, duration_s)?
-        }
-    })
+    if let Some(times) = kind.exact_spike_times(duration_s) {
+        return Ok(times);
+    }
+    let setup = NeuronSetup {
+        integrator: Integrator::Rk4,
+        interpolate: true,
+        ..NeuronSetup::single(kind, Precision::F64)
+    };
+    Ok(setup.spike_times(kind.benchmark_current(), 1e-6, duration_s)?)
 }
 
 /// Measures every point of the sweep (speed on one thread).
@@ -92,7 +91,7 @@ pub fn neuron_tradeoff(
     config: &NeuronTradeoffConfig,
 ) -> Result<Vec<NeuronTradeoffRow>, BenchError> {
     let mut rows = Vec::new();
-    for kind in [NeuronKind::Lif, NeuronKind::Izhikevich] {
+    for &kind in NeuronKind::ALL {
         let reference = truth(kind, config.duration_s)?;
         let current = kind.benchmark_current();
         for &integrator in kind.integrators() {
@@ -156,7 +155,7 @@ pub fn neuron_tradeoff(
 
 /// Marks, per model, the points no other correct-count point beats on both speed and error.
 fn mark_pareto(rows: &mut [NeuronTradeoffRow]) {
-    for model in [NeuronKind::Lif, NeuronKind::Izhikevich] {
+    for &model in NeuronKind::ALL {
         mark_front(
             rows,
             |r| {
@@ -306,12 +305,12 @@ pub fn to_markdown(rows: &[NeuronTradeoffRow], speed_neurons: usize) -> String {
     out
 }
 
-/// Two panels (LIF, Izhikevich): mean spike-time error against updates/s, one series per
-/// integrator × precision × stamping; points along a series are the time steps.
+/// One panel per model (LIF, Izhikevich): mean spike-time error against updates/s, one series
+/// per integrator × precision × stamping; points along a series are the time steps.
 pub fn to_svg(rows: &[NeuronTradeoffRow]) -> String {
-    let charts: Vec<Chart> = [NeuronKind::Lif, NeuronKind::Izhikevich]
-        .into_iter()
-        .map(|kind| {
+    let charts: Vec<Chart> = NeuronKind::ALL
+        .iter()
+        .map(|&kind| {
             let mut series = Vec::new();
             for (c, &integrator) in kind.integrators().iter().enumerate() {
                 for precision in [Precision::F64, Precision::F32] {
@@ -370,8 +369,13 @@ mod tests {
             speed_steps: 5,
         };
         let rows = neuron_tradeoff(&config).unwrap();
-        // LIF: 4 integrators, Izhikevich: 5; × 2 precisions × 2 stampings × 2 dts.
-        assert_eq!(rows.len(), (4 + 5) * 2 * 2 * 2);
+        // LIF: 4 integrators, Izhikevich: 5 (every model: its report integrators); × 2
+        // precisions × 2 stampings × 2 dts.
+        let of = |kind| rows.iter().filter(|r| r.model == kind).count();
+        assert_eq!(of(NeuronKind::Lif), 4 * 2 * 2 * 2);
+        assert_eq!(of(NeuronKind::Izhikevich), 5 * 2 * 2 * 2);
+        let all: usize = NeuronKind::ALL.iter().map(|k| k.integrators().len()).sum();
+        assert_eq!(rows.len(), all * 2 * 2 * 2);
         let lif_exact_grid = rows
             .iter()
             .find(|r| {
@@ -400,7 +404,7 @@ mod tests {
         assert!(
             interp.mean_time_error_s.unwrap() < lif_exact_grid.mean_time_error_s.unwrap() / 10.0
         );
-        for kind in [NeuronKind::Lif, NeuronKind::Izhikevich] {
+        for &kind in NeuronKind::ALL {
             assert!(
                 rows.iter().any(|r| r.model == kind && r.pareto),
                 "{kind:?} has a front"

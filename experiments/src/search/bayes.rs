@@ -316,8 +316,7 @@ pub enum VanRossumInput<'a> {
     /// The exact distance from the spike trains ([`VanRossum::matrices`]).
     Exact(&'a [MultiSpikeTrain]),
     /// The trace-sampled distance from the samples' synaptic trace records
-    /// ([`trace_matrices`](neurotac_core::distance::trace_matrices)), with its arithmetic in
-    /// `precision`.
+    /// ([`trace_matrices`]), with its arithmetic in `precision`.
     Traces {
         /// One record per sample, all at the same trace step.
         records: &'a [TraceRecord],

@@ -64,11 +64,11 @@
 //! ([`LifParams::closed_form_period_s`], [`LifParams::closed_form_spike_times`]); for the defaults
 //! `T = τ·ln(I/(I − 1))`.
 
+use crate::family::{AfferentPreset, Benchmark, ModelFamily};
 use crate::integrate::{self, Integrator};
 use crate::population::{
     ActiveNeurons, ActiveStep, BlockModel, BlockPopulation, BlockStep, DIVERGED_BIT, Drive,
-    InitialPotential, check_param, check_representable, for_each_spike, take_diverged,
-    unit_fraction,
+    InitialPotential, for_each_spike, take_diverged, unit_fraction,
 };
 use crate::real::Real;
 #[cfg(doc)]
@@ -76,132 +76,15 @@ use neurotac_core::NeuronModel;
 use neurotac_core::{DecayingCurrents, ModelError, SynapticDrive};
 use std::marker::PhantomData;
 
-const MODEL: &str = "lif";
+mod params;
+
+pub use params::LifParams;
+use params::MODEL;
 
 /// Longest refractory period in steps (2²⁴: whole numbers are exact up to it in f32); a longer
 /// `t_ref` is held this many steps (over 27 minutes at dt = 0.1 ms).
 const REFRACTORY_MAX: f64 = 16_777_216.0;
 const SUPPORTED: &str = "exact, exp-euler, euler, rk2, rk4";
-
-/// LIF parameters (see the module docs for the equations and units).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct LifParams {
-    /// Membrane time constant τ_m (s, > 0). Default 0.01.
-    pub tau_m_s: f64,
-    /// Resting potential. Default 0.
-    pub v_rest: f64,
-    /// Threshold. Default 1.
-    pub v_th: f64,
-    /// Reset potential (< `v_th`). Default 0.
-    pub v_reset: f64,
-    /// Refractory period (s, ≥ 0). Default 0.
-    pub t_ref_s: f64,
-    /// Lowest potential kept; default −∞, i.e. only the finite range is enforced.
-    pub v_min: f64,
-}
-
-impl Default for LifParams {
-    fn default() -> Self {
-        Self {
-            tau_m_s: 0.01,
-            v_rest: 0.0,
-            v_th: 1.0,
-            v_reset: 0.0,
-            t_ref_s: 0.0,
-            v_min: f64::NEG_INFINITY,
-        }
-    }
-}
-
-impl LifParams {
-    /// The benchmark LIF of Brian2's and neurotac's speed tests: `dv/dt = (I − v)/τ`, τ = 10 ms,
-    /// threshold 1, reset 0, no refractory period (the defaults).
-    pub fn benchmark() -> Self {
-        Self::default()
-    }
-
-    /// The neurons of the CUBA network (Vogels & Abbott, J. Neurosci. 2005; Brian2's `CUBA`
-    /// example), in mV: τ_m = 20 ms, E_l = −49 mV, threshold −50 mV, reset −60 mV, refractory
-    /// 5 ms, no floor. Its threshold is below 0, so the fused loop may leave out the floor and
-    /// the flush to zero.
-    pub fn cuba() -> Self {
-        Self {
-            tau_m_s: 0.02,
-            v_rest: -49.0,
-            v_th: -50.0,
-            v_reset: -60.0,
-            t_ref_s: 5e-3,
-            v_min: f64::NEG_INFINITY,
-        }
-    }
-
-    /// The period `T = τ_m·ln((v∞ − v_reset)/(v∞ − v_th))` (s) of a neuron from `v_reset` under
-    /// the constant input `current` (`v∞ = v_rest + current`), without the refractory period;
-    /// `None` when `v∞ ≤ v_th` (it never fires). For the defaults, `T = τ·ln(I/(I − 1))`.
-    ///
-    /// ```
-    /// use neurotac_neurons::LifParams;
-    /// let t = LifParams::default().closed_form_period_s(1.04).unwrap();
-    /// assert!((t - 0.01 * 26f64.ln()).abs() < 1e-15); // 32.58 ms
-    /// assert_eq!(LifParams::default().closed_form_period_s(0.9), None);
-    /// ```
-    pub fn closed_form_period_s(&self, current: f64) -> Option<f64> {
-        let v_inf = self.v_rest + current;
-        (v_inf > self.v_th)
-            .then(|| self.tau_m_s * ((v_inf - self.v_reset) / (v_inf - self.v_th)).ln())
-    }
-
-    /// The spike times `t_k = k·T + (k − 1)·t_ref ≤ duration_s` (s) of a neuron starting at
-    /// `v_reset` under the constant `current` ([`closed_form_period_s`](Self::closed_form_period_s));
-    /// empty when it never fires.
-    pub fn closed_form_spike_times(&self, current: f64, duration_s: f64) -> Vec<f64> {
-        let Some(period) = self.closed_form_period_s(current) else {
-            return Vec::new();
-        };
-        (1..)
-            .map(|k| k as f64 * period + (k - 1) as f64 * self.t_ref_s)
-            .take_while(|&t| t <= duration_s)
-            .collect()
-    }
-
-    fn validate<F: Real>(&self) -> Result<(), ModelError> {
-        for (field, x, positive) in [
-            ("tau_m_s", self.tau_m_s, true),
-            ("v_rest", self.v_rest, false),
-            ("v_th", self.v_th, false),
-            ("v_reset", self.v_reset, false),
-            ("t_ref_s", self.t_ref_s, false),
-        ] {
-            check_param(MODEL, field, x, positive)?;
-            check_representable::<F>(MODEL, field, x)?;
-        }
-        if self.t_ref_s < 0.0 {
-            return Err(ModelError::InvalidParameter {
-                model: MODEL,
-                field: "t_ref_s",
-                value: self.t_ref_s,
-                expected: "≥ 0",
-            });
-        }
-        if self.v_reset >= self.v_th {
-            return Err(ModelError::InvalidParameter {
-                model: MODEL,
-                field: "v_reset",
-                value: self.v_reset,
-                expected: "< v_th",
-            });
-        }
-        if self.v_min.is_nan() || self.v_min > self.v_reset {
-            return Err(ModelError::InvalidParameter {
-                model: MODEL,
-                field: "v_min",
-                value: self.v_min,
-                expected: "≤ v_reset (−∞ allowed)",
-            });
-        }
-        Ok(())
-    }
-}
 
 /// The state of one block of up to [`BLOCK`](crate::population::BLOCK) LIF neurons, structure of arrays.
 #[derive(Debug, Clone, Default)]
@@ -455,6 +338,63 @@ impl<F: Real> Lif<F> {
     /// Membrane potential of neuron `i` (after `prepare`).
     pub fn potential(&self, i: usize) -> f64 {
         self.variable(0, i)
+    }
+}
+
+/// LIF at every precision, with its benchmark, afferent and closed form ([`ModelFamily`]);
+/// `Model<F>` is [`LifModel<F>`].
+#[derive(Debug, Clone, Copy, Default)]
+pub struct LifFamily;
+
+impl ModelFamily for LifFamily {
+    type Params = LifParams;
+    type Model<F: Real> = LifModel<F>;
+
+    const LABEL: &'static str = "LIF";
+    /// exp-euler is left out: for LIF it is the exact step.
+    const INTEGRATORS: &'static [Integrator] = &[
+        Integrator::Exact,
+        Integrator::Euler,
+        Integrator::Rk2,
+        Integrator::Rk4,
+    ];
+
+    /// Brian2's LIF benchmark, `dv/dt = (I − v)/τ`: [`LifParams::benchmark`] (τ = 10 ms,
+    /// threshold 1, reset 0) under `I = 1.04` (period τ·ln 26 = 32.58 ms), `v₀` uniform in
+    /// [0, 1) — between reset and threshold — seed 2020.
+    fn benchmark() -> Benchmark<LifParams> {
+        Benchmark {
+            params: LifParams::benchmark(),
+            current: 1.04,
+            initial: InitialPotential::Uniform {
+                low: 0.0,
+                high: 1.0,
+                seed: 2020,
+            },
+        }
+    }
+
+    /// [`LifParams::default`] (τ_m = 10 ms, threshold 1, reset 0), from rest (`v = 0`), exact
+    /// step, weight 5 (potential units): with the afferents' 5 ms synapse, one taxel spike gives
+    /// the PSP `w·τ_s/(τ_m − τ_s)·(e^(−t/τ_m) − e^(−t/τ_s))`, peaking at `0.25·w = 1.25·v_th` at
+    /// `t = τ_m·ln 2 = 6.9 ms` — a lone taxel event makes exactly one afferent spike, ~3 ms
+    /// later.
+    fn afferent() -> AfferentPreset<LifParams> {
+        let params = LifParams::default();
+        AfferentPreset {
+            params,
+            initial: Self::at_rest(&params),
+            weight: 5.0,
+            description: "LIF afferents (event-driven)",
+            bench_description: "LIF afferents (exact, f64)",
+        }
+    }
+
+    /// [`LifParams::closed_form_spike_times`], which counts from `v_reset`: the rest when
+    /// `v_reset = v_rest` (the benchmark), else `None`.
+    fn exact_spike_times(params: &LifParams, current: f64, duration_s: f64) -> Option<Vec<f64>> {
+        (params.v_reset == params.v_rest)
+            .then(|| params.closed_form_spike_times(current, duration_s))
     }
 }
 
@@ -767,34 +707,4 @@ fn finish_interpolated_spikes<F: Real>(
             k.v_floor
         };
     });
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn the_closed_form_solves_the_sub_threshold_equation() {
-        // v(t) = v∞ + (v_reset − v∞)·e^(−t/τ) reaches v_th at T; spikes repeat every T + t_ref.
-        let p = LifParams {
-            tau_m_s: 0.02,
-            v_rest: -0.5,
-            v_th: 1.0,
-            v_reset: -0.2,
-            t_ref_s: 3e-3,
-            v_min: f64::NEG_INFINITY,
-        };
-        let current = 2.0;
-        let v_inf = p.v_rest + current;
-        let t = p.closed_form_period_s(current).unwrap();
-        let v_at = v_inf + (p.v_reset - v_inf) * (-t / p.tau_m_s).exp();
-        assert!((v_at - p.v_th).abs() < 1e-12, "{v_at}");
-        let times = p.closed_form_spike_times(current, 0.1);
-        assert!(times.len() > 2 && times.iter().all(|&s| s <= 0.1));
-        assert!((times[0] - t).abs() < 1e-15);
-        assert!((times[2] - times[1] - (t + p.t_ref_s)).abs() < 1e-12);
-        // v∞ at or below threshold never fires.
-        assert_eq!(p.closed_form_period_s(1.5), None);
-        assert!(p.closed_form_spike_times(1.5, 10.0).is_empty());
-    }
 }

@@ -80,10 +80,10 @@
 //! [`ModelError::Diverged`] (`neurotac neuron --model izhikevich --current=-1e5` at 0.1 ms, or
 //! `--current 0 --dt 1e-2`, are such runs).
 
+use crate::family::{AfferentPreset, Benchmark, ModelFamily};
 use crate::integrate::{self, Integrator};
 use crate::population::{
-    BlockModel, BlockPopulation, BlockStep, Drive, InitialPotential, check_param,
-    check_representable, for_each_spike, unit_fraction,
+    BlockModel, BlockPopulation, BlockStep, Drive, InitialPotential, for_each_spike, unit_fraction,
 };
 use crate::real::Real;
 use neurotac_core::ModelError;
@@ -91,147 +91,12 @@ use neurotac_core::ModelError;
 use neurotac_core::NeuronModel;
 use std::marker::PhantomData;
 
-const MODEL: &str = "izhikevich";
+mod params;
+
+use params::MODEL;
+pub use params::{IzhikevichParams, REST_TOLERANCE_MV, resting_point};
+
 const SUPPORTED: &str = "izhikevich2003, euler, exp-euler, rk2, rk4";
-
-/// Izhikevich parameters (see the module docs for equations and units).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct IzhikevichParams {
-    /// Recovery time scale `a` (1/ms).
-    pub a: f64,
-    /// Recovery sensitivity `b`.
-    pub b: f64,
-    /// Reset potential `c` (mV).
-    pub c: f64,
-    /// Recovery jump `d` after a spike.
-    pub d: f64,
-    /// Spike peak (mV). Default 30.
-    pub v_peak: f64,
-    /// Lowest potential kept (mV); default −∞, i.e. only the finite range is enforced.
-    pub v_min: f64,
-    /// Event-driven stepping (module docs): a neuron without input is held once `v` and `u`
-    /// are both within this distance (mV) of the resting point. Default
-    /// [`REST_TOLERANCE_MV`]; 0 keeps the population clock-driven.
-    pub rest_tolerance: f64,
-}
-
-/// The default [`IzhikevichParams::rest_tolerance`]: 10⁻³ mV.
-pub const REST_TOLERANCE_MV: f64 = 1e-3;
-
-impl Default for IzhikevichParams {
-    /// Regular spiking ([`rs`](Self::rs)).
-    fn default() -> Self {
-        Self::rs()
-    }
-}
-
-impl IzhikevichParams {
-    const fn preset(a: f64, b: f64, c: f64, d: f64) -> Self {
-        Self {
-            a,
-            b,
-            c,
-            d,
-            v_peak: 30.0,
-            v_min: f64::NEG_INFINITY,
-            rest_tolerance: REST_TOLERANCE_MV,
-        }
-    }
-
-    /// Regular spiking (cortical excitatory): a = 0.02, b = 0.2, c = −65, d = 8.
-    pub const fn rs() -> Self {
-        Self::preset(0.02, 0.2, -65.0, 8.0)
-    }
-
-    /// Intrinsically bursting: a = 0.02, b = 0.2, c = −55, d = 4.
-    pub const fn ib() -> Self {
-        Self::preset(0.02, 0.2, -55.0, 4.0)
-    }
-
-    /// Chattering: a = 0.02, b = 0.2, c = −50, d = 2.
-    pub const fn ch() -> Self {
-        Self::preset(0.02, 0.2, -50.0, 2.0)
-    }
-
-    /// Fast spiking (inhibitory): a = 0.1, b = 0.2, c = −65, d = 2.
-    pub const fn fs() -> Self {
-        Self::preset(0.1, 0.2, -65.0, 2.0)
-    }
-
-    /// Low-threshold spiking: a = 0.02, b = 0.25, c = −65, d = 2.
-    pub const fn lts() -> Self {
-        Self::preset(0.02, 0.25, -65.0, 2.0)
-    }
-
-    /// Thalamo-cortical: a = 0.02, b = 0.25, c = −65, d = 0.05.
-    pub const fn tc() -> Self {
-        Self::preset(0.02, 0.25, -65.0, 0.05)
-    }
-
-    /// Resonator: a = 0.1, b = 0.26, c = −65, d = 2.
-    pub const fn rz() -> Self {
-        Self::preset(0.1, 0.26, -65.0, 2.0)
-    }
-
-    /// `v*` of the resting point without input (mV), when it exists and is stable
-    /// ([`resting_point`]); −70 mV for [`rs`](Self::rs). With it as the initial potential
-    /// (`u = b·v`), a population starts at rest.
-    pub fn resting_potential(&self) -> Option<f64> {
-        resting_point(self.a, self.b).map(|(v, _, _)| v)
-    }
-
-    /// The preset with this (case-insensitive) name: rs, ib, ch, fs, lts, tc, rz.
-    pub fn named(name: &str) -> Option<Self> {
-        Some(match name.to_ascii_lowercase().as_str() {
-            "rs" => Self::rs(),
-            "ib" => Self::ib(),
-            "ch" => Self::ch(),
-            "fs" => Self::fs(),
-            "lts" => Self::lts(),
-            "tc" => Self::tc(),
-            "rz" => Self::rz(),
-            _ => return None,
-        })
-    }
-
-    fn validate<F: Real>(&self) -> Result<(), ModelError> {
-        for (field, x) in [
-            ("a", self.a),
-            ("b", self.b),
-            ("c", self.c),
-            ("d", self.d),
-            ("v_peak", self.v_peak),
-        ] {
-            check_param(MODEL, field, x, false)?;
-            check_representable::<F>(MODEL, field, x)?;
-        }
-        if self.c >= self.v_peak {
-            return Err(ModelError::InvalidParameter {
-                model: MODEL,
-                field: "c",
-                value: self.c,
-                expected: "< v_peak",
-            });
-        }
-        if !(self.rest_tolerance >= 0.0 && self.rest_tolerance.is_finite()) {
-            return Err(ModelError::InvalidParameter {
-                model: MODEL,
-                field: "rest_tolerance",
-                value: self.rest_tolerance,
-                expected: "finite and ≥ 0 (mV)",
-            });
-        }
-        if self.v_min.is_nan() || self.v_min > self.c {
-            return Err(ModelError::InvalidParameter {
-                model: MODEL,
-                field: "v_min",
-                value: self.v_min,
-                expected: "≤ c (−∞ allowed)",
-            });
-        }
-        Ok(())
-    }
-}
 
 /// The state of one block of up to [`BLOCK`](crate::population::BLOCK) Izhikevich neurons, structure of arrays.
 #[derive(Debug, Clone, Default)]
@@ -274,33 +139,6 @@ pub struct IzhikevichConstants<F> {
     /// `true` when the resting point exists, is stable, the step resolves its fastest decay
     /// (`h·|λ| < 1`) and the tolerance is positive.
     holds_at_rest: bool,
-}
-
-/// The resting point `(v*, u*)` of the equations without input, when it exists and is stable,
-/// and the largest decay rate `|λ|` (1/ms) of the linearisation there.
-///
-/// `u* = b·v*` and `0.04·v*² + (5 − b)·v* + 140 = 0`; the lower root
-/// `v* = (−(5 − b) − √D)/0.08`, `D = (5 − b)² − 22.4`, has Jacobian
-/// `[[b − √D, −1], [a·b, −a]]`: determinant `a·√D > 0`, stable when the trace
-/// `b − √D − a < 0`.
-pub fn resting_point(a: f64, b: f64) -> Option<(f64, f64, f64)> {
-    let disc = (5.0 - b).powi(2) - 4.0 * 0.04 * 140.0;
-    if !(disc > 0.0 && a > 0.0) {
-        return None;
-    }
-    let root = disc.sqrt();
-    let v = (-(5.0 - b) - root) / 0.08;
-    let (trace, det) = (b - root - a, a * root);
-    if trace >= 0.0 {
-        return None;
-    }
-    let split = trace * trace - 4.0 * det;
-    let fastest = if split >= 0.0 {
-        (-trace + split.sqrt()) / 2.0
-    } else {
-        det.sqrt()
-    };
-    Some((v, b * v, fastest))
 }
 
 /// Vertex of the `v` nullcline, `m = −5/(2·0.04)` (mV).
@@ -542,6 +380,58 @@ impl<F: Real> Izhikevich<F> {
     /// `(v, u)` of neuron `i` (after `prepare`).
     pub fn state_of(&self, i: usize) -> (f64, f64) {
         (self.variable(0, i), self.variable(1, i))
+    }
+}
+
+/// Izhikevich at every precision, with its presets, benchmark and afferent ([`ModelFamily`]);
+/// `Model<F>` is [`IzhikevichModel<F>`].
+#[derive(Debug, Clone, Copy, Default)]
+pub struct IzhikevichFamily;
+
+impl ModelFamily for IzhikevichFamily {
+    type Params = IzhikevichParams;
+    type Model<F: Real> = IzhikevichModel<F>;
+
+    const LABEL: &'static str = "Izhikevich";
+    const INTEGRATORS: &'static [Integrator] = &[
+        Integrator::Izhikevich2003,
+        Integrator::Euler,
+        Integrator::ExponentialEuler,
+        Integrator::Rk2,
+        Integrator::Rk4,
+    ];
+    const PRESETS: &'static [(&'static str, IzhikevichParams)] = &IzhikevichParams::PRESETS;
+
+    /// Brian2's Izhikevich benchmark: regular spiking ([`IzhikevichParams::rs`]) under
+    /// `I = 10` mV/ms from `v = −65 mV` (tonic firing at 23 Hz).
+    fn benchmark() -> Benchmark<IzhikevichParams> {
+        Benchmark {
+            params: IzhikevichParams::rs(),
+            current: 10.0,
+            initial: InitialPotential::Constant(-65.0),
+        }
+    }
+
+    /// Regular spiking ([`IzhikevichParams::rs`]), Izhikevich's 2003 scheme, starting at its
+    /// resting point (−70 mV; an afferent without input is at rest), weight 20 (mV/ms): one RS
+    /// spike per lone taxel event from rest, and again for an event 20 ms later (a smaller
+    /// weight, 15, is silenced by adaptation on the second).
+    fn afferent() -> AfferentPreset<IzhikevichParams> {
+        let rs = IzhikevichParams::rs();
+        let rest = rs
+            .resting_potential()
+            .expect("RS has a stable resting point");
+        AfferentPreset {
+            params: rs,
+            initial: InitialPotential::Constant(rest),
+            weight: 20.0,
+            description: "Izhikevich RS afferents",
+            bench_description: "Izhikevich RS afferents (izhikevich2003, f64, from rest, held at rest within 1e-3 mV)",
+        }
+    }
+
+    fn preset(name: &str) -> Option<IzhikevichParams> {
+        IzhikevichParams::named(name)
     }
 }
 
