@@ -82,7 +82,7 @@ def test_coding_errors_carry_the_library_message():
         coding.distances(TWO, "temporal")
     with pytest.raises(neurotac.NeurotacValueError, match="dt = 0.0105: a whole number of milliseconds"):
         coding.temporal(TWO, 0.0105)
-    with pytest.raises(neurotac.NeurotacValueError, match="unknown coding .* expected one of: intensive, spatial, temporal, spatiotemporal"):
+    with pytest.raises(neurotac.NeurotacValueError, match=r"unknown coding 'rate' \(expected one of: intensive, spatial, temporal, spatiotemporal\)"):
         coding.distances(TWO, "rate")
     with pytest.raises(neurotac.NeurotacValueError, match="cos = 2: in \\[0, 1\\]"):
         coding.spatiotemporal(TWO, tau=0.01, cos=2.0)
