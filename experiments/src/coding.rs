@@ -139,14 +139,6 @@ impl Coding {
         }
     }
 
-    /// This coding with `parameters`.
-    pub fn with(self, parameters: &CodingParameters) -> Self {
-        Self {
-            parameters: *parameters,
-            ..self
-        }
-    }
-
     /// The temporal window Δt (ms), or the error naming it as missing.
     pub fn window_ms(&self) -> Result<u32, ExperimentError> {
         self.parameters
@@ -189,11 +181,15 @@ pub fn coding_distances(
     parameters: &CodingParameters,
     ranks: &dyn Ranks,
 ) -> Result<Array2<f64>, ExperimentError> {
+    let configured = Coding {
+        name: coding,
+        parameters: *parameters,
+    };
     let features = match coding {
         CodingName::Intensive => feature_matrix(&IntensiveCoding::new(), observations)?,
         CodingName::Spatial => feature_matrix(&SpatialCoding::new(), observations)?,
         CodingName::Temporal => {
-            let window_ms = Coding::of(coding).with(parameters).window_ms()?;
+            let window_ms = configured.window_ms()?;
             let duration_ms = parameters
                 .duration_ms
                 .ok_or_else(|| missing(coding, "the sample duration"))?;
@@ -203,7 +199,7 @@ pub fn coding_distances(
             )?
         }
         CodingName::Spatiotemporal => {
-            let (tau_s, cos) = Coding::of(coding).with(parameters).tau_and_cos()?;
+            let (tau_s, cos) = configured.tau_and_cos()?;
             check_cos(cos)?;
             return Ok(VanRossum::new(tau_s)?
                 .matrices(observations, ranks)?
