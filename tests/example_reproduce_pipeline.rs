@@ -28,7 +28,7 @@ fn the_papers_pipeline_runs_from_rust_code_and_writes_its_report() {
         .map(|c| c.loo.accuracy.mean)
         .fold(0.0, f64::max);
     assert!(best > 2.0 / 11.0, "best LOO accuracy {best}");
-    assert_eq!(set.bayes.trace.len(), 20);
+    assert_eq!(set.bayes_search().unwrap().result.trace.len(), 20);
     let out = dir.path().join("report");
     neurotac_cli::report::write_report(&out, &report, false).unwrap();
     for file in [

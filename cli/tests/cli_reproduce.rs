@@ -56,7 +56,8 @@ fn a_small_run_prints_the_tables_and_writes_the_whole_report() {
     let set = &json["sets"][0]["direct"];
     assert_eq!(set["name"], "artificial");
     assert_eq!(set["codings"].as_array().unwrap().len(), 4);
-    assert_eq!(set["bayes"]["trace"].as_array().unwrap().len(), 12);
+    let bayes = &set["codings"][3]["search"]["bayes"];
+    assert_eq!(bayes["result"]["trace"].as_array().unwrap().len(), 12);
     assert_eq!(set["codings"][0]["loo"]["accuracy"]["n"], 33);
     // Four codings of one set in the accuracy table, plus the header.
     let csv = std::fs::read_to_string(out.join("accuracy.csv")).unwrap();

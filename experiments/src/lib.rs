@@ -48,6 +48,7 @@ pub mod progress;
 pub mod protocols;
 pub mod readouts;
 pub mod reproduce;
+pub mod scoring;
 pub mod search;
 pub mod threads;
 pub mod timing;

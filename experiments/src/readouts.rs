@@ -1,176 +1,79 @@
 //! The main job through the framework's graph: every sample runs through one network, built
 //! once per worker and reused ([`Network::replace_spike_input`] + [`Network::reset`]), whose
-//! readouts are the paper's four codings; the pipeline ([`crate::reproduce`]) classifies what
-//! the readouts hold ([`EncodedSet`]).
+//! readouts are the output trains and each coding of the menu
+//! ([`CodingScheme::add_readout`](crate::coding::CodingScheme::add_readout)); the pipeline
+//! ([`crate::reproduce`]) classifies what the readouts hold ([`EncodedSet`]).
 //!
 //! ```text
 //! taxel spike input ─┬───────────────────────────────┬─ IntensiveCoding    → mean count per taxel
 //!   (one sample at   │  (with afferents:             ├─ SpatialCoding      → count per taxel
 //!    a time)         └─ exp. synapses → afferents) ──┼─ TemporalCoding     → pooled count per 1-ms bin (every Δt)
-//!                                                    └─ SpatiotemporalCoding → trains (exact Van Rossum)
-//!                                                                             + trace record (trace Van Rossum)
+//!                                                    ├─ SpatiotemporalCoding → trace record (trace Van Rossum)
+//!                                                    └─ output trains (exact Van Rossum, online)
 //! ```
 //!
 //! [`encode_offline`] computes the same [`EncodedSet`] with the codings' direct encoders (no
 //! network); the two are identical (tested), which is what lets `reproduce` report either.
 
 use crate::afferents::{AfferentConfig, afferent_population};
-use crate::coding::sample_duration_ms;
+use crate::coding::scheme::SampleReader;
+use crate::coding::{CodingName, ReadoutContext, sample_duration_ms};
 use crate::error::ExperimentError;
-use crate::neuron_setup::Precision;
-use crate::search::bayes::VanRossumInput;
-use ndarray::Array2;
-use neurotac_core::coding::{
-    FeatureCoding, IntensiveCoding, SpatialCoding, SpatiotemporalCoding, TemporalCoding,
-    TraceRecord, duration_ms_of, feature_matrix, pooled_bin_counts,
-};
+use crate::menu::Menu;
+use neurotac_core::coding::{SpatiotemporalCoding, duration_ms_of};
 use neurotac_core::{
-    CodingError, InputId, MultiSpikeTrain, Network, NetworkBuilder, NetworkConfig, ReadoutId,
-    ReadoutSource, SpikeArrayInput, SpikeDataset,
+    InputId, MultiSpikeTrain, Network, NetworkBuilder, NetworkConfig, ReadoutId, ReadoutSource,
+    SpikeArrayInput, SpikeDataset,
 };
 use rayon::prelude::*;
 
-/// Where the spatiotemporal coding's Van Rossum distance comes from (`--vr-from`).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum VrFrom {
-    /// The exact distance from the readout's spike trains.
-    Exact,
-    /// The trace-sampled distance from the readout's synaptic trace record at `trace_dt_s`,
-    /// arithmetic in `precision` ([`neurotac_core::distance::trace_sampled`]).
-    Traces {
-        /// Trace step (s), a whole number of µs.
-        trace_dt_s: f64,
-        /// `f64` or `f32`.
-        precision: Precision,
-    },
-}
+pub use crate::coding::encoded::{EncodedSet, SetReadout, VrFrom};
 
-impl VrFrom {
-    /// `exact` or `traces (h = 0.1 ms, f64)`.
-    pub fn describe(&self) -> String {
-        match self {
-            VrFrom::Exact => "exact, from the readout's spike trains".into(),
-            VrFrom::Traces {
-                trace_dt_s,
-                precision,
-            } => format!(
-                "from the readout's synaptic traces at {} ms, {}",
-                trace_dt_s * 1e3,
-                precision.name()
-            ),
-        }
-    }
-}
-
-/// What the four coding readouts hold for every sample of a set, with its labels.
-#[derive(Debug, Clone, PartialEq)]
-pub struct EncodedSet {
-    /// Class of each sample.
-    pub labels: Vec<usize>,
-    /// Class names (index = label).
-    pub class_names: Vec<String>,
-    /// Sample duration the temporal readout bins (ms).
-    pub duration_ms: u32,
-    /// Intensive readout: one row per sample, one column (mean spikes per channel).
-    pub intensive: Array2<f64>,
-    /// Spatial readout: one row per sample, one column per channel (spike counts).
-    pub spatial: Array2<f64>,
-    /// Temporal readout: pooled spike count per 1-ms bin of each sample (every window Δt's
-    /// features follow, [`neurotac_core::coding::write_window_features`]).
-    pub bins: Vec<Vec<u32>>,
-    /// Spatiotemporal readout: each sample's spike trains.
-    pub trains: Vec<MultiSpikeTrain>,
-    /// Spatiotemporal readout: each sample's trace record (with [`VrFrom::Traces`]).
-    pub traces: Option<Vec<TraceRecord>>,
-    /// How the set was encoded (for the report): the network's path, or "offline".
-    pub path: String,
-    /// Van Rossum from traces or exact.
-    pub vr_from: VrFrom,
-}
-
-impl EncodedSet {
-    /// The Van Rossum input of the search (trains or trace records, per [`Self::vr_from`]).
-    pub fn van_rossum_input(&self) -> VanRossumInput<'_> {
-        match (&self.traces, self.vr_from) {
-            (Some(records), VrFrom::Traces { precision, .. }) => {
-                VanRossumInput::Traces { records, precision }
-            }
-            _ => VanRossumInput::Exact(&self.trains),
-        }
-    }
-
-    /// Number of samples.
-    pub fn len(&self) -> usize {
-        self.labels.len()
-    }
-
-    /// `true` without samples.
-    pub fn is_empty(&self) -> bool {
-        self.labels.is_empty()
-    }
-
-    /// Number of classes.
-    pub fn n_classes(&self) -> usize {
-        self.class_names.len()
-    }
-}
-
-/// The offline encoders' [`EncodedSet`] of `data` (no network): the reference the graph path
-/// is tested against, and the path of callers that hold a finished spike dataset.
+/// The offline encoders' [`EncodedSet`] of `data` (no network; each coding's
+/// [`CodingScheme::encode`](crate::coding::CodingScheme::encode)): the reference the graph
+/// path is tested against, and the path of callers that hold a finished spike dataset.
 pub fn encode_offline(data: &SpikeDataset, vr_from: VrFrom) -> Result<EncodedSet, ExperimentError> {
-    let duration_ms = sample_duration_ms(data, None)?;
-    let obs = data.observations();
-    let traces = match vr_from {
-        VrFrom::Exact => None,
-        VrFrom::Traces { trace_dt_s, .. } => Some(
-            obs.par_iter()
-                .map(|o| TraceRecord::of_trains(o, trace_dt_s))
-                .collect::<Result<Vec<_>, CodingError>>()?,
-        ),
+    let context = ReadoutContext {
+        n_channels: data.n_channels(),
+        duration_ms: sample_duration_ms(data, None)?,
+        vr_from,
     };
+    let obs = data.observations();
+    let readouts = (CodingName::ALL.iter())
+        .map(|c| Ok((c.key(), c.scheme().encode(obs, &context)?)))
+        .collect::<Result<_, ExperimentError>>()?;
     Ok(EncodedSet {
         labels: data.labels().to_vec(),
         class_names: data.class_names().to_vec(),
-        duration_ms,
-        intensive: feature_matrix(&IntensiveCoding::new(), obs)?,
-        spatial: feature_matrix(&SpatialCoding::new(), obs)?,
-        bins: obs
-            .par_iter()
-            .map(|o| pooled_bin_counts(o, duration_ms))
-            .collect(),
+        duration_ms: context.duration_ms,
+        n_channels: context.n_channels,
         trains: obs.to_vec(),
-        traces,
+        readouts,
         path: "offline encoders (no network)".into(),
         vr_from,
     })
 }
 
-/// The network every sample of a set runs through, and its readouts.
+/// The network every sample of a set runs through: its output trains and every coding's
+/// readout.
 struct ReadoutNetwork {
     network: Network,
     input: InputId,
-    intensive: ReadoutId<IntensiveCoding>,
-    spatial: ReadoutId<SpatialCoding>,
-    temporal: ReadoutId<TemporalCoding>,
-    spatiotemporal: ReadoutId<SpatiotemporalCoding>,
+    /// The output trains (what every coding can read).
+    trains: ReadoutId<SpatiotemporalCoding>,
+    /// Each coding's reader, in menu order.
+    readers: Vec<SampleReader>,
 }
 
-/// One sample's readouts.
-struct SampleReadouts {
-    intensive: f64,
-    spatial: Vec<f64>,
-    bins: Vec<u32>,
-    trains: MultiSpikeTrain,
-    trace: Option<TraceRecord>,
-}
+/// One sample's output trains and each coding's readout of it (a set of one sample).
+type SampleReadouts = (MultiSpikeTrain, Vec<Box<dyn SetReadout>>);
 
 impl ReadoutNetwork {
     fn build(
-        n_channels: usize,
-        duration_ms: u32,
+        context: &ReadoutContext,
         afferents: Option<AfferentConfig>,
-        vr_from: VrFrom,
     ) -> Result<Self, ExperimentError> {
+        let n_channels = context.n_channels;
         let mut b = NetworkBuilder::new();
         // Only afferents with input (or, Izhikevich, still settling to rest) are stepped.
         b.event_driven(true);
@@ -182,25 +85,16 @@ impl ReadoutNetwork {
             None => input.into(),
             Some(config) => afferent_population(&mut b, input, n_channels, config)?.into(),
         };
-        let mut spatiotemporal = SpatiotemporalCoding::new(1.0)?;
-        if let VrFrom::Traces { trace_dt_s, .. } = vr_from {
-            spatiotemporal = spatiotemporal.with_trace_record(trace_dt_s)?;
-        }
-        let readouts = (
-            b.add_readout(source, IntensiveCoding::new())?,
-            b.add_readout(source, SpatialCoding::new())?,
-            // The window does not matter: the pipeline reads the per-ms bins.
-            b.add_readout(source, TemporalCoding::from_ms(1, duration_ms)?)?,
-            b.add_readout(source, spatiotemporal)?,
-        );
+        let trains = b.add_readout(source, SpatiotemporalCoding::new(1.0)?)?;
+        let readers = (CodingName::ALL.iter())
+            .map(|c| c.scheme().add_readout(&mut b, source, context))
+            .collect::<Result<_, _>>()?;
         let dt_s = afferents.map_or(NetworkConfig::default().dt_s, |a| a.dt_s);
         Ok(Self {
             network: b.build(NetworkConfig { dt_s })?,
             input,
-            intensive: readouts.0,
-            spatial: readouts.1,
-            temporal: readouts.2,
-            spatiotemporal: readouts.3,
+            trains,
+            readers,
         })
     }
 
@@ -215,19 +109,15 @@ impl ReadoutNetwork {
         self.network.reset();
         self.network.run(run_s, &neurotac_core::OneProcess)?;
         let n = &self.network;
-        let st = n.readout(self.spatiotemporal)?;
-        Ok(SampleReadouts {
-            intensive: n.readout(self.intensive)?.features()[0],
-            spatial: n.readout(self.spatial)?.features(),
-            bins: n.readout(self.temporal)?.bin_counts().to_vec(),
-            trains: st.trains(),
-            trace: st.trace_record().transpose()?,
-        })
+        let readouts = (self.readers.iter())
+            .map(|read| read(n))
+            .collect::<Result<_, _>>()?;
+        Ok((n.readout(self.trains)?.trains(), readouts))
     }
 }
 
 /// Runs every sample of `data` through the readout network (module docs) — taxel input, the
-/// afferent layer when `afferents` is given, the four coding readouts — and gathers the
+/// afferent layer when `afferents` is given, every coding's readout — and gathers the
 /// readouts into an [`EncodedSet`]. One network per worker, built once and reset between
 /// samples; each sample's readouts depend on that sample alone, so the result is the same at
 /// any thread count. `progress` is called once per sample.
@@ -242,8 +132,12 @@ pub fn encode_through_graph(
     vr_from: VrFrom,
     progress: &(dyn Fn() + Sync),
 ) -> Result<EncodedSet, ExperimentError> {
-    let duration_ms = sample_duration_ms(data, None)?;
-    let n_channels = data.n_channels();
+    let context = ReadoutContext {
+        n_channels: data.n_channels(),
+        duration_ms: sample_duration_ms(data, None)?,
+        vr_from,
+    };
+    let duration_ms = context.duration_ms;
     let run_s = duration_ms as f64 * 1e-3
         + if afferents.is_some() {
             crate::afferents::AFFERENT_TAIL_S
@@ -259,12 +153,7 @@ pub fn encode_through_graph(
             |slot: &mut Option<ReadoutNetwork>, sample| {
                 let net = match slot {
                     Some(net) => net,
-                    None => slot.insert(ReadoutNetwork::build(
-                        n_channels,
-                        duration_ms,
-                        afferents,
-                        vr_from,
-                    )?),
+                    None => slot.insert(ReadoutNetwork::build(&context, afferents)?),
                 };
                 let out = net.run(sample, run_s);
                 progress();
@@ -272,18 +161,26 @@ pub fn encode_through_graph(
             },
         )
         .collect::<Result<_, _>>()?;
-    let n = samples.len();
-    let mut intensive = Array2::zeros((n, 1));
-    let mut spatial = Array2::zeros((n, n_channels));
-    let (mut bins, mut trains, mut traces) = (Vec::new(), Vec::new(), Vec::new());
-    for (i, s) in samples.into_iter().enumerate() {
-        intensive[[i, 0]] = s.intensive;
-        spatial
-            .row_mut(i)
-            .assign(&ndarray::ArrayView1::from(&s.spatial));
-        bins.push(s.bins);
-        trains.push(s.trains);
-        traces.extend(s.trace);
+    let mut trains = Vec::with_capacity(samples.len());
+    // Each coding's readouts of the whole set: its readout of the first sample, the others
+    // appended in order (without samples, its offline readout of none).
+    let mut readouts: Vec<Box<dyn SetReadout>> = Vec::new();
+    for (sample_trains, sample_readouts) in samples {
+        trains.push(sample_trains);
+        if readouts.is_empty() {
+            readouts = sample_readouts;
+            continue;
+        }
+        for (set, mut sample) in readouts.iter_mut().zip(sample_readouts) {
+            if !set.append(sample.as_mut()) {
+                unreachable!("a coding's reader gives the same type for every sample");
+            }
+        }
+    }
+    if readouts.is_empty() {
+        readouts = (CodingName::ALL.iter())
+            .map(|c| c.scheme().encode(&[], &context))
+            .collect::<Result<_, _>>()?;
     }
     let needed_ms = duration_ms_of(&trains)?;
     if needed_ms > duration_ms {
@@ -299,11 +196,11 @@ pub fn encode_through_graph(
         labels: data.labels().to_vec(),
         class_names: data.class_names().to_vec(),
         duration_ms,
-        intensive,
-        spatial,
-        bins,
+        n_channels: context.n_channels,
         trains,
-        traces: matches!(vr_from, VrFrom::Traces { .. }).then_some(traces),
+        readouts: (CodingName::ALL.iter().map(|c| c.key()))
+            .zip(readouts)
+            .collect(),
         path: format!("network: taxel input{layer} → four coding readouts, one network reused"),
         vr_from,
     })
@@ -313,9 +210,11 @@ pub fn encode_through_graph(
 mod tests {
     use super::*;
     use crate::afferents::afferent_dataset;
+    use crate::coding::spatiotemporal::van_rossum_input;
     use crate::datasets::synthetic::{SyntheticConfig, synthetic_dataset};
     use crate::menu::Menu;
     use crate::neuron_setup::NeuronKind;
+    use crate::neuron_setup::Precision;
     use crate::search::bayes::VanRossumInput;
 
     fn small_set() -> SpikeDataset {
@@ -337,13 +236,14 @@ mod tests {
     }
 
     fn assert_same(graph: &EncodedSet, offline: &EncodedSet) {
-        assert_eq!(graph.intensive, offline.intensive);
-        assert_eq!(graph.spatial, offline.spatial);
-        assert_eq!(graph.bins, offline.bins);
         assert_eq!(graph.trains, offline.trains);
-        assert_eq!(graph.traces, offline.traces);
+        assert_eq!(graph.readouts.len(), CodingName::ALL.len());
+        for ((key, g), (k, o)) in graph.readouts.iter().zip(&offline.readouts) {
+            assert_eq!(key, k);
+            assert!(g.same_as(o.as_ref()), "{key}: {g:?} vs {o:?}");
+        }
         let matrices = |s: &EncodedSet| {
-            s.van_rossum_input()
+            van_rossum_input(s)
                 .matrices(0.03, &neurotac_core::OneProcess)
                 .unwrap()
         };
@@ -369,7 +269,7 @@ mod tests {
                     .starts_with("network: taxel input → four coding readouts")
             );
             assert_eq!(
-                matches!(graph.van_rossum_input(), VanRossumInput::Traces { .. }),
+                matches!(van_rossum_input(&graph), VanRossumInput::Traces { .. }),
                 vr_from != VrFrom::Exact
             );
         }
@@ -384,7 +284,8 @@ mod tests {
             let recorded = afferent_dataset(&data, run_s, config, &|| ()).unwrap();
             assert_same(&graph, &encode_offline(&recorded, VrFrom::Exact).unwrap());
             assert!(graph.path.contains("afferents"), "{}", graph.path);
-            assert!(graph.intensive.sum() > 0.0);
+            let means = graph.readout::<f64>("intensive").unwrap();
+            assert!(means.iter().sum::<f64>() > 0.0);
         }
     }
 

@@ -1,6 +1,7 @@
 //! The online recogniser's decision at the end of each replayed slide equals the
 //! offline classifier's prediction for that sample, for all four codings.
 
+use neurotac_core::coding::{IntensiveCoding, SpatialCoding, feature_matrix};
 use neurotac_core::distance::{VanRossum, euclidean_distance_matrix};
 use neurotac_core::ndarray::Array2;
 use neurotac_core::{EventBuffer, Knn, OneProcess, SpikeDataset};
@@ -68,9 +69,10 @@ fn final_online_decisions_equal_the_offline_predictions() {
     let temporal = {
         let width = (encoded.duration_ms - window_ms + 1) as usize;
         let mut m = Array2::zeros((all.len(), width));
-        for (bins, mut row) in encoded.bins.iter().zip(m.rows_mut()) {
+        for (o, mut row) in all.observations().iter().zip(m.rows_mut()) {
+            let bins = neurotac_core::coding::pooled_bin_counts(o, encoded.duration_ms);
             neurotac_core::coding::write_window_features(
-                bins,
+                &bins,
                 window_ms,
                 all.n_channels(),
                 row.as_slice_mut().unwrap(),
@@ -81,12 +83,23 @@ fn final_online_decisions_equal_the_offline_predictions() {
     let codings = [
         (
             Coding::of(CodingName::Intensive),
-            euclidean_distance_matrix(encoded.intensive.view(), &neurotac_core::OneProcess)
-                .unwrap(),
+            euclidean_distance_matrix(
+                feature_matrix(&IntensiveCoding::new(), all.observations())
+                    .unwrap()
+                    .view(),
+                &neurotac_core::OneProcess,
+            )
+            .unwrap(),
         ),
         (
             Coding::of(CodingName::Spatial),
-            euclidean_distance_matrix(encoded.spatial.view(), &neurotac_core::OneProcess).unwrap(),
+            euclidean_distance_matrix(
+                feature_matrix(&SpatialCoding::new(), all.observations())
+                    .unwrap()
+                    .view(),
+                &neurotac_core::OneProcess,
+            )
+            .unwrap(),
         ),
         (
             Coding::temporal(window_ms),

@@ -12,7 +12,7 @@ use neurotac_cli::report::folder::{write, write_figure, write_folder_atomically}
 use neurotac_cli::report::png::PngRenderer;
 use neurotac_cli::report::svg::{Axis, Chart, Marker, PALETTE, Series};
 use neurotac_experiments::afferents::AfferentConfig;
-use neurotac_experiments::coding::{Coding, CodingName};
+use neurotac_experiments::coding::{Coding, CodingName, CodingParameters};
 use neurotac_experiments::datasets::metadata::transduction_of;
 use neurotac_experiments::datasets::simulated::{TextureSet, default_cache_dir};
 use neurotac_experiments::menu::Menu;
@@ -114,14 +114,15 @@ pub struct RecogniseArgs {
 }
 
 impl RecogniseArgs {
+    /// `name` with the parameters of the flags (each coding reads only its own).
     fn coding(&self, name: CodingName) -> anyhow::Result<Coding> {
-        Ok(match name {
-            CodingName::Intensive | CodingName::Spatial => Coding::of(name),
-            CodingName::Temporal => {
-                Coding::temporal(neurotac_core::coding::whole_ms(self.dt, "--dt")?)
-            }
-            CodingName::Spatiotemporal => Coding::spatiotemporal(self.tau, self.cos),
-        })
+        let parameters = CodingParameters {
+            window_ms: Some(neurotac_core::coding::whole_ms(self.dt, "--dt")?),
+            duration_ms: None,
+            tau_s: Some(self.tau),
+            cos: Some(self.cos),
+        };
+        Ok(Coding { name, parameters })
     }
 }
 

@@ -6,7 +6,7 @@ use super::tables::{coding_seconds, paper_table, parameter_rows};
 use neurotac_experiments::coding::CodingName;
 use neurotac_experiments::menu::Menu;
 use neurotac_experiments::reproduce::phases::{Phases, SlidePhase};
-use neurotac_experiments::reproduce::{Report, SetReport, SetResult};
+use neurotac_experiments::reproduce::{BayesSearch, DtSearch, Report, SetReport, SetResult};
 use std::fmt::Write as _;
 
 /// A CSV field, quoted when it holds a comma, a quote or a line break.
@@ -208,18 +208,18 @@ pub fn paper_confusions_csv(report: &Report) -> String {
 }
 
 /// `dt_sweep_<set>.csv`: leave-one-out accuracy at every Δt.
-pub fn dt_sweep_csv(set: &SetResult) -> String {
+pub fn dt_sweep_csv(dt: &DtSearch) -> String {
     let mut dt_csv = String::from("dt_ms,loo_accuracy\n");
-    for (w, a) in set.dt_sweep.windows_ms.iter().zip(&set.dt_sweep.accuracy) {
+    for (w, a) in dt.sweep.windows_ms.iter().zip(&dt.sweep.accuracy) {
         let _ = writeln!(dt_csv, "{w},{a}");
     }
     dt_csv
 }
 
 /// `bo_convergence_<set>.csv`: every epoch of the Bayesian optimisation.
-pub fn bayes_csv(set: &SetResult) -> String {
+pub fn bayes_csv(bayes: &BayesSearch) -> String {
     let mut bo_csv = String::from("epoch,tau_s,cos,accuracy,best_accuracy,best_tau_s,best_cos\n");
-    for s in &set.bayes.trace {
+    for s in &bayes.result.trace {
         let _ = writeln!(
             bo_csv,
             "{},{},{},{},{},{},{}",
@@ -298,11 +298,11 @@ mod tests {
     fn sweep_trace_and_confusion_tables() {
         let s = set_result("x");
         assert_eq!(
-            dt_sweep_csv(&s),
+            dt_sweep_csv(s.dt_search().unwrap()),
             "dt_ms,loo_accuracy\n1,0.5\n2,0.6\n3,0.7\n"
         );
         assert_eq!(
-            bayes_csv(&s).lines().nth(1),
+            bayes_csv(s.bayes_search().unwrap()).lines().nth(1),
             Some("1,0.02,0.5,0.8,0.8,0.02,0.5")
         );
         let names = ["a,b".to_string(), "c".to_string()];

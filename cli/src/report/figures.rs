@@ -4,7 +4,7 @@
 
 use super::svg::{Axis, Chart, Marker, PALETTE, Series, escape, panels};
 use neurotac_core::MultiSpikeTrain;
-use neurotac_experiments::reproduce::{SetReport, SetResult};
+use neurotac_experiments::reproduce::{BayesSearch, DtSearch, SetReport, SetResult};
 
 /// A raster: one row of ticks per taxel (y = taxel index, x = time in s).
 pub fn raster_chart(trains: &MultiSpikeTrain, title: &str) -> Chart {
@@ -264,8 +264,8 @@ pub fn confusion_figure(
 }
 
 /// The chart of the Δt sweep (accuracy against Δt, the chosen window marked).
-pub fn dt_chart(set: &SetResult) -> Chart {
-    let sweep = &set.dt_sweep;
+pub fn dt_chart(set: &SetResult, dt: &DtSearch) -> Chart {
+    let sweep = &dt.sweep;
     let points = sweep
         .windows_ms
         .iter()
@@ -303,8 +303,8 @@ pub fn dt_chart(set: &SetResult) -> Chart {
 
 /// The optimisation's convergence: τ and cos θ evaluated at every epoch, and the best so far
 /// (the paper's convergence figure), with the best accuracy.
-pub fn bayes_charts(set: &SetResult) -> Vec<Chart> {
-    let trace = &set.bayes.trace;
+pub fn bayes_charts(set: &SetResult, bayes: &BayesSearch) -> Vec<Chart> {
+    let trace = &bayes.result.trace;
     let series = |label: &str,
                   f: &dyn Fn(&neurotac_experiments::search::bayes::BayesStep) -> f64,
                   c: usize| Series {
@@ -352,19 +352,22 @@ pub fn bayes_charts(set: &SetResult) -> Vec<Chart> {
     ]
 }
 
-/// The paper's spike-train figure: one column per example, raster / spatial / temporal rows.
+/// The paper's spike-train figure: one column per example, raster / spatial / temporal rows
+/// (the temporal row at the chosen Δt, when a Δt sweep ran).
 pub fn set_spike_train_figure(set: &SetReport) -> String {
-    let dt_s = set.direct.dt_sweep.best_window_ms as f64 * 1e-3;
+    let dt_s = (set.direct.dt_search()).map(|dt| dt.sweep.best_window_ms as f64 * 1e-3);
     let ex = &set.examples;
     let mut charts: Vec<Chart> = ex.iter().map(|(n, t)| raster_chart(t, n)).collect();
     charts.extend(
         ex.iter()
             .map(|(n, t)| spatial_chart(t, &format!("{n}: spatial"))),
     );
-    charts.extend(
-        ex.iter()
-            .map(|(n, t)| temporal_chart(t, dt_s, &format!("{n}: temporal"))),
-    );
+    if let Some(dt_s) = dt_s {
+        charts.extend(
+            ex.iter()
+                .map(|(n, t)| temporal_chart(t, dt_s, &format!("{n}: temporal"))),
+        );
+    }
     panels(&charts, ex.len().max(1))
 }
 

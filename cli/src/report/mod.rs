@@ -54,20 +54,18 @@ fn write_files(dir: &Path, report: &Report) -> Result<(), ReportError> {
 fn write_set_files(dir: &Path, set: &SetReport, png: &PngRenderer) -> Result<(), ReportError> {
     let d = &set.direct;
     let name = &d.name;
-    write(dir, &format!("dt_sweep_{name}.csv"), &csv::dt_sweep_csv(d))?;
-    write_figure(dir, &format!("dt_sweep_{name}"), &dt_chart(d).to_svg(), png)?;
-    write(
-        dir,
-        &format!("bo_convergence_{name}.csv"),
-        &csv::bayes_csv(d),
-    )?;
-    write_figure(
-        dir,
-        &format!("bo_convergence_{name}"),
+    if let Some(dt) = d.dt_search() {
+        write(dir, &format!("dt_sweep_{name}.csv"), &csv::dt_sweep_csv(dt))?;
+        let svg = dt_chart(d, dt).to_svg();
+        write_figure(dir, &format!("dt_sweep_{name}"), &svg, png)?;
+    }
+    if let Some(bayes) = d.bayes_search() {
+        let csv = csv::bayes_csv(bayes);
+        write(dir, &format!("bo_convergence_{name}.csv"), &csv)?;
         // Stacked: one panel per row stays readable when the figure is scaled to a page.
-        &panels(&bayes_charts(d), 1),
-        png,
-    )?;
+        let svg = panels(&bayes_charts(d, bayes), 1);
+        write_figure(dir, &format!("bo_convergence_{name}"), &svg, png)?;
+    }
     write_figure(
         dir,
         &format!("spike_trains_{name}"),

@@ -109,12 +109,7 @@ pub fn afferent_table(set: &SetReport) -> String {
 
 /// Wall time of a coding including its parameter search.
 pub fn coding_seconds(set: &SetResult, coding: CodingName) -> f64 {
-    let own = set.coding(coding).time.wall_s;
-    own + match coding {
-        CodingName::Temporal => set.dt_sweep_time.wall_s,
-        CodingName::Spatiotemporal => set.bayes_time.wall_s,
-        _ => 0.0,
-    }
+    set.coding(coding).seconds_with_search()
 }
 
 /// One chosen parameter or intensive class mean, with the paper's value where it gives one.
@@ -128,97 +123,130 @@ pub struct ParameterRow {
     pub paper: Option<f64>,
 }
 
-/// The chosen Δt, τ and cos θ, then the intensive mean of every class.
-pub fn parameter_rows(set: &SetResult) -> Vec<ParameterRow> {
-    let paper_set = set.name == "artificial";
-    let row = |quantity: &str, value: f64, paper: f64| ParameterRow {
-        quantity: quantity.into(),
-        value,
-        paper: paper_set.then_some(paper),
-    };
-    let mut rows = vec![
-        row(
-            "temporal Δt (ms)",
-            set.dt_sweep.best_window_ms as f64,
-            paper::DT_MS,
-        ),
-        row(
-            "Van Rossum τ (ms)",
-            // ms on the search's grid, rounded so it prints in its shortest form (35, not
-            // 35.00000000000001).
-            (set.bayes.best_tau_s * 1e3 * 1e9).round() / 1e9,
-            paper::TAU_MS,
-        ),
-        row("Van Rossum cos θ", set.bayes.best_cos, paper::COS_THETA),
-    ];
-    rows.extend(
-        set.class_names
-            .iter()
-            .zip(&set.intensive_class_means)
-            .map(|(class, &value)| ParameterRow {
-                quantity: format!("intensive mean, {class} (spikes per taxel)"),
-                value,
-                paper: paper::INTENSIVE_MEANS
-                    .iter()
-                    .find(|&&(mm, _)| *class == paper::grid_name(mm))
-                    .map(|&(_, m)| m),
-            }),
-    );
-    rows
+/// A parameter chosen by a search, as the parameter table shows it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ChosenParameter {
+    /// The value against the paper's.
+    pub row: ParameterRow,
+    /// The value as the table prints it (`159`, `76`, `0.40`).
+    pub printed: String,
+    /// Why it is suspect: it sits on a bound of its search (the optimum may lie beyond it);
+    /// `None` when inside.
+    pub bound_note: Option<String>,
 }
 
-/// Why a chosen parameter is suspect: it sits on a bound of its search (the optimum may lie
-/// beyond it), as `(quantity, note)` for Δt, τ and cos θ; `None` when inside.
-pub fn bound_notes(set: &SetResult) -> [Option<String>; 3] {
-    let space = &set.search_space;
-    let dt = set.dt_sweep.best_window_ms;
-    let dt_note = if dt == space.dt_max_ms {
-        Some(format!("on the search bound (Δt ≤ {} ms)", space.dt_max_ms))
-    } else if dt == 1 {
-        Some("on the search bound (Δt ≥ 1 ms)".to_owned())
-    } else {
-        None
-    };
-    let tau = set.bayes.best_tau_s;
-    let half_tau = space.tau_step_s / 2.0;
-    let tau_note = if tau >= space.tau_max_s - half_tau {
+/// The note of `value` when it sits on a bound of its search `[low, high]` (within
+/// `half_step`): `on the search bound (τ ≤ 100 ms)`, the bound printed in `unit` after
+/// `scale`.
+fn bound_note(
+    value: f64,
+    (low, high): (f64, f64),
+    half_step: f64,
+    what: &str,
+    (scale, unit): (f64, &str),
+) -> Option<String> {
+    let on = |op: &str, b: f64| {
         Some(format!(
-            "on the search bound (τ ≤ {:.0} ms)",
-            space.tau_max_s * 1e3
+            "on the search bound ({what} {op} {:.0}{unit})",
+            b * scale
         ))
-    } else if tau <= space.tau_min_s + half_tau {
-        Some(format!(
-            "on the search bound (τ ≥ {:.0} ms)",
-            space.tau_min_s * 1e3
-        ))
+    };
+    if value >= high - half_step {
+        on("≤", high)
+    } else if value <= low + half_step {
+        on("≥", low)
     } else {
         None
-    };
-    let cos = set.bayes.best_cos;
-    let cos_note = if cos >= 1.0 - space.cos_step / 2.0 {
-        Some("on the search bound (cos θ ≤ 1)".to_owned())
-    } else if cos <= space.cos_step / 2.0 {
-        Some("on the search bound (cos θ ≥ 0)".to_owned())
-    } else {
-        None
-    };
-    [dt_note, tau_note, cos_note]
+    }
+}
+
+/// The parameters the searches chose — Δt (the Δt sweep), τ and cos θ (the Bayesian
+/// optimisation) — each against the paper's and flagged when on a bound of its search.
+pub fn chosen_parameters(set: &SetResult) -> Vec<ChosenParameter> {
+    let paper_set = set.name == "artificial";
+    let chosen =
+        |quantity: &str, value: f64, paper: f64, printed: String, bound_note| ChosenParameter {
+            row: ParameterRow {
+                quantity: quantity.into(),
+                value,
+                paper: paper_set.then_some(paper),
+            },
+            printed,
+            bound_note,
+        };
+    let mut out = Vec::new();
+    if let Some(dt) = set.dt_search() {
+        let w = dt.sweep.best_window_ms;
+        let span = (1.0, dt.max_window_ms as f64);
+        let note = bound_note(w as f64, span, 0.0, "Δt", (1.0, " ms"));
+        out.push(chosen(
+            "temporal Δt (ms)",
+            w as f64,
+            paper::DT_MS,
+            w.to_string(),
+            note,
+        ));
+    }
+    if let Some(b) = set.bayes_search() {
+        let (tau, cos) = (b.result.best_tau_s, b.result.best_cos);
+        // ms on the search's grid, rounded so it prints in its shortest form (35, not
+        // 35.00000000000001).
+        let tau_ms = (tau * 1e3 * 1e9).round() / 1e9;
+        let span = (b.tau_min_s, b.tau_max_s);
+        let tau_note = bound_note(tau, span, b.tau_step_s / 2.0, "τ", (1e3, " ms"));
+        out.push(chosen(
+            "Van Rossum τ (ms)",
+            tau_ms,
+            paper::TAU_MS,
+            format!("{tau_ms:.0}"),
+            tau_note,
+        ));
+        let cos_note = bound_note(cos, (0.0, 1.0), b.cos_step / 2.0, "cos θ", (1.0, ""));
+        out.push(chosen(
+            "Van Rossum cos θ",
+            cos,
+            paper::COS_THETA,
+            format!("{cos:.2}"),
+            cos_note,
+        ));
+    }
+    out
+}
+
+/// The intensive mean of every class, with the paper's where it gives one.
+pub fn class_mean_rows(set: &SetResult) -> Vec<ParameterRow> {
+    (set.class_names.iter())
+        .zip(&set.intensive_class_means)
+        .map(|(class, &value)| ParameterRow {
+            quantity: format!("intensive mean, {class} (spikes per taxel)"),
+            value,
+            paper: paper::INTENSIVE_MEANS
+                .iter()
+                .find(|&&(mm, _)| *class == paper::grid_name(mm))
+                .map(|&(_, m)| m),
+        })
+        .collect()
+}
+
+/// The chosen parameters ([`chosen_parameters`]), then the intensive mean of every class.
+pub fn parameter_rows(set: &SetResult) -> Vec<ParameterRow> {
+    (chosen_parameters(set).into_iter().map(|c| c.row))
+        .chain(class_mean_rows(set))
+        .collect()
 }
 
 /// The chosen Δt, τ and cos θ against the paper's, each flagged when it sits on a bound of its
-/// search ([`bound_notes`]), as Markdown.
+/// search, as Markdown.
 pub fn parameter_table(set: &SetResult) -> String {
     let mut s = String::from("| quantity | this run | paper | note |\n|---|---|---|---|\n");
-    let notes = bound_notes(set);
-    for (i, r) in parameter_rows(set).iter().take(3).enumerate() {
-        let value = match i {
-            0 => format!("{}", r.value),
-            1 => format!("{:.0}", r.value),
-            _ => format!("{:.2}", r.value),
-        };
-        let paper = r.paper.map_or("—".into(), |p| p.to_string());
-        let note = notes[i].as_deref().unwrap_or("");
-        let _ = writeln!(s, "| {} | {value} | {paper} | {note} |", r.quantity);
+    for c in chosen_parameters(set) {
+        let paper = c.row.paper.map_or("—".into(), |p| p.to_string());
+        let note = c.bound_note.as_deref().unwrap_or("");
+        let _ = writeln!(
+            s,
+            "| {} | {} | {paper} | {note} |",
+            c.row.quantity, c.printed
+        );
     }
     s
 }
@@ -228,7 +256,7 @@ pub fn parameter_table(set: &SetResult) -> String {
 pub fn intensive_table(set: &SetResult) -> String {
     let mut s =
         String::from("| class | intensive mean (spikes per taxel) | paper |\n|---|---|---|\n");
-    for r in parameter_rows(set).iter().skip(3) {
+    for r in class_mean_rows(set) {
         let class = r
             .quantity
             .trim_start_matches("intensive mean, ")
@@ -274,7 +302,7 @@ pub(crate) mod tests {
     use super::*;
     use neurotac_experiments::menu::Menu;
     use neurotac_experiments::protocols::{Accuracy, ConfusionMatrix, Evaluation};
-    use neurotac_experiments::reproduce::CodingResult;
+    use neurotac_experiments::reproduce::{BayesSearch, CodingResult, DtSearch, Search};
     use neurotac_experiments::search::bayes::{BayesResult, BayesStep};
     use neurotac_experiments::search::dt_sweep::DtSweep;
     use neurotac_experiments::timing::Timing;
@@ -300,6 +328,15 @@ pub(crate) mod tests {
 
     /// A hand-made result of a two-class set named `name`.
     pub(crate) fn set_result(name: &str) -> SetResult {
+        let step = BayesStep {
+            epoch: 1,
+            tau_s: 0.02,
+            cos: 0.5,
+            value: 0.8,
+            best_value: 0.8,
+            best_tau_s: 0.02,
+            best_cos: 0.5,
+        };
         let codings = CodingName::ALL
             .iter()
             .enumerate()
@@ -314,17 +351,36 @@ pub(crate) mod tests {
                 split: (i != 1).then(|| evaluation(0.6)),
                 split_refused: (i == 1).then(|| "class 1 has 1 sample(s)".into()),
                 time: Timing::default(),
+                search: match coding {
+                    CodingName::Temporal => Some(Search::DtSweep(DtSearch {
+                        sweep: DtSweep {
+                            windows_ms: vec![1, 2, 3],
+                            accuracy: vec![0.5, 0.6, 0.7],
+                            best_window_ms: 3,
+                            best: evaluation(0.7).accuracy,
+                        },
+                        max_window_ms: 3,
+                        time: Timing::default(),
+                    })),
+                    CodingName::Spatiotemporal => Some(Search::Bayes(BayesSearch {
+                        result: BayesResult {
+                            best_tau_s: 0.02,
+                            best_cos: 0.5,
+                            best_value: 0.8,
+                            best_tau_index: 0,
+                            trace: vec![step],
+                        },
+                        tau_min_s: 0.01,
+                        tau_max_s: 0.1,
+                        tau_step_s: 0.005,
+                        cos_step: 0.01,
+                        matrices_computed: 1,
+                        time: Timing::default(),
+                    })),
+                    _ => None,
+                },
             })
             .collect();
-        let step = BayesStep {
-            epoch: 1,
-            tau_s: 0.02,
-            cos: 0.5,
-            value: 0.8,
-            best_value: 0.8,
-            best_tau_s: 0.02,
-            best_cos: 0.5,
-        };
         SetResult {
             name: name.into(),
             path: "network: taxel input → four coding readouts".into(),
@@ -334,29 +390,6 @@ pub(crate) mod tests {
             duration_ms: 10,
             mean_spikes_per_taxel: 7.0,
             intensive_class_means: vec![4.0, 10.0],
-            dt_sweep: DtSweep {
-                windows_ms: vec![1, 2, 3],
-                accuracy: vec![0.5, 0.6, 0.7],
-                best_window_ms: 3,
-                best: evaluation(0.7).accuracy,
-            },
-            dt_sweep_time: Timing::default(),
-            bayes: BayesResult {
-                best_tau_s: 0.02,
-                best_cos: 0.5,
-                best_value: 0.8,
-                best_tau_index: 0,
-                trace: vec![step],
-            },
-            bayes_time: Timing::default(),
-            vr_matrices_computed: 1,
-            search_space: neurotac_experiments::reproduce::SearchSpace {
-                dt_max_ms: 3,
-                tau_min_s: 0.01,
-                tau_max_s: 0.1,
-                tau_step_s: 0.005,
-                cos_step: 0.01,
-            },
             codings,
             time: Timing::default(),
         }
@@ -435,6 +468,11 @@ pub(crate) mod tests {
     /// A choice on a search bound is flagged, one inside is not.
     #[test]
     fn choices_on_a_search_bound_are_flagged() {
+        let bound_notes = |set: &SetResult| -> Vec<Option<String>> {
+            (chosen_parameters(set).into_iter())
+                .map(|c| c.bound_note)
+                .collect()
+        };
         let mut set = set_result("natural");
         assert_eq!(
             bound_notes(&set),
@@ -444,9 +482,13 @@ pub(crate) mod tests {
                 None
             ]
         );
-        set.dt_sweep.best_window_ms = 2;
-        set.bayes.best_tau_s = 0.1;
-        set.bayes.best_cos = 0.0;
+        for c in &mut set.codings {
+            match &mut c.search {
+                Some(Search::DtSweep(dt)) => dt.sweep.best_window_ms = 2,
+                Some(Search::Bayes(b)) => (b.result.best_tau_s, b.result.best_cos) = (0.1, 0.0),
+                None => {}
+            }
+        }
         assert_eq!(
             bound_notes(&set),
             [
@@ -455,7 +497,11 @@ pub(crate) mod tests {
                 Some("on the search bound (cos θ ≥ 0)".to_owned())
             ]
         );
-        set.bayes.best_tau_s = 0.012;
+        for c in &mut set.codings {
+            if let Some(Search::Bayes(b)) = &mut c.search {
+                b.result.best_tau_s = 0.012;
+            }
+        }
         assert_eq!(
             bound_notes(&set)[1].as_deref(),
             Some("on the search bound (τ ≥ 10 ms)")

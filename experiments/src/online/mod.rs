@@ -15,9 +15,9 @@
 //! windows end by `T` (temporal), or the multi-unit Van Rossum distance of the prefixes
 //! (spatiotemporal). The training side is prepared once ([`OnlineClassifier`]); each window
 //! then costs work in proportion to its new spikes: counts move on by cursors, the temporal
-//! distances grow in the lanes of [`squared_euclidean`] (so the last one equals the offline
-//! distance bit for bit), the Van Rossum sums grow spike by spike ([`GrowingVanRossum`]; within
-//! 10⁻⁹ of [`PreparedVanRossum::cross_matrices_until`]). The final decision compares whole
+//! distances grow in the lanes of [`squared_euclidean`](neurotac_core::distance::squared_euclidean) (so the last one equals the offline
+//! distance bit for bit), the Van Rossum sums grow spike by spike ([`GrowingVanRossum`](neurotac_core::distance::GrowingVanRossum); within
+//! 10⁻⁹ of [`PreparedVanRossum::cross_matrices_until`](neurotac_core::distance::PreparedVanRossum::cross_matrices_until)). The final decision compares whole
 //! samples exactly as the offline classifier does.
 //!
 //! **Bounded memory.** The live sample is kept only up to the training samples' duration `D`
@@ -27,14 +27,11 @@
 pub mod eval;
 
 use crate::afferents::{AfferentConfig, afferent_population};
-use crate::coding::{Coding, CodingName};
+use crate::coding::Coding;
+use crate::coding::scheme::{LiveScorer, OnlineScorer};
 use crate::error::ExperimentError;
 use crate::readouts::{EncodedSet, VrFrom, encode_through_graph};
-use ndarray::Array2;
-use neurotac_core::coding::{SpatiotemporalCoding, write_window_features};
-use neurotac_core::distance::{
-    GrowingLive, GrowingVanRossum, PreparedVanRossum, VanRossum, combine_squared, squared_euclidean,
-};
+use neurotac_core::coding::SpatiotemporalCoding;
 use neurotac_core::knn::FittedKnn;
 use neurotac_core::{
     EventBuffer, InputId, MultiSpikeTrain, Network, NetworkBuilder, NetworkConfig, ReadoutId,
@@ -124,32 +121,12 @@ pub struct Decision {
     pub latency_s: f64,
 }
 
-/// The training side of a coding, prepared once and shared by every recogniser.
-enum Prepared {
-    Counts {
-        spatial: bool,
-    },
-    Temporal {
-        window_ms: u32,
-        /// Training features over the whole duration, one row per sample.
-        train: Array2<f64>,
-    },
-    VanRossum {
-        /// Whole samples and prefixes from scratch (the final decision, and windows when the
-        /// spans are too long for the growing sums).
-        prepared: Box<PreparedVanRossum>,
-        /// Prefixes window by window.
-        growing: Option<Box<GrowingVanRossum>>,
-        cos: f64,
-    },
-}
-
 /// A KNN head on a training set for one coding, prepared once (training features, the Van
-/// Rossum index) and shared by any number of [`Recogniser`]s.
+/// Rossum index: the coding's [`OnlineScorer`]) and shared by any number of [`Recogniser`]s.
 pub struct OnlineClassifier<'a> {
     training: &'a OnlineTraining,
     coding: Coding,
-    prepared: Prepared,
+    scorer: Box<dyn OnlineScorer + 'a>,
     knn: FittedKnn,
 }
 
@@ -161,43 +138,14 @@ impl<'a> OnlineClassifier<'a> {
         k: usize,
     ) -> Result<Self, ExperimentError> {
         let knn = neurotac_core::Knn::new(k)?.fit(training.labels())?;
-        let prepared = match coding.name {
-            CodingName::Intensive => Prepared::Counts { spatial: false },
-            CodingName::Spatial => Prepared::Counts { spatial: true },
-            CodingName::Temporal => {
-                let window_ms = coding.window_ms()?;
-                let d = training.duration_ms();
-                if window_ms == 0 || window_ms > d {
-                    return Err(ExperimentError::InvalidParameter {
-                        what: "temporal window Δt (ms)",
-                        value: window_ms as f64,
-                        expected: "≥ 1 ms and ≤ the training samples' duration",
-                    });
-                }
-                let width = (d - window_ms + 1) as usize;
-                let mut train = Array2::zeros((training.len(), width));
-                for (bins, mut row) in training.encoded.bins.iter().zip(train.rows_mut()) {
-                    let row = row
-                        .as_slice_mut()
-                        .expect("rows of a fresh array are contiguous");
-                    write_window_features(bins, window_ms, training.n_channels(), row);
-                }
-                Prepared::Temporal { window_ms, train }
-            }
-            CodingName::Spatiotemporal => {
-                let (tau_s, cos) = coding.tau_and_cos()?;
-                let prepared = VanRossum::new(tau_s)?.prepare(training.trains())?;
-                Prepared::VanRossum {
-                    prepared: Box::new(prepared),
-                    growing: GrowingVanRossum::new(training.trains(), tau_s)?.map(Box::new),
-                    cos: neurotac_core::distance::check_cos(cos)?,
-                }
-            }
-        };
+        let scorer = coding
+            .name
+            .scheme()
+            .online(&training.encoded, &coding.parameters)?;
         Ok(Self {
             training,
             coding,
-            prepared,
+            scorer,
             knn,
         })
     }
@@ -223,7 +171,7 @@ pub struct Recogniser<'a> {
     network: Network,
     input: InputId,
     readout: ReadoutId<SpatiotemporalCoding>,
-    live: LiveSide,
+    live: Box<dyn LiveScorer + 'a>,
     /// Windows closed so far.
     windows: u64,
     /// Last window that is kept (the training duration rounded up to a window).
@@ -232,21 +180,6 @@ pub struct Recogniser<'a> {
     events_dropped: u64,
     decisions: Vec<Decision>,
     final_decision: Option<Decision>,
-}
-
-/// The live side of a coding, grown window by window.
-enum LiveSide {
-    /// Intensive and spatial: per training sample and channel, its spikes before the last
-    /// decision's time (also where its next one starts).
-    Counts { counts: Vec<f64> },
-    /// Per training sample, the lanes of [`squared_euclidean`] over the first `done` features.
-    Temporal { lanes: Vec<[f64; 8]>, done: usize },
-    /// The growing Van Rossum sums (when the spans allow them), and how many live spikes of
-    /// each channel they hold.
-    VanRossum {
-        growing: Option<GrowingLive>,
-        given: Vec<usize>,
-    },
 }
 
 impl<'a> Recogniser<'a> {
@@ -271,20 +204,7 @@ impl<'a> Recogniser<'a> {
         let (network, input, readout) = live_network(training)?;
         let window_us = transduction.pool_window_us;
         let last_window = (training.duration_ms() as u64 * 1000).div_ceil(window_us as u64);
-        let n_train = training.len();
-        let live = match &classifier.prepared {
-            Prepared::Counts { .. } => LiveSide::Counts {
-                counts: vec![0.0; n_train * training.n_channels()],
-            },
-            Prepared::Temporal { .. } => LiveSide::Temporal {
-                lanes: vec![[0.0; 8]; n_train],
-                done: 0,
-            },
-            Prepared::VanRossum { growing, .. } => LiveSide::VanRossum {
-                growing: growing.as_ref().map(|g| g.live()),
-                given: vec![0; training.n_channels()],
-            },
-        };
+        let live = classifier.scorer.live();
         Ok(Self {
             classifier,
             live,
@@ -423,94 +343,7 @@ impl<'a> Recogniser<'a> {
     /// The decision at elapsed time `t_end_s` (`+∞`: whole samples).
     fn decide(&mut self, t_end_s: f64, start: Instant) -> Result<Decision, ExperimentError> {
         let live = self.network.readout(self.readout)?.trains();
-        let training = self.classifier.training;
-        let n = training.n_channels();
-        let distances: Vec<f64> = match (&self.classifier.prepared, &mut self.live) {
-            (Prepared::Counts { spatial }, LiveSide::Counts { counts }) => {
-                // Each training sample's counts before T, which only ever move on.
-                for (o, counts) in training.trains().iter().zip(counts.chunks_exact_mut(n)) {
-                    for (train, count) in o.channels().zip(counts.iter_mut()) {
-                        let mut k = *count as usize;
-                        while train.get(k).is_some_and(|&t| t < t_end_s) {
-                            k += 1;
-                        }
-                        *count = k as f64;
-                    }
-                }
-                let live: Vec<f64> = live
-                    .channels()
-                    .map(|c| before(c, t_end_s).len() as f64)
-                    .collect();
-                let mean = |counts: &[f64]| [counts.iter().sum::<f64>() / n as f64];
-                counts
-                    .chunks_exact(n)
-                    .map(|counts| match spatial {
-                        true => squared_euclidean(&live, counts).sqrt(),
-                        false => squared_euclidean(&mean(&live), &mean(counts)).sqrt(),
-                    })
-                    .collect()
-            }
-            (Prepared::Temporal { window_ms, train }, LiveSide::Temporal { lanes, done }) => {
-                let d = training.duration_ms();
-                let t_ms = if t_end_s.is_finite() {
-                    ((t_end_s * 1e3).round() as u32).min(d)
-                } else {
-                    d
-                };
-                let width = (t_ms + 1).saturating_sub(*window_ms) as usize;
-                if width > *done {
-                    let bins = neurotac_core::coding::pooled_bin_counts(&live, t_ms);
-                    let mut x = vec![0.0; width];
-                    write_window_features(&bins, *window_ms, n, &mut x);
-                    for (row, lanes) in train.rows().into_iter().zip(lanes.iter_mut()) {
-                        for f in *done..width {
-                            let diff = x[f] - row[f];
-                            lanes[f % 8] += diff * diff;
-                        }
-                    }
-                    *done = width;
-                }
-                lanes.iter().map(|l| l.iter().sum::<f64>().sqrt()).collect()
-            }
-            (
-                Prepared::VanRossum {
-                    prepared,
-                    growing,
-                    cos,
-                },
-                LiveSide::VanRossum {
-                    growing: state,
-                    given,
-                },
-            ) => match (growing, state) {
-                (Some(g), Some(state)) if t_end_s.is_finite() => {
-                    // The live spikes of this window, per channel.
-                    let new: Vec<&[f64]> = (live.channels())
-                        .zip(given.iter_mut())
-                        .map(|(c, given)| {
-                            let (from, to) = (*given, before(c, t_end_s).len());
-                            *given = to;
-                            &c[from..to]
-                        })
-                        .collect();
-                    g.advance(state, &new, t_end_s)?;
-                    (0..training.len())
-                        .map(|i| {
-                            let (ll, sp) = g.squared_parts(state, i);
-                            combine_squared(ll, sp, *cos).sqrt()
-                        })
-                        .collect()
-                }
-                _ => {
-                    let live = std::slice::from_ref(&live);
-                    let m = prepared.cross_matrices_until(live, t_end_s)?;
-                    (m.ll2.iter().zip(&m.sp2))
-                        .map(|(&ll, &sp)| combine_squared(ll, sp, *cos).sqrt())
-                        .collect()
-                }
-            },
-            _ => unreachable!("the live side is built for the classifier's coding"),
-        };
+        let distances = self.live.distances(&live, t_end_s)?;
         let knn = self.classifier.knn.decide(&distances)?;
         let class = knn.class;
         let same_for_windows = match self.decisions.last() {
@@ -613,11 +446,6 @@ pub fn latency_percentiles(decisions: &[Decision]) -> Option<(f64, f64, f64)> {
     l.sort_by(f64::total_cmp);
     let at = |q: f64| l[((q * l.len() as f64).ceil() as usize).clamp(1, l.len()) - 1];
     (!l.is_empty()).then(|| (at(0.5), at(0.99), l[l.len() - 1]))
-}
-
-/// The spikes of a sorted train before `t_end_s`.
-fn before(train: &[f64], t_end_s: f64) -> &[f64] {
-    &train[..train.partition_point(|&t| t < t_end_s)]
 }
 
 /// The live network: taxel spike input → (afferents) → spatiotemporal readout (the trains).

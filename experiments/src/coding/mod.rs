@@ -1,7 +1,7 @@
-//! The paper's four codings by name ([`CodingName`]), the distance matrix of a coding
-//! ([`coding_distances`], or [`coding_distances`] split over ranks) and the sample duration
-//! the temporal coding windows ([`sample_duration_ms`]). The CLI's `--coding` is
-//! [`CodingName`] itself.
+//! The menu of codings ([`CodingName`], one registration list, `codings!` in this file), a
+//! coding with its parameters ([`Coding`]), the distance matrix of a coding
+//! ([`coding_distances`]) and the sample duration the temporal coding windows
+//! ([`sample_duration_ms`]). The CLI's `--coding` is [`CodingName`] itself.
 //!
 //! | coding | features / distance | parameters |
 //! |---|---|---|
@@ -9,76 +9,84 @@
 //! | spatial | spike count of each taxel, Euclidean | — |
 //! | temporal | rolling Δt-window pooled counts in 1 ms steps over the sample, Euclidean | Δt, sample duration |
 //! | spatiotemporal | multi-unit Van Rossum distance | τ, cos θ |
+//!
+//! Each coding is a [`CodingScheme`] in its own file — its readout in a network and offline,
+//! its distances, its run through the pipeline with its parameter search, its online scorer —
+//! and one line of `codings!` puts it on the menu (see CONTRIBUTING.md).
+
+pub mod counts;
+pub mod encoded;
+pub mod intensive;
+pub mod scheme;
+pub mod spatial;
+pub mod spatiotemporal;
+pub mod temporal;
+
+pub use encoded::{EncodedSet, VrFrom};
+pub use scheme::{CodingParameters, CodingScheme, ReadoutContext};
 
 use crate::error::ExperimentError;
 use crate::menu::Menu;
 use ndarray::Array2;
-use neurotac_core::coding::{
-    IntensiveCoding, SpatialCoding, TemporalCoding, duration_ms_of, feature_matrix, whole_ms,
-};
-use neurotac_core::distance::{VanRossum, check_cos, euclidean_distance_matrix};
+use neurotac_core::coding::{duration_ms_of, whole_ms};
 use neurotac_core::{MultiSpikeTrain, Ranks, SpikeDataset};
-use serde::Serialize;
 
-/// The paper's four codings, in its order.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum CodingName {
-    /// Mean spike count per taxel (Euclidean).
-    Intensive,
-    /// Spike count of each taxel (Euclidean).
-    Spatial,
-    /// Rolling Δt-window pooled counts in 1 ms steps (Euclidean).
-    Temporal,
-    /// Multi-unit Van Rossum distance at (τ, cos θ).
-    Spatiotemporal,
-}
-
-impl Menu for CodingName {
-    const WHAT: &'static str = "coding";
-    /// All four, in the paper's order (the order of its tables).
-    const ALL: &'static [CodingName] = &[
-        CodingName::Intensive,
-        CodingName::Spatial,
-        CodingName::Temporal,
-        CodingName::Spatiotemporal,
-    ];
-
-    /// `intensive`, `spatial`, … (file names, CLI values).
-    fn key(self) -> &'static str {
-        match self {
-            CodingName::Intensive => "intensive",
-            CodingName::Spatial => "spatial",
-            CodingName::Temporal => "temporal",
-            CodingName::Spatiotemporal => "spatiotemporal",
+/// Generates [`CodingName`] from the registration list: the enum (one variant per line, in
+/// menu order: the order of the paper's tables), its [`Menu`] keys (each scheme's
+/// [`CodingScheme::key`]) and [`CodingName::scheme`].
+macro_rules! codings {
+    ($($(#[$doc:meta])* $variant:ident => $scheme:expr),+ $(,)?) => {
+        /// A coding of the menu, registered with its [`CodingScheme`]. Serialised as its key
+        /// (`"intensive"`).
+        #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+        pub enum CodingName {
+            $($(#[$doc])* $variant,)+
         }
-    }
+
+        impl CodingName {
+            /// Its [`CodingScheme`].
+            pub fn scheme(self) -> &'static dyn CodingScheme {
+                match self {
+                    $(CodingName::$variant => &$scheme,)+
+                }
+            }
+        }
+
+        impl Menu for CodingName {
+            const WHAT: &'static str = "coding";
+            const ALL: &'static [CodingName] = &[$(CodingName::$variant),+];
+            fn key(self) -> &'static str {
+                self.scheme().key()
+            }
+        }
+    };
 }
+
+codings! {
+    /// Mean spike count per taxel (Euclidean).
+    Intensive => intensive::Intensive,
+    /// Spike count of each taxel (Euclidean).
+    Spatial => spatial::Spatial,
+    /// Rolling Δt-window pooled counts in 1 ms steps (Euclidean).
+    Temporal => temporal::Temporal,
+    /// Multi-unit Van Rossum distance at (τ, cos θ).
+    Spatiotemporal => spatiotemporal::Spatiotemporal,
+}
+
 crate::menu_text!(CodingName);
 
-impl CodingName {
-    /// `Intensive`, `Spatial`, …
-    pub fn label(self) -> &'static str {
-        match self {
-            CodingName::Intensive => "Intensive",
-            CodingName::Spatial => "Spatial",
-            CodingName::Temporal => "Temporal",
-            CodingName::Spatiotemporal => "Spatiotemporal",
-        }
+impl serde::Serialize for CodingName {
+    /// As its key, a unit variant (what `#[serde(rename_all = "snake_case")]` derives).
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        serializer.serialize_unit_variant("CodingName", *self as u32, self.key())
     }
 }
 
-/// The parameters of a coding; each coding reads only its own (see the module table).
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct CodingParameters {
-    /// Temporal: the window Δt (ms).
-    pub window_ms: Option<u32>,
-    /// Temporal: the sample duration (ms), e.g. from [`sample_duration_ms`].
-    pub duration_ms: Option<u32>,
-    /// Spatiotemporal: the Van Rossum kernel time constant τ (s).
-    pub tau_s: Option<f64>,
-    /// Spatiotemporal: cos θ in [0, 1].
-    pub cos: Option<f64>,
+impl CodingName {
+    /// `Intensive`, `Spatial`, … ([`CodingScheme::label`]).
+    pub fn label(self) -> &'static str {
+        self.scheme().label()
+    }
 }
 
 /// A coding with its parameters: what a classifier needs to encode a sample (the online
@@ -126,52 +134,16 @@ impl Coding {
     /// Its parameters as a report prints them (`Δt = 159 ms`, `τ = 76 ms, cos θ = 0.40`;
     /// empty for the intensive and spatial codings).
     pub fn describe_parameters(&self) -> String {
-        let p = &self.parameters;
-        match self.name {
-            CodingName::Intensive | CodingName::Spatial => String::new(),
-            CodingName::Temporal => p
-                .window_ms
-                .map_or_else(String::new, |w| format!("Δt = {w} ms")),
-            CodingName::Spatiotemporal => match (p.tau_s, p.cos) {
-                (Some(tau_s), Some(cos)) => format!("τ = {:.0} ms, cos θ = {cos:.2}", tau_s * 1e3),
-                _ => String::new(),
-            },
-        }
-    }
-
-    /// The temporal window Δt (ms), or the error naming it as missing.
-    pub fn window_ms(&self) -> Result<u32, ExperimentError> {
-        self.parameters
-            .window_ms
-            .ok_or_else(|| missing(self.name, "the window Δt (--dt SECONDS)"))
-    }
-
-    /// The Van Rossum `(τ, cos θ)`, or the error naming the one missing.
-    pub fn tau_and_cos(&self) -> Result<(f64, f64), ExperimentError> {
-        let tau_s = self
-            .parameters
-            .tau_s
-            .ok_or_else(|| missing(self.name, "the Van Rossum τ (--tau SECONDS)"))?;
-        let cos = self
-            .parameters
-            .cos
-            .ok_or_else(|| missing(self.name, "cos θ in [0, 1] (--cos C)"))?;
-        Ok((tau_s, cos))
+        self.name.scheme().describe(&self.parameters)
     }
 }
 
-fn missing(coding: CodingName, what: &'static str) -> ExperimentError {
-    ExperimentError::MissingParameter {
-        coding: coding.key(),
-        what,
-    }
-}
-
-/// The N × N distance matrix of `observations` under `coding`: Euclidean distances of its
-/// features, or the exact multi-unit Van Rossum distance for the spatiotemporal coding.
+/// The N × N distance matrix of `observations` under `coding` at `parameters`
+/// ([`CodingScheme::distances`] of their offline readouts: Euclidean distances of the
+/// features, or the exact multi-unit Van Rossum distance for the spatiotemporal coding).
 ///
 /// Split over `ranks` (`&OneProcess` for one process): every rank computes the features (cheap), the
-/// rows of the matrix are split over the ranks ([`euclidean_distance_matrix`],
+/// rows of the matrix are split over the ranks ([`neurotac_core::distance::euclidean_distance_matrix`],
 /// [`PreparedVanRossum::matrices`](neurotac_core::distance::PreparedVanRossum::matrices))
 /// and every rank returns the whole matrix, bit for bit the one-process one. Collective: every
 /// rank must call it.
@@ -181,32 +153,31 @@ pub fn coding_distances(
     parameters: &CodingParameters,
     ranks: &dyn Ranks,
 ) -> Result<Array2<f64>, ExperimentError> {
-    let configured = Coding {
-        name: coding,
-        parameters: *parameters,
+    let needed_ms = duration_ms_of(observations)?;
+    let duration_ms = parameters.duration_ms.unwrap_or(needed_ms);
+    if duration_ms < needed_ms {
+        return Err(ExperimentError::DurationShorterThanData {
+            stated_ms: duration_ms,
+            needed_ms,
+        });
+    }
+    let context = ReadoutContext {
+        n_channels: observations.first().map_or(0, |o| o.n_channels()),
+        duration_ms,
+        vr_from: VrFrom::Exact,
     };
-    let features = match coding {
-        CodingName::Intensive => feature_matrix(&IntensiveCoding::new(), observations)?,
-        CodingName::Spatial => feature_matrix(&SpatialCoding::new(), observations)?,
-        CodingName::Temporal => {
-            let window_ms = configured.window_ms()?;
-            let duration_ms = parameters
-                .duration_ms
-                .ok_or_else(|| missing(coding, "the sample duration"))?;
-            feature_matrix(
-                &TemporalCoding::from_ms(window_ms, duration_ms)?,
-                observations,
-            )?
-        }
-        CodingName::Spatiotemporal => {
-            let (tau_s, cos) = configured.tau_and_cos()?;
-            check_cos(cos)?;
-            return Ok(VanRossum::new(tau_s)?
-                .matrices(observations, ranks)?
-                .distances(cos)?);
-        }
+    let scheme = coding.scheme();
+    let set = EncodedSet {
+        labels: Vec::new(),
+        class_names: Vec::new(),
+        duration_ms,
+        n_channels: context.n_channels,
+        trains: observations.to_vec(),
+        readouts: vec![(scheme.key(), scheme.encode(observations, &context)?)],
+        path: "offline encoders (no network)".into(),
+        vr_from: VrFrom::Exact,
     };
-    Ok(euclidean_distance_matrix(features.view(), ranks)?)
+    scheme.distances(&set, parameters, ranks)
 }
 
 /// The sample duration in whole ms that the temporal coding windows: `given_s` if given, else
