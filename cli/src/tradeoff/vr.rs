@@ -364,4 +364,104 @@ mod tests {
         assert_eq!(t.rows.last().unwrap().loo.mean, t.rows[0].loo.mean);
         assert!(to_csv(&t).lines().count() == 8 && to_markdown(&t).contains("Pareto front"));
     }
+
+    /// Hand-made rows: the exact distance and trace steps of both precisions, with and without
+    /// a CPU time, front points out of speed order.
+    fn sweep() -> VrTradeoff {
+        let (f32, f64) = (Precision::F32, Precision::F64);
+        // trace dt, precision, (wall, CPU) time, LOO hits of 60, (mean, max) relative error,
+        // on the front
+        #[rustfmt::skip]
+        let points = [
+            (None, f64, (0.012_345_6, Some(0.045_6)), 51, (0.0, 0.0), true),
+            (Some(1e-4), f32, (0.000_987, Some(0.002)), 50, (1.234e-5, 5.678e-4), true),
+            (Some(1e-3), f64, (0.003_45, Some(0.006_9)), 49, (1.234e-3, 5.678e-2), false),
+            (Some(2e-2), f32, (0.5, None), 30, (0.123_45, 0.9), false),
+            (Some(5e-3), f64, (0.002, None), 50, (2e-3, 1e-2), true),
+        ];
+        let rows = points
+            .into_iter()
+            .map(
+                |(trace_dt_s, precision, (wall_s, cpu_s), hits, errors, pareto)| VrTradeoffRow {
+                    method: if trace_dt_s.is_some() {
+                        "traces"
+                    } else {
+                        "exact"
+                    },
+                    trace_dt_s,
+                    precision,
+                    timing: Timing {
+                        wall_s,
+                        cpu_s,
+                        threads: 2,
+                    },
+                    loo: Accuracy {
+                        n: 60,
+                        hits,
+                        mean: hits as f64 / 60.0,
+                        std: 0.0,
+                        wilson_low: 0.0,
+                        wilson_high: 1.0,
+                    },
+                    mean_relative_error: errors.0,
+                    max_relative_error: errors.1,
+                    pareto,
+                },
+            )
+            .collect();
+        VrTradeoff {
+            samples: 60,
+            tau_s: 0.076,
+            cos: 0.4,
+            k: 4,
+            rows,
+        }
+    }
+
+    /// The formats of the CSV, the Markdown report and the Pareto table, pinned on hand-made rows
+    /// (the Markdown report's header names the thread count as THREADS).
+    const CSV: &str = "method,trace_dt_s,precision,wall_s,cpu_s,loo_accuracy,mean_relative_error,max_relative_error,pareto
+exact,,f64,1.23456e-2,0.0456,0.85,0e0,0e0,true
+traces,1e-4,f32,9.87e-4,0.002,0.8333333333333334,1.234e-5,5.678e-4,true
+traces,1e-3,f64,3.45e-3,0.0069,0.8166666666666667,1.234e-3,5.678e-2,false
+traces,2e-2,f32,5e-1,,0.5,1.2345e-1,9e-1,false
+traces,5e-3,f64,2e-3,,0.8333333333333334,2e-3,1e-2,true
+";
+    const PARETO: &str = "| method | trace dt (ms) | precision | LOO accuracy | mean rel. error | max rel. error | matrix time |
+|---|---|---|---|---|---|---|
+| traces | 0.1 | f32 | 83.3 % | 1.23e-5 | 5.68e-4 | 0.001 s wall, 0.00 s CPU on 2 threads |
+| traces | 5 | f64 | 83.3 % | 2.00e-3 | 1.00e-2 | 0.002 s wall on 2 threads |
+| exact | — | f64 | 85.0 % | 0.00e0 | 0.00e0 | 0.012 s wall, 0.05 s CPU on 2 threads |
+";
+    const MD: &str = "# Van Rossum distance: exact vs synaptic traces
+
+60 samples, τ = 0.076 s, cos θ = 0.4, KNN k = 4 (leave-one-out). Matrix time: `LL²` and `SP²` of all pairs from the readouts (trains or trace records), THREADS threads.
+
+| method | trace dt (ms) | precision | LOO accuracy | mean rel. error | max rel. error | matrix time |
+|---|---|---|---|---|---|---|
+| exact | — | f64 | 85.0 % | 0.00e0 | 0.00e0 | 0.012 s wall, 0.05 s CPU on 2 threads |
+| traces | 0.1 | f32 | 83.3 % | 1.23e-5 | 5.68e-4 | 0.001 s wall, 0.00 s CPU on 2 threads |
+| traces | 1 | f64 | 81.7 % | 1.23e-3 | 5.68e-2 | 0.003 s wall, 0.01 s CPU on 2 threads |
+| traces | 20 | f32 | 50.0 % | 1.23e-1 | 9.00e-1 | 0.500 s wall on 2 threads |
+| traces | 5 | f64 | 83.3 % | 2.00e-3 | 1.00e-2 | 0.002 s wall on 2 threads |
+
+Pareto front (matrix speed, LOO accuracy):
+
+| method | trace dt (ms) | precision | LOO accuracy | mean rel. error | max rel. error | matrix time |
+|---|---|---|---|---|---|---|
+| traces | 0.1 | f32 | 83.3 % | 1.23e-5 | 5.68e-4 | 0.001 s wall, 0.00 s CPU on 2 threads |
+| traces | 5 | f64 | 83.3 % | 2.00e-3 | 1.00e-2 | 0.002 s wall on 2 threads |
+| exact | — | f64 | 85.0 % | 0.00e0 | 0.00e0 | 0.012 s wall, 0.05 s CPU on 2 threads |
+";
+
+    #[test]
+    fn the_tables_keep_their_format() {
+        let s = sweep();
+        assert_eq!(to_csv(&s), CSV);
+        assert_eq!(pareto_table(&s), PARETO);
+        assert_eq!(
+            to_markdown(&s),
+            MD.replace("THREADS", &rayon::current_num_threads().to_string())
+        );
+    }
 }
