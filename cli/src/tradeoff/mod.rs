@@ -22,7 +22,7 @@ mod table;
 pub mod vr;
 
 pub use error::TradeoffError;
-pub use table::{Table, error_series, mark_front, write_files, write_trade};
+pub use table::{Cell, Column, Table, error_series, mark_front, write_files, write_trade};
 
 use neurotac_experiments::progress::Progress;
 use std::path::Path;

@@ -215,7 +215,7 @@ fn fmt_opt(x: Option<f64>) -> String {
 
 /// CSV with one line per point.
 pub fn to_csv(rows: &[NeuronTradeoffRow]) -> String {
-    let mut table = Table::new(&[
+    let mut table = Table::new([
         "model",
         "integrator",
         "precision",
@@ -251,7 +251,7 @@ pub fn to_csv(rows: &[NeuronTradeoffRow]) -> String {
 
 /// The Markdown table of `rows`, in the order given.
 fn table<'a>(rows: impl IntoIterator<Item = &'a NeuronTradeoffRow>) -> String {
-    let mut table = Table::new(&[
+    let mut table = Table::new([
         "model",
         "integrator",
         "precision",

@@ -225,9 +225,9 @@ fn cells(r: &SimulatorTradeoffRow) -> [String; 12] {
 
 /// The table of `rows`, in the order given (the same cells in CSV and Markdown).
 fn table<'a>(rows: impl IntoIterator<Item = &'a SimulatorTradeoffRow>) -> Table {
-    let mut table = Table::new(&COLUMNS);
+    let mut table = Table::new(COLUMNS);
     for r in rows {
-        table.push(cells(r).to_vec());
+        table.push(cells(r));
     }
     table
 }

@@ -208,7 +208,7 @@ fn dt_cell(r: &VrTradeoffRow) -> String {
 
 /// CSV: one line per method.
 pub fn to_csv(sweep: &VrTradeoff) -> String {
-    let mut table = Table::new(&[
+    let mut table = Table::new([
         "method",
         "trace_dt_s",
         "precision",
@@ -236,7 +236,7 @@ pub fn to_csv(sweep: &VrTradeoff) -> String {
 }
 
 fn table<'a>(rows: impl IntoIterator<Item = &'a VrTradeoffRow>) -> String {
-    let mut table = Table::new(&[
+    let mut table = Table::new([
         "method",
         "trace dt (ms)",
         "precision",
