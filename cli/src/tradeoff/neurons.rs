@@ -8,7 +8,7 @@
 //! (k-th to k-th). Speed: updates per second of 100 000 such neurons on one thread.
 
 use super::error::TradeoffError;
-use super::table::{Table, mark_front, write_trade};
+use super::table::{Cell, Column, Table, mark_front, write_trade};
 use crate::bench::BenchError;
 use crate::report::svg::{Axis, Chart, Marker, PALETTE, Series, panels};
 use neurotac_experiments::menu::Menu;
@@ -209,73 +209,67 @@ fn stamp(r: &NeuronTradeoffRow) -> &'static str {
     }
 }
 
-fn fmt_opt(x: Option<f64>) -> String {
-    x.map_or_else(|| "—".to_owned(), |v| format!("{v:.3e}"))
+/// The columns: the CSV splits the spike counts and adds the count error and the front mark,
+/// the Markdown table shows the counts as `spikes (truth)`.
+const COLUMNS: [Column; 13] = [
+    Column::both("model"),
+    Column::both("integrator"),
+    Column::both("precision"),
+    Column::named("spike_times", "spike times"),
+    Column::named("dt_s", "dt (s)"),
+    Column::csv_only("spikes"),
+    Column::csv_only("true_spikes"),
+    Column::markdown_only("spikes (truth)"),
+    Column::csv_only("count_error"),
+    Column::named("mean_time_error_s", "mean error (s)"),
+    Column::named("max_time_error_s", "max error (s)"),
+    Column::named("updates_per_s", "updates/s"),
+    Column::csv_only("pareto"),
+];
+
+/// A spike-time error: every digit in the CSV (empty without one), four significant digits in
+/// the Markdown table (`—` without one).
+fn error_cell(error: Option<f64>) -> Cell {
+    match error {
+        Some(e) => Cell::split(format!("{e:e}"), format!("{e:.3e}")),
+        None => Cell::split("", "—"),
+    }
+}
+
+/// The cells of one row, in [`COLUMNS`] order.
+fn cells(r: &NeuronTradeoffRow) -> [Cell; 13] {
+    [
+        r.model.name().into(),
+        r.integrator.into(),
+        r.precision.name().into(),
+        stamp(r).into(),
+        format!("{:e}", r.dt_s).into(),
+        r.spikes.to_string().into(),
+        r.true_spikes.to_string().into(),
+        format!("{} ({})", r.spikes, r.true_spikes).into(),
+        r.count_error.to_string().into(),
+        error_cell(r.mean_time_error_s),
+        error_cell(r.max_time_error_s),
+        Cell::split(
+            format!("{:e}", r.updates_per_s),
+            format!("{:.2e}", r.updates_per_s),
+        ),
+        r.pareto.to_string().into(),
+    ]
+}
+
+/// The table of `rows`, in the order given.
+fn table<'a>(rows: impl IntoIterator<Item = &'a NeuronTradeoffRow>) -> Table {
+    let mut table = Table::new(COLUMNS);
+    for r in rows {
+        table.push(cells(r));
+    }
+    table
 }
 
 /// CSV with one line per point.
 pub fn to_csv(rows: &[NeuronTradeoffRow]) -> String {
-    let mut table = Table::new([
-        "model",
-        "integrator",
-        "precision",
-        "spike_times",
-        "dt_s",
-        "spikes",
-        "true_spikes",
-        "count_error",
-        "mean_time_error_s",
-        "max_time_error_s",
-        "updates_per_s",
-        "pareto",
-    ]);
-    let opt = |x: Option<f64>| x.map_or(String::new(), |v| format!("{v:e}"));
-    for r in rows {
-        table.push(vec![
-            r.model.name().to_owned(),
-            r.integrator.to_owned(),
-            r.precision.name().to_owned(),
-            stamp(r).to_owned(),
-            format!("{:e}", r.dt_s),
-            r.spikes.to_string(),
-            r.true_spikes.to_string(),
-            r.count_error.to_string(),
-            opt(r.mean_time_error_s),
-            opt(r.max_time_error_s),
-            format!("{:e}", r.updates_per_s),
-            r.pareto.to_string(),
-        ]);
-    }
-    table.to_csv()
-}
-
-/// The Markdown table of `rows`, in the order given.
-fn table<'a>(rows: impl IntoIterator<Item = &'a NeuronTradeoffRow>) -> String {
-    let mut table = Table::new([
-        "model",
-        "integrator",
-        "precision",
-        "spike times",
-        "dt (s)",
-        "spikes (truth)",
-        "mean error (s)",
-        "max error (s)",
-        "updates/s",
-    ]);
-    for r in rows {
-        table.push(vec![
-            r.model.name().to_owned(),
-            r.integrator.to_owned(),
-            r.precision.name().to_owned(),
-            stamp(r).to_owned(),
-            format!("{:e}", r.dt_s),
-            format!("{} ({})", r.spikes, r.true_spikes),
-            fmt_opt(r.mean_time_error_s),
-            fmt_opt(r.max_time_error_s),
-            format!("{:.2e}", r.updates_per_s),
-        ]);
-    }
-    table.to_markdown()
+    table(rows).to_csv()
 }
 
 /// The Pareto front of each model as a Markdown table, fastest first within a model.
@@ -287,7 +281,7 @@ pub fn pareto_table(rows: &[NeuronTradeoffRow]) -> String {
             .cmp(b.model.name())
             .then(b.updates_per_s.total_cmp(&a.updates_per_s))
     });
-    table(front)
+    table(front).to_markdown()
 }
 
 /// A Markdown report: the Pareto front of each model, then every point (`speed_neurons`: the
@@ -301,7 +295,7 @@ pub fn to_markdown(rows: &[NeuronTradeoffRow], speed_neurons: usize) -> String {
     out.push_str("## Pareto front (no other point with the right spike count is both faster and more accurate)\n\n");
     out.push_str(&pareto_table(rows));
     out.push_str("\n## Every point\n\n");
-    out.push_str(&table(rows));
+    out.push_str(&table(rows).to_markdown());
     out
 }
 
