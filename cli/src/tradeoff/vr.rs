@@ -9,7 +9,7 @@
 //! front is taken on (matrix speed, LOO accuracy).
 
 use super::error::TradeoffError;
-use super::table::{Table, error_series, mark_front, write_trade};
+use super::table::{Cell, Column, Table, error_series, mark_front, write_trade};
 use crate::report::svg::{Axis, Chart, Marker, panels};
 use neurotac_core::coding::TraceRecord;
 use neurotac_core::distance::check_cos;
@@ -202,68 +202,70 @@ pub fn report(
     Ok(sweep)
 }
 
-fn dt_cell(r: &VrTradeoffRow) -> String {
-    r.trace_dt_s.map_or("—".into(), |h| format!("{}", h * 1e3))
+/// The columns: the CSV has the wall and CPU times in seconds and the front mark, the Markdown
+/// table the matrix time as one text ([`Timing`]'s display), after the errors.
+const COLUMNS: [Column; 10] = [
+    Column::both("method"),
+    Column::named("trace_dt_s", "trace dt (ms)"),
+    Column::both("precision"),
+    Column::csv_only("wall_s"),
+    Column::csv_only("cpu_s"),
+    Column::named("loo_accuracy", "LOO accuracy"),
+    Column::named("mean_relative_error", "mean rel. error"),
+    Column::named("max_relative_error", "max rel. error"),
+    Column::markdown_only("matrix time"),
+    Column::csv_only("pareto"),
+];
+
+/// A relative error: every digit in the CSV, three significant digits in the Markdown table.
+fn relative_error_cell(error: f64) -> Cell {
+    Cell::split(format!("{error:e}"), format!("{error:.2e}"))
+}
+
+/// The cells of one row, in [`COLUMNS`] order.
+fn cells(r: &VrTradeoffRow) -> [Cell; 10] {
+    [
+        r.method.into(),
+        match r.trace_dt_s {
+            Some(h) => Cell::split(format!("{h:e}"), format!("{}", h * 1e3)),
+            None => Cell::split("", "—"),
+        },
+        r.precision.name().into(),
+        format!("{:e}", r.timing.wall_s).into(),
+        r.timing
+            .cpu_s
+            .map_or(String::new(), |c| format!("{c}"))
+            .into(),
+        Cell::split(
+            format!("{}", r.loo.mean),
+            format!("{:.1} %", 100.0 * r.loo.mean),
+        ),
+        relative_error_cell(r.mean_relative_error),
+        relative_error_cell(r.max_relative_error),
+        r.timing.to_string().into(),
+        r.pareto.to_string().into(),
+    ]
+}
+
+/// The table of `rows`, in the order given.
+fn table<'a>(rows: impl IntoIterator<Item = &'a VrTradeoffRow>) -> Table {
+    let mut table = Table::new(COLUMNS);
+    for r in rows {
+        table.push(cells(r));
+    }
+    table
 }
 
 /// CSV: one line per method.
 pub fn to_csv(sweep: &VrTradeoff) -> String {
-    let mut table = Table::new([
-        "method",
-        "trace_dt_s",
-        "precision",
-        "wall_s",
-        "cpu_s",
-        "loo_accuracy",
-        "mean_relative_error",
-        "max_relative_error",
-        "pareto",
-    ]);
-    for r in &sweep.rows {
-        table.push(vec![
-            r.method.into(),
-            r.trace_dt_s.map_or(String::new(), |h| format!("{h:e}")),
-            r.precision.name().into(),
-            format!("{:e}", r.timing.wall_s),
-            r.timing.cpu_s.map_or(String::new(), |c| format!("{c}")),
-            format!("{}", r.loo.mean),
-            format!("{:e}", r.mean_relative_error),
-            format!("{:e}", r.max_relative_error),
-            r.pareto.to_string(),
-        ]);
-    }
-    table.to_csv()
-}
-
-fn table<'a>(rows: impl IntoIterator<Item = &'a VrTradeoffRow>) -> String {
-    let mut table = Table::new([
-        "method",
-        "trace dt (ms)",
-        "precision",
-        "LOO accuracy",
-        "mean rel. error",
-        "max rel. error",
-        "matrix time",
-    ]);
-    for r in rows {
-        table.push(vec![
-            r.method.into(),
-            dt_cell(r),
-            r.precision.name().into(),
-            format!("{:.1} %", 100.0 * r.loo.mean),
-            format!("{:.2e}", r.mean_relative_error),
-            format!("{:.2e}", r.max_relative_error),
-            r.timing.to_string(),
-        ]);
-    }
-    table.to_markdown()
+    table(&sweep.rows).to_csv()
 }
 
 /// The Pareto front (fastest first) as a Markdown table.
 pub fn pareto_table(sweep: &VrTradeoff) -> String {
     let mut front: Vec<&VrTradeoffRow> = sweep.rows.iter().filter(|r| r.pareto).collect();
     front.sort_by(|a, b| a.timing.wall_s.total_cmp(&b.timing.wall_s));
-    table(front)
+    table(front).to_markdown()
 }
 
 /// A Markdown report: every method.
@@ -278,7 +280,7 @@ pub fn to_markdown(sweep: &VrTradeoff) -> String {
         sweep.k,
         rayon::current_num_threads()
     );
-    out.push_str(&table(&sweep.rows));
+    out.push_str(&table(&sweep.rows).to_markdown());
     out.push_str("\nPareto front (matrix speed, LOO accuracy):\n\n");
     out.push_str(&pareto_table(sweep));
     out
