@@ -353,6 +353,7 @@ pub fn to_svg(rows: &[NeuronTradeoffRow]) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::tradeoff::table::columns_written_differently;
 
     #[test]
     fn sweep_measures_known_truths_and_finds_a_front() {
@@ -494,5 +495,18 @@ Truth: LIF closed form (I = 1.04); Izhikevich RS (I = 10) by RK4 at 1 µs. Speed
         assert_eq!(to_csv(&rows), CSV);
         assert_eq!(pareto_table(&rows), PARETO);
         assert_eq!(to_markdown(&rows, 1234), MD);
+    }
+
+    /// The CSV and the report's table of every point show the same cells, except that the
+    /// Markdown table rounds the errors and the speed.
+    #[test]
+    fn the_csv_and_markdown_tables_have_the_same_cells() {
+        let rows = rows();
+        let report = to_markdown(&rows, 1234);
+        let (_, every_point) = report.split_once("## Every point").unwrap();
+        assert_eq!(
+            columns_written_differently(&COLUMNS, &to_csv(&rows), every_point),
+            ["mean_time_error_s", "max_time_error_s", "updates_per_s"]
+        );
     }
 }

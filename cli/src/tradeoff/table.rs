@@ -242,6 +242,40 @@ pub fn write_files(dir: &Path, files: &[(&str, &str)]) -> Result<(), TradeoffErr
     Ok(())
 }
 
+/// The columns of both formats (by CSV name) whose texts differ, in some row, between a written
+/// CSV and the first table of a written Markdown text; panics unless both have the columns
+/// and as many rows.
+#[cfg(test)]
+pub(crate) fn columns_written_differently(
+    columns: &[Column],
+    csv: &str,
+    markdown: &str,
+) -> Vec<&'static str> {
+    let csv: Vec<Vec<&str>> = csv.lines().map(|l| l.split(',').collect()).collect();
+    let markdown: Vec<Vec<&str>> = markdown
+        .lines()
+        .skip_while(|l| !l.starts_with('|'))
+        .take_while(|l| l.starts_with('|'))
+        .filter(|l| !l.starts_with("|---"))
+        .map(|l| {
+            let inner = l.strip_prefix("| ").and_then(|l| l.strip_suffix(" |"));
+            inner.expect("a Markdown row").split(" | ").collect()
+        })
+        .collect();
+    assert_eq!(csv.len(), markdown.len(), "as many rows");
+    let position = |header: &[&str], name| header.iter().position(|h| *h == name).expect(name);
+    columns
+        .iter()
+        .filter_map(|c| Some((c.csv?, c.markdown?)))
+        .filter(|&(csv_name, markdown_name)| {
+            let i = position(&csv[0], csv_name);
+            let j = position(&markdown[0], markdown_name);
+            csv.iter().zip(&markdown).skip(1).any(|(a, b)| a[i] != b[j])
+        })
+        .map(|(csv_name, _)| csv_name)
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

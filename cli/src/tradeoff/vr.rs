@@ -327,6 +327,7 @@ pub fn to_svg(sweep: &VrTradeoff) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::tradeoff::table::columns_written_differently;
     use neurotac_experiments::datasets::synthetic::{SyntheticConfig, synthetic_dataset};
 
     #[test]
@@ -464,6 +465,22 @@ Pareto front (matrix speed, LOO accuracy):
         assert_eq!(
             to_markdown(&s),
             MD.replace("THREADS", &rayon::current_num_threads().to_string())
+        );
+    }
+
+    /// The CSV and the report's table of every method show the same cells, except that the
+    /// Markdown table gives the trace step in ms, the accuracy in % and rounds the errors.
+    #[test]
+    fn the_csv_and_markdown_tables_have_the_same_cells() {
+        let s = sweep();
+        assert_eq!(
+            columns_written_differently(&COLUMNS, &to_csv(&s), &to_markdown(&s)),
+            [
+                "trace_dt_s",
+                "loo_accuracy",
+                "mean_relative_error",
+                "max_relative_error"
+            ]
         );
     }
 }
