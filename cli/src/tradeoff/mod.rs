@@ -9,9 +9,10 @@
 //! | [`vr`] | exact vs synaptic-trace Van Rossum distance (trace dt × f32/f64): matrix time against LOO accuracy |
 //! | [`simulator`] | pixel-model step tolerance: trials/s against event-timing error |
 //!
-//! To add a trade: a module with a config, a measuring function, `to_csv`/`to_markdown`/`to_svg`
-//! built on [`Table`] and [`error_series`], a `report` that measures and writes, and a section in
-//! [`summary`].
+//! To add a trade: a module with a config, a measuring function, its rows' `COLUMNS` and one
+//! `cells(row)` building one [`Table`] for `to_csv`, `to_markdown` and `pareto_table` (a
+//! [`Column`] or a [`Cell`] where the CSV and the Markdown table differ), `to_svg` built on
+//! [`error_series`], a `report` that measures and writes, and a section in [`summary`].
 
 mod error;
 pub mod neurons;
@@ -22,7 +23,7 @@ mod table;
 pub mod vr;
 
 pub use error::TradeoffError;
-pub use table::{Table, error_series, mark_front, write_files, write_trade};
+pub use table::{Cell, Column, Table, error_series, mark_front, write_files, write_trade};
 
 use neurotac_experiments::progress::Progress;
 use std::path::Path;

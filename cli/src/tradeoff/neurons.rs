@@ -8,7 +8,7 @@
 //! (k-th to k-th). Speed: updates per second of 100 000 such neurons on one thread.
 
 use super::error::TradeoffError;
-use super::table::{Table, mark_front, write_trade};
+use super::table::{Cell, Column, Table, mark_front, write_trade};
 use crate::bench::BenchError;
 use crate::report::svg::{Axis, Chart, Marker, PALETTE, Series, panels};
 use neurotac_experiments::menu::Menu;
@@ -209,73 +209,67 @@ fn stamp(r: &NeuronTradeoffRow) -> &'static str {
     }
 }
 
-fn fmt_opt(x: Option<f64>) -> String {
-    x.map_or_else(|| "—".to_owned(), |v| format!("{v:.3e}"))
+/// The columns: the CSV splits the spike counts and adds the count error and the front mark,
+/// the Markdown table shows the counts as `spikes (truth)`.
+const COLUMNS: [Column; 13] = [
+    Column::both("model"),
+    Column::both("integrator"),
+    Column::both("precision"),
+    Column::named("spike_times", "spike times"),
+    Column::named("dt_s", "dt (s)"),
+    Column::csv_only("spikes"),
+    Column::csv_only("true_spikes"),
+    Column::markdown_only("spikes (truth)"),
+    Column::csv_only("count_error"),
+    Column::named("mean_time_error_s", "mean error (s)"),
+    Column::named("max_time_error_s", "max error (s)"),
+    Column::named("updates_per_s", "updates/s"),
+    Column::csv_only("pareto"),
+];
+
+/// A spike-time error: every digit in the CSV (empty without one), four significant digits in
+/// the Markdown table (`—` without one).
+fn error_cell(error: Option<f64>) -> Cell {
+    match error {
+        Some(e) => Cell::split(format!("{e:e}"), format!("{e:.3e}")),
+        None => Cell::split("", "—"),
+    }
+}
+
+/// The cells of one row, in [`COLUMNS`] order.
+fn cells(r: &NeuronTradeoffRow) -> [Cell; 13] {
+    [
+        r.model.name().into(),
+        r.integrator.into(),
+        r.precision.name().into(),
+        stamp(r).into(),
+        format!("{:e}", r.dt_s).into(),
+        r.spikes.to_string().into(),
+        r.true_spikes.to_string().into(),
+        format!("{} ({})", r.spikes, r.true_spikes).into(),
+        r.count_error.to_string().into(),
+        error_cell(r.mean_time_error_s),
+        error_cell(r.max_time_error_s),
+        Cell::split(
+            format!("{:e}", r.updates_per_s),
+            format!("{:.2e}", r.updates_per_s),
+        ),
+        r.pareto.to_string().into(),
+    ]
+}
+
+/// The table of `rows`, in the order given.
+fn table<'a>(rows: impl IntoIterator<Item = &'a NeuronTradeoffRow>) -> Table {
+    let mut table = Table::new(COLUMNS);
+    for r in rows {
+        table.push(cells(r));
+    }
+    table
 }
 
 /// CSV with one line per point.
 pub fn to_csv(rows: &[NeuronTradeoffRow]) -> String {
-    let mut table = Table::new(&[
-        "model",
-        "integrator",
-        "precision",
-        "spike_times",
-        "dt_s",
-        "spikes",
-        "true_spikes",
-        "count_error",
-        "mean_time_error_s",
-        "max_time_error_s",
-        "updates_per_s",
-        "pareto",
-    ]);
-    let opt = |x: Option<f64>| x.map_or(String::new(), |v| format!("{v:e}"));
-    for r in rows {
-        table.push(vec![
-            r.model.name().to_owned(),
-            r.integrator.to_owned(),
-            r.precision.name().to_owned(),
-            stamp(r).to_owned(),
-            format!("{:e}", r.dt_s),
-            r.spikes.to_string(),
-            r.true_spikes.to_string(),
-            r.count_error.to_string(),
-            opt(r.mean_time_error_s),
-            opt(r.max_time_error_s),
-            format!("{:e}", r.updates_per_s),
-            r.pareto.to_string(),
-        ]);
-    }
-    table.to_csv()
-}
-
-/// The Markdown table of `rows`, in the order given.
-fn table<'a>(rows: impl IntoIterator<Item = &'a NeuronTradeoffRow>) -> String {
-    let mut table = Table::new(&[
-        "model",
-        "integrator",
-        "precision",
-        "spike times",
-        "dt (s)",
-        "spikes (truth)",
-        "mean error (s)",
-        "max error (s)",
-        "updates/s",
-    ]);
-    for r in rows {
-        table.push(vec![
-            r.model.name().to_owned(),
-            r.integrator.to_owned(),
-            r.precision.name().to_owned(),
-            stamp(r).to_owned(),
-            format!("{:e}", r.dt_s),
-            format!("{} ({})", r.spikes, r.true_spikes),
-            fmt_opt(r.mean_time_error_s),
-            fmt_opt(r.max_time_error_s),
-            format!("{:.2e}", r.updates_per_s),
-        ]);
-    }
-    table.to_markdown()
+    table(rows).to_csv()
 }
 
 /// The Pareto front of each model as a Markdown table, fastest first within a model.
@@ -287,7 +281,7 @@ pub fn pareto_table(rows: &[NeuronTradeoffRow]) -> String {
             .cmp(b.model.name())
             .then(b.updates_per_s.total_cmp(&a.updates_per_s))
     });
-    table(front)
+    table(front).to_markdown()
 }
 
 /// A Markdown report: the Pareto front of each model, then every point (`speed_neurons`: the
@@ -301,7 +295,7 @@ pub fn to_markdown(rows: &[NeuronTradeoffRow], speed_neurons: usize) -> String {
     out.push_str("## Pareto front (no other point with the right spike count is both faster and more accurate)\n\n");
     out.push_str(&pareto_table(rows));
     out.push_str("\n## Every point\n\n");
-    out.push_str(&table(rows));
+    out.push_str(&table(rows).to_markdown());
     out
 }
 
@@ -359,6 +353,7 @@ pub fn to_svg(rows: &[NeuronTradeoffRow]) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::tradeoff::table::columns_written_differently;
 
     #[test]
     fn sweep_measures_known_truths_and_finds_a_front() {
@@ -418,5 +413,100 @@ mod tests {
         assert_eq!(csv.lines().count(), rows.len() + 1);
         assert!(to_markdown(&rows, 1000).contains("## Pareto front"));
         assert!(to_svg(&rows).contains("lif: spike-time error vs speed"));
+    }
+
+    /// Hand-made rows: both models, both precisions and stampings, a missed spike count, a run
+    /// without matched spikes (no errors) and front points out of speed order.
+    fn rows() -> Vec<NeuronTradeoffRow> {
+        let (lif, izh) = (NeuronKind::Lif, NeuronKind::Izhikevich);
+        let (f32, f64) = (Precision::F32, Precision::F64);
+        // (model, integrator, precision, interpolated), dt, (spikes, truth), (mean, max) error,
+        // updates/s, on the front
+        #[rustfmt::skip]
+        let points = [
+            ((lif, "rk2", f64, true), 2e-5, (6, 6), Some((1e-9, 2.5e-9)), 5e7, true),
+            ((lif, "exact", f64, false), 1e-4, (6, 6), Some((4.6e-5, 9.75e-5)), 1.234_567_89e8, true),
+            ((lif, "euler", f32, false), 1e-3, (5, 6), Some((2.5e-4, 9.99e-4)), 4.5e8, false),
+            ((izh, "rk4", f64, false), 5e-5, (0, 12), None, 2.000_5e7, false),
+            ((izh, "euler", f32, true), 1e-5, (12, 12), Some((1.234_567e-6, 0.0)), 3.25e6, true),
+        ];
+        points
+            .into_iter()
+            .map(|(setup, dt_s, spikes, errors, updates_per_s, pareto)| {
+                let (model, integrator, precision, interpolate) = setup;
+                NeuronTradeoffRow {
+                    model,
+                    integrator,
+                    precision,
+                    interpolate,
+                    dt_s,
+                    spikes: spikes.0,
+                    true_spikes: spikes.1,
+                    count_error: spikes.0.abs_diff(spikes.1),
+                    mean_time_error_s: errors.map(|e: (f64, f64)| e.0),
+                    max_time_error_s: errors.map(|e| e.1),
+                    updates_per_s,
+                    pareto,
+                }
+            })
+            .collect()
+    }
+
+    /// The formats of the CSV, the Markdown report and the Pareto table, pinned on hand-made rows.
+    const CSV: &str = "model,integrator,precision,spike_times,dt_s,spikes,true_spikes,count_error,mean_time_error_s,max_time_error_s,updates_per_s,pareto
+lif,rk2,f64,interpolated,2e-5,6,6,0,1e-9,2.5e-9,5e7,true
+lif,exact,f64,grid,1e-4,6,6,0,4.6e-5,9.75e-5,1.23456789e8,true
+lif,euler,f32,grid,1e-3,5,6,1,2.5e-4,9.99e-4,4.5e8,false
+izhikevich,rk4,f64,grid,5e-5,0,12,12,,,2.0005e7,false
+izhikevich,euler,f32,interpolated,1e-5,12,12,0,1.234567e-6,0e0,3.25e6,true
+";
+    const PARETO: &str = "| model | integrator | precision | spike times | dt (s) | spikes (truth) | mean error (s) | max error (s) | updates/s |
+|---|---|---|---|---|---|---|---|---|
+| izhikevich | euler | f32 | interpolated | 1e-5 | 12 (12) | 1.235e-6 | 0.000e0 | 3.25e6 |
+| lif | exact | f64 | grid | 1e-4 | 6 (6) | 4.600e-5 | 9.750e-5 | 1.23e8 |
+| lif | rk2 | f64 | interpolated | 2e-5 | 6 (6) | 1.000e-9 | 2.500e-9 | 5.00e7 |
+";
+    const MD: &str = "# Neuron simulation: speed ↔ accuracy
+
+Truth: LIF closed form (I = 1.04); Izhikevich RS (I = 10) by RK4 at 1 µs. Speed: 1234 neurons for 100 steps on one thread, the fastest of three runs (a short run that stays in cache; `neurotac bench neurons` measures a 1 s run, 10 000 steps at dt = 0.1 ms, once, on every core, so its per-thread figure is lower on a loaded machine).
+
+## Pareto front (no other point with the right spike count is both faster and more accurate)
+
+| model | integrator | precision | spike times | dt (s) | spikes (truth) | mean error (s) | max error (s) | updates/s |
+|---|---|---|---|---|---|---|---|---|
+| izhikevich | euler | f32 | interpolated | 1e-5 | 12 (12) | 1.235e-6 | 0.000e0 | 3.25e6 |
+| lif | exact | f64 | grid | 1e-4 | 6 (6) | 4.600e-5 | 9.750e-5 | 1.23e8 |
+| lif | rk2 | f64 | interpolated | 2e-5 | 6 (6) | 1.000e-9 | 2.500e-9 | 5.00e7 |
+
+## Every point
+
+| model | integrator | precision | spike times | dt (s) | spikes (truth) | mean error (s) | max error (s) | updates/s |
+|---|---|---|---|---|---|---|---|---|
+| lif | rk2 | f64 | interpolated | 2e-5 | 6 (6) | 1.000e-9 | 2.500e-9 | 5.00e7 |
+| lif | exact | f64 | grid | 1e-4 | 6 (6) | 4.600e-5 | 9.750e-5 | 1.23e8 |
+| lif | euler | f32 | grid | 1e-3 | 5 (6) | 2.500e-4 | 9.990e-4 | 4.50e8 |
+| izhikevich | rk4 | f64 | grid | 5e-5 | 0 (12) | — | — | 2.00e7 |
+| izhikevich | euler | f32 | interpolated | 1e-5 | 12 (12) | 1.235e-6 | 0.000e0 | 3.25e6 |
+";
+
+    #[test]
+    fn the_tables_keep_their_format() {
+        let rows = rows();
+        assert_eq!(to_csv(&rows), CSV);
+        assert_eq!(pareto_table(&rows), PARETO);
+        assert_eq!(to_markdown(&rows, 1234), MD);
+    }
+
+    /// The CSV and the report's table of every point show the same cells, except that the
+    /// Markdown table rounds the errors and the speed.
+    #[test]
+    fn the_csv_and_markdown_tables_have_the_same_cells() {
+        let rows = rows();
+        let report = to_markdown(&rows, 1234);
+        let (_, every_point) = report.split_once("## Every point").unwrap();
+        assert_eq!(
+            columns_written_differently(&COLUMNS, &to_csv(&rows), every_point),
+            ["mean_time_error_s", "max_time_error_s", "updates_per_s"]
+        );
     }
 }

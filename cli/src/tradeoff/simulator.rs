@@ -225,9 +225,9 @@ fn cells(r: &SimulatorTradeoffRow) -> [String; 12] {
 
 /// The table of `rows`, in the order given (the same cells in CSV and Markdown).
 fn table<'a>(rows: impl IntoIterator<Item = &'a SimulatorTradeoffRow>) -> Table {
-    let mut table = Table::new(&COLUMNS);
+    let mut table = Table::new(COLUMNS);
     for r in rows {
-        table.push(cells(r).to_vec());
+        table.push(cells(r));
     }
     table
 }
@@ -301,7 +301,8 @@ pub fn to_svg(rows: &[SimulatorTradeoffRow]) -> String {
 
 #[cfg(test)]
 mod tests {
-    use super::percentile;
+    use super::*;
+    use crate::tradeoff::table::{Column, columns_written_differently};
 
     #[test]
     fn percentiles_are_nearest_rank_and_a_tail_can_lift_the_mean_above_p95() {
@@ -316,5 +317,35 @@ mod tests {
         assert!(mean > percentile(&errors, 0.95));
         let ramp: Vec<f64> = (1..=20).map(f64::from).collect();
         assert_eq!(percentile(&ramp, 0.95), 19.0);
+    }
+
+    /// The CSV and the report's table show the same cells.
+    #[test]
+    fn the_csv_and_markdown_tables_have_the_same_cells() {
+        let row = |tolerance, trials_per_s, pareto| SimulatorTradeoffRow {
+            tolerance,
+            events_per_trial: 12_345.6,
+            signal_events_per_trial: 6_789.1,
+            count_error: -0.012_34,
+            mean_timing_error_us: 123.45,
+            median_timing_error_us: 2.5,
+            p95_timing_error_us: 40.04,
+            max_timing_error_us: 9_876.5,
+            spikes_per_taxel: 3.456,
+            pixel_steps_per_trial: 1.234_5e7,
+            trials_per_s,
+            pareto,
+        };
+        let rows = [row(0.01, 1.5, true), row(0.3, 0.25, false)];
+        let config = SimulatorTradeoffConfig::default();
+        let none: [&str; 0] = [];
+        assert_eq!(
+            columns_written_differently(
+                &COLUMNS.map(Column::from),
+                &to_csv(&rows),
+                &to_markdown(&rows, &config)
+            ),
+            none
+        );
     }
 }

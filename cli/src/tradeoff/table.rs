@@ -1,4 +1,5 @@
-//! What every trade shares: its [`Table`] (CSV and Markdown), the Pareto front marked on its
+//! What every trade shares: its [`Table`] (CSV and Markdown written from the same rows, a
+//! [`Column`] or a [`Cell`] telling where the two formats differ), the Pareto front marked on its
 //! rows ([`mark_front`]), the series of its error-against-speed plot ([`error_series`]) and the
 //! writer of its files ([`write_trade`], [`write_files`]).
 
@@ -9,46 +10,166 @@ use crate::report::svg::{Marker, PALETTE, Series};
 use std::fmt::Write as _;
 use std::path::Path;
 
-/// A table of a trade: column names and rows of formatted cells, written as CSV or Markdown.
+/// A column of a [`Table`]: its name in the CSV and in the Markdown table, or `None` where the
+/// column is left out of that format.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Column {
+    /// Name in the CSV header; `None` for a Markdown-only column.
+    pub csv: Option<&'static str>,
+    /// Name in the Markdown header; `None` for a CSV-only column.
+    pub markdown: Option<&'static str>,
+}
+
+impl Column {
+    /// A column of both formats, named `name` in both.
+    pub const fn both(name: &'static str) -> Self {
+        Self::named(name, name)
+    }
+
+    /// A column of both formats, named `csv` in the CSV and `markdown` in the Markdown table.
+    pub const fn named(csv: &'static str, markdown: &'static str) -> Self {
+        Self {
+            csv: Some(csv),
+            markdown: Some(markdown),
+        }
+    }
+
+    /// A column of the CSV only.
+    pub const fn csv_only(name: &'static str) -> Self {
+        Self {
+            csv: Some(name),
+            markdown: None,
+        }
+    }
+
+    /// A column of the Markdown table only.
+    pub const fn markdown_only(name: &'static str) -> Self {
+        Self {
+            csv: None,
+            markdown: Some(name),
+        }
+    }
+
+    fn name(&self, format: Format) -> Option<&'static str> {
+        match format {
+            Format::Csv => self.csv,
+            Format::Markdown => self.markdown,
+        }
+    }
+}
+
+impl From<&'static str> for Column {
+    fn from(name: &'static str) -> Self {
+        Self::both(name)
+    }
+}
+
+/// A cell of a [`Table`]: one text for both formats, or one for each where they differ (e.g.
+/// every digit in the CSV, three in the Markdown table).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Cell {
+    /// The same text in both formats.
+    Same(String),
+    /// A text for each format.
+    Split {
+        /// Text in the CSV.
+        csv: String,
+        /// Text in the Markdown table.
+        markdown: String,
+    },
+}
+
+impl Cell {
+    /// A cell written as `csv` in the CSV and as `markdown` in the Markdown table.
+    pub fn split(csv: impl Into<String>, markdown: impl Into<String>) -> Self {
+        Self::Split {
+            csv: csv.into(),
+            markdown: markdown.into(),
+        }
+    }
+
+    fn text(&self, format: Format) -> &str {
+        match (self, format) {
+            (Self::Same(text), _) => text,
+            (Self::Split { csv, .. }, Format::Csv) => csv,
+            (Self::Split { markdown, .. }, Format::Markdown) => markdown,
+        }
+    }
+}
+
+impl From<String> for Cell {
+    fn from(text: String) -> Self {
+        Self::Same(text)
+    }
+}
+
+impl From<&str> for Cell {
+    fn from(text: &str) -> Self {
+        Self::Same(text.to_owned())
+    }
+}
+
+#[derive(Debug, Clone, Copy)]
+enum Format {
+    Csv,
+    Markdown,
+}
+
+/// A table of a trade: columns and rows of cells, written as CSV or Markdown. A column or a cell
+/// can differ between the two formats ([`Column`], [`Cell`]); every row is built once for both.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct Table {
-    /// Column names.
-    pub columns: Vec<String>,
+    /// The columns.
+    pub columns: Vec<Column>,
     /// Rows of cells, each as long as `columns`.
-    pub rows: Vec<Vec<String>>,
+    pub rows: Vec<Vec<Cell>>,
 }
 
 impl Table {
-    /// An empty table with these columns.
-    pub fn new(columns: &[&str]) -> Self {
+    /// An empty table with these columns (a plain name is a column of both formats).
+    pub fn new<C: Into<Column>>(columns: impl IntoIterator<Item = C>) -> Self {
         Self {
-            columns: columns.iter().map(|c| (*c).to_owned()).collect(),
+            columns: columns.into_iter().map(Into::into).collect(),
             rows: Vec::new(),
         }
     }
 
-    /// Appends a row.
-    pub fn push(&mut self, cells: Vec<String>) {
+    /// Appends a row (a plain text is the same cell in both formats).
+    pub fn push<C: Into<Cell>>(&mut self, cells: impl IntoIterator<Item = C>) {
+        let cells: Vec<Cell> = cells.into_iter().map(Into::into).collect();
         debug_assert_eq!(cells.len(), self.columns.len());
         self.rows.push(cells);
     }
 
+    /// The header, then each row, as the texts of the columns `format` writes.
+    fn lines(&self, format: Format) -> impl Iterator<Item = Vec<&str>> {
+        let header = self.columns.iter().filter_map(|c| c.name(format)).collect();
+        let rows = self.rows.iter().map(move |row| {
+            self.columns
+                .iter()
+                .zip(row)
+                .filter(|(c, _)| c.name(format).is_some())
+                .map(|(_, cell)| cell.text(format))
+                .collect()
+        });
+        std::iter::once(header).chain(rows)
+    }
+
     /// CSV: the column names, then one line per row (cells are written as given).
     pub fn to_csv(&self) -> String {
-        let mut out = self.columns.join(",") + "\n";
-        for row in &self.rows {
-            out += &(row.join(",") + "\n");
-        }
-        out
+        self.lines(Format::Csv)
+            .map(|line| line.join(",") + "\n")
+            .collect()
     }
 
     /// A Markdown table.
     pub fn to_markdown(&self) -> String {
         let mut out = String::new();
-        let _ = writeln!(out, "| {} |", self.columns.join(" | "));
-        let _ = writeln!(out, "|{}", "---|".repeat(self.columns.len()));
-        for row in &self.rows {
-            let _ = writeln!(out, "| {} |", row.join(" | "));
+        for (i, line) in self.lines(Format::Markdown).enumerate() {
+            let _ = writeln!(out, "| {} |", line.join(" | "));
+            if i == 0 {
+                let _ = writeln!(out, "|{}", "---|".repeat(line.len()));
+            }
         }
         out
     }
@@ -121,19 +242,68 @@ pub fn write_files(dir: &Path, files: &[(&str, &str)]) -> Result<(), TradeoffErr
     Ok(())
 }
 
+/// The columns of both formats (by CSV name) whose texts differ, in some row, between a written
+/// CSV and the first table of a written Markdown text; panics unless both have the columns
+/// and as many rows.
+#[cfg(test)]
+pub(crate) fn columns_written_differently(
+    columns: &[Column],
+    csv: &str,
+    markdown: &str,
+) -> Vec<&'static str> {
+    let csv: Vec<Vec<&str>> = csv.lines().map(|l| l.split(',').collect()).collect();
+    let markdown: Vec<Vec<&str>> = markdown
+        .lines()
+        .skip_while(|l| !l.starts_with('|'))
+        .take_while(|l| l.starts_with('|'))
+        .filter(|l| !l.starts_with("|---"))
+        .map(|l| {
+            let inner = l.strip_prefix("| ").and_then(|l| l.strip_suffix(" |"));
+            inner.expect("a Markdown row").split(" | ").collect()
+        })
+        .collect();
+    assert_eq!(csv.len(), markdown.len(), "as many rows");
+    let position = |header: &[&str], name| header.iter().position(|h| *h == name).expect(name);
+    columns
+        .iter()
+        .filter_map(|c| Some((c.csv?, c.markdown?)))
+        .filter(|&(csv_name, markdown_name)| {
+            let i = position(&csv[0], csv_name);
+            let j = position(&markdown[0], markdown_name);
+            csv.iter().zip(&markdown).skip(1).any(|(a, b)| a[i] != b[j])
+        })
+        .map(|(csv_name, _)| csv_name)
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
 
     #[test]
     fn a_table_writes_csv_and_markdown() {
-        let mut t = Table::new(&["a", "b"]);
-        t.push(vec!["1".into(), "x".into()]);
-        t.push(vec!["2".into(), "".into()]);
+        let mut t = Table::new(["a", "b"]);
+        t.push(["1", "x"]);
+        t.push(["2", ""]);
         assert_eq!(t.to_csv(), "a,b\n1,x\n2,\n");
         assert_eq!(
             t.to_markdown(),
             "| a | b |\n|---|---|\n| 1 | x |\n| 2 |  |\n"
+        );
+    }
+
+    #[test]
+    fn a_column_or_a_cell_can_differ_between_the_formats() {
+        let mut t = Table::new([
+            Column::named("x_s", "x (s)"),
+            Column::csv_only("n"),
+            Column::markdown_only("note"),
+        ]);
+        t.push([Cell::split("1.25e-3", "1.3e-3"), "4".into(), "four".into()]);
+        assert_eq!(t.to_csv(), "x_s,n\n1.25e-3,4\n");
+        assert_eq!(
+            t.to_markdown(),
+            "| x (s) | note |\n|---|---|\n| 1.3e-3 | four |\n"
         );
     }
 

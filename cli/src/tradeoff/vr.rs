@@ -9,7 +9,7 @@
 //! front is taken on (matrix speed, LOO accuracy).
 
 use super::error::TradeoffError;
-use super::table::{Table, error_series, mark_front, write_trade};
+use super::table::{Cell, Column, Table, error_series, mark_front, write_trade};
 use crate::report::svg::{Axis, Chart, Marker, panels};
 use neurotac_core::coding::TraceRecord;
 use neurotac_core::distance::check_cos;
@@ -202,68 +202,70 @@ pub fn report(
     Ok(sweep)
 }
 
-fn dt_cell(r: &VrTradeoffRow) -> String {
-    r.trace_dt_s.map_or("—".into(), |h| format!("{}", h * 1e3))
+/// The columns: the CSV has the wall and CPU times in seconds and the front mark, the Markdown
+/// table the matrix time as one text ([`Timing`]'s display), after the errors.
+const COLUMNS: [Column; 10] = [
+    Column::both("method"),
+    Column::named("trace_dt_s", "trace dt (ms)"),
+    Column::both("precision"),
+    Column::csv_only("wall_s"),
+    Column::csv_only("cpu_s"),
+    Column::named("loo_accuracy", "LOO accuracy"),
+    Column::named("mean_relative_error", "mean rel. error"),
+    Column::named("max_relative_error", "max rel. error"),
+    Column::markdown_only("matrix time"),
+    Column::csv_only("pareto"),
+];
+
+/// A relative error: every digit in the CSV, three significant digits in the Markdown table.
+fn relative_error_cell(error: f64) -> Cell {
+    Cell::split(format!("{error:e}"), format!("{error:.2e}"))
+}
+
+/// The cells of one row, in [`COLUMNS`] order.
+fn cells(r: &VrTradeoffRow) -> [Cell; 10] {
+    [
+        r.method.into(),
+        match r.trace_dt_s {
+            Some(h) => Cell::split(format!("{h:e}"), format!("{}", h * 1e3)),
+            None => Cell::split("", "—"),
+        },
+        r.precision.name().into(),
+        format!("{:e}", r.timing.wall_s).into(),
+        r.timing
+            .cpu_s
+            .map_or(String::new(), |c| format!("{c}"))
+            .into(),
+        Cell::split(
+            format!("{}", r.loo.mean),
+            format!("{:.1} %", 100.0 * r.loo.mean),
+        ),
+        relative_error_cell(r.mean_relative_error),
+        relative_error_cell(r.max_relative_error),
+        r.timing.to_string().into(),
+        r.pareto.to_string().into(),
+    ]
+}
+
+/// The table of `rows`, in the order given.
+fn table<'a>(rows: impl IntoIterator<Item = &'a VrTradeoffRow>) -> Table {
+    let mut table = Table::new(COLUMNS);
+    for r in rows {
+        table.push(cells(r));
+    }
+    table
 }
 
 /// CSV: one line per method.
 pub fn to_csv(sweep: &VrTradeoff) -> String {
-    let mut table = Table::new(&[
-        "method",
-        "trace_dt_s",
-        "precision",
-        "wall_s",
-        "cpu_s",
-        "loo_accuracy",
-        "mean_relative_error",
-        "max_relative_error",
-        "pareto",
-    ]);
-    for r in &sweep.rows {
-        table.push(vec![
-            r.method.into(),
-            r.trace_dt_s.map_or(String::new(), |h| format!("{h:e}")),
-            r.precision.name().into(),
-            format!("{:e}", r.timing.wall_s),
-            r.timing.cpu_s.map_or(String::new(), |c| format!("{c}")),
-            format!("{}", r.loo.mean),
-            format!("{:e}", r.mean_relative_error),
-            format!("{:e}", r.max_relative_error),
-            r.pareto.to_string(),
-        ]);
-    }
-    table.to_csv()
-}
-
-fn table<'a>(rows: impl IntoIterator<Item = &'a VrTradeoffRow>) -> String {
-    let mut table = Table::new(&[
-        "method",
-        "trace dt (ms)",
-        "precision",
-        "LOO accuracy",
-        "mean rel. error",
-        "max rel. error",
-        "matrix time",
-    ]);
-    for r in rows {
-        table.push(vec![
-            r.method.into(),
-            dt_cell(r),
-            r.precision.name().into(),
-            format!("{:.1} %", 100.0 * r.loo.mean),
-            format!("{:.2e}", r.mean_relative_error),
-            format!("{:.2e}", r.max_relative_error),
-            r.timing.to_string(),
-        ]);
-    }
-    table.to_markdown()
+    table(&sweep.rows).to_csv()
 }
 
 /// The Pareto front (fastest first) as a Markdown table.
 pub fn pareto_table(sweep: &VrTradeoff) -> String {
     let mut front: Vec<&VrTradeoffRow> = sweep.rows.iter().filter(|r| r.pareto).collect();
     front.sort_by(|a, b| a.timing.wall_s.total_cmp(&b.timing.wall_s));
-    table(front)
+    table(front).to_markdown()
 }
 
 /// A Markdown report: every method.
@@ -278,7 +280,7 @@ pub fn to_markdown(sweep: &VrTradeoff) -> String {
         sweep.k,
         rayon::current_num_threads()
     );
-    out.push_str(&table(&sweep.rows));
+    out.push_str(&table(&sweep.rows).to_markdown());
     out.push_str("\nPareto front (matrix speed, LOO accuracy):\n\n");
     out.push_str(&pareto_table(sweep));
     out
@@ -325,6 +327,7 @@ pub fn to_svg(sweep: &VrTradeoff) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::tradeoff::table::columns_written_differently;
     use neurotac_experiments::datasets::synthetic::{SyntheticConfig, synthetic_dataset};
 
     #[test]
@@ -363,5 +366,121 @@ mod tests {
         // At a 10 µs step the traces rank the neighbours as the exact distance does.
         assert_eq!(t.rows.last().unwrap().loo.mean, t.rows[0].loo.mean);
         assert!(to_csv(&t).lines().count() == 8 && to_markdown(&t).contains("Pareto front"));
+    }
+
+    /// Hand-made rows: the exact distance and trace steps of both precisions, with and without
+    /// a CPU time, front points out of speed order.
+    fn sweep() -> VrTradeoff {
+        let (f32, f64) = (Precision::F32, Precision::F64);
+        // trace dt, precision, (wall, CPU) time, LOO hits of 60, (mean, max) relative error,
+        // on the front
+        #[rustfmt::skip]
+        let points = [
+            (None, f64, (0.012_345_6, Some(0.045_6)), 51, (0.0, 0.0), true),
+            (Some(1e-4), f32, (0.000_987, Some(0.002)), 50, (1.234e-5, 5.678e-4), true),
+            (Some(1e-3), f64, (0.003_45, Some(0.006_9)), 49, (1.234e-3, 5.678e-2), false),
+            (Some(2e-2), f32, (0.5, None), 30, (0.123_45, 0.9), false),
+            (Some(5e-3), f64, (0.002, None), 50, (2e-3, 1e-2), true),
+        ];
+        let rows = points
+            .into_iter()
+            .map(
+                |(trace_dt_s, precision, (wall_s, cpu_s), hits, errors, pareto)| VrTradeoffRow {
+                    method: if trace_dt_s.is_some() {
+                        "traces"
+                    } else {
+                        "exact"
+                    },
+                    trace_dt_s,
+                    precision,
+                    timing: Timing {
+                        wall_s,
+                        cpu_s,
+                        threads: 2,
+                    },
+                    loo: Accuracy {
+                        n: 60,
+                        hits,
+                        mean: hits as f64 / 60.0,
+                        std: 0.0,
+                        wilson_low: 0.0,
+                        wilson_high: 1.0,
+                    },
+                    mean_relative_error: errors.0,
+                    max_relative_error: errors.1,
+                    pareto,
+                },
+            )
+            .collect();
+        VrTradeoff {
+            samples: 60,
+            tau_s: 0.076,
+            cos: 0.4,
+            k: 4,
+            rows,
+        }
+    }
+
+    /// The formats of the CSV, the Markdown report and the Pareto table, pinned on hand-made rows
+    /// (the Markdown report's header names the thread count as THREADS).
+    const CSV: &str = "method,trace_dt_s,precision,wall_s,cpu_s,loo_accuracy,mean_relative_error,max_relative_error,pareto
+exact,,f64,1.23456e-2,0.0456,0.85,0e0,0e0,true
+traces,1e-4,f32,9.87e-4,0.002,0.8333333333333334,1.234e-5,5.678e-4,true
+traces,1e-3,f64,3.45e-3,0.0069,0.8166666666666667,1.234e-3,5.678e-2,false
+traces,2e-2,f32,5e-1,,0.5,1.2345e-1,9e-1,false
+traces,5e-3,f64,2e-3,,0.8333333333333334,2e-3,1e-2,true
+";
+    const PARETO: &str = "| method | trace dt (ms) | precision | LOO accuracy | mean rel. error | max rel. error | matrix time |
+|---|---|---|---|---|---|---|
+| traces | 0.1 | f32 | 83.3 % | 1.23e-5 | 5.68e-4 | 0.001 s wall, 0.00 s CPU on 2 threads |
+| traces | 5 | f64 | 83.3 % | 2.00e-3 | 1.00e-2 | 0.002 s wall on 2 threads |
+| exact | — | f64 | 85.0 % | 0.00e0 | 0.00e0 | 0.012 s wall, 0.05 s CPU on 2 threads |
+";
+    const MD: &str = "# Van Rossum distance: exact vs synaptic traces
+
+60 samples, τ = 0.076 s, cos θ = 0.4, KNN k = 4 (leave-one-out). Matrix time: `LL²` and `SP²` of all pairs from the readouts (trains or trace records), THREADS threads.
+
+| method | trace dt (ms) | precision | LOO accuracy | mean rel. error | max rel. error | matrix time |
+|---|---|---|---|---|---|---|
+| exact | — | f64 | 85.0 % | 0.00e0 | 0.00e0 | 0.012 s wall, 0.05 s CPU on 2 threads |
+| traces | 0.1 | f32 | 83.3 % | 1.23e-5 | 5.68e-4 | 0.001 s wall, 0.00 s CPU on 2 threads |
+| traces | 1 | f64 | 81.7 % | 1.23e-3 | 5.68e-2 | 0.003 s wall, 0.01 s CPU on 2 threads |
+| traces | 20 | f32 | 50.0 % | 1.23e-1 | 9.00e-1 | 0.500 s wall on 2 threads |
+| traces | 5 | f64 | 83.3 % | 2.00e-3 | 1.00e-2 | 0.002 s wall on 2 threads |
+
+Pareto front (matrix speed, LOO accuracy):
+
+| method | trace dt (ms) | precision | LOO accuracy | mean rel. error | max rel. error | matrix time |
+|---|---|---|---|---|---|---|
+| traces | 0.1 | f32 | 83.3 % | 1.23e-5 | 5.68e-4 | 0.001 s wall, 0.00 s CPU on 2 threads |
+| traces | 5 | f64 | 83.3 % | 2.00e-3 | 1.00e-2 | 0.002 s wall on 2 threads |
+| exact | — | f64 | 85.0 % | 0.00e0 | 0.00e0 | 0.012 s wall, 0.05 s CPU on 2 threads |
+";
+
+    #[test]
+    fn the_tables_keep_their_format() {
+        let s = sweep();
+        assert_eq!(to_csv(&s), CSV);
+        assert_eq!(pareto_table(&s), PARETO);
+        assert_eq!(
+            to_markdown(&s),
+            MD.replace("THREADS", &rayon::current_num_threads().to_string())
+        );
+    }
+
+    /// The CSV and the report's table of every method show the same cells, except that the
+    /// Markdown table gives the trace step in ms, the accuracy in % and rounds the errors.
+    #[test]
+    fn the_csv_and_markdown_tables_have_the_same_cells() {
+        let s = sweep();
+        assert_eq!(
+            columns_written_differently(&COLUMNS, &to_csv(&s), &to_markdown(&s)),
+            [
+                "trace_dt_s",
+                "loo_accuracy",
+                "mean_relative_error",
+                "max_relative_error"
+            ]
+        );
     }
 }
