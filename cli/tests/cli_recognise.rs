@@ -5,6 +5,8 @@ mod common;
 
 use common::neurotac;
 use neurotac_core::SpikeDataset;
+use neurotac_experiments::coding::CodingName;
+use neurotac_experiments::menu::Menu;
 use std::path::{Path, PathBuf};
 
 /// `neurotac simulate` of 2 slides per artificial texture with their pixel events.
@@ -58,8 +60,8 @@ fn recognise_replays_an_event_file_and_reports_every_window_and_bad_input_in_one
         "{stdout}"
     );
 
-    // JSON: every window's decision, then the final one.
-    for coding in ["intensive", "spatial", "temporal", "spatiotemporal"] {
+    // JSON: every window's decision, then the final one, for every coding of the menu.
+    for coding in CodingName::ALL.iter().map(|c| c.key()) {
         let (ok, stdout, stderr) = neurotac(&[
             "recognise",
             "--train",

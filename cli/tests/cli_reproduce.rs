@@ -3,6 +3,8 @@
 mod common;
 
 use common::{neurotac, small_reproduce};
+use neurotac_experiments::coding::CodingName;
+use neurotac_experiments::menu::Menu;
 use neurotac_sensor::format::{Compression, Format, to_bytes};
 use std::path::{Path, PathBuf};
 
@@ -44,7 +46,8 @@ fn a_small_run_prints_the_tables_and_writes_the_whole_report() {
         "bo_convergence_artificial.svg".into(),
         "spike_trains_artificial.svg".into(),
     ];
-    for c in ["intensive", "spatial", "temporal", "spatiotemporal"] {
+    let codings: Vec<&str> = CodingName::ALL.iter().map(|c| c.key()).collect();
+    for c in &codings {
         files.push(format!("confusion_artificial_{c}.svg"));
         files.push(format!("confusion_artificial_{c}.csv"));
     }
@@ -55,13 +58,14 @@ fn a_small_run_prints_the_tables_and_writes_the_whole_report() {
         serde_json::from_str(&std::fs::read_to_string(out.join("report.json")).unwrap()).unwrap();
     let set = &json["sets"][0]["direct"];
     assert_eq!(set["name"], "artificial");
-    assert_eq!(set["codings"].as_array().unwrap().len(), 4);
-    let bayes = &set["codings"][3]["search"]["bayes"];
+    assert_eq!(set["codings"].as_array().unwrap().len(), codings.len());
+    let spatiotemporal = codings.iter().position(|&c| c == "spatiotemporal").unwrap();
+    let bayes = &set["codings"][spatiotemporal]["search"]["bayes"];
     assert_eq!(bayes["result"]["trace"].as_array().unwrap().len(), 12);
     assert_eq!(set["codings"][0]["loo"]["accuracy"]["n"], 33);
-    // Four codings of one set in the accuracy table, plus the header.
+    // Every coding of the menu of one set in the accuracy table, plus the header.
     let csv = std::fs::read_to_string(out.join("accuracy.csv")).unwrap();
-    assert_eq!(csv.lines().count(), 5, "{csv}");
+    assert_eq!(csv.lines().count(), 1 + codings.len(), "{csv}");
     let md = std::fs::read_to_string(out.join("report.md")).unwrap();
     assert!(md.contains("![spike trains](spike_trains_artificial.svg)"));
     // Nothing partial is left beside the report.

@@ -161,10 +161,13 @@ fn markdown_set(set: &SetReport, md: &mut String) {
             c.key()
         );
     }
-    let _ = write!(
-        md,
-        "\n\n![Δt sweep](dt_sweep_{name}.svg)\n\n![BO convergence](bo_convergence_{name}.svg)\n\n"
-    );
+    md.push_str("\n\n");
+    if d.dt_search().is_some() {
+        let _ = write!(md, "![Δt sweep](dt_sweep_{name}.svg)\n\n");
+    }
+    if d.bayes_search().is_some() {
+        let _ = write!(md, "![BO convergence](bo_convergence_{name}.svg)\n\n");
+    }
 }
 
 /// A set's per-class sections: spikes by slide phase, leave-one-out recall, and the paper's

@@ -431,7 +431,7 @@ pub(crate) mod tests {
         let set = |name| set_report(set_result(name), "test", false);
         let ours = accuracy_table(&set("artificial"));
         let lines: Vec<&str> = ours.lines().collect();
-        assert_eq!(lines.len(), 2 + 4);
+        assert_eq!(lines.len(), 2 + CodingName::ALL.len());
         assert!(lines[0].ends_with("| paper, Table 1 (%) |"), "{}", lines[0]);
         assert_eq!(
             lines[2],
