@@ -232,3 +232,27 @@ fn transduce_raster_is_written_as_svg_and_png() {
     let (ok, _, stderr) = neurotac(&args);
     assert!(!ok && stderr.contains("already exists"), "{stderr}");
 }
+
+#[test]
+fn an_empty_cache_variable_counts_as_unset() {
+    let dir = tempfile::tempdir().unwrap();
+    let (work, xdg) = (dir.path().join("work"), dir.path().join("xdg"));
+    std::fs::create_dir_all(&work).unwrap();
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_neurotac"))
+        .args(["simulate", "--set", "artificial", "--trials", "1"])
+        .args(["--threads", "1", "--out", "out"])
+        .current_dir(&work)
+        .env("NEUROTAC_CACHE", "")
+        .env("XDG_CACHE_HOME", &xdg)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    // The cache went to $XDG_CACHE_HOME/neurotac, not into the working folder.
+    let cached: Vec<_> = std::fs::read_dir(xdg.join("neurotac")).unwrap().collect();
+    assert_eq!(cached.len(), 1, "one cached dataset");
+    let work_files: Vec<_> = std::fs::read_dir(&work)
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    assert_eq!(work_files, ["out"], "nothing but the output in the working folder");
+}

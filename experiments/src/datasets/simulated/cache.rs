@@ -14,16 +14,19 @@ pub(super) fn cache_key(meta: &serde_json::Map<String, serde_json::Value>) -> u6
 
 /// The cache folder of simulated datasets shared by `neurotac reproduce` and `neurotac
 /// simulate`: `$NEUROTAC_CACHE` if set, else `$XDG_CACHE_HOME/neurotac`, else
-/// `~/.cache/neurotac` (`./.neurotac-cache` without a home folder). Deleting the folder clears
-/// the cache; a dataset is simulated again when next needed.
+/// `~/.cache/neurotac` (`./.neurotac-cache` without a home folder). A variable set to the
+/// empty string counts as unset (as the XDG base-directory specification says of
+/// `$XDG_CACHE_HOME`). Deleting the folder clears the cache; a dataset is simulated again when
+/// next needed.
 pub fn default_cache_dir() -> PathBuf {
-    if let Some(p) = std::env::var_os("NEUROTAC_CACHE") {
+    let set = |name: &str| std::env::var_os(name).filter(|v| !v.is_empty());
+    if let Some(p) = set("NEUROTAC_CACHE") {
         return p.into();
     }
-    if let Some(p) = std::env::var_os("XDG_CACHE_HOME") {
+    if let Some(p) = set("XDG_CACHE_HOME") {
         return PathBuf::from(p).join("neurotac");
     }
-    match std::env::var_os("HOME") {
+    match set("HOME") {
         Some(h) => PathBuf::from(h).join(".cache").join("neurotac"),
         None => PathBuf::from(".neurotac-cache"),
     }
