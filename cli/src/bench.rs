@@ -5,6 +5,7 @@
 //! performance section). Timing covers stepping only; building and allocation are reported
 //! apart.
 
+use crate::budget::{self, BudgetError};
 use neurotac_core::ranks::all_gather_f64;
 use neurotac_core::{
     Connectivity, ExpSynapse, GraphError, ModelError, MultiSpikeTrain, Network, NetworkBuilder,
@@ -43,6 +44,9 @@ pub enum BenchError {
     /// A collective operation between ranks failed.
     #[error(transparent)]
     Ranks(#[from] RanksError),
+    /// More work or memory than a stated limit, or no step at all.
+    #[error(transparent)]
+    Budget(#[from] BudgetError),
 }
 
 /// What a neuron-throughput run measured.
@@ -92,11 +96,12 @@ pub fn neuron_throughput(
             expected: "finite and ≥ 0",
         });
     }
+    let steps = budget::steps(duration_s, dt_s)?;
+    budget::population("--n", n, steps)?;
     let setup = NeuronSetup {
         integrator: integrator.unwrap_or(kind.default_integrator()),
         ..NeuronSetup::benchmark(kind, precision)
     };
-    let steps = (duration_s / dt_s).round() as u64;
     let (spikes, wall_s, used) = with_threads(threads, || {
         let r = setup.run_constant(n, kind.benchmark_current(), dt_s, steps);
         r.map(|(spikes, wall)| (spikes, wall, rayon::current_num_threads()))
@@ -245,6 +250,10 @@ pub fn afferent_activity(
             });
         }
     }
+    budget::population("--n", n, budget::steps(duration_s, dt_s)?)?;
+    let spikes = n as f64 * active * rate_hz * duration_s;
+    let what = "expected input spikes (--n × --activity × --rate × --duration)";
+    budget::at_most("--rate", rate_hz, what, spikes, budget::MAX_SPIKES)?;
     let taxels = activity_taxels(n, active, rate_hz, duration_s, seed);
     let run = |event_driven: bool| -> Result<(ActivityRun, Vec<(u32, f64)>), BenchError> {
         let (mut net, spikes) = afferent_network(
@@ -463,6 +472,21 @@ fn run_cuba(
     config: CubaConfig,
     ranks: &dyn Ranks,
 ) -> Result<(CubaResult, Network, [ReadoutId<SpikeRecorder>; 2]), BenchError> {
+    let neurons = config.n_exc + config.n_inh;
+    budget::population(
+        "--neurons",
+        neurons,
+        budget::steps(config.duration_s, config.dt_s)?,
+    )?;
+    let synapses = (neurons as f64).powi(2) * config.probability;
+    let what = "expected synapses (--neurons² × --probability)";
+    budget::at_most(
+        "--neurons",
+        neurons as f64,
+        what,
+        synapses,
+        budget::MAX_SYNAPSES,
+    )?;
     let start = Instant::now();
     let (b, _, [re, ri]) = cuba_builder::<f64>(&config)?;
     let config_net = NetworkConfig { dt_s: config.dt_s };
@@ -472,7 +496,6 @@ fn run_cuba(
     let summary = net.run(config.duration_s, ranks)?;
     let run_s = start.elapsed().as_secs_f64();
     let spikes = net.readout(re)?.spikes().len() + net.readout(ri)?.spikes().len();
-    let neurons = config.n_exc + config.n_inh;
     let simulated = summary.steps as f64 * config.dt_s;
     // Each rank holds the synapses onto its own neurons.
     let synapses = all_gather_f64(ranks, &[net.n_synapses() as f64])?

@@ -28,6 +28,7 @@
 #![deny(missing_docs)]
 
 pub mod bench;
+pub mod budget;
 pub mod peers;
 pub mod report;
 pub mod simulator_check;

@@ -295,3 +295,43 @@ fn bench_activity_compares_clock_and_event_driven_with_identical_spikes() {
     ]);
     assert!(!ok && stderr.contains("drop --integrator"), "{stderr}");
 }
+
+/// One absurd number must not run for years, fill the memory or print NaN: the bench refuses
+/// it at once, naming the flag and the limit.
+#[test]
+fn bench_refuses_no_step_and_work_over_its_budget_at_once() {
+    for (args, says) in [
+        (
+            &["bench", "cuba", "--duration", "0.01", "--dt", "1"][..],
+            "shorter than one step of --dt",
+        ),
+        (
+            &["bench", "neurons", "--dt", "1e-300"],
+            "1.0e300 steps, more than the limit",
+        ),
+        (
+            &["bench", "cuba", "--dt", "1e-300"],
+            "1.0e300 steps, more than the limit",
+        ),
+        (
+            &["bench", "neurons", "--n", "1000000000000"],
+            "--n 1e12: neurons",
+        ),
+        (
+            &["bench", "cuba", "--neurons", "100000000000"],
+            "--neurons 1e11: neurons",
+        ),
+        (
+            &["bench", "neurons", "--activity", "0.5", "--rate", "1e300"],
+            "--rate 1e300: expected input spikes",
+        ),
+    ] {
+        let (ok, _, stderr) = neurotac(args);
+        assert!(!ok && stderr.contains(says), "{args:?}: {stderr}");
+        assert_eq!(stderr.lines().count(), 1, "{args:?}: {stderr}");
+        assert!(
+            !stderr.contains("NaN") && !stderr.contains("inf"),
+            "{stderr}"
+        );
+    }
+}

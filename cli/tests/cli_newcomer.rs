@@ -254,5 +254,9 @@ fn an_empty_cache_variable_counts_as_unset() {
         .unwrap()
         .map(|e| e.unwrap().file_name())
         .collect();
-    assert_eq!(work_files, ["out"], "nothing but the output in the working folder");
+    assert_eq!(
+        work_files,
+        ["out"],
+        "nothing but the output in the working folder"
+    );
 }
