@@ -67,7 +67,8 @@ pub enum BudgetError {
 /// them): at least one, at most [`MAX_STEPS`].
 pub fn steps(duration_s: f64, dt_s: f64) -> Result<u64, BudgetError> {
     let steps = (duration_s / dt_s).round();
-    if !(steps >= 1.0) {
+    // NaN (a NaN duration or step) counts as no step.
+    if steps.is_nan() || steps < 1.0 {
         return Err(BudgetError::NoStep { duration_s, dt_s });
     }
     if steps > MAX_STEPS as f64 {
