@@ -29,7 +29,7 @@ pub enum BenchError {
     #[error(transparent)]
     Graph(#[from] GraphError),
     /// A parameter outside its domain.
-    #[error("{what} = {value}: {expected}")]
+    #[error("{what} = {}: {expected}", neurotac_core::Compact(*value))]
     InvalidParameter {
         /// Which parameter.
         what: &'static str,

@@ -335,3 +335,24 @@ fn bench_refuses_no_step_and_work_over_its_budget_at_once() {
         );
     }
 }
+
+/// A spike on the last step of `--duration 0.3` at `--dt 0.1` is at 0.3 s, not at the
+/// 0.30000000000000004 of `3 × 0.1` (past the duration); an absurd step is named as given.
+#[test]
+fn spike_times_and_absurd_steps_print_as_a_person_writes_them() {
+    let (ok, stdout, stderr) = neurotac(&[
+        "neuron",
+        "--current",
+        "2",
+        "--duration",
+        "0.3",
+        "--dt",
+        "0.1",
+        "--json",
+    ]);
+    assert!(ok, "{stderr}");
+    assert_eq!(spike_times(&stdout), [0.1, 0.2, 0.3]);
+    let (ok, _, stderr) = neurotac(&["neuron", "--current", "2", "--dt", "1e-300"]);
+    assert!(!ok && stderr.contains("--dt 1e-300 "), "{stderr}");
+    assert!(stderr.len() < 300, "{stderr}");
+}

@@ -275,3 +275,51 @@ fn bad_datasets_are_clear_errors_and_leave_no_report() {
     assert!(leftovers.is_empty(), "{leftovers:?}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A search grid too fine to hold, or a synthetic set too large to draw, is refused in one
+/// line before any dataset is simulated or drawn.
+#[test]
+fn searches_and_synthetic_sets_over_their_budget_are_refused_before_any_work() {
+    let dir = tempfile::tempdir().unwrap();
+    let (out, cache) = (dir.path().join("out"), dir.path().join("cache"));
+    let s = |p: &Path| p.to_str().unwrap().to_owned();
+    let (ok, _, stderr) = neurotac(&[
+        "reproduce",
+        "--quick",
+        "--tau-step",
+        "1e-300",
+        "--out",
+        &s(&out),
+        "--cache",
+        &s(&cache),
+    ]);
+    assert!(
+        !ok && stderr.contains("tau_step_s = 1e-300: at most 10⁴ τ values"),
+        "{stderr}"
+    );
+    assert!(
+        !cache.exists() && !out.exists(),
+        "nothing simulated, nothing written"
+    );
+    let synth = dir.path().join("s.json");
+    let (ok, _, stderr) = neurotac(&[
+        "synth",
+        "--output",
+        &s(&synth),
+        "--spikes-per-unit",
+        "1e300",
+    ]);
+    assert!(
+        !ok && stderr.contains("spikes_per_unit = 1e300: at most 2 × 10⁸"),
+        "{stderr}"
+    );
+    let (ok, _, stderr) = neurotac(&["synth", "--output", &s(&synth), "--samples", "10"]);
+    assert!(ok, "{stderr}");
+    for flag in ["--tau-step", "--cos-step"] {
+        let (ok, _, stderr) = neurotac(&["search", "vr", "--input", &s(&synth), flag, "1e-300"]);
+        assert!(
+            !ok && stderr.contains("= 1e-300: at most 10⁴"),
+            "{flag}: {stderr}"
+        );
+    }
+}

@@ -221,7 +221,7 @@ pub enum GraphError {
         size: usize,
     },
     /// A parameter outside its domain (non-finite weight, τ ≤ 0, dt ≤ 0, rate < 0 …).
-    #[error("{what} = {value}: {expected}")]
+    #[error("{what} = {}: {expected}", crate::Compact(*value))]
     InvalidParameter {
         /// Parameter name, with its owner.
         what: String,
@@ -392,7 +392,7 @@ pub enum ModelError {
 #[derive(Debug, Clone, PartialEq, Error)]
 pub enum CodingError {
     /// A parameter outside its domain (window or duration ≤ 0, not finite, …).
-    #[error("{what} = {value}: {expected}")]
+    #[error("{what} = {}: {expected}", crate::Compact(*value))]
     InvalidParameter {
         /// Parameter name, with its owner.
         what: &'static str,
@@ -435,7 +435,7 @@ pub enum CodingError {
 #[derive(Debug, Error)]
 pub enum DistanceError {
     /// A parameter outside its domain (τ ≤ 0 or not finite, cos θ outside [0, 1], dt ≤ 0 …).
-    #[error("{what} = {value}: {expected}")]
+    #[error("{what} = {}: {expected}", crate::Compact(*value))]
     InvalidParameter {
         /// Parameter name.
         what: &'static str,
@@ -552,7 +552,7 @@ pub enum KnnError {
         n: usize,
     },
     /// A protocol parameter outside its domain (folds < 2, test fraction outside (0, 1) …).
-    #[error("{what} = {value}: {expected}")]
+    #[error("{what} = {}: {expected}", crate::Compact(*value))]
     InvalidParameter {
         /// Parameter name.
         what: &'static str,

@@ -35,6 +35,7 @@
 #![deny(missing_docs)]
 
 pub mod coding;
+mod compact;
 mod currents;
 pub mod dataset;
 pub mod distance;
@@ -53,6 +54,7 @@ pub mod testing;
 pub mod time;
 
 pub use coding::{IntensiveCoding, SpatialCoding, SpatiotemporalCoding, TemporalCoding};
+pub use compact::Compact;
 pub use dataset::SpikeDataset;
 pub use distance::VanRossum;
 pub use error::{

@@ -40,7 +40,7 @@ pub enum ExperimentError {
         test_fraction: f64,
     },
     /// A search or protocol parameter outside its domain.
-    #[error("{what} = {value}: {expected}")]
+    #[error("{what} = {}: {expected}", neurotac_core::Compact(*value))]
     InvalidParameter {
         /// Parameter name.
         what: &'static str,

@@ -8,7 +8,7 @@
 //! for one `dt`. The last spike time is therefore at most `steps·dt ≤ duration_s`.
 
 use crate::population::{DIVERGENCE_CHECK_STEPS, Population};
-use neurotac_core::{ModelError, SpikeBuffer};
+use neurotac_core::{Compact, ModelError, SpikeBuffer};
 use std::ops::ControlFlow;
 
 /// The default bound on the number of steps of one run (10⁸: a few seconds for one neuron).
@@ -18,20 +18,22 @@ pub const DEFAULT_MAX_STEPS: u64 = 100_000_000;
 #[derive(Debug, thiserror::Error)]
 pub enum RunError {
     /// The duration is NaN, infinite or negative.
-    #[error("duration {duration_s} s must be finite and ≥ 0")]
+    #[error("duration {} s must be finite and ≥ 0", Compact(*duration_s))]
     InvalidDuration {
         /// The duration given (s).
         duration_s: f64,
     },
     /// The time step is NaN, infinite or not positive.
-    #[error("time step {dt_s} s must be finite and > 0")]
+    #[error("time step {} s must be finite and > 0", Compact(*dt_s))]
     InvalidStep {
         /// The time step given (s).
         dt_s: f64,
     },
     /// The run needs more steps than allowed.
     #[error(
-        "{duration_s} s at dt = {dt_s} s is {steps:.3e} steps, more than the limit of {max_steps} (raise the step limit or use a larger dt)"
+        "{} s at dt = {} s is {steps:.3e} steps, more than the limit of {max_steps} (raise the step limit or use a larger dt)",
+        Compact(*duration_s),
+        Compact(*dt_s)
     )]
     TooManySteps {
         /// The duration (s).

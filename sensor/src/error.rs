@@ -274,7 +274,7 @@ pub enum TransductionError {
         got_us: i64,
     },
     /// A parameter outside its domain.
-    #[error("{what} = {value}: {expected}")]
+    #[error("{what} = {}: {expected}", neurotac_core::Compact(*value))]
     InvalidParameter {
         /// Parameter name.
         what: &'static str,

@@ -4,6 +4,7 @@
 use crate::commands::args;
 use anyhow::{Context, bail};
 use clap::Args;
+use neurotac_core::Compact;
 use neurotac_experiments::neuron_setup::{NeuronKind, NeuronSetup, Precision, PresetName};
 use neurotac_neurons::{DEFAULT_MAX_STEPS, Integrator, stream_spike_times, whole_steps};
 use std::io::Write;
@@ -55,6 +56,17 @@ pub fn check_precision(flag: &str, value: f64, precision: Precision) -> anyhow::
     Ok(())
 }
 
+/// `t_s` rounded to the picosecond (below 9000 s, where a double still holds it), so that a
+/// spike at step 3 of 0.1 s prints as 0.3, not as the 0.30000000000000004 of `3 × 0.1`.
+fn to_the_picosecond(t_s: f64) -> f64 {
+    let ps = t_s * 1e12;
+    if ps.abs() < 2f64.powi(53) {
+        ps.round() / 1e12
+    } else {
+        t_s
+    }
+}
+
 pub fn run(args: NeuronArgs) -> anyhow::Result<()> {
     let preset: PresetName = args.preset.parse()?;
     for (flag, value) in [
@@ -67,7 +79,9 @@ pub fn run(args: NeuronArgs) -> anyhow::Result<()> {
     let steps = whole_steps(args.duration, args.dt, args.max_steps).with_context(|| {
         format!(
             "--duration {} --dt {} --max-steps {}",
-            args.duration, args.dt, args.max_steps
+            Compact(args.duration),
+            Compact(args.dt),
+            args.max_steps
         )
     })?;
     if (steps as f64 * args.dt - args.duration).abs() > 1e-9 * args.duration {
@@ -92,6 +106,7 @@ pub fn run(args: NeuronArgs) -> anyhow::Result<()> {
         out.write_all(b"{\"spike_times_s\":[")?;
     }
     stream_spike_times(pop.as_mut(), args.current, args.dt, steps, &mut |_, t| {
+        let t = to_the_picosecond(t);
         written = if args.json {
             let sep = if first { "" } else { "," };
             serde_json::to_string(&t)

@@ -40,21 +40,16 @@ pub fn run(args: SynthArgs) -> anyhow::Result<()> {
         &neurotac_experiments::export::DATASET_FORMATS,
     )?;
     refuse_existing([args.output.as_path()], args.force.force)?;
-    anyhow::ensure!(
-        args.spikes_per_unit.is_finite()
-            && args.spikes_per_unit > 0.0
-            && args.duration.is_finite()
-            && args.duration > 0.0,
-        "--spikes-per-unit and --duration must be finite and > 0"
-    );
-    let data = synthetic_dataset(&SyntheticConfig {
+    let config = SyntheticConfig {
         samples: args.samples,
         classes: args.classes,
         channels: args.channels,
         spikes_per_unit: args.spikes_per_unit,
         duration_s: args.duration,
         seed: args.seed.seed,
-    });
+    };
+    config.check()?;
+    let data = synthetic_dataset(&config);
     neurotac_experiments::export::write_dataset(&data, &args.output)?;
     println!(
         "{} samples × {} channels, {} classes → {}",

@@ -20,7 +20,7 @@ pub enum TradeoffError {
     #[error(transparent)]
     Simulation(#[from] DatasetsError),
     /// A parameter outside its domain.
-    #[error("{what} = {value}: {expected}")]
+    #[error("{what} = {}: {expected}", neurotac_core::Compact(*value))]
     InvalidParameter {
         /// Which parameter.
         what: &'static str,

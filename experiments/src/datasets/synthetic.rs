@@ -12,6 +12,7 @@
 //! Classes that differ this strongly are easy (near-100 % accuracy for most codings): use these
 //! data for correctness and timing, not for accuracy claims.
 
+use crate::error::ExperimentError;
 use neurotac_core::dataset::DURATION_S_KEY;
 use neurotac_core::time::us_to_s;
 use neurotac_core::{MultiSpikeTrain, SpikeDataset};
@@ -51,8 +52,47 @@ impl Default for SyntheticConfig {
 
 const MODULATION: f64 = 0.8;
 
+/// The most spike candidates one synthetic dataset may draw (samples × channels × spikes per
+/// unit × the modulation's peak factor): 2 × 10⁸ candidates take minutes and the spikes
+/// gigabytes.
+pub const MAX_SYNTHETIC_SPIKES: f64 = 2e8;
+
+impl SyntheticConfig {
+    /// Refuses a configuration that [`synthetic_dataset`] cannot draw, or would draw for longer
+    /// than its budget allows: non-finite or non-positive spikes per unit or duration, or more
+    /// than [`MAX_SYNTHETIC_SPIKES`] spike candidates.
+    pub fn check(&self) -> Result<(), ExperimentError> {
+        let positive = |x: f64| x.is_finite() && x > 0.0;
+        if !positive(self.spikes_per_unit) {
+            return Err(ExperimentError::InvalidParameter {
+                what: "spikes_per_unit",
+                value: self.spikes_per_unit,
+                expected: "finite and > 0",
+            });
+        }
+        if !positive(self.duration_s) {
+            return Err(ExperimentError::InvalidParameter {
+                what: "duration_s",
+                value: self.duration_s,
+                expected: "finite and > 0",
+            });
+        }
+        let candidates =
+            self.samples as f64 * self.channels as f64 * self.spikes_per_unit * (1.0 + MODULATION);
+        if candidates > MAX_SYNTHETIC_SPIKES {
+            return Err(ExperimentError::InvalidParameter {
+                what: "spikes_per_unit",
+                value: self.spikes_per_unit,
+                expected: "at most 2 × 10⁸ spike candidates in all (samples × channels × spikes per unit × 1.8)",
+            });
+        }
+        Ok(())
+    }
+}
+
 /// Draws the dataset described by `config` (labels `i mod classes`, class names `texture k`,
-/// `meta.duration_s` set).
+/// `meta.duration_s` set). Check a configuration from outside with [`SyntheticConfig::check`]
+/// first: this draws whatever it is given.
 pub fn synthetic_dataset(config: &SyntheticConfig) -> SpikeDataset {
     let classes = config.classes.max(1);
     let mut class_rng = ChaCha8Rng::seed_from_u64(config.seed);
@@ -112,6 +152,31 @@ pub fn synthetic_dataset(config: &SyntheticConfig) -> SpikeDataset {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_config_over_its_spike_budget_or_without_rate_is_refused() {
+        assert!(SyntheticConfig::default().check().is_ok());
+        for config in [
+            SyntheticConfig {
+                spikes_per_unit: 1e300,
+                ..SyntheticConfig::default()
+            },
+            SyntheticConfig {
+                samples: 1 << 40,
+                ..SyntheticConfig::default()
+            },
+            SyntheticConfig {
+                spikes_per_unit: f64::NAN,
+                ..SyntheticConfig::default()
+            },
+            SyntheticConfig {
+                duration_s: 0.0,
+                ..SyntheticConfig::default()
+            },
+        ] {
+            assert!(config.check().is_err(), "{config:?}");
+        }
+    }
 
     #[test]
     fn seeded_balanced_and_at_the_asked_rate() {

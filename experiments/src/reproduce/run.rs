@@ -108,6 +108,9 @@ pub enum ReproduceError {
     /// The readout network (with or without afferents) failed.
     #[error("running the readout network")]
     Afferents(#[source] Box<ExperimentError>),
+    /// The pipeline's settings are refused before any dataset is built.
+    #[error("the pipeline's settings")]
+    Settings(#[source] Box<ExperimentError>),
 }
 
 /// The afferent-network variant of one set.
@@ -192,6 +195,9 @@ pub fn run(
     if config.trials == Some(0) {
         return Err(ReproduceError::ZeroTrials);
     }
+    // A search the settings cannot hold is refused before any dataset is simulated.
+    crate::search::bayes::check(&config.pipeline.bayes)
+        .map_err(|e| ReproduceError::Settings(Box::new(e)))?;
     let (sets, time) = timed(|| {
         sources
             .iter()

@@ -109,7 +109,7 @@ pub struct BayesResult {
 }
 
 fn grid(min: f64, max: f64, step: f64) -> Vec<f64> {
-    let n = ((max - min) / step + 1e-9).floor() as usize + 1;
+    let n = grid_len(min, max, step) as usize;
     (0..n).map(|i| on_grid(min + i as f64 * step)).collect()
 }
 
@@ -119,7 +119,10 @@ fn on_grid(x: f64) -> f64 {
     (x * 1e12).round() / 1e12
 }
 
-fn check(config: &BayesConfig) -> Result<(), ExperimentError> {
+/// Refuses a configuration outside its domain, or whose grid and epochs exceed the optimiser's
+/// budget (at most 10⁴ values per axis, 2 × 10⁸ grid values over the epochs), before anything
+/// is allocated; [`bayes_optimise`] checks it first.
+pub fn check(config: &BayesConfig) -> Result<(), ExperimentError> {
     let bad = |what, value, expected| {
         Err(ExperimentError::InvalidParameter {
             what,
@@ -151,7 +154,46 @@ fn check(config: &BayesConfig) -> Result<(), ExperimentError> {
     if config.epochs == 0 || config.initial == 0 {
         return bad("epochs/initial", 0.0, "≥ 1");
     }
+    // The grid and the optimiser's rows (one per epoch, one value per grid point) are sized by
+    // these numbers: bounded before anything is allocated.
+    let n_tau = grid_len(config.tau_min_s, config.tau_max_s, config.tau_step_s);
+    if n_tau > MAX_GRID_AXIS {
+        return bad(
+            "tau_step_s",
+            config.tau_step_s,
+            "at most 10⁴ τ values on the grid ((tau_max − tau_min) / tau_step + 1)",
+        );
+    }
+    let n_cos = grid_len(0.0, 1.0, config.cos_step);
+    if n_cos > MAX_GRID_AXIS {
+        return bad(
+            "cos_step",
+            config.cos_step,
+            "at most 10⁴ cos θ values on the grid (≥ 10⁻⁴)",
+        );
+    }
+    let points = n_tau * n_cos;
+    if points * (config.epochs as f64).min(points) > MAX_GRID_WORK {
+        return bad(
+            "epochs",
+            config.epochs as f64,
+            "at most 2 × 10⁸ grid values over the epochs (epochs × τ values × cos θ values: a coarser grid or fewer epochs)",
+        );
+    }
     Ok(())
+}
+
+/// The most values on one axis of the (τ, cos θ) grid.
+const MAX_GRID_AXIS: f64 = 1e4;
+
+/// The most grid values the optimiser keeps over its epochs (one row of the whole grid per
+/// epoch: 2 × 10⁸ values is 1.6 GB).
+const MAX_GRID_WORK: f64 = 2e8;
+
+/// The number of points of [`grid`]`(min, max, step)`, in floating point (so an absurd step
+/// is counted, not wrapped).
+fn grid_len(min: f64, max: f64, step: f64) -> f64 {
+    ((max - min) / step + 1e-9).floor() + 1.0
 }
 
 /// Expected improvement of a normal `(mean, sd)` over `best + xi` (maximisation).
@@ -441,6 +483,53 @@ mod tests {
                 .iter()
                 .all(|c| c.to_string().len() <= 4)
         );
+    }
+
+    #[test]
+    fn a_grid_too_fine_to_hold_is_refused_before_anything_is_allocated() {
+        let paper = BayesConfig {
+            tau_step_s: 0.001,
+            cos_step: 0.01,
+            ..BayesConfig::default()
+        };
+        assert!(check(&paper).is_ok(), "the paper's 1 ms × 0.01 grid");
+        for (config, field) in [
+            (
+                BayesConfig {
+                    tau_step_s: 1e-300,
+                    ..paper
+                },
+                "tau_step_s",
+            ),
+            (
+                BayesConfig {
+                    tau_step_s: 1e-7,
+                    ..paper
+                },
+                "tau_step_s",
+            ),
+            (
+                BayesConfig {
+                    cos_step: 1e-300,
+                    ..paper
+                },
+                "cos_step",
+            ),
+            (
+                BayesConfig {
+                    cos_step: 1e-3,
+                    tau_step_s: 1e-5,
+                    ..paper
+                },
+                "epochs",
+            ),
+        ] {
+            let e = bayes_optimise(&config, |_, _, _| Ok(0.5)).unwrap_err();
+            assert!(
+                matches!(e, ExperimentError::InvalidParameter { what, .. } if what == field),
+                "{e}"
+            );
+        }
     }
 
     #[test]
