@@ -260,3 +260,18 @@ fn an_empty_cache_variable_counts_as_unset() {
         "nothing but the output in the working folder"
     );
 }
+
+#[test]
+fn simulate_check_refuses_to_overwrite_either_of_its_outputs() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("o");
+    std::fs::create_dir_all(&out).unwrap();
+    std::fs::write(out.join("check.json"), "{\"kept\": true}").unwrap();
+    let (ok, _, stderr) = neurotac(&["simulate", "check", "--out", out.to_str().unwrap()]);
+    assert!(!ok && stderr.contains("check.json already exists"), "{stderr}");
+    assert_eq!(
+        std::fs::read_to_string(out.join("check.json")).unwrap(),
+        "{\"kept\": true}"
+    );
+    assert!(!out.join("check.md").exists());
+}

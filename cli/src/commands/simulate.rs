@@ -268,7 +268,8 @@ fn generate(a: GenerateArgs, ranks: &dyn Ranks) -> anyhow::Result<()> {
 
 fn check(a: CheckArgs) -> anyhow::Result<()> {
     if let Some(out) = &a.out.out {
-        refuse_existing([out.join("check.md").as_path()], a.force.force)?;
+        let outputs = [out.join("check.md"), out.join("check.json")];
+        refuse_existing(outputs.iter().map(|p| p.as_path()), a.force.force)?;
     }
     let config = CheckConfig {
         trials: a.trials.max(2),
