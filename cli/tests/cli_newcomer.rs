@@ -268,7 +268,10 @@ fn simulate_check_refuses_to_overwrite_either_of_its_outputs() {
     std::fs::create_dir_all(&out).unwrap();
     std::fs::write(out.join("check.json"), "{\"kept\": true}").unwrap();
     let (ok, _, stderr) = neurotac(&["simulate", "check", "--out", out.to_str().unwrap()]);
-    assert!(!ok && stderr.contains("check.json already exists"), "{stderr}");
+    assert!(
+        !ok && stderr.contains("check.json already exists"),
+        "{stderr}"
+    );
     assert_eq!(
         std::fs::read_to_string(out.join("check.json")).unwrap(),
         "{\"kept\": true}"

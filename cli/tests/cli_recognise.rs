@@ -81,6 +81,12 @@ fn recognise_replays_an_event_file_and_reports_every_window_and_bad_input_in_one
         // 4.55 s slides: 228 windows of 20 ms.
         assert_eq!(windows.len(), 228, "{coding}");
         assert!((windows[0]["t_s"].as_f64().unwrap() - 0.02).abs() < 1e-12);
+        // The sensor is at rest for the first windows: every training prefix is equally far,
+        // so the vote is a tie, said as one and never stable.
+        assert_eq!(windows[0]["tie"], true, "{coding}: {}", windows[0]);
+        assert_eq!(windows[0]["stable"], false, "{coding}");
+        assert_eq!(windows[0]["same_for_windows"], 0, "{coding}");
+        assert!(windows.iter().any(|w| w["tie"] == false), "{coding}");
         assert!(
             last[0]["final"]["class_name"]
                 .as_str()

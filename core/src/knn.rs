@@ -320,6 +320,27 @@ impl FittedKnn {
         Ok(decide_among(self.k, row, 0..n, &self.labels))
     }
 
+    /// `true` when the neighbours of `row` are not determined by the data: more training
+    /// samples lie at the k-th neighbour's distance than places are left for them, and they
+    /// are not all of one class, so the lowest indices picked decide the vote. A sample equally
+    /// far from every training sample of several classes — a silent prefix — is such a tie. (A
+    /// vote tie between classes of determined neighbours is not: its vote share says it.)
+    pub fn is_distance_tie(&self, row: &[f64]) -> Result<bool, KnnError> {
+        self.decide(row)?;
+        let mut top = TopK::new(self.k);
+        for (j, &d) in row.iter().enumerate() {
+            top.offer(d, j);
+        }
+        let neighbours = top.neighbours();
+        let Some(&(kth, _)) = neighbours.last() else {
+            return Ok(false);
+        };
+        let places = neighbours.iter().filter(|&&(d, _)| d == kth).count();
+        let mut at_kth = (row.iter().zip(&self.labels)).filter(|&(&d, _)| d == kth);
+        let first_label = at_kth.clone().next().map(|(_, &l)| l);
+        Ok(at_kth.clone().count() > places && at_kth.any(|(_, &l)| Some(l) != first_label))
+    }
+
     /// The decision for each new sample: row `i` of `distances` (`n_new × n_train`) holds the
     /// distances of new sample `i` to the training samples. Rows run in parallel.
     pub fn decisions(&self, distances: ArrayView2<'_, f64>) -> Result<Vec<Decision>, KnnError> {
@@ -407,6 +428,23 @@ mod tests {
             rev.offer(d, i);
         }
         assert_eq!(rev.neighbours(), top.neighbours());
+    }
+
+    #[test]
+    fn neighbours_picked_by_index_among_equally_far_classes_are_a_distance_tie() {
+        // Labels 0 0 1 1, k = 2.
+        let fitted = Knn::new(2).unwrap().fit(&[0, 0, 1, 1]).unwrap();
+        // Equally far from every sample: the lowest indices (class 0) were picked.
+        assert!(fitted.is_distance_tie(&[0.0; 4]).unwrap());
+        // The two nearest are of class 0: no tie, whatever lies beyond.
+        assert!(!fitted.is_distance_tie(&[0.1, 0.2, 0.5, 0.5]).unwrap());
+        // One of each class nearest: a vote tie, but the neighbours are determined.
+        assert!(!fitted.is_distance_tie(&[0.1, 0.9, 0.1, 0.9]).unwrap());
+        // The second place is shared by classes 0 and 1 at the same distance.
+        assert!(fitted.is_distance_tie(&[0.5, 0.1, 0.5, 0.9]).unwrap());
+        // ... but not when the samples sharing it are of one class.
+        let fitted = Knn::new(2).unwrap().fit(&[0, 1, 1, 1]).unwrap();
+        assert!(!fitted.is_distance_tie(&[0.9, 0.1, 0.5, 0.5]).unwrap());
     }
 
     #[test]

@@ -172,21 +172,29 @@ pub fn run(a: RecogniseArgs) -> anyhow::Result<()> {
         );
     }
     let names = training.class_names().to_vec();
+    // What a decision says: its class, or that the vote was a tie.
+    let said = |d: &Decision| -> String {
+        match d.tie {
+            true => TIE.into(),
+            false => names[d.class].clone(),
+        }
+    };
     let (json, stable) = (a.json, a.stable);
-    let mut last_class: Option<(usize, bool)> = None;
+    let mut last_class: Option<(Option<usize>, bool)> = None;
     let mut print = |d: &Decision| {
         if json {
             println!("{}", decision_json(d, &names));
             return;
         }
-        // One line per change of class, and one when the class becomes stable.
-        let changed = last_class.map(|l| l.0) != Some(d.class);
-        let newly_stable = d.stable && last_class != Some((d.class, true));
+        // One line per change of class (a tie counts as one), and one when it becomes stable.
+        let class = (!d.tie).then_some(d.class);
+        let changed = last_class.map(|l| l.0) != Some(class);
+        let newly_stable = d.stable && last_class != Some((class, true));
         if changed || newly_stable {
             println!(
                 "{:8.3} s  {:<24} vote {:>3.0} %{}",
                 d.t_s,
-                names[d.class],
+                said(d),
                 100.0 * d.vote_share,
                 if d.stable {
                     format!("  stable for {stable} windows")
@@ -195,7 +203,7 @@ pub fn run(a: RecogniseArgs) -> anyhow::Result<()> {
                 }
             );
         }
-        last_class = Some((d.class, d.stable));
+        last_class = Some((class, d.stable));
     };
     let result = if a.device {
         let (transport, usb) = RusbTransport::open_first()?;
@@ -229,7 +237,7 @@ pub fn run(a: RecogniseArgs) -> anyhow::Result<()> {
             if let Some(d) = decisions.last() {
                 eprintln!(
                     "decided so far: {} (vote {:.0} %) at {:.3} s after {} windows",
-                    names[d.class],
+                    said(d),
                     100.0 * d.vote_share,
                     d.t_s,
                     decisions.len()
@@ -248,7 +256,7 @@ pub fn run(a: RecogniseArgs) -> anyhow::Result<()> {
     let (p50, p99, max) = latency_percentiles(decisions).unwrap_or((0.0, 0.0, 0.0));
     println!(
         "final: {} (vote {:.0} %) after {} windows; decision latency p50 {:.3} ms, p99 {:.3} ms, max {:.3} ms{}",
-        names[last.class],
+        said(&last),
         100.0 * last.vote_share,
         decisions.len(),
         p50 * 1e3,
@@ -279,12 +287,17 @@ fn check_size(t: &TransductionConfig, size: (u16, u16), what: &str) -> anyhow::R
     Ok(())
 }
 
+/// What a tied decision is printed as.
+const TIE: &str = "tie (no class yet)";
+
+/// One decision as a JSON line: its class and name (the tie-rule pick when `tie` is true).
 fn decision_json(d: &Decision, names: &[String]) -> serde_json::Value {
     serde_json::json!({
         "t_s": d.t_s,
         "class": d.class,
         "class_name": names[d.class],
         "vote_share": d.vote_share,
+        "tie": d.tie,
         "same_for_windows": d.same_for_windows,
         "stable": d.stable,
         "latency_s": d.latency_s,

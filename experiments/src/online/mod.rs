@@ -113,7 +113,13 @@ pub struct Decision {
     pub class: usize,
     /// The share of the k neighbours that voted for it.
     pub vote_share: f64,
-    /// For how many consecutive windows, this one included, the class has been the same.
+    /// The neighbours, hence the class, were picked by index among equally far training
+    /// samples of several classes, not by the data ([`FittedKnn::is_distance_tie`]): e.g.
+    /// before the first spike, when every training prefix is equally far. A tie is never
+    /// stable.
+    pub tie: bool,
+    /// For how many consecutive windows, this one included, the class has been the same (and
+    /// not a tie).
     pub same_for_windows: usize,
     /// `same_for_windows ≥` the recogniser's stability count.
     pub stable: bool,
@@ -345,17 +351,20 @@ impl<'a> Recogniser<'a> {
         let live = self.network.readout(self.readout)?.trains();
         let distances = self.live.distances(&live, t_end_s)?;
         let knn = self.classifier.knn.decide(&distances)?;
+        let tie = self.classifier.knn.is_distance_tie(&distances)?;
         let class = knn.class;
         let same_for_windows = match self.decisions.last() {
-            Some(last) if last.class == class => last.same_for_windows + 1,
+            _ if tie => 0,
+            Some(last) if last.class == class && !last.tie => last.same_for_windows + 1,
             _ => 1,
         };
         Ok(Decision {
             t_s: t_end_s,
             class,
             vote_share: knn.vote_share(),
+            tie,
             same_for_windows,
-            stable: same_for_windows >= self.stable_windows,
+            stable: !tie && same_for_windows >= self.stable_windows,
             latency_s: start.elapsed().as_secs_f64(),
         })
     }
