@@ -166,7 +166,11 @@ fn recognise_eval_writes_accuracy_against_time_for_every_coding() {
         assert!(out.join(f).is_file(), "{f}");
     }
     let csv = std::fs::read_to_string(out.join("accuracy_vs_time.csv")).unwrap();
-    assert!(csv.starts_with("t_s,intensive,spatial,temporal,spatiotemporal\n0.020,"));
+    let keys: Vec<&str> = CodingName::ALL.iter().map(|c| c.key()).collect();
+    assert!(
+        csv.starts_with(&format!("t_s,{}\n0.020,", keys.join(","))),
+        "{csv}"
+    );
     assert_eq!(csv.lines().count(), 1 + 228);
     let summary: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();

@@ -128,7 +128,7 @@ fn the_afferent_variant_reports_accuracy_and_time_next_to_the_direct_pipeline() 
     let csv = std::fs::read_to_string(out.join("accuracy.csv")).unwrap();
     assert_eq!(
         csv.lines().filter(|l| l.contains(",afferents,")).count(),
-        4,
+        CodingName::ALL.len(),
         "{csv}"
     );
     assert!(

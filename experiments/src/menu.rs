@@ -81,9 +81,14 @@ mod tests {
             assert_eq!(c.to_string().parse::<CodingName>(), Ok(c));
         }
         let e = "spatio".parse::<CodingName>().unwrap_err();
+        let keys: Vec<&str> = CodingName::ALL.iter().map(|c| c.key()).collect();
         assert_eq!(
             e.to_string(),
-            "unknown coding 'spatio' (expected one of: intensive, spatial, temporal, spatiotemporal)"
+            format!(
+                "unknown coding 'spatio' (expected one of: {})",
+                keys.join(", ")
+            )
         );
+        assert!(keys.starts_with(&["intensive", "spatial", "temporal", "spatiotemporal"]));
     }
 }

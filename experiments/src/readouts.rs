@@ -54,6 +54,16 @@ pub fn encode_offline(data: &SpikeDataset, vr_from: VrFrom) -> Result<EncodedSet
     })
 }
 
+/// `n` as a word up to ten ("four"), else in digits.
+fn in_words(n: usize) -> String {
+    const WORDS: [&str; 11] = [
+        "no", "one", "two", "three", "four", "five", "six", "seven", "eight", "nine", "ten",
+    ];
+    WORDS
+        .get(n)
+        .map_or_else(|| n.to_string(), |w| (*w).to_owned())
+}
+
 /// The network every sample of a set runs through: its output trains and every coding's
 /// readout.
 struct ReadoutNetwork {
@@ -201,7 +211,10 @@ pub fn encode_through_graph(
         readouts: (CodingName::ALL.iter().map(|c| c.key()))
             .zip(readouts)
             .collect(),
-        path: format!("network: taxel input{layer} → four coding readouts, one network reused"),
+        path: format!(
+            "network: taxel input{layer} → {} coding readouts, one network reused",
+            in_words(CodingName::ALL.len())
+        ),
         vr_from,
     })
 }
@@ -267,6 +280,7 @@ mod tests {
                 graph
                     .path
                     .starts_with("network: taxel input → four coding readouts")
+                    || CodingName::ALL.len() != 4
             );
             assert_eq!(
                 matches!(van_rossum_input(&graph), VanRossumInput::Traces { .. }),

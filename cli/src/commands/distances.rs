@@ -11,6 +11,7 @@ use clap::{Args, ValueEnum};
 use neurotac_core::Ranks;
 use neurotac_experiments::coding::{CodingName, coding_distances, mean_spikes_per_channel};
 use neurotac_experiments::export::{MATRIX_FORMATS, OutputFormat, write_matrix};
+use neurotac_experiments::menu::Menu;
 use neurotac_experiments::timing::timed;
 use std::path::PathBuf;
 
@@ -63,7 +64,11 @@ pub fn run(args: DistancesArgs, ranks: &dyn Ranks) -> anyhow::Result<()> {
     let coding = match (args.metric, args.coding) {
         (Metric::VanRossum, _) => CodingName::Spatiotemporal,
         (Metric::Euclidean, None | Some(CodingName::Spatiotemporal)) => {
-            bail!("--metric euclidean needs --coding intensive|spatial|temporal")
+            let euclidean: Vec<&str> = (CodingName::ALL.iter())
+                .filter(|&&c| c != CodingName::Spatiotemporal)
+                .map(|c| c.key())
+                .collect();
+            bail!("--metric euclidean needs --coding {}", euclidean.join("|"))
         }
         (Metric::Euclidean, Some(coding)) => coding,
     };

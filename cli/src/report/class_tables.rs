@@ -4,11 +4,9 @@
 //! ([`paper_confusion_table`]).
 
 use super::tables::pct;
-use neurotac_experiments::coding::CodingName;
-use neurotac_experiments::menu::Menu;
 use neurotac_experiments::reproduce::SetReport;
 use neurotac_experiments::reproduce::confusions::{GridErrorRates, NamedConfusionRates};
-use neurotac_experiments::reproduce::paper::NEIGHBOURING_ERRORS_QUOTE;
+use neurotac_experiments::reproduce::paper::{self, NEIGHBOURING_ERRORS_QUOTE};
 use neurotac_experiments::reproduce::phases::{ONSET_S, PhaseShare, Phases, SlidePhase};
 use std::fmt::Write as _;
 
@@ -17,18 +15,19 @@ fn pct_or_dash(x: Option<f64>) -> String {
     x.map_or("—".into(), pct)
 }
 
-/// The header row and rule of a table whose columns after `first` are the four codings.
+/// The header row and rule of a table whose columns after `first` are the paper's four
+/// codings ([`paper::CODINGS`], under which the per-class analyses are made).
 fn coding_header(first: &[&str]) -> String {
     let mut s = String::from("|");
     for column in first
         .iter()
         .copied()
-        .chain(CodingName::ALL.iter().map(|c| c.label()))
+        .chain(paper::CODINGS.iter().map(|c| c.label()))
     {
         let _ = write!(s, " {column} |");
     }
     s.push_str("\n|");
-    s.push_str(&"---|".repeat(first.len() + CodingName::ALL.len()));
+    s.push_str(&"---|".repeat(first.len() + paper::CODINGS.len()));
     s.push('\n');
     s
 }
@@ -103,7 +102,7 @@ fn named_confusion_row(r: &NamedConfusionRates) -> String {
         let _ = write!(measured, " / {} → {}", p.predicted, p.truth);
     }
     let mut s = format!("| {} | {measured} |", p.label());
-    for i in 0..CodingName::ALL.len() {
+    for i in 0..paper::CODINGS.len() {
         let mut ours = pct_or_dash(r.truth_as_predicted[i]);
         if p.mutual {
             let _ = write!(ours, " / {}", pct_or_dash(r.predicted_as_truth[i]));

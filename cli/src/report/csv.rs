@@ -2,9 +2,10 @@
 //! sweep, the optimisation trace, confusion matrices, slide-phase shares, leave-one-out recall
 //! per class and the paper's named confusions next to ours.
 
-use super::tables::{coding_seconds, paper_table, parameter_rows};
+use super::tables::{coding_seconds, paper_column, paper_table, parameter_rows};
 use neurotac_experiments::coding::CodingName;
 use neurotac_experiments::menu::Menu;
+use neurotac_experiments::reproduce::paper;
 use neurotac_experiments::reproduce::phases::{Phases, SlidePhase};
 use neurotac_experiments::reproduce::{BayesSearch, DtSearch, Report, SetReport, SetResult};
 use std::fmt::Write as _;
@@ -60,7 +61,7 @@ pub fn parameters_csv(report: &Report) -> String {
 fn accuracy_rows(set: &SetReport, out: &mut String) {
     let paper = paper_table(&set.direct);
     for (pipeline, r) in runs(set) {
-        for (i, c) in r.codings.iter().enumerate() {
+        for c in &r.codings {
             let a = c.loo.accuracy;
             let _ = writeln!(
                 out,
@@ -80,7 +81,8 @@ fn accuracy_rows(set: &SetReport, out: &mut String) {
                     .filter(|_| pipeline == "direct")
                     // The paper's percentage as a fraction, in its shortest form (0.928, not
                     // 0.9279999999999999).
-                    .map(|p| ((p.accuracy_percent[i] * 1e6).round() / 1e8).to_string())
+                    .zip(paper_column(c.coding))
+                    .map(|(p, i)| ((p.accuracy_percent[i] * 1e6).round() / 1e8).to_string())
                     .unwrap_or_default(),
                 coding_seconds(r, c.coding)
             );
@@ -141,7 +143,8 @@ pub fn phase_shares_csv(report: &Report) -> String {
 /// (empty for a class without samples).
 pub fn loo_recall_csv(report: &Report) -> String {
     let mut out = String::from("set,class");
-    for c in CodingName::ALL {
+    // The recall is analysed under the paper's codings.
+    for c in paper::CODINGS {
         let _ = write!(out, ",{}", c.key());
     }
     out.push('\n');
@@ -178,7 +181,7 @@ pub fn paper_confusions_csv(report: &Report) -> String {
         let a = &set.loo_analysis;
         for r in &a.named_confusions {
             let p = &r.paper;
-            for (i, &coding) in CodingName::ALL.iter().enumerate() {
+            for (i, coding) in paper::CODINGS.into_iter().enumerate() {
                 let paper = if p.confused_under[i] {
                     "confused"
                 } else {
@@ -250,7 +253,7 @@ mod tests {
         let r = report();
         let acc = accuracy_csv(&r);
         let lines: Vec<&str> = acc.lines().collect();
-        assert_eq!(lines.len(), 1 + 4);
+        assert_eq!(lines.len(), 1 + CodingName::ALL.len());
         assert!(
             lines[1].starts_with("artificial,direct,intensive,,0.5,0.1,"),
             "{}",

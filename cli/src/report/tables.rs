@@ -19,6 +19,12 @@ pub(crate) fn paper_table(set: &SetResult) -> Option<&'static PaperTable> {
     paper::table_for(&set.name)
 }
 
+/// The index of `coding` in the paper's tables ([`paper::CODINGS`]), `None` for a coding the
+/// paper did not run.
+pub(crate) fn paper_column(coding: CodingName) -> Option<usize> {
+    paper::CODINGS.iter().position(|&c| c == coding)
+}
+
 /// The comparison table of one set as Markdown rows (also printed by the CLI).
 pub fn accuracy_table(set: &SetReport) -> String {
     let paper = paper_table(&set.direct);
@@ -40,7 +46,7 @@ pub fn accuracy_table(set: &SetReport) -> String {
         s.push_str("---|");
     }
     s.push('\n');
-    for (i, c) in set.direct.codings.iter().enumerate() {
+    for c in &set.direct.codings {
         let a = c.loo.accuracy;
         let split = c
             .split
@@ -59,11 +65,13 @@ pub fn accuracy_table(set: &SetReport) -> String {
             split
         );
         if let Some(p) = paper {
-            match p.std_percent {
-                Some(sd) => {
+            // A coding the paper did not run has no paper column.
+            match (paper_column(c.coding), p.std_percent) {
+                (None, _) => s.push_str(" — |"),
+                (Some(i), Some(sd)) => {
                     let _ = write!(s, " {:.1} ± {:.1} |", p.accuracy_percent[i], sd[i]);
                 }
-                None => {
+                (Some(i), None) => {
                     let _ = write!(s, " {:.1} |", p.accuracy_percent[i]);
                 }
             }
