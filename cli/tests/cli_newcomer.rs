@@ -278,3 +278,31 @@ fn simulate_check_refuses_to_overwrite_either_of_its_outputs() {
     );
     assert!(!out.join("check.md").exists());
 }
+
+#[test]
+fn an_unusable_cache_is_said_before_simulating_and_the_run_goes_on_without_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let (out, cache) = (dir.path().join("out"), dir.path().join("cache"));
+    // The cache "folder" is a file.
+    std::fs::write(&cache, "not a folder").unwrap();
+    let (ok, _, stderr) = neurotac(&[
+        "simulate",
+        "--set",
+        "artificial",
+        "--trials",
+        "1",
+        "--threads",
+        "1",
+        "--out",
+        out.to_str().unwrap(),
+        "--cache",
+        cache.to_str().unwrap(),
+    ]);
+    assert!(ok, "{stderr}");
+    assert!(
+        stderr.contains("the cache folder") && stderr.contains("simulating without caching"),
+        "{stderr}"
+    );
+    assert!(out.join("artificial.bin").is_file());
+    assert_eq!(std::fs::read_to_string(&cache).unwrap(), "not a folder");
+}

@@ -88,11 +88,32 @@ pub(super) fn load_or_simulate_cached(
     if let Some(cached) = cached.filter(|_| usable.iter().all(|b| b == &[1])) {
         return Ok((cached, true));
     }
+    // A cache that cannot take the dataset is said before the simulation, not after it, and
+    // the run goes on without it.
+    let cache_usable = ranks.is_root() && {
+        let usable = usable_cache_dir(cache_dir);
+        if let Err(e) = &usable {
+            eprintln!(
+                "warning: the cache folder {} is unusable ({e}); simulating without caching",
+                cache_dir.display()
+            );
+        }
+        usable.is_ok()
+    };
     let simulated = simulate_set(set, trials, seed, params, &|_, _| Ok(()), progress, ranks)?;
-    if ranks.is_root() {
-        store(&simulated.dataset, cache_dir, &path)?;
+    if cache_usable && let Err(e) = store(&simulated.dataset, cache_dir, &path) {
+        let e = neurotac_core::error_chain(&e);
+        eprintln!("warning: the dataset could not be cached ({e}); going on without the cache");
     }
     Ok((simulated.dataset, false))
+}
+
+/// Whether `dir` can take a cache file: created if missing, then a probe file created in it
+/// and removed (a folder that is a file, read-only or gone is refused here).
+fn usable_cache_dir(dir: &Path) -> std::io::Result<()> {
+    std::fs::create_dir_all(dir)?;
+    drop(neurotac_core::io::AtomicFile::create(dir.join("probe"))?);
+    Ok(())
 }
 
 /// The cached dataset at `path` if it exists, decodes and carries every entry of `meta`
