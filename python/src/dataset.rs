@@ -20,6 +20,7 @@
 use crate::errors::{OrRaise, invalid};
 use ndarray::{Dimension, Ix1};
 use neurotac_core::{DistanceError, MultiSpikeTrain, SpikeDataset};
+use neurotac_experiments::export::DATASET_FORMATS;
 use numpy::{Element, IntoPyArray, PyArray, PyArrayMethods, PyReadonlyArray};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
@@ -70,9 +71,20 @@ pub(crate) fn contiguous<'py, T: Element, D: Dimension>(
     obj: &Bound<'py, PyAny>,
 ) -> PyResult<PyReadonlyArray<'py, T, D>> {
     let py = obj.py();
-    let array = py
-        .import("numpy")?
-        .call_method1("ascontiguousarray", (obj, T::get_dtype(py)))?;
+    let numpy = py.import("numpy")?;
+    let dtype = T::get_dtype(py);
+    let original = numpy.call_method1("asarray", (obj,))?;
+    let array = numpy.call_method1("ascontiguousarray", (&original, &dtype))?;
+    // NumPy's cast truncates fractions, wraps out-of-range integers and turns NaN into
+    // INT64_MIN: an integer array must hold exactly the values given.
+    let integer: bool = dtype.getattr("kind")?.extract::<String>()? != "f";
+    if integer && !numpy.call_method1("array_equal", (&array, &original))?.is_truthy()? {
+        return Err(invalid(format!(
+            "expected integers that fit {} (no fractions, NaN or values out of its range), got {}",
+            dtype.str()?,
+            original.getattr("dtype")?.str()?
+        )));
+    }
     let ndim: usize = array.getattr("ndim")?.extract()?;
     let array = array.cast_into::<PyArray<T, D>>().map_err(|_| {
         let expected = D::NDIM.map_or("an".to_owned(), |n| format!("a {n}-D"));
@@ -263,8 +275,9 @@ pub(crate) fn load_dataset(py: Python<'_>, path: PathBuf) -> PyResult<Bound<'_, 
     dataset_to_py(py, &data)
 }
 
-/// Writes a dataset dict to `path`: JSON when the name ends in `.json`, else the compact
-/// checksummed binary form (as `neurotac transduce --out` does). The file is replaced
+/// Writes a dataset dict to `path` in the format its extension names, as `neurotac synth
+/// --output` does: `.bin` the compact checksummed binary form, `.json`, or `.npz` flat arrays
+/// (see `neurotac_experiments::export`); any other extension is refused. The file is replaced
 /// atomically.
 #[pyfunction]
 pub(crate) fn save_dataset(
@@ -273,12 +286,10 @@ pub(crate) fn save_dataset(
     dataset: &Bound<'_, PyAny>,
 ) -> PyResult<()> {
     let data = dataset_from_py(dataset)?;
-    let json = path.extension().is_some_and(|e| e == "json");
-    py.detach(|| match json {
-        true => data.save_json(&path),
-        false => data.save_binary(&path),
-    })
-    .or_raise()
+    neurotac_experiments::export::OutputFormat::from_path(&path, &DATASET_FORMATS)
+        .or_value_error()?;
+    py.detach(|| neurotac_experiments::export::write_dataset(&data, &path))
+        .or_raise()
 }
 
 /// The samples of a dataset dict in pymuvr's form: a list of samples, each a list of
