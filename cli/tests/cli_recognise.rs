@@ -188,3 +188,31 @@ fn recognise_eval_writes_accuracy_against_time_for_every_coding() {
     ]);
     assert!(!ok && stderr.contains("exists"), "{stderr}");
 }
+
+/// A real-time replay does not wait for an event far past the kept duration (10¹⁵ µs, years):
+/// nothing after the training slides' duration is used.
+#[test]
+fn realtime_replay_does_not_wait_past_the_kept_duration() {
+    let dir = tempfile::tempdir().unwrap();
+    let (train, _) = simulated(dir.path());
+    let events = dir.path().join("far.csv");
+    std::fs::write(
+        &events,
+        "t,x,y,p\n0,100,90,1\n1000,101,90,1\n1000000000000000,102,90,1\n",
+    )
+    .unwrap();
+    let (ok, stdout, stderr) = neurotac(&[
+        "recognise",
+        "--train",
+        train.to_str().unwrap(),
+        "--input",
+        events.to_str().unwrap(),
+        "--speed",
+        "realtime",
+    ]);
+    assert!(ok, "{stderr}");
+    assert!(
+        stdout.lines().last().unwrap().starts_with("final: "),
+        "{stdout}"
+    );
+}

@@ -245,6 +245,12 @@ impl<'a> Recogniser<'a> {
         self.classifier.training.class_names()
     }
 
+    /// The kept duration (µs): the training samples' duration rounded up to a whole window;
+    /// events later than this after the slide start are dropped.
+    pub fn kept_us(&self) -> i64 {
+        self.last_window as i64 * self.window_us
+    }
+
     /// Events after the kept duration (counted, not processed).
     pub fn events_dropped(&self) -> u64 {
         self.events_dropped
@@ -395,7 +401,10 @@ pub fn replay(
     while !recogniser.is_done() && reader.read_chunk(&mut chunk)? > 0 {
         if let (ReplaySpeed::Realtime, Some(&last)) = (speed, chunk.t.last()) {
             let first = *first_us.get_or_insert(chunk.t[0]);
-            let due = Duration::from_micros(last.saturating_sub(first).max(0) as u64);
+            // Nothing after the kept duration is used: an event far later (a gap of years)
+            // is not waited for.
+            let since_first = last.saturating_sub(first).clamp(0, recogniser.kept_us());
+            let due = Duration::from_micros(since_first as u64);
             if let Some(wait) = due.checked_sub(start.elapsed()) {
                 std::thread::sleep(wait);
             }
