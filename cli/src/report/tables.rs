@@ -310,7 +310,7 @@ pub(crate) mod tests {
     use super::*;
     use neurotac_experiments::menu::Menu;
     use neurotac_experiments::protocols::{Accuracy, ConfusionMatrix, Evaluation};
-    use neurotac_experiments::reproduce::{BayesSearch, CodingResult, DtSearch, Search};
+    use neurotac_experiments::reproduce::{BayesSearch, CodingResult, DtSearch, Scored, Search};
     use neurotac_experiments::search::bayes::{BayesResult, BayesStep};
     use neurotac_experiments::search::dt_sweep::DtSweep;
     use neurotac_experiments::timing::Timing;
@@ -350,42 +350,44 @@ pub(crate) mod tests {
             .enumerate()
             .map(|(i, &coding)| CodingResult {
                 coding,
-                parameters: if coding == CodingName::Temporal {
-                    "Δt = 3 ms".into()
-                } else {
-                    String::new()
-                },
-                loo: evaluation(0.5 + 0.1 * i as f64),
-                split: (i != 1).then(|| evaluation(0.6)),
-                split_refused: (i == 1).then(|| "class 1 has 1 sample(s)".into()),
-                time: Timing::default(),
-                search: match coding {
-                    CodingName::Temporal => Some(Search::DtSweep(DtSearch {
-                        sweep: DtSweep {
-                            windows_ms: vec![1, 2, 3],
-                            accuracy: vec![0.5, 0.6, 0.7],
-                            best_window_ms: 3,
-                            best: evaluation(0.7).accuracy,
-                        },
-                        max_window_ms: 3,
-                        time: Timing::default(),
-                    })),
-                    CodingName::Spatiotemporal => Some(Search::Bayes(BayesSearch {
-                        result: BayesResult {
-                            best_tau_s: 0.02,
-                            best_cos: 0.5,
-                            best_value: 0.8,
-                            best_tau_index: 0,
-                            trace: vec![step],
-                        },
-                        tau_min_s: 0.01,
-                        tau_max_s: 0.1,
-                        tau_step_s: 0.005,
-                        cos_step: 0.01,
-                        matrices_computed: 1,
-                        time: Timing::default(),
-                    })),
-                    _ => None,
+                scored: Scored {
+                    parameters: if coding == CodingName::Temporal {
+                        "Δt = 3 ms".into()
+                    } else {
+                        String::new()
+                    },
+                    loo: evaluation(0.5 + 0.1 * i as f64),
+                    split: (i != 1).then(|| evaluation(0.6)),
+                    split_refused: (i == 1).then(|| "class 1 has 1 sample(s)".into()),
+                    time: Timing::default(),
+                    search: match coding {
+                        CodingName::Temporal => Some(Search::DtSweep(DtSearch {
+                            sweep: DtSweep {
+                                windows_ms: vec![1, 2, 3],
+                                accuracy: vec![0.5, 0.6, 0.7],
+                                best_window_ms: 3,
+                                best: evaluation(0.7).accuracy,
+                            },
+                            max_window_ms: 3,
+                            time: Timing::default(),
+                        })),
+                        CodingName::Spatiotemporal => Some(Search::Bayes(BayesSearch {
+                            result: BayesResult {
+                                best_tau_s: 0.02,
+                                best_cos: 0.5,
+                                best_value: 0.8,
+                                best_tau_index: 0,
+                                trace: vec![step],
+                            },
+                            tau_min_s: 0.01,
+                            tau_max_s: 0.1,
+                            tau_step_s: 0.005,
+                            cos_step: 0.01,
+                            matrices_computed: 1,
+                            time: Timing::default(),
+                        })),
+                        _ => None,
+                    },
                 },
             })
             .collect();

@@ -64,9 +64,9 @@ macro_rules! codings {
 
 codings! {
     /// Mean spike count per taxel (Euclidean).
-    Intensive => intensive::Intensive,
+    Intensive => intensive::INTENSIVE,
     /// Spike count of each taxel (Euclidean).
-    Spatial => spatial::Spatial,
+    Spatial => spatial::SPATIAL,
     /// Rolling Δt-window pooled counts in 1 ms steps (Euclidean).
     Temporal => temporal::Temporal,
     /// Multi-unit Van Rossum distance at (τ, cos θ).

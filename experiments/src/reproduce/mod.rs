@@ -42,54 +42,38 @@ use crate::error::ExperimentError;
 use crate::menu::Menu;
 use crate::progress::Progress;
 use crate::readouts::{EncodedSet, encode_offline};
-use crate::scoring::{PipelineRun, Scored};
+use crate::scoring::PipelineRun;
 use crate::timing::{Timing, timed};
 use neurotac_core::{KnnError, Ranks, SpikeDataset};
 use serde::Serialize;
 
-pub use crate::scoring::{BayesSearch, DtSearch, PipelineConfig, Search};
+pub use crate::scoring::{BayesSearch, DtSearch, PipelineConfig, Scored, Search};
 
-/// One coding's results.
+/// One coding's results: its run through the pipeline ([`Scored`], read through this
+/// result: `result.loo`), under its name.
 #[derive(Debug, Clone, Serialize)]
 pub struct CodingResult {
     /// The coding.
     pub coding: CodingName,
-    /// Its parameters as used (`"Δt = 159 ms"`, `"τ = 76 ms, cos θ = 0.40"`, or empty).
-    pub parameters: String,
-    /// Leave-one-out (the paper's tables).
-    pub loo: crate::protocols::Evaluation,
-    /// The stratified split (the paper's confusion matrices); `None` when refused.
-    pub split: Option<crate::protocols::Evaluation>,
-    /// Why the split was refused (a class too small for it).
-    pub split_refused: Option<String>,
-    /// Time of the distances and both protocols (the parameter search not included).
-    pub time: Timing,
-    /// The parameter search that chose its parameters, if it has any.
-    pub search: Option<Search>,
+    /// Its parameters, protocols, time and search.
+    #[serde(flatten)]
+    pub scored: Scored,
+}
+
+impl std::ops::Deref for CodingResult {
+    type Target = Scored;
+    fn deref(&self) -> &Scored {
+        &self.scored
+    }
+}
+
+impl std::ops::DerefMut for CodingResult {
+    fn deref_mut(&mut self) -> &mut Scored {
+        &mut self.scored
+    }
 }
 
 impl CodingResult {
-    /// `coding`'s result from its run through the pipeline.
-    fn of(coding: CodingName, scored: Scored) -> Self {
-        let Scored {
-            parameters,
-            loo,
-            split,
-            split_refused,
-            time,
-            search,
-        } = scored;
-        Self {
-            coding,
-            parameters,
-            loo,
-            split,
-            split_refused,
-            time,
-            search,
-        }
-    }
-
     /// Its wall time including its parameter search (s).
     pub fn seconds_with_search(&self) -> f64 {
         self.time.wall_s + self.search.as_ref().map_or(0.0, |s| s.time().wall_s)
@@ -215,7 +199,10 @@ pub fn run_encoded(
         let mean_spikes_per_taxel =
             ndarray::Array1::from_iter(intensive).sum() / set.len().max(1) as f64;
         let codings = (CodingName::ALL.iter())
-            .map(|&c| Ok(CodingResult::of(c, c.scheme().pipeline(set, &run)?)))
+            .map(|&c| {
+                let scored = c.scheme().pipeline(set, &run)?;
+                Ok(CodingResult { coding: c, scored })
+            })
             .collect::<Result<_, ExperimentError>>()?;
         Ok(SetResult {
             name: name.to_owned(),
