@@ -10,12 +10,22 @@ pub struct ThreadPoolError {
     pub message: String,
 }
 
-/// Runs `f` on a rayon pool of `threads` threads (0: one per core), so every parallel loop
-/// inside it uses that many.
+/// The most threads a pool may have: far more than any machine's cores, far fewer than would
+/// exhaust the memory of their stacks (`--threads 100000` asked for gigabytes).
+pub const MAX_THREADS: usize = 1024;
+
+/// Runs `f` on a rayon pool of `threads` threads (0: one per core, at most [`MAX_THREADS`]),
+/// so every parallel loop inside it uses that many.
 pub fn with_threads<T: Send>(
     threads: usize,
     f: impl FnOnce() -> T + Send,
 ) -> Result<T, ThreadPoolError> {
+    if threads > MAX_THREADS {
+        return Err(ThreadPoolError {
+            threads,
+            message: format!("more than the limit of {MAX_THREADS} threads"),
+        });
+    }
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
@@ -29,6 +39,15 @@ pub fn with_threads<T: Send>(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_pool_over_the_thread_limit_is_refused_before_any_thread_starts() {
+        let e = with_threads(100_000, || ()).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "cannot start 100000 threads: more than the limit of 1024 threads"
+        );
+    }
 
     #[test]
     fn the_pool_has_the_threads_asked_for() {
