@@ -498,10 +498,14 @@ pub enum CodingError {
         duration_ms: u32,
     },
     /// A spike before time 0, which no sample window covers.
-    #[error("sample {sample}: spike at {time_s} s, before the sample start (0 s)")]
+    #[error(
+        "sample {sample}, channel {channel}: spike at {time_s} s, before the sample start (0 s)"
+    )]
     SpikeBeforeZero {
         /// Index of the sample.
         sample: usize,
+        /// The channel of the spike.
+        channel: usize,
         /// The spike time (s).
         time_s: f64,
     },
