@@ -10,7 +10,8 @@
 //!  "observations": [[[0.012, 0.5], [], …], …], "meta": {"sensor": "neurotac-sim"}}
 //! ```
 //! Times are seconds. `observations` is required; `labels`, `class_names` and `meta` may be
-//! absent (an unlabelled dataset).
+//! absent (an unlabelled dataset). Errors give the line and column, and inside `observations`
+//! the observation, channel and spike (see [`SpikeDataset::from_json_str`]).
 //!
 //! # Typed metadata
 //! `meta` is free-form JSON, except for the fields read through typed accessors, which are
@@ -29,15 +30,19 @@
 //! verified before anything else is decoded, so a flipped bit is a
 //! [`DatasetError::Checksum`] naming the file, never a silently different dataset. Version 1
 //! (the same layout without the checksum) still reads. Every length is checked against the
-//! bytes left before anything is allocated.
+//! bytes left before anything is allocated. A spike time that is not finite or comes before the
+//! previous one in its channel is a [`DatasetError::Spikes`] naming the observation, the channel,
+//! the spike and its byte offset.
 //!
 //! Both forms are written through [`crate::io::AtomicFile`]: a failed or interrupted save
 //! leaves the old file (or none), never a truncated one.
 
-use crate::error::DatasetError;
-use crate::spikes::MultiSpikeTrain;
+use crate::error::{DatasetError, FilePosition};
+use crate::spikes::{MultiSpikeTrain, check_spike};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
+
+mod json;
 
 /// Observations (multi-channel spike trains), their class labels, class names and metadata.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -45,18 +50,6 @@ pub struct SpikeDataset {
     labels: Vec<usize>,
     class_names: Vec<String>,
     observations: Vec<MultiSpikeTrain>,
-    meta: serde_json::Map<String, serde_json::Value>,
-}
-
-/// The on-disk JSON shape, with the optional fields defaulted.
-#[derive(Deserialize)]
-struct JsonDataset {
-    #[serde(default)]
-    labels: Vec<usize>,
-    #[serde(default)]
-    class_names: Vec<String>,
-    observations: Vec<serde_json::Value>,
-    #[serde(default)]
     meta: serde_json::Map<String, serde_json::Value>,
 }
 
@@ -191,24 +184,13 @@ impl SpikeDataset {
     }
 
     /// Parses the JSON form from text; `path` only names the source in errors.
+    ///
+    /// Errors keep serde_json's line and column, and an error inside `observations` names the
+    /// observation, channel and spike: an invalid time (out of order, or `NaN`, `Infinity`,
+    /// `1e999`) is a [`DatasetError::Spikes`], anything else a [`DatasetError::Json`].
     pub fn from_json_str(text: &str, path: &Path) -> Result<Self, DatasetError> {
-        let json_err = |source| DatasetError::Json {
-            path: path.to_owned(),
-            source,
-        };
-        let raw: JsonDataset = serde_json::from_str(text).map_err(json_err)?;
-        let mut observations = Vec::with_capacity(raw.observations.len());
-        for (observation, value) in raw.observations.into_iter().enumerate() {
-            let channels: Vec<Vec<f64>> = serde_json::from_value(value).map_err(json_err)?;
-            let trains = MultiSpikeTrain::from_channels(&channels).map_err(|source| {
-                DatasetError::Spikes {
-                    observation,
-                    source,
-                }
-            })?;
-            observations.push(trains);
-        }
-        Self::new(observations, raw.labels, raw.class_names, raw.meta)
+        let raw = json::parse(text, path)?;
+        Self::new(raw.observations, raw.labels, raw.class_names, raw.meta)
     }
 
     /// The JSON form as text.
@@ -366,14 +348,25 @@ impl SpikeDataset {
             if total > r.remaining() / 8 {
                 return Err(r.error(r.pos, "spike counts exceed the bytes left in the file"));
             }
+            let times_at = r.pos;
             let times: Vec<f64> = (0..total).map(|_| r.f64()).collect();
-            let trains = MultiSpikeTrain::from_parts(times, offsets).map_err(|source| {
-                DatasetError::Spikes {
-                    observation,
-                    source,
+            for (channel, w) in offsets.windows(2).enumerate() {
+                let mut previous = f64::NEG_INFINITY;
+                for (index, &t) in times[w[0]..w[1]].iter().enumerate() {
+                    check_spike(channel, index, previous, t).map_err(|source| {
+                        DatasetError::Spikes {
+                            observation,
+                            position: Some(FilePosition::Byte {
+                                offset: times_at + 8 * (w[0] + index),
+                            }),
+                            source,
+                        }
+                    })?;
+                    previous = t;
                 }
-            })?;
-            observations.push(trains);
+            }
+            // Offsets from the counts (0, running sums, the total), every channel checked.
+            observations.push(MultiSpikeTrain::from_checked_parts(times, offsets));
         }
         if r.remaining() != 0 {
             return Err(r.error(r.pos, "trailing bytes after the last observation"));
@@ -466,244 +459,4 @@ fn duration_from_json(value: &serde_json::Value) -> Result<f64, DatasetError> {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn duration_is_typed_metadata_that_old_files_may_lack() {
-        let mut d = sample();
-        assert_eq!(d.duration_s(), None);
-        d.set_duration_s(4.5).unwrap();
-        assert_eq!(d.duration_s(), Some(4.5));
-        let back = SpikeDataset::from_binary(&d.to_binary(), Path::new("x.bin")).unwrap();
-        assert_eq!(back.duration_s(), Some(4.5));
-        assert!(matches!(
-            d.set_duration_s(f64::NAN),
-            Err(DatasetError::Meta {
-                field: "duration_s",
-                ..
-            })
-        ));
-        let bad = r#"{"observations":[[[0.1]]],"meta":{"duration_s":"long"}}"#;
-        let e = SpikeDataset::from_json_str(bad, Path::new("bad.json")).unwrap_err();
-        assert_eq!(
-            e.to_string(),
-            r#"meta.duration_s = "long": a finite number of seconds > 0"#
-        );
-    }
-
-    fn sample() -> SpikeDataset {
-        let obs = vec![
-            MultiSpikeTrain::from_channels(vec![vec![0.001, 0.5], vec![]]).unwrap(),
-            MultiSpikeTrain::from_channels(vec![vec![], vec![0.25, 0.25, 4.5]]).unwrap(),
-        ];
-        let mut meta = serde_json::Map::new();
-        meta.insert("sensor".into(), "neurotac-sim".into());
-        SpikeDataset::new(obs, vec![1, 0], vec!["smooth".into(), "5 mm".into()], meta).unwrap()
-    }
-
-    #[test]
-    fn json_has_the_documented_shape_and_round_trips() {
-        let d = sample();
-        let text = d.to_json_string();
-        assert_eq!(
-            text,
-            r#"{"labels":[1,0],"class_names":["smooth","5 mm"],"observations":[[[0.001,0.5],[]],[[],[0.25,0.25,4.5]]],"meta":{"sensor":"neurotac-sim"}}"#
-        );
-        let back = SpikeDataset::from_json_str(&text, Path::new("x.json")).unwrap();
-        assert_eq!(back, d);
-    }
-
-    #[test]
-    fn json_round_trips_full_precision_times_bit_for_bit() {
-        // Times with all 17 significant digits (serde_json's exact float parsing is required).
-        let channels: Vec<Vec<f64>> = (0..49)
-            .map(|c| {
-                (1..30)
-                    .map(|k| (k as f64 * 0.1 + c as f64 * 1e-3).sqrt() / 3.0)
-                    .collect()
-            })
-            .collect();
-        let d = SpikeDataset::unlabelled(vec![MultiSpikeTrain::from_channels(&channels).unwrap()])
-            .unwrap();
-        let back = SpikeDataset::from_json_str(&d.to_json_string(), Path::new("x")).unwrap();
-        let bits = |d: &SpikeDataset| {
-            d.observations()[0]
-                .flat_times()
-                .iter()
-                .map(|t| t.to_bits())
-                .collect::<Vec<_>>()
-        };
-        assert_eq!(bits(&back), bits(&d));
-    }
-
-    #[test]
-    fn json_with_only_observations_is_accepted() {
-        let d = SpikeDataset::from_json_str(
-            r#"{"observations": [[[0.1], [0.2, 0.3]]]}"#,
-            Path::new("o.json"),
-        )
-        .unwrap();
-        assert_eq!(d.len(), 1);
-        assert!(d.labels().is_empty());
-        assert_eq!(d.n_channels(), 2);
-    }
-
-    #[test]
-    fn json_errors_name_the_observation_and_the_problem() {
-        let e = SpikeDataset::from_json_str(
-            r#"{"observations": [[[0.1]], [[0.3, 0.2]]]}"#,
-            Path::new("d.json"),
-        )
-        .unwrap_err();
-        assert!(
-            matches!(e, DatasetError::Spikes { observation: 1, .. }),
-            "{e}"
-        );
-        let e = SpikeDataset::from_json_str(
-            r#"{"observations": [[[0.1]], [[0.2], []]]}"#,
-            Path::new("d.json"),
-        )
-        .unwrap_err();
-        assert!(matches!(
-            e,
-            DatasetError::ChannelCount {
-                observation: 1,
-                expected: 1,
-                got: 2
-            }
-        ));
-        let e = SpikeDataset::from_json_str(
-            r#"{"labels": [0], "observations": []}"#,
-            Path::new("d.json"),
-        )
-        .unwrap_err();
-        assert!(matches!(
-            e,
-            DatasetError::LabelCount {
-                labels: 1,
-                observations: 0
-            }
-        ));
-        let e = SpikeDataset::from_json_str(
-            r#"{"labels": [2], "class_names": ["a"], "observations": [[[]]]}"#,
-            Path::new("d.json"),
-        )
-        .unwrap_err();
-        assert!(matches!(
-            e,
-            DatasetError::LabelOutOfRange {
-                observation: 0,
-                label: 2,
-                n_classes: 1
-            }
-        ));
-        let e = SpikeDataset::from_json_str(r#"{"labels": []}"#, Path::new("d.json")).unwrap_err();
-        assert!(
-            e.to_string()
-                .starts_with("d.json: invalid spike-dataset JSON"),
-            "{e}"
-        );
-    }
-
-    #[test]
-    fn binary_round_trips_and_files_load_by_magic() {
-        let d = sample();
-        let dir = tempfile::tempdir().unwrap();
-        let (bin, json) = (dir.path().join("d.ntspk"), dir.path().join("d.json"));
-        d.save_binary(&bin).unwrap();
-        d.save_json(&json).unwrap();
-        assert_eq!(SpikeDataset::load(&bin).unwrap(), d);
-        assert_eq!(SpikeDataset::load(&json).unwrap(), d);
-        // On realistic data (49 taxels, full-precision times) the binary form is the compact one.
-        let slide = MultiSpikeTrain::from_channels((0..49).map(|c| {
-            (0..40)
-                .map(|i| (c * 40 + i) as f64 * 1.234_567e-3)
-                .collect::<Vec<_>>()
-        }))
-        .unwrap();
-        let big = SpikeDataset::unlabelled(vec![slide]).unwrap();
-        assert!(big.to_binary().len() < big.to_json_string().len());
-    }
-
-    /// The version-1 form of a dataset (no checksum), as files written before the format had a
-    /// checksum hold it.
-    fn version_1(d: &SpikeDataset) -> Vec<u8> {
-        let mut bytes = d.to_binary();
-        bytes.truncate(bytes.len() - CHECKSUM_BYTES);
-        bytes[8..12].copy_from_slice(&VERSION_WITHOUT_CHECKSUM.to_le_bytes());
-        bytes
-    }
-
-    #[test]
-    fn every_one_bit_flip_is_a_checksum_error_naming_the_file() {
-        let bytes = sample().to_binary();
-        assert_eq!(&bytes[8..12], &VERSION.to_le_bytes());
-        // Past magic and version, every flipped bit is caught by the checksum.
-        for byte in 12..bytes.len() {
-            for bit in 0..8 {
-                let mut flipped = bytes.clone();
-                flipped[byte] ^= 1 << bit;
-                match SpikeDataset::from_binary(&flipped, Path::new("cache/a.bin")) {
-                    Err(e @ DatasetError::Checksum { .. }) => {
-                        assert!(e.to_string().starts_with("cache/a.bin: checksum mismatch"))
-                    }
-                    other => panic!("byte {byte} bit {bit}: {other:?}"),
-                }
-            }
-        }
-        for cut in 0..bytes.len() {
-            assert!(
-                SpikeDataset::from_binary(&bytes[..cut], Path::new("t")).is_err(),
-                "cut {cut}"
-            );
-        }
-        // In the magic or the version it is a typed error too.
-        for byte in 0..12 {
-            let mut flipped = bytes.clone();
-            flipped[byte] ^= 1;
-            assert!(SpikeDataset::from_binary(&flipped, Path::new("a")).is_err());
-        }
-    }
-
-    #[test]
-    fn version_1_files_without_a_checksum_still_load() {
-        let d = sample();
-        let old = version_1(&d);
-        assert_eq!(SpikeDataset::from_binary(&old, Path::new("v1")).unwrap(), d);
-        let dir = tempfile::tempdir().unwrap();
-        let path = dir.path().join("v1.bin");
-        std::fs::write(&path, &old).unwrap();
-        assert_eq!(SpikeDataset::load(&path).unwrap(), d);
-    }
-
-    #[test]
-    fn corrupt_binary_is_a_typed_error_never_a_huge_allocation() {
-        // Version 1 has no checksum: its structural checks are what guards it.
-        let bytes = version_1(&sample());
-        // Every truncation fails cleanly.
-        for cut in 0..bytes.len() {
-            assert!(
-                SpikeDataset::from_binary(&bytes[..cut], Path::new("t")).is_err(),
-                "cut {cut}"
-            );
-        }
-        // An observation count of 2⁶³ is rejected before allocating.
-        let mut huge = bytes.clone();
-        huge[12..20].copy_from_slice(&(1u64 << 63).to_le_bytes());
-        match SpikeDataset::from_binary(&huge, Path::new("h")) {
-            Err(DatasetError::Binary {
-                offset: 12, what, ..
-            }) => assert!(what.contains("observation count")),
-            other => panic!("{other:?}"),
-        }
-        // A spike count beyond the file is rejected.
-        let mut counts = bytes.clone();
-        let n = counts.len();
-        counts[n - 8 * 3 - 8..n - 8 * 3].copy_from_slice(&(u64::MAX / 2).to_le_bytes());
-        assert!(SpikeDataset::from_binary(&counts, Path::new("c")).is_err());
-        let mut trailing = bytes;
-        trailing.push(0);
-        assert!(SpikeDataset::from_binary(&trailing, Path::new("t")).is_err());
-    }
-}
+mod tests;

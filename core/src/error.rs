@@ -74,10 +74,12 @@ pub enum DatasetError {
         source: std::io::Error,
     },
     /// The JSON text is malformed or does not have the dataset's shape.
-    #[error("{path}: invalid spike-dataset JSON")]
+    #[error("{path}: invalid spike-dataset JSON{}", in_observations(*at))]
     Json {
         /// The file.
         path: PathBuf,
+        /// Where in `observations` the parser stopped, when it was inside them.
+        at: Option<SpikeLocation>,
         /// The parser's error, with line and column.
         source: serde_json::Error,
     },
@@ -91,11 +93,14 @@ pub enum DatasetError {
         /// What was wrong there.
         what: String,
     },
-    /// An observation's spike trains are invalid.
-    #[error("observation {observation}")]
+    /// An observation's spike trains are invalid (a time that is not finite or out of order);
+    /// the [`SpikeError`] names the channel, the spike and the value.
+    #[error("observation {observation}{}", at_position(*position))]
     Spikes {
         /// Index of the observation.
         observation: usize,
+        /// Where the offending time is in the file, when it was read from one.
+        position: Option<FilePosition>,
         /// The spike error.
         source: SpikeError,
     },
@@ -149,6 +154,87 @@ pub enum DatasetError {
         /// What it must be.
         expected: &'static str,
     },
+}
+
+impl DatasetError {
+    /// The file this error names in its message, if it names one: the I/O, JSON, binary-layout
+    /// and checksum errors do; errors about the content (a spike, a label, a channel count,
+    /// metadata) do not, so a caller reading a file can name it once.
+    pub fn path(&self) -> Option<&std::path::Path> {
+        match self {
+            Self::Io { path, .. }
+            | Self::Json { path, .. }
+            | Self::Binary { path, .. }
+            | Self::Checksum { path, .. } => Some(path),
+            Self::Spikes { .. }
+            | Self::LabelCount { .. }
+            | Self::LabelOutOfRange { .. }
+            | Self::ChannelCount { .. }
+            | Self::Meta { .. } => None,
+        }
+    }
+}
+
+/// Where a problem lies in a spike dataset's `observations`: the observation, and when known
+/// the channel and the spike (all 0-based).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct SpikeLocation {
+    /// Index of the observation.
+    pub observation: usize,
+    /// Channel within the observation, when the problem is inside one.
+    pub channel: Option<usize>,
+    /// Position of the spike within the channel, when the problem is at a spike time.
+    pub spike: Option<usize>,
+}
+
+impl std::fmt::Display for SpikeLocation {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "observation {}", self.observation)?;
+        if let Some(channel) = self.channel {
+            write!(f, ", channel {channel}")?;
+        }
+        if let Some(spike) = self.spike {
+            write!(f, ", spike {spike}")?;
+        }
+        Ok(())
+    }
+}
+
+/// A place in a dataset file.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FilePosition {
+    /// Line and column of the JSON form, 1-based, as serde_json counts them: the column counts
+    /// bytes and is where the parser stopped, on the offending value or just after it.
+    Text {
+        /// Line (1-based).
+        line: usize,
+        /// Column (1-based, in bytes).
+        column: usize,
+    },
+    /// Byte offset in the binary form, from the start of the file.
+    Byte {
+        /// Offset (0-based).
+        offset: usize,
+    },
+}
+
+impl std::fmt::Display for FilePosition {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::Text { line, column } => write!(f, "line {line}, column {column}"),
+            Self::Byte { offset } => write!(f, "byte {offset}"),
+        }
+    }
+}
+
+/// `" in observation 1, channel 2, spike 3"`, or nothing.
+fn in_observations(at: Option<SpikeLocation>) -> String {
+    at.map(|at| format!(" in {at}")).unwrap_or_default()
+}
+
+/// `" (line 1, column 7)"`, `" (byte 301)"`, or nothing.
+fn at_position(position: Option<FilePosition>) -> String {
+    position.map(|p| format!(" ({p})")).unwrap_or_default()
 }
 
 /// An output that is the same file as an input: writing it would destroy the input.
@@ -412,10 +498,14 @@ pub enum CodingError {
         duration_ms: u32,
     },
     /// A spike before time 0, which no sample window covers.
-    #[error("sample {sample}: spike at {time_s} s, before the sample start (0 s)")]
+    #[error(
+        "sample {sample}, channel {channel}: spike at {time_s} s, before the sample start (0 s)"
+    )]
     SpikeBeforeZero {
         /// Index of the sample.
         sample: usize,
+        /// The channel of the spike.
+        channel: usize,
         /// The spike time (s).
         time_s: f64,
     },

@@ -58,8 +58,8 @@ pub use compact::Compact;
 pub use dataset::SpikeDataset;
 pub use distance::VanRossum;
 pub use error::{
-    CodingError, CoreError, DatasetError, DistanceError, GraphError, KnnError, ModelError,
-    SameFileError, SpikeError, error_chain,
+    CodingError, CoreError, DatasetError, DistanceError, FilePosition, GraphError, KnnError,
+    ModelError, SameFileError, SpikeError, SpikeLocation, error_chain,
 };
 pub use event::{Event, EventBuffer};
 pub use graph::{

@@ -9,24 +9,36 @@
 use crate::error::SpikeError;
 use serde::{Deserialize, Serialize};
 
+/// Checks spike `index` of `channel`, at `t` after `previous` (−∞ for the first spike): `t`
+/// must be finite and not before `previous`.
+pub(crate) fn check_spike(
+    channel: usize,
+    index: usize,
+    previous: f64,
+    t: f64,
+) -> Result<(), SpikeError> {
+    if !t.is_finite() {
+        return Err(SpikeError::NonFinite {
+            channel,
+            index,
+            value: t,
+        });
+    }
+    if t < previous {
+        return Err(SpikeError::Unsorted {
+            channel,
+            index,
+            previous,
+            value: t,
+        });
+    }
+    Ok(())
+}
+
 fn check_channel(channel: usize, times: &[f64]) -> Result<(), SpikeError> {
     let mut previous = f64::NEG_INFINITY;
     for (index, &t) in times.iter().enumerate() {
-        if !t.is_finite() {
-            return Err(SpikeError::NonFinite {
-                channel,
-                index,
-                value: t,
-            });
-        }
-        if t < previous {
-            return Err(SpikeError::Unsorted {
-                channel,
-                index,
-                previous,
-                value: t,
-            });
-        }
+        check_spike(channel, index, previous, t)?;
         previous = t;
     }
     Ok(())
@@ -250,6 +262,13 @@ impl MultiSpikeTrain {
             check_channel(c, &times[offsets[c]..offsets[c + 1]])?;
         }
         Ok(Self { times, offsets })
+    }
+
+    /// Wraps CSR parts whose offsets and channels the caller has already checked (as
+    /// [`from_parts`](Self::from_parts) would), without checking them again.
+    pub(crate) fn from_checked_parts(times: Vec<f64>, offsets: Vec<usize>) -> Self {
+        debug_assert!(Self::from_parts(times.clone(), offsets.clone()).is_ok());
+        Self { times, offsets }
     }
 
     /// Number of channels.

@@ -4,11 +4,18 @@
 use neurotac_core::SpikeDataset;
 use std::path::Path;
 
-/// Reads a spike dataset (JSON or binary); the error names the file once.
+/// Reads a spike dataset (JSON or binary); the error names the file once and keeps its causes
+/// (`{:#}` prints them on one line): where in the file, which observation, channel and spike, and
+/// what is wrong with it.
 pub fn load_dataset(path: &Path) -> anyhow::Result<SpikeDataset> {
-    // The dataset error names file, sample and field; its source chain would repeat it.
-    SpikeDataset::load(path)
-        .map_err(|e| anyhow::anyhow!("reading the spike dataset {}: {e}", path.display()))
+    SpikeDataset::load(path).map_err(|e| {
+        // File-level errors (I/O, JSON syntax, binary layout) name the file themselves.
+        let context = match e.path() {
+            Some(_) => "reading the spike dataset".to_owned(),
+            None => format!("reading the spike dataset {}", path.display()),
+        };
+        anyhow::Error::new(e).context(context)
+    })
 }
 
 /// Reads a labelled spike dataset (classification and searches need labels).

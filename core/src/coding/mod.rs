@@ -292,13 +292,20 @@ mod tests {
             })
         );
         assert!(SpatiotemporalCoding::new(-1.0).is_err());
-        let early = MultiSpikeTrain::from_channels(vec![vec![-0.5]]).unwrap();
+        let early =
+            MultiSpikeTrain::from_channels(vec![vec![0.1], vec![], vec![-0.5, 0.2]]).unwrap();
+        let e = duration_ms_of(&[MultiSpikeTrain::empty(3), early]);
         assert_eq!(
-            duration_ms_of(&[MultiSpikeTrain::empty(1), early]),
+            e,
             Err(CodingError::SpikeBeforeZero {
                 sample: 1,
+                channel: 2,
                 time_s: -0.5
             })
+        );
+        assert_eq!(
+            e.unwrap_err().to_string(),
+            "sample 1, channel 2: spike at -0.5 s, before the sample start (0 s)"
         );
         assert_eq!(duration_ms_of(&[sample()]), Ok(300));
     }

@@ -50,18 +50,22 @@ pub fn spike_bin_ms(t_s: f64) -> Option<u64> {
 
 /// The shortest whole-ms duration that holds every spike of `observations`: one bin past the
 /// latest spike's bin (1 ms when there is no spike). Errors on a spike before time 0, naming the
-/// sample, since no window convention covers it.
+/// sample and the channel, since no window convention covers it.
 pub fn duration_ms_of(observations: &[MultiSpikeTrain]) -> Result<u32, CodingError> {
     let mut last_bin = 0u64;
     for (sample, o) in observations.iter().enumerate() {
-        if let Some((first, last)) = o.time_range() {
-            if spike_bin_ms(first).is_none() {
-                return Err(CodingError::SpikeBeforeZero {
-                    sample,
-                    time_s: first,
-                });
+        for (channel, times) in o.channels().enumerate() {
+            // Channels are sorted: their first spike is their earliest.
+            if let (Some(&first), Some(&last)) = (times.first(), times.last()) {
+                if spike_bin_ms(first).is_none() {
+                    return Err(CodingError::SpikeBeforeZero {
+                        sample,
+                        channel,
+                        time_s: first,
+                    });
+                }
+                last_bin = last_bin.max(spike_bin_ms(last).unwrap_or(0));
             }
-            last_bin = last_bin.max(spike_bin_ms(last).unwrap_or(0));
         }
     }
     u32::try_from(last_bin + 1).map_err(|_| CodingError::InvalidParameter {

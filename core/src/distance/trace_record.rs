@@ -108,8 +108,9 @@ pub(crate) fn trace_step_us(trace_dt_s: f64) -> Result<i64, CodingError> {
 pub(crate) struct TraceArrivals {
     /// Per channel: `(step, spikes in it)` in step order.
     arrivals: Vec<Vec<(u32, u32)>>,
-    /// The first spike time no step can hold (before 0 or beyond `u32::MAX` steps).
-    out_of_range: Option<f64>,
+    /// The first spike no step can hold (before 0 or beyond `u32::MAX` steps): its channel and
+    /// time.
+    out_of_range: Option<(usize, f64)>,
 }
 
 impl TraceArrivals {
@@ -134,7 +135,7 @@ impl TraceArrivals {
                 }
             }
             _ => {
-                self.out_of_range.get_or_insert(t_s);
+                self.out_of_range.get_or_insert((channel, t_s));
             }
         }
     }
@@ -143,8 +144,12 @@ impl TraceArrivals {
     /// 0 or beyond `u32::MAX` steps.
     pub(crate) fn record(&self, step_us: i64) -> Result<TraceRecord, CodingError> {
         match self.out_of_range {
-            Some(time_s) if time_s < 0.0 => Err(CodingError::SpikeBeforeZero { sample: 0, time_s }),
-            Some(time_s) => Err(CodingError::InvalidParameter {
+            Some((channel, time_s)) if time_s < 0.0 => Err(CodingError::SpikeBeforeZero {
+                sample: 0,
+                channel,
+                time_s,
+            }),
+            Some((_, time_s)) => Err(CodingError::InvalidParameter {
                 what: "spike time for the trace record",
                 value: time_s,
                 expected: "fewer than 2³² trace steps from 0",

@@ -425,6 +425,19 @@ mod tests {
             ),
             "{e:?}"
         );
+        let two = MultiSpikeTrain::from_channels(vec![vec![0.1], vec![0.2]]).unwrap();
+        let early = MultiSpikeTrain::from_channels(vec![vec![0.1], vec![-0.1, 0.2]]).unwrap();
+        let e = trace_sampled_matrices(&[two, early], 0.01, 1e-3).unwrap_err();
+        assert!(
+            matches!(
+                e,
+                DistanceError::TraceRecord {
+                    sample: 1,
+                    source: CodingError::SpikeBeforeZero { channel: 1, .. }
+                }
+            ),
+            "{e:?}"
+        );
         let mut coding = SpatiotemporalCoding::new(0.01).unwrap();
         coding.encode(&s);
         assert!(coding.trace_record().is_none());
