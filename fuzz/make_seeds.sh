@@ -8,7 +8,7 @@
 # `cargo fuzz cmin` (fuzz/README.md).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-cargo build --release -q -p neurotac-experiments
+cargo build --release -q -p neurotac-cli
 bin="${CARGO_TARGET_DIR:-target}/release/neurotac"
 data="${NEUROTAC_SHARED_DATA:-../shared/data}/davis240"
 tmp="$(mktemp -d)"

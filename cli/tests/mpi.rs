@@ -1,6 +1,6 @@
 //! The distributed commands under `mpirun -n 1|2|3`: byte-identical outputs to one
 //! process, bad input and faults. Built only with the `mpi` feature
-//! (`cargo test --release -p neurotac-experiments --features mpi --test mpi`); skipped with a
+//! (`cargo test --release -p neurotac-cli --features mpi --test mpi`); skipped with a
 //! reason when `mpirun` is not installed.
 #![cfg(feature = "mpi")]
 

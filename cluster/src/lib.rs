@@ -30,7 +30,7 @@ pub enum ClusterError {
     /// Started by an MPI launcher with several ranks, but built without the `mpi` feature.
     #[error(
         "started by mpirun as rank {rank} of {size}, but this neurotac was built without MPI; \
-         rebuild with `cargo build --release -p neurotac-experiments --features mpi` \
+         rebuild with `cargo build --release -p neurotac-cli --features mpi` \
          (see README \"Running on several machines\")"
     )]
     NotBuiltWithMpi {
