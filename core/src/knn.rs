@@ -305,9 +305,8 @@ impl FittedKnn {
         self.labels.len()
     }
 
-    /// The decision for one new sample from its distances to the `n_train` training samples
-    /// (errors name row 0).
-    pub fn decide(&self, row: &[f64]) -> Result<Decision, KnnError> {
+    /// Refuses a row that is not one distance ≥ 0 per training sample (errors name row 0).
+    fn check_row(&self, row: &[f64]) -> Result<(), KnnError> {
         let n = self.labels.len();
         if row.len() != n {
             return Err(KnnError::Shape {
@@ -316,8 +315,14 @@ impl FittedKnn {
                 labels: n,
             });
         }
-        check_values(&ArrayView2::from_shape((1, n), row).expect("one row of n"))?;
-        Ok(decide_among(self.k, row, 0..n, &self.labels))
+        check_values(&ArrayView2::from_shape((1, n), row).expect("one row of n"))
+    }
+
+    /// The decision for one new sample from its distances to the `n_train` training samples
+    /// (errors name row 0).
+    pub fn decide(&self, row: &[f64]) -> Result<Decision, KnnError> {
+        self.check_row(row)?;
+        Ok(decide_among(self.k, row, 0..row.len(), &self.labels))
     }
 
     /// `true` when the neighbours of `row` are not determined by the data: more training
@@ -326,19 +331,33 @@ impl FittedKnn {
     /// far from every training sample of several classes — a silent prefix — is such a tie. (A
     /// vote tie between classes of determined neighbours is not: its vote share says it.)
     pub fn is_distance_tie(&self, row: &[f64]) -> Result<bool, KnnError> {
-        self.decide(row)?;
+        Ok(self.decide_noting_distance_tie(row)?.1)
+    }
+
+    /// [`decide`](Self::decide) and [`is_distance_tie`](Self::is_distance_tie) of `row` at
+    /// once: the row checked and its neighbours found one time.
+    pub fn decide_noting_distance_tie(&self, row: &[f64]) -> Result<(Decision, bool), KnnError> {
+        self.check_row(row)?;
         let mut top = TopK::new(self.k);
         for (j, &d) in row.iter().enumerate() {
             top.offer(d, j);
         }
         let neighbours = top.neighbours();
+        let (class, votes) =
+            vote_count(neighbours.iter().map(|&(_, j)| self.labels[j])).expect("k ≥ 1 neighbours");
+        let decision = Decision {
+            class,
+            votes,
+            k: neighbours.len(),
+        };
         let Some(&(kth, _)) = neighbours.last() else {
-            return Ok(false);
+            return Ok((decision, false));
         };
         let places = neighbours.iter().filter(|&&(d, _)| d == kth).count();
         let mut at_kth = (row.iter().zip(&self.labels)).filter(|&(&d, _)| d == kth);
         let first_label = at_kth.clone().next().map(|(_, &l)| l);
-        Ok(at_kth.clone().count() > places && at_kth.any(|(_, &l)| Some(l) != first_label))
+        let tie = at_kth.clone().count() > places && at_kth.any(|(_, &l)| Some(l) != first_label);
+        Ok((decision, tie))
     }
 
     /// The decision for each new sample: row `i` of `distances` (`n_new × n_train`) holds the

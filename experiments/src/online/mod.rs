@@ -356,8 +356,7 @@ impl<'a> Recogniser<'a> {
     fn decide(&mut self, t_end_s: f64, start: Instant) -> Result<Decision, ExperimentError> {
         let live = self.network.readout(self.readout)?.trains();
         let distances = self.live.distances(&live, t_end_s)?;
-        let knn = self.classifier.knn.decide(&distances)?;
-        let tie = self.classifier.knn.is_distance_tie(&distances)?;
+        let (knn, tie) = self.classifier.knn.decide_noting_distance_tie(&distances)?;
         let class = knn.class;
         let same_for_windows = match self.decisions.last() {
             _ if tie => 0,
