@@ -7,6 +7,7 @@
 //! naming it, so a file never silently falls back to a default.
 
 use super::error::SimulationError;
+use crate::geometry::{DAVIS240_HEIGHT, DAVIS240_WIDTH};
 pub use super::parameter_sources::PARAMETER_SOURCES;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
@@ -322,6 +323,23 @@ pub struct NoiseParams {
     pub shot_rate_hz: f64,
 }
 
+/// The noise budget (Hz per pixel): leak plus shot noise averaged over the pixels. The simulator's
+/// work grows with the noise events it draws, so a larger rate is refused before simulating.
+pub const MAX_NOISE_RATE_HZ: f64 = 1000.0;
+
+/// The noise events a trial may draw (mean rate × pixels × duration): each is held in memory
+/// (16 bytes) until the trial's events are sorted, so this bounds that memory to 3.2 GB.
+pub const MAX_NOISE_EVENTS: f64 = 2e8;
+
+impl NoiseParams {
+    /// The leak rate averaged over the pixels (Hz): with r = r₀·10^(s·N(0,1)),
+    /// E[r] = r₀·exp((s·ln 10)²/2) (the mean of a log-normal).
+    pub fn mean_leak_rate_hz(&self) -> f64 {
+        let s = self.leak_spread_decades * std::f64::consts::LN_10;
+        self.leak_rate_hz * (s * s / 2.0).exp()
+    }
+}
+
 impl Default for NoiseParams {
     fn default() -> Self {
         Self {
@@ -568,12 +586,15 @@ impl SimParams {
         }
         // Relations between fields.
         let relations = [
-            (
-                "kinematics.distance_mm",
-                k.distance_mm,
-                self.duration_s() <= 600.0,
-                "a slide (with its rests) of at most 600 s",
-            ),
+            {
+                let (field, value) = self.longest_part_of_trial();
+                (
+                    field,
+                    value,
+                    self.duration_s() <= 600.0,
+                    "a slide (with its rests) of at most 600 s",
+                )
+            },
             (
                 "contact.microslip_max_mm",
                 c.microslip_max_mm,
@@ -583,9 +604,33 @@ impl SimParams {
             (
                 "noise.leak_rate_hz",
                 n.leak_rate_hz,
-                n.leak_rate_hz + n.shot_rate_hz <= 1000.0,
+                n.leak_rate_hz + n.shot_rate_hz <= MAX_NOISE_RATE_HZ,
                 "leak + shot noise of at most 1000 Hz per pixel",
             ),
+            (
+                "noise.leak_spread_decades",
+                n.leak_spread_decades,
+                self.noise.mean_leak_rate_hz() + n.shot_rate_hz <= MAX_NOISE_RATE_HZ,
+                "a spread whose mean leak rate r₀·exp((spread·ln 10)²/2) plus shot noise \
+                 is at most 1000 Hz per pixel",
+            ),
+            {
+                let (leak, shot) = (self.noise.mean_leak_rate_hz(), n.shot_rate_hz);
+                let pixels = f64::from(DAVIS240_WIDTH) * f64::from(DAVIS240_HEIGHT);
+                let events = (leak + shot) * pixels * self.duration_s();
+                let (field, value) = if leak >= shot {
+                    ("noise.leak_rate_hz", n.leak_rate_hz)
+                } else {
+                    ("noise.shot_rate_hz", shot)
+                };
+                (
+                    field,
+                    value,
+                    events <= MAX_NOISE_EVENTS,
+                    "at most 2·10⁸ noise events per trial (mean rate × 43 200 pixels × trial \
+                     duration)",
+                )
+            },
         ];
         match relations.into_iter().find(|r| !r.2) {
             Some((field, value, _, expected)) => Err(SimulationError::InvalidParameter {
@@ -715,6 +760,33 @@ impl SimParams {
         }
     }
 
+    /// The kinematics field (and its value) behind the longest part of a trial, to name in an
+    /// error when the trial is too long: a rest, the acceleration ramps `2·min(v/a, √(d/a))`, or
+    /// the cruise at full speed — blamed on the distance or the speed, whichever lies further
+    /// from its default by ratio.
+    fn longest_part_of_trial(&self) -> (&'static str, f64) {
+        let k = &self.kinematics;
+        let (v, a, d) = (k.speed_mm_s, k.acceleration_mm_s2, k.distance_mm);
+        let ramps = 2.0 * (v / a).min((d / a).sqrt());
+        let cruise = self.motion_duration_s() - ramps;
+        let default = KinematicsParams::default();
+        let cruise_field = if d / default.distance_mm >= default.speed_mm_s / v {
+            ("kinematics.distance_mm", d)
+        } else {
+            ("kinematics.speed_mm_s", v)
+        };
+        [
+            (k.rest_before_s, ("kinematics.rest_before_s", k.rest_before_s)),
+            (k.rest_after_s, ("kinematics.rest_after_s", k.rest_after_s)),
+            (ramps, ("kinematics.acceleration_mm_s2", a)),
+            (cruise, cruise_field),
+        ]
+        .into_iter()
+        .max_by(|x, y| x.0.total_cmp(&y.0))
+        .map(|(_, named)| named)
+        .expect("four parts")
+    }
+
     /// Duration of a whole trial (s): rest, motion, rest.
     pub fn duration_s(&self) -> f64 {
         self.kinematics.rest_before_s + self.motion_duration_s() + self.kinematics.rest_after_s
@@ -772,6 +844,63 @@ mod tests {
                 Err(SimulationError::InvalidParameter { field, .. }) => assert_eq!(field, name),
                 other => panic!("{name}: {other:?}"),
             }
+        }
+    }
+
+    #[test]
+    fn a_trial_too_long_names_the_field_that_makes_it_long() {
+        type Spoil = fn(&mut SimParams);
+        let cases: [(Spoil, &str); 5] = [
+            (
+                |p| p.kinematics.acceleration_mm_s2 = 1e-6,
+                "kinematics.acceleration_mm_s2",
+            ),
+            (|p| p.kinematics.distance_mm = 1e6, "kinematics.distance_mm"),
+            (|p| p.kinematics.speed_mm_s = 1e-3, "kinematics.speed_mm_s"),
+            (|p| p.kinematics.rest_before_s = 900.0, "kinematics.rest_before_s"),
+            (|p| p.kinematics.rest_after_s = 900.0, "kinematics.rest_after_s"),
+        ];
+        for (spoil, name) in cases {
+            let mut p = SimParams::default();
+            spoil(&mut p);
+            match p.validate() {
+                Err(SimulationError::InvalidParameter { field, .. }) => assert_eq!(field, name),
+                other => panic!("{name}: {other:?}"),
+            }
+        }
+    }
+
+    #[test]
+    fn a_leak_spread_whose_mean_noise_exceeds_the_budget_is_refused() {
+        let mut p = SimParams::default();
+        p.noise.leak_spread_decades = 1.0;
+        p.validate().unwrap();
+        for spread in [2.0, 1e300] {
+            p.noise.leak_spread_decades = spread;
+            match p.validate() {
+                Err(SimulationError::InvalidParameter { field, .. }) => {
+                    assert_eq!(field, "noise.leak_spread_decades")
+                }
+                other => panic!("{spread}: {other:?}"),
+            }
+        }
+        // The mean of r₀·10^(s·N(0,1)) is r₀·exp((s·ln 10)²/2).
+        p.noise.leak_spread_decades = 1.0;
+        let mean = p.noise.mean_leak_rate_hz() / p.noise.leak_rate_hz;
+        assert!((mean - (std::f64::consts::LN_10.powi(2) / 2.0).exp()).abs() < 1e-12);
+    }
+
+    #[test]
+    fn noise_events_beyond_the_memory_budget_are_refused_naming_the_larger_rate() {
+        let mut p = SimParams::default();
+        p.noise.shot_rate_hz = 500.0; // 500 Hz × 43 200 pixels × 4.55 s ≈ 9.8·10⁷ events
+        p.validate().unwrap();
+        p.kinematics.rest_after_s = 100.0; // ≈ 2.2·10⁹
+        match p.validate() {
+            Err(SimulationError::InvalidParameter { field, .. }) => {
+                assert_eq!(field, "noise.shot_rate_hz")
+            }
+            other => panic!("{other:?}"),
         }
     }
 
