@@ -36,6 +36,15 @@ pub enum SpikeError {
         /// The offending time.
         value: f64,
     },
+    /// More channels than a spike train may have ([`MAX_CHANNELS`](crate::spikes::MAX_CHANNELS)).
+    #[error(
+        "{n_channels} channels: more than the limit of {limit} channels per sample",
+        limit = crate::spikes::MAX_CHANNELS
+    )]
+    TooManyChannels {
+        /// Channels asked for.
+        n_channels: usize,
+    },
     /// A spike names a channel that does not exist.
     #[error("spike on channel {channel}, but there are only {n_channels} channels")]
     ChannelOutOfRange {
@@ -486,6 +495,17 @@ pub enum CodingError {
         value: f64,
         /// What is allowed.
         expected: &'static str,
+    },
+    /// A feature matrix larger than the budget ([`MAX_FEATURE_VALUES`](crate::coding::MAX_FEATURE_VALUES)).
+    #[error(
+        "{samples} samples × {features} features: more than the limit of {limit} feature values",
+        limit = crate::coding::MAX_FEATURE_VALUES
+    )]
+    TooManyFeatures {
+        /// Rows (samples).
+        samples: usize,
+        /// Columns (features per sample).
+        features: usize,
     },
     /// The temporal window is longer than the sample duration, so there is no window at all.
     #[error(

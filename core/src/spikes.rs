@@ -134,6 +134,10 @@ impl From<SpikeTrain> for Vec<f64> {
     }
 }
 
+/// The most channels a [`MultiSpikeTrain`] built from labelled spikes may have: 2²⁰, more than the
+/// pixels of a 1280 × 720 event camera; its offsets then take 8 MiB per sample.
+pub const MAX_CHANNELS: usize = 1 << 20;
+
 /// Spike trains of `N` channels (neurons, taxels) in one compressed-sparse-row buffer.
 ///
 /// All times live in one flat `Vec<f64>`; channel `i` is `times[offsets[i]..offsets[i + 1]]`.
@@ -209,11 +213,15 @@ impl MultiSpikeTrain {
 
     /// Packs `(channel, time)` pairs given in any order into `n_channels` sorted channels.
     ///
-    /// Rejects a channel `≥ n_channels` ([`SpikeError::ChannelOutOfRange`]) and non-finite times.
+    /// Rejects a channel `≥ n_channels` ([`SpikeError::ChannelOutOfRange`]), non-finite times
+    /// and more than [`MAX_CHANNELS`] channels.
     pub fn from_labelled_spikes(
         n_channels: usize,
         spikes: &[(u32, f64)],
     ) -> Result<Self, SpikeError> {
+        if n_channels > MAX_CHANNELS {
+            return Err(SpikeError::TooManyChannels { n_channels });
+        }
         let mut offsets = vec![0usize; n_channels + 1];
         for (index, &(c, t)) in spikes.iter().enumerate() {
             let channel = c as usize;
@@ -437,6 +445,13 @@ mod tests {
             MultiSpikeTrain::from_parts(vec![0.1, 0.2], vec![0, 3]),
             Err(SpikeError::InvalidOffsets { n_times: 2 })
         );
+    }
+
+    #[test]
+    fn a_channel_count_over_the_budget_is_refused_before_allocation() {
+        let e = MultiSpikeTrain::from_labelled_spikes(1 << 40, &[(0, 0.1)]).unwrap_err();
+        assert!(matches!(e, SpikeError::TooManyChannels { n_channels } if n_channels == 1 << 40));
+        assert!(MultiSpikeTrain::from_labelled_spikes(MAX_CHANNELS, &[]).is_ok());
     }
 
     #[test]

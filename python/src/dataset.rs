@@ -19,6 +19,7 @@
 
 use crate::errors::{OrRaise, invalid};
 use ndarray::{Dimension, Ix1};
+use neurotac_core::spikes::MAX_CHANNELS;
 use neurotac_core::{DistanceError, MultiSpikeTrain, SpikeDataset};
 use neurotac_experiments::export::DATASET_FORMATS;
 use numpy::{Element, IntoPyArray, PyArray, PyArrayMethods, PyReadonlyArray};
@@ -98,7 +99,12 @@ pub(crate) fn array_vec<T: Element + Copy>(obj: &Bound<'_, PyAny>) -> PyResult<V
     Ok(contiguous::<T, Ix1>(obj)?.as_slice()?.to_vec())
 }
 
-/// The samples of the flat arrays `times`, `units`, `offsets` (see the module docs).
+/// The most units over all samples of a dataset (`samples × (n_units + 1)`): each takes an 8-byte
+/// offset, so this bounds them to 2 GiB.
+const MAX_CHANNEL_SLOTS: usize = 1 << 28;
+
+/// The samples of the flat arrays `times`, `units`, `offsets` (see the module docs); `n_units`
+/// is checked against [`MAX_CHANNELS`] and [`MAX_CHANNEL_SLOTS`] before anything is allocated.
 pub(crate) fn observations_from_flat(
     times: &[f64],
     units: &[u32],
@@ -120,6 +126,13 @@ pub(crate) fn observations_from_flat(
             "offsets must start at 0, never decrease and end at len(times) = {} (got {} offsets)",
             times.len(),
             offsets.len()
+        )));
+    }
+    let samples = offsets.len() - 1;
+    if n_units > MAX_CHANNELS || samples.saturating_mul(n_units + 1) > MAX_CHANNEL_SLOTS {
+        return Err(invalid(format!(
+            "n_units = {n_units} over {samples} samples: more than the limit of {MAX_CHANNELS} \
+             units per sample and {MAX_CHANNEL_SLOTS} units over all samples"
         )));
     }
     offsets

@@ -7,7 +7,7 @@ use neurotac_core::OneProcess;
 use neurotac_experiments::datasets::simulated::{
     DatasetsError, TextureSet, load_or_simulate, simulate_set,
 };
-use neurotac_sensor::sim::SimParams;
+use neurotac_sensor::sim::{SimParams, check_trials};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::path::PathBuf;
@@ -43,6 +43,7 @@ pub(crate) fn simulate<'py>(
         }
     };
     let trials = trials.unwrap_or_else(|| set.paper_trials());
+    check_trials(trials, set.textures().len()).or_value_error()?;
     let params = match params {
         Some(path) => py.detach(|| SimParams::from_json_file(&path)).or_raise()?,
         None => SimParams::default(),

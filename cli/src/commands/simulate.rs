@@ -278,7 +278,7 @@ fn check(a: CheckArgs) -> anyhow::Result<()> {
         params: load_params(a.params.as_deref())?,
         ..CheckConfig::default()
     };
-    let bar = progress_bar(check_trial_count(&config), "check");
+    let bar = progress_bar(check_trial_count(&config)?, "check");
     let start = Instant::now();
     let report = with_threads(a.threads.threads, || {
         simulator_check(&config, &|| bar.inc(1))

@@ -127,6 +127,7 @@ pub fn calibrate(
     progress: &(dyn Fn() + Sync),
 ) -> Result<Calibration, DatasetsError> {
     params.validate()?;
+    neurotac_sensor::sim::check_trials(trials.max(1), 1)?;
     let [flat, mid, coarse] = PAPER_INTENSIVE_MEANS;
     let mut p = *params;
     let mut slides = 0usize;

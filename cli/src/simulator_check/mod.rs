@@ -36,8 +36,8 @@ use neurotac_experiments::datasets::{
     DatasetsError, TextureSet, TrialJob, camera_seed, jobs_for, map_trials, prepare_textures,
 };
 use neurotac_sensor::sim::{
-    Camera, GRID_SIZES_MM, PAPER_INTENSIVE_MEANS, PreparedTexture, SimParams, Simulator, Texture,
-    edge_pass,
+    Camera, GRID_SIZES_MM, PAPER_INTENSIVE_MEANS, PreparedTexture, SimParams, SimulationError,
+    Simulator, Texture, check_trials, edge_pass,
 };
 use serde::Serialize;
 use std::fmt::Write;
@@ -131,11 +131,18 @@ fn run_jobs(
     )
 }
 
-/// Number of trials [`simulator_check`] simulates with `config` (for a progress bar).
-pub fn check_trial_count(config: &CheckConfig) -> usize {
-    2 * (11 * config.trials + 3 * config.variability_trials.max(2))
-        + 2 * config.trials
-        + config.static_trials
+/// Number of trials [`simulator_check`] simulates with `config` (for a progress bar), after
+/// checking its slide counts against the trial budget ([`check_trials`]): `trials` slides of
+/// the 11 grids twice plus two more, `variability_trials` of 3 grids twice.
+pub fn check_trial_count(config: &CheckConfig) -> Result<usize, SimulationError> {
+    check_trials(config.trials, 2 * 11 + 2)?;
+    check_trials(config.variability_trials.max(2), 2 * 3)?;
+    check_trials(config.static_trials.max(1), 1)?;
+    Ok(
+        2 * (11 * config.trials + 3 * config.variability_trials.max(2))
+            + 2 * config.trials
+            + config.static_trials,
+    )
 }
 
 /// Runs the check (see the module docs); `progress` is called once per simulated trial.
@@ -145,6 +152,7 @@ pub fn simulator_check(
 ) -> Result<CheckReport, DatasetsError> {
     let p = config.params;
     p.validate()?;
+    check_trial_count(config)?;
     let n = config.trials.max(2);
     let camera = Camera::new(&p, camera_seed(config.seed));
     let set = TextureSet::Artificial;

@@ -112,11 +112,9 @@ fn percentile(sorted: &[f64], q: f64) -> f64 {
 pub fn simulator_tradeoff(
     config: &SimulatorTradeoffConfig,
 ) -> Result<Vec<SimulatorTradeoffRow>, DatasetsError> {
-    if config.trials == 0 {
-        return Err(neurotac_sensor::sim::SimulationError::ZeroTrials.into());
-    }
-    let camera = Camera::new(&config.params, camera_seed(config.seed));
     let textures = [(0usize, 0.0), (10usize, 5.0)];
+    neurotac_sensor::sim::check_trials(config.trials, textures.len())?;
+    let camera = Camera::new(&config.params, camera_seed(config.seed));
     let run_all = |tolerance: f64| -> Result<(Vec<SimulatedTrial>, f64), DatasetsError> {
         let mut p = config.params;
         p.solver.step_tolerance = tolerance;

@@ -50,8 +50,8 @@ pub use intensive::IntensiveCoding;
 pub use spatial::SpatialCoding;
 pub use spatiotemporal::SpatiotemporalCoding;
 pub use temporal::{
-    TemporalCoding, duration_ms_of, pooled_bin_counts, spike_bin_ms, whole_ms,
-    write_window_features,
+    MAX_TEMPORAL_DURATION_MS, TemporalCoding, check_temporal_duration_ms, duration_ms_of,
+    pooled_bin_counts, spike_bin_ms, whole_ms, write_window_features,
 };
 
 use crate::error::CodingError;
@@ -101,18 +101,27 @@ pub trait FeatureCoding: Coding + Clone + Sync {
     fn features(&self) -> Vec<f64>;
 }
 
+/// The most values a feature matrix may hold: 2²⁸ (2 GiB of `f64`).
+pub const MAX_FEATURE_VALUES: usize = 1 << 28;
+
 /// Encodes every observation with a copy of `coding`, one row per observation (parallel over
 /// observations; each row depends only on its observation, so the result does not depend on
 /// the thread count).
 ///
 /// All observations must have the same number of channels ([`CodingError::ChannelCount`] names
-/// the first that differs).
+/// the first that differs); a matrix over [`MAX_FEATURE_VALUES`] is refused before allocation.
 pub fn feature_matrix<C: FeatureCoding>(
     coding: &C,
     observations: &[MultiSpikeTrain],
 ) -> Result<Array2<f64>, CodingError> {
     let n_channels = check_channels(observations)?;
     let width = coding.n_features(n_channels);
+    if observations.len().saturating_mul(width) > MAX_FEATURE_VALUES {
+        return Err(CodingError::TooManyFeatures {
+            samples: observations.len(),
+            features: width,
+        });
+    }
     let mut out = Array2::zeros((observations.len(), width));
     if width == 0 {
         return Ok(out);
@@ -180,6 +189,28 @@ coding_readout!(
 mod tests {
     use super::*;
     use crate::MultiSpikeTrain;
+
+    #[test]
+    fn feature_matrices_and_temporal_samples_over_the_budget_are_refused_before_allocation() {
+        let long = TemporalCoding::from_ms(1, MAX_TEMPORAL_DURATION_MS + 1).unwrap_err();
+        assert!(long.to_string().contains("at most 3 600 000 ms"), "{long}");
+        // 100 one-channel samples × 3 600 000 windows > 2²⁸ values.
+        let temporal = TemporalCoding::from_ms(1, MAX_TEMPORAL_DURATION_MS).unwrap();
+        let sample = MultiSpikeTrain::from_channels(vec![vec![0.5]]).unwrap();
+        let e = feature_matrix(&temporal, &vec![sample; 100]).unwrap_err();
+        assert!(matches!(
+            e,
+            CodingError::TooManyFeatures {
+                samples: 100,
+                features: 3_600_000
+            }
+        ));
+        assert!(
+            e.to_string().contains("more than the limit of 268435456"),
+            "{e}"
+        );
+    }
+
     use crate::graph::{NetworkBuilder, NetworkConfig, SpikeArrayInput};
 
     fn sample() -> MultiSpikeTrain {

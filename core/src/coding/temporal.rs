@@ -19,6 +19,22 @@ use crate::error::CodingError;
 use crate::spikes::MultiSpikeTrain;
 use crate::time::s_to_us;
 
+/// The longest sample the temporal coding takes (ms): one hour, a bin of 4 bytes per ms (14 MB)
+/// in each thread that encodes.
+pub const MAX_TEMPORAL_DURATION_MS: u32 = 3_600_000;
+
+/// Refuses a sample longer than [`MAX_TEMPORAL_DURATION_MS`].
+pub fn check_temporal_duration_ms(duration_ms: u32) -> Result<(), CodingError> {
+    if duration_ms > MAX_TEMPORAL_DURATION_MS {
+        return Err(CodingError::InvalidParameter {
+            what: "temporal duration_ms",
+            value: f64::from(duration_ms),
+            expected: "at most 3 600 000 ms (one hour; the coding holds a count per ms)",
+        });
+    }
+    Ok(())
+}
+
 /// Converts a duration in seconds to whole milliseconds, rejecting non-finite, non-positive and
 /// fractional values (`what` names the parameter in the error).
 pub fn whole_ms(seconds: f64, what: &'static str) -> Result<u32, CodingError> {
@@ -131,6 +147,7 @@ impl TemporalCoding {
                 expected: "≥ 1 ms",
             });
         }
+        check_temporal_duration_ms(duration_ms)?;
         if window_ms > duration_ms {
             return Err(CodingError::WindowLongerThanSample {
                 window_ms,

@@ -28,7 +28,10 @@ pub use scheme::{CodingParameters, CodingScheme, ReadoutContext};
 use crate::error::ExperimentError;
 use crate::menu::Menu;
 use ndarray::Array2;
-use neurotac_core::coding::{duration_ms_of, whole_ms};
+use neurotac_core::CodingError;
+use neurotac_core::coding::{
+    MAX_FEATURE_VALUES, check_temporal_duration_ms, duration_ms_of, whole_ms,
+};
 use neurotac_core::{MultiSpikeTrain, Ranks, SpikeDataset};
 
 /// Generates [`CodingName`] from the registration list: the enum (one variant per line, in
@@ -186,7 +189,9 @@ pub fn coding_distances(
 /// A stated duration (given or in the dataset) shorter than the data is an error
 /// ([`ExperimentError::DurationShorterThanData`]): a spike past the end of its sample means
 /// the duration or the data are wrong, and silently taking the longer one would change the
-/// coding's windows without saying so.
+/// coding's windows without saying so. So is a duration whose per-ms counts of every sample
+/// would pass the feature budget ([`MAX_FEATURE_VALUES`],
+/// [`MAX_TEMPORAL_DURATION_MS`](neurotac_core::coding::MAX_TEMPORAL_DURATION_MS)).
 pub fn sample_duration_ms(
     data: &SpikeDataset,
     given_s: Option<f64>,
@@ -197,14 +202,26 @@ pub fn sample_duration_ms(
         (None, Some(d)) => Some(whole_ms(d, "meta.duration_s")?),
         (None, None) => None,
     };
-    match stated_ms {
-        Some(stated_ms) if stated_ms < needed_ms => Err(ExperimentError::DurationShorterThanData {
-            stated_ms,
-            needed_ms,
-        }),
-        Some(stated_ms) => Ok(stated_ms),
-        None => Ok(needed_ms),
+    let duration_ms = match stated_ms {
+        Some(stated_ms) if stated_ms < needed_ms => {
+            return Err(ExperimentError::DurationShorterThanData {
+                stated_ms,
+                needed_ms,
+            });
+        }
+        Some(stated_ms) => stated_ms,
+        None => needed_ms,
+    };
+    // The temporal readout holds a count per ms of every sample.
+    check_temporal_duration_ms(duration_ms)?;
+    if data.len().saturating_mul(duration_ms as usize) > MAX_FEATURE_VALUES {
+        return Err(CodingError::TooManyFeatures {
+            samples: data.len(),
+            features: duration_ms as usize,
+        }
+        .into());
     }
+    Ok(duration_ms)
 }
 
 /// Mean spikes per channel over every sample of `data` (0 without samples).

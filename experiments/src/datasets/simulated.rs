@@ -31,9 +31,7 @@ pub use trials::{
 
 use super::metadata::write_metadata;
 use neurotac_core::{Ranks, RanksError, SpikeDataset};
-use neurotac_sensor::sim::{
-    Camera, SimParams, SimulatedTrial, SimulationError, paper_transduction,
-};
+use neurotac_sensor::sim::{Camera, SimParams, SimulatedTrial, check_trials, paper_transduction};
 use std::path::PathBuf;
 
 /// Version of the simulated-dataset format and generator; bump it whenever the simulator's
@@ -70,9 +68,7 @@ pub fn simulate_set(
     progress: &(dyn Fn() + Sync),
     ranks: &dyn Ranks,
 ) -> Result<SimulatedSet, DatasetsError> {
-    if trials == 0 {
-        return Err(SimulationError::ZeroTrials.into());
-    }
+    check_trials(trials, set.textures().len())?;
     params.validate()?;
     let textures = prepare_textures(params, set);
     let camera = Camera::new(params, camera_seed(seed));

@@ -14,7 +14,7 @@ use crate::readouts::{EncodedSet, encode_through_graph};
 use crate::timing::{Timing, timed};
 use neurotac_core::{MultiSpikeTrain, Ranks, SpikeDataset};
 use neurotac_sensor::filter::MapStart;
-use neurotac_sensor::sim::{CalibratedParameter, SimParams};
+use neurotac_sensor::sim::{CalibratedParameter, SimParams, check_trials};
 use neurotac_sensor::taxel::{TaxelLayout, TransductionConfig};
 use serde::Serialize;
 use std::path::PathBuf;
@@ -81,9 +81,6 @@ impl ReproduceConfig {
 /// Why a reproduction stopped.
 #[derive(Debug, thiserror::Error)]
 pub enum ReproduceError {
-    /// Zero slides per texture.
-    #[error("--trials 0: at least one slide per texture is needed")]
-    ZeroTrials,
     /// A simulated dataset could not be built.
     #[error("building the {set} dataset")]
     Simulated {
@@ -192,10 +189,16 @@ pub fn run(
     progress: &dyn Progress,
     ranks: &dyn Ranks,
 ) -> Result<Report, ReproduceError> {
-    if config.trials == Some(0) {
-        return Err(ReproduceError::ZeroTrials);
+    // Slide counts and searches the settings cannot hold are refused before any dataset is
+    // simulated.
+    for source in sources {
+        if let (Source::Simulated(set), Some(trials)) = (source, config.trials) {
+            check_trials(trials, set.textures().len()).map_err(|e| ReproduceError::Simulated {
+                set: set.name(),
+                source: e.into(),
+            })?;
+        }
     }
-    // A search the settings cannot hold is refused before any dataset is simulated.
     crate::search::bayes::check(&config.pipeline.bayes)
         .map_err(|e| ReproduceError::Settings(Box::new(e)))?;
     let (sets, time) = timed(|| {
@@ -389,11 +392,12 @@ mod tests {
     use super::*;
     use crate::datasets::synthetic::{SyntheticConfig, synthetic_dataset};
     use crate::progress::NoProgress;
+    use neurotac_sensor::sim::SimulationError;
 
     /// A recorded-style folder is not needed to test the assembly: a missing folder is a
-    /// typed error, and zero trials is refused before any work.
+    /// typed error, and a slide count outside the budget is refused before any work.
     #[test]
-    fn bad_sources_and_zero_trials_are_typed_errors() {
+    fn bad_sources_and_slide_counts_are_typed_errors() {
         let dir = tempfile::tempdir().unwrap();
         let mut config = ReproduceConfig::quick(1, dir.path().join("cache"));
         let missing = Source::Recorded(dir.path().join("nope"));
@@ -401,11 +405,27 @@ mod tests {
             run(&config, &[missing], &NoProgress, &neurotac_core::OneProcess),
             Err(ReproduceError::Recorded(RecordedError::Missing { .. }))
         ));
-        config.trials = Some(0);
-        assert!(matches!(
-            run(&config, &[], &NoProgress, &neurotac_core::OneProcess),
-            Err(ReproduceError::ZeroTrials)
-        ));
+        // Zero slides, or more than the trial budget, are refused before anything is simulated.
+        let simulated = [Source::Simulated(TextureSet::Artificial)];
+        for (trials, expected) in [
+            (0, SimulationError::ZeroTrials),
+            (
+                10usize.pow(15),
+                SimulationError::TooManyTrials {
+                    trials: 10usize.pow(15),
+                    textures: 11,
+                },
+            ),
+        ] {
+            config.trials = Some(trials);
+            match run(&config, &simulated, &NoProgress, &neurotac_core::OneProcess) {
+                Err(ReproduceError::Simulated {
+                    source: DatasetsError::Simulation(e),
+                    ..
+                }) => assert_eq!(e.to_string(), expected.to_string()),
+                other => panic!("{trials}: {other:?}"),
+            }
+        }
     }
 
     #[test]

@@ -27,6 +27,18 @@ pub enum SimulationError {
     /// A request for zero trials.
     #[error("`trials` = 0: at least one trial per texture is needed")]
     ZeroTrials,
+    /// More trials than a run may simulate ([`MAX_TRIALS`](super::MAX_TRIALS)).
+    #[error(
+        "`trials` = {trials} slides of each of {textures} textures: more than the limit of \
+         {limit} simulated trials per run",
+        limit = super::MAX_TRIALS
+    )]
+    TooManyTrials {
+        /// Slides per texture asked for.
+        trials: usize,
+        /// Textures slid over.
+        textures: usize,
+    },
     /// A parameter file that cannot be read.
     #[error("cannot read parameter file {path}")]
     ParamsIo {

@@ -55,6 +55,22 @@ pub use camera::Camera;
 pub use contact::SkinContact;
 pub use diagnostics::{EdgePass, PixelSanity, edge_pass, pixel_sanity};
 pub use error::SimulationError;
+
+/// The most trials (slides × textures) one run may simulate: 100 paper datasets, hours of
+/// simulation, about a gigabyte of taxel spikes and pixel-event statistics held at once.
+pub const MAX_TRIALS: usize = 100_000;
+
+/// Checks `trials` slides of each of `textures` textures against the budget before anything is
+/// allocated: at least one slide and at most [`MAX_TRIALS`] trials in all.
+pub fn check_trials(trials: usize, textures: usize) -> Result<(), SimulationError> {
+    if trials == 0 {
+        return Err(SimulationError::ZeroTrials);
+    }
+    match trials.checked_mul(textures) {
+        Some(n) if n <= MAX_TRIALS => Ok(()),
+        _ => Err(SimulationError::TooManyTrials { trials, textures }),
+    }
+}
 pub use mechanics::{Mounting, PinTrajectories, TrialDraw};
 pub use natural::{NATURAL_TEXTURES, NaturalTexture};
 pub use params::{CalibratedParameter, PAPER_INTENSIVE_MEANS, PeriodRule, SimParams};

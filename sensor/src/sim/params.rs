@@ -7,8 +7,8 @@
 //! naming it, so a file never silently falls back to a default.
 
 use super::error::SimulationError;
-use crate::geometry::{DAVIS240_HEIGHT, DAVIS240_WIDTH};
 pub use super::parameter_sources::PARAMETER_SOURCES;
+use crate::geometry::{DAVIS240_HEIGHT, DAVIS240_WIDTH};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
@@ -776,7 +776,10 @@ impl SimParams {
             ("kinematics.speed_mm_s", v)
         };
         [
-            (k.rest_before_s, ("kinematics.rest_before_s", k.rest_before_s)),
+            (
+                k.rest_before_s,
+                ("kinematics.rest_before_s", k.rest_before_s),
+            ),
             (k.rest_after_s, ("kinematics.rest_after_s", k.rest_after_s)),
             (ramps, ("kinematics.acceleration_mm_s2", a)),
             (cruise, cruise_field),
@@ -857,8 +860,14 @@ mod tests {
             ),
             (|p| p.kinematics.distance_mm = 1e6, "kinematics.distance_mm"),
             (|p| p.kinematics.speed_mm_s = 1e-3, "kinematics.speed_mm_s"),
-            (|p| p.kinematics.rest_before_s = 900.0, "kinematics.rest_before_s"),
-            (|p| p.kinematics.rest_after_s = 900.0, "kinematics.rest_after_s"),
+            (
+                |p| p.kinematics.rest_before_s = 900.0,
+                "kinematics.rest_before_s",
+            ),
+            (
+                |p| p.kinematics.rest_after_s = 900.0,
+                "kinematics.rest_after_s",
+            ),
         ];
         for (spoil, name) in cases {
             let mut p = SimParams::default();

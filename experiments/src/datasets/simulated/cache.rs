@@ -3,7 +3,7 @@
 
 use super::{DatasetsError, SIMULATED_DATASET_VERSION, TextureSet, dataset_meta, simulate_set};
 use neurotac_core::{Ranks, SpikeDataset};
-use neurotac_sensor::sim::{SimParams, SimulationError};
+use neurotac_sensor::sim::{SimParams, check_trials};
 use std::path::{Path, PathBuf};
 
 /// FNV-1a 64 of the metadata's JSON text: the cache key.
@@ -77,9 +77,7 @@ pub(super) fn load_or_simulate_cached(
     progress: &(dyn Fn() + Sync),
     ranks: &dyn Ranks,
 ) -> Result<(SpikeDataset, bool), DatasetsError> {
-    if trials == 0 {
-        return Err(SimulationError::ZeroTrials.into());
-    }
+    check_trials(trials, set.textures().len())?;
     params.validate()?;
     let path = cache_path(set, trials, seed, params, cache_dir);
     // Every rank must take the same branch: they agree on whether the cache was usable.

@@ -7,7 +7,7 @@ use crate::coding::class_means;
 use crate::export::{OutputFormat, dataset_bytes};
 use crate::progress::Progress;
 use neurotac_core::{EventBuffer, Ranks, SpikeDataset};
-use neurotac_sensor::sim::{EventLabel, SimParams, SimulatedTrial, SimulationError};
+use neurotac_sensor::sim::{EventLabel, SimParams, SimulatedTrial, check_trials};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
@@ -79,9 +79,7 @@ pub fn generate(
         ..
     } = config;
     let (set, trials, seed) = (*set, *trials, *seed);
-    if trials == 0 {
-        return Err(SimulationError::ZeroTrials.into());
-    }
+    check_trials(trials, set.textures().len())?;
     let io = |path: &Path| {
         let path = path.to_owned();
         move |source| DatasetsError::Io { path, source }

@@ -2,7 +2,7 @@ use super::*;
 use crate::export::OutputFormat;
 use crate::threads::with_threads;
 use neurotac_core::OneProcess;
-use neurotac_sensor::sim::{Simulator, Texture};
+use neurotac_sensor::sim::{SimulationError, Simulator, Texture};
 
 fn short_params() -> SimParams {
     let mut p = SimParams::default();
@@ -40,21 +40,32 @@ fn same_seed_is_bit_identical_at_any_thread_count_and_another_seed_differs() {
 }
 
 #[test]
-fn zero_trials_is_an_error() {
+fn zero_trials_or_more_than_the_trial_budget_is_an_error_before_simulating() {
     let p = short_params();
     let dir = tempfile::tempdir().unwrap();
-    assert!(matches!(
+    let load = |trials| {
         load_or_simulate(
             TextureSet::Natural,
-            0,
+            trials,
             1,
             &p,
             dir.path(),
             &|| {},
-            &OneProcess
-        ),
+            &OneProcess,
+        )
+    };
+    assert!(matches!(
+        load(0),
         Err(DatasetsError::Simulation(SimulationError::ZeroTrials))
     ));
+    assert!(matches!(
+        load(usize::MAX),
+        Err(DatasetsError::Simulation(SimulationError::TooManyTrials {
+            trials: usize::MAX,
+            textures: 20
+        }))
+    ));
+    assert!(std::fs::read_dir(dir.path()).unwrap().next().is_none());
 }
 
 #[test]
