@@ -91,6 +91,7 @@ fn distances_classify_search_and_cuba_on_2_and_3_ranks_equal_one_process() {
     let Some(mpirun) = mpirun() else { return };
     let dir = tempfile::tempdir().unwrap();
     let data = dir.path().join("d.bin");
+    // Two samples: on 3 ranks one rank has no rows to compute.
     let tiny = dir.path().join("tiny.bin");
     for (path, samples) in [(&data, "44"), (&tiny, "2")] {
         let (ok, _, stderr) = neurotac(&[
@@ -180,6 +181,35 @@ fn distances_classify_search_and_cuba_on_2_and_3_ranks_equal_one_process() {
         ),
         (
             vec![
+                "classify",
+                "--input",
+                tiny.to_str().unwrap(),
+                "--coding",
+                "intensive",
+                "--k",
+                "1",
+                "--json",
+                "--matrix",
+                "OUT",
+            ],
+            "npy",
+        ),
+        (
+            vec![
+                "search",
+                "dt",
+                "--input",
+                tiny.to_str().unwrap(),
+                "--max-window-ms",
+                "5",
+                "--k",
+                "1",
+                "--json",
+            ],
+            "",
+        ),
+        (
+            vec![
                 "search",
                 "dt",
                 "--input",
@@ -233,6 +263,57 @@ fn distances_classify_search_and_cuba_on_2_and_3_ranks_equal_one_process() {
             assert_eq!(json, one_json, "{args:?} on {ranks} ranks");
             // Rank 0 alone prints.
             assert_eq!(lines(&stdout), lines(&one_stdout), "{stdout}");
+        }
+    }
+}
+
+#[test]
+fn distances_without_samples_or_with_more_ranks_than_samples_equal_one_process() {
+    let Some(mpirun) = mpirun() else { return };
+    let dir = tempfile::tempdir().unwrap();
+    // No sample (a 0×0 matrix, nothing to gather) and one sample (a 1×1 matrix whose upper
+    // triangle is empty: every rank computes no pair).
+    let empty = dir.path().join("empty.json");
+    std::fs::write(&empty, r#"{"observations": [], "labels": []}"#).unwrap();
+    let one = dir.path().join("one.json");
+    std::fs::write(
+        &one,
+        r#"{"observations": [[[0.001, 0.004], [0.002]]], "labels": [0]}"#,
+    )
+    .unwrap();
+    let metrics: [&[&str]; 2] = [
+        &["--metric", "van-rossum", "--tau", "0.02", "--cos", "0.5"],
+        &["--metric", "euclidean", "--coding", "intensive"],
+    ];
+    for (data, ext) in [
+        (&empty, "json"),
+        (&empty, "npy"),
+        (&empty, "npz"),
+        (&one, "npy"),
+    ] {
+        for (m, metric) in metrics.iter().enumerate() {
+            let run = |ranks: usize| {
+                let out = dir.path().join(format!("m{m}-{ranks}.{ext}"));
+                let mut args = vec!["distances", "--input", data.to_str().unwrap()];
+                args.extend_from_slice(metric);
+                args.extend(["--output", out.to_str().unwrap(), "--force"]);
+                let (ok, stdout, stderr) = match ranks {
+                    0 => neurotac(&args),
+                    k => neurotac_on_ranks(&mpirun, k, &args),
+                };
+                assert!(ok, "{args:?} on {ranks} ranks: {stderr}");
+                (read(&out), stdout)
+            };
+            let (one_process, stdout) = run(0);
+            let n = if data == &empty { 0 } else { 1 };
+            assert!(stdout.starts_with(&format!("{n}×{n} ")), "{stdout}");
+            for ranks in [1, 2, 3] {
+                assert!(
+                    run(ranks).0 == one_process,
+                    "{} {metric:?} .{ext} differs on {ranks} ranks",
+                    data.display()
+                );
+            }
         }
     }
 }

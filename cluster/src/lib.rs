@@ -192,9 +192,15 @@ mod mpi_ranks {
                 total += c as usize;
             }
             let mut all = vec![0u8; total];
-            {
+            // Every rank holds the same counts, so all of them skip an all-empty gather alike.
+            // An empty buffer's pointer is dangling (address 1 for bytes), which Open MPI takes
+            // for MPI_IN_PLACE: a receive buffer there is MPI_ERR_ARG, a send buffer is read as
+            // "in place". Empty blocks are sent from a real address instead.
+            if total > 0 {
+                let real = [0u8; 1];
+                let send = if local.is_empty() { &real[..0] } else { local };
                 let mut partition = PartitionMut::new(&mut all[..], &counts[..], &displs[..]);
-                self.world.all_gather_varcount_into(local, &mut partition);
+                self.world.all_gather_varcount_into(send, &mut partition);
             }
             let mut out = Vec::with_capacity(size);
             let mut rest = &all[..];
