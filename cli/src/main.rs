@@ -7,8 +7,8 @@
 
 mod commands;
 
-use clap::Parser;
-use neurotac_cluster::Cluster;
+use clap::{CommandFactory, FromArgMatches};
+use neurotac_cluster::{Cluster, ClusterError};
 use neurotac_core::Ranks;
 use std::process::ExitCode;
 
@@ -24,7 +24,10 @@ fn exit_quietly_on_closed_pipes() {
 
 fn main() -> ExitCode {
     exit_quietly_on_closed_pipes();
-    let args = commands::Cli::parse();
+    let matches = commands::Cli::command().get_matches();
+    let args = commands::Cli::from_arg_matches(&matches)
+        .map_err(|e| e.format(&mut commands::Cli::command()))
+        .unwrap_or_else(|e| e.exit());
     let cluster = match Cluster::from_environment() {
         Ok(cluster) => cluster,
         Err(e) => {
@@ -35,6 +38,21 @@ fn main() -> ExitCode {
             return ExitCode::FAILURE;
         }
     };
+    // Before any work, the ranks check that they run one computation (the same command and
+    // options on the same data). Every rank finds the same difference: rank 0 says it, and
+    // every rank stops, ending MPI cleanly.
+    if cluster.size() > 1 {
+        match cluster.agree_on(&commands::run_digest(&matches)) {
+            Ok(()) => {}
+            Err(e @ ClusterError::Disagree { .. }) => {
+                if cluster.is_root() {
+                    eprintln!("error: {e}");
+                }
+                return ExitCode::FAILURE;
+            }
+            Err(e) => fail_on_ranks(&cluster, &e.into()),
+        }
+    }
     match commands::run(args, &cluster) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) if cluster.size() == 1 => {

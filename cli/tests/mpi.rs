@@ -6,7 +6,7 @@
 
 mod common;
 
-use common::{mpirun, mpirun_command, neurotac, neurotac_on_ranks};
+use common::{mpirun, mpirun_command, neurotac, neurotac_on_ranks, neurotac_per_rank};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
@@ -91,6 +91,7 @@ fn distances_classify_search_and_cuba_on_2_and_3_ranks_equal_one_process() {
     let Some(mpirun) = mpirun() else { return };
     let dir = tempfile::tempdir().unwrap();
     let data = dir.path().join("d.bin");
+    // Two samples: on 3 ranks one rank has no rows to compute.
     let tiny = dir.path().join("tiny.bin");
     for (path, samples) in [(&data, "44"), (&tiny, "2")] {
         let (ok, _, stderr) = neurotac(&[
@@ -180,6 +181,35 @@ fn distances_classify_search_and_cuba_on_2_and_3_ranks_equal_one_process() {
         ),
         (
             vec![
+                "classify",
+                "--input",
+                tiny.to_str().unwrap(),
+                "--coding",
+                "intensive",
+                "--k",
+                "1",
+                "--json",
+                "--matrix",
+                "OUT",
+            ],
+            "npy",
+        ),
+        (
+            vec![
+                "search",
+                "dt",
+                "--input",
+                tiny.to_str().unwrap(),
+                "--max-window-ms",
+                "5",
+                "--k",
+                "1",
+                "--json",
+            ],
+            "",
+        ),
+        (
+            vec![
                 "search",
                 "dt",
                 "--input",
@@ -238,6 +268,57 @@ fn distances_classify_search_and_cuba_on_2_and_3_ranks_equal_one_process() {
 }
 
 #[test]
+fn distances_without_samples_or_with_more_ranks_than_samples_equal_one_process() {
+    let Some(mpirun) = mpirun() else { return };
+    let dir = tempfile::tempdir().unwrap();
+    // No sample (a 0×0 matrix, nothing to gather) and one sample (a 1×1 matrix whose upper
+    // triangle is empty: every rank computes no pair).
+    let empty = dir.path().join("empty.json");
+    std::fs::write(&empty, r#"{"observations": [], "labels": []}"#).unwrap();
+    let one = dir.path().join("one.json");
+    std::fs::write(
+        &one,
+        r#"{"observations": [[[0.001, 0.004], [0.002]]], "labels": [0]}"#,
+    )
+    .unwrap();
+    let metrics: [&[&str]; 2] = [
+        &["--metric", "van-rossum", "--tau", "0.02", "--cos", "0.5"],
+        &["--metric", "euclidean", "--coding", "intensive"],
+    ];
+    for (data, ext) in [
+        (&empty, "json"),
+        (&empty, "npy"),
+        (&empty, "npz"),
+        (&one, "npy"),
+    ] {
+        for (m, metric) in metrics.iter().enumerate() {
+            let run = |ranks: usize| {
+                let out = dir.path().join(format!("m{m}-{ranks}.{ext}"));
+                let mut args = vec!["distances", "--input", data.to_str().unwrap()];
+                args.extend_from_slice(metric);
+                args.extend(["--output", out.to_str().unwrap(), "--force"]);
+                let (ok, stdout, stderr) = match ranks {
+                    0 => neurotac(&args),
+                    k => neurotac_on_ranks(&mpirun, k, &args),
+                };
+                assert!(ok, "{args:?} on {ranks} ranks: {stderr}");
+                (read(&out), stdout)
+            };
+            let (one_process, stdout) = run(0);
+            let n = if data == &empty { 0 } else { 1 };
+            assert!(stdout.starts_with(&format!("{n}×{n} ")), "{stdout}");
+            for ranks in [1, 2, 3] {
+                assert!(
+                    run(ranks).0 == one_process,
+                    "{} {metric:?} .{ext} differs on {ranks} ranks",
+                    data.display()
+                );
+            }
+        }
+    }
+}
+
+#[test]
 fn bad_input_on_several_ranks_is_one_line_from_rank_0() {
     let Some(mpirun) = mpirun() else { return };
     let dir = tempfile::tempdir().unwrap();
@@ -275,6 +356,121 @@ fn bad_input_on_several_ranks_is_one_line_from_rank_0() {
         stderr.contains("`neurotac demo` runs on one process"),
         "{stderr}"
     );
+}
+
+/// The lines of our own errors in an mpirun's stderr (Open MPI adds its own notices).
+fn error_lines(stderr: &str) -> Vec<&str> {
+    stderr.lines().filter(|l| l.starts_with("error")).collect()
+}
+
+#[test]
+fn ranks_started_on_other_data_or_another_seed_stop_before_writing_anything() {
+    let Some(mpirun) = mpirun() else { return };
+    let dir = tempfile::tempdir().unwrap();
+    let (a, b) = (dir.path().join("a.bin"), dir.path().join("b.bin"));
+    for (path, seed) in [(&a, "3"), (&b, "4")] {
+        let (ok, _, stderr) = neurotac(&[
+            "synth",
+            "--output",
+            path.to_str().unwrap(),
+            "--samples",
+            "4",
+            "--classes",
+            "2",
+            "--channels",
+            "9",
+            "--seed",
+            seed,
+        ]);
+        assert!(ok, "{stderr}");
+    }
+    // The same data at another path (a copy on each machine) is the same input.
+    let copy = dir.path().join("copy").join("a.bin");
+    std::fs::create_dir_all(copy.parent().unwrap()).unwrap();
+    std::fs::copy(&a, &copy).unwrap();
+    let out = dir.path().join("d.npy");
+    let distances = |input: &Path| -> Vec<String> {
+        [
+            "distances",
+            "--input",
+            input.to_str().unwrap(),
+            "--metric",
+            "van-rossum",
+            "--tau",
+            "0.02",
+            "--cos",
+            "0.5",
+            "--output",
+            out.to_str().unwrap(),
+        ]
+        .map(String::from)
+        .to_vec()
+    };
+    // Rank 1 reads another dataset: every rank stops, one line names both files, no output.
+    let (ok, _, stderr) = neurotac_per_rank(&mpirun, &[strs(&distances(&a)), strs(&distances(&b))]);
+    assert!(!ok, "a mixed matrix was accepted");
+    let errors = error_lines(&stderr);
+    assert_eq!(errors.len(), 1, "{stderr}");
+    assert!(
+        errors[0]
+            .starts_with("error: ranks disagree on the inputs: rank 1 read a different --input (")
+            && errors[0].contains("b.bin, digest ")
+            && errors[0].contains("a.bin, digest "),
+        "{stderr}"
+    );
+    assert!(!out.exists());
+    // A copy of the same data agrees, and the matrix is the one-process matrix.
+    let (ok, _, stderr) =
+        neurotac_per_rank(&mpirun, &[strs(&distances(&a)), strs(&distances(&copy))]);
+    assert!(ok, "{stderr}");
+    let matrix = read(&out);
+    std::fs::remove_file(&out).unwrap();
+    let (ok, _, stderr) = neurotac(&strs(&distances(&a)));
+    assert!(ok, "{stderr}");
+    assert!(read(&out) == matrix);
+
+    // simulate with another seed on rank 1: no dataset written, nothing cached.
+    let simulate = |out: &Path, seed: &str, threads: &str| {
+        let mut args = simulate_args(out, 1, &[]);
+        for (flag, value) in [("--seed", seed), ("--threads", threads)] {
+            let at = args.iter().position(|a| a == flag).unwrap();
+            args[at + 1] = value.to_owned();
+        }
+        args
+    };
+    let sim = dir.path().join("sim");
+    let (ok, _, stderr) = neurotac_per_rank(
+        &mpirun,
+        &[
+            strs(&simulate(&sim, "1", "1")),
+            strs(&simulate(&sim, "2", "1")),
+        ],
+    );
+    assert!(!ok, "a mixed dataset was accepted");
+    assert_eq!(
+        error_lines(&stderr),
+        [
+            "error: ranks disagree on the settings: rank 1 was started with --seed 2, rank 0 with --seed 1"
+        ],
+        "{stderr}"
+    );
+    assert!(
+        !sim.exists() && !sim.with_extension("cache").exists(),
+        "an output or a cache entry was written"
+    );
+    // The thread count may differ per rank (a machine's cores): the one-process dataset.
+    let (ok, _, stderr) = neurotac_per_rank(
+        &mpirun,
+        &[
+            strs(&simulate(&sim, "1", "1")),
+            strs(&simulate(&sim, "1", "2")),
+        ],
+    );
+    assert!(ok, "{stderr}");
+    let one = dir.path().join("one");
+    let (ok, _, stderr) = neurotac(&strs(&simulate(&one, "1", "2")));
+    assert!(ok, "{stderr}");
+    assert!(read(&one.join("artificial.bin")) == read(&sim.join("artificial.bin")));
 }
 
 #[test]

@@ -11,6 +11,12 @@
 //! whole job K times, racing on the same outputs; [`Cluster::from_environment`] refuses it with
 //! [`ClusterError::NotBuiltWithMpi`] instead.
 //!
+//! Ranks started on different data or with different settings (an MPMD launch, a file that
+//! differs between machines) would each contribute blocks of another computation. Before any
+//! work the ranks compare a [`RunDigest`] of their settings and inputs
+//! ([`Cluster::agree_on`], the [`agreement`] module) and all stop with
+//! [`ClusterError::Disagree`] when one differs.
+//!
 //! ```
 //! use neurotac_cluster::Cluster;
 //! use neurotac_core::Ranks;
@@ -21,10 +27,13 @@
 //! ```
 #![deny(missing_docs)]
 
+pub mod agreement;
+
+pub use agreement::{DigestPart, PartKind, RunDigest};
 use neurotac_core::{OneProcess, Ranks, RanksError};
 use thiserror::Error;
 
-/// Why this process cannot join its group.
+/// Why this process cannot join its group, or its group cannot run together.
 #[derive(Debug, Error)]
 pub enum ClusterError {
     /// Started by an MPI launcher with several ranks, but built without the `mpi` feature.
@@ -42,6 +51,20 @@ pub enum ClusterError {
     /// The MPI library could not be initialised.
     #[error("MPI could not be initialised (was MPI already initialised in this process?)")]
     MpiInit,
+    /// A rank was started with other settings or read other inputs than rank 0
+    /// ([`Cluster::agree_on`]): the first difference found, the same on every rank.
+    #[error("{}", agreement::disagreement(*.rank, .theirs, .ours))]
+    Disagree {
+        /// The first rank that differs from rank 0.
+        rank: usize,
+        /// Its part that differs.
+        theirs: Box<DigestPart>,
+        /// Rank 0's part.
+        ours: Box<DigestPart>,
+    },
+    /// The ranks could not exchange what they need.
+    #[error(transparent)]
+    Ranks(#[from] RanksError),
 }
 
 /// The launcher's view of this process, from the environment variables MPI launchers set
@@ -77,6 +100,15 @@ impl Cluster {
             Some((rank, size)) if size > 1 => Err(ClusterError::NotBuiltWithMpi { rank, size }),
             _ => Ok(Cluster::One(OneProcess)),
         }
+    }
+
+    /// Checks that every rank was started with the same settings on the same inputs: each
+    /// rank's `digest` is all-gathered and compared with rank 0's (see [`RunDigest`]). Call it
+    /// on every rank before any work; on a difference every rank returns the same
+    /// [`ClusterError::Disagree`], naming the first rank and part that differ. A group of one
+    /// agrees without communication. Collective.
+    pub fn agree_on(&self, digest: &RunDigest) -> Result<(), ClusterError> {
+        agreement::agree_on(self, digest)
     }
 
     /// Ends the whole group at once with exit code `code` (MPI_Abort): for a rank that failed
@@ -192,9 +224,15 @@ mod mpi_ranks {
                 total += c as usize;
             }
             let mut all = vec![0u8; total];
-            {
+            // Every rank holds the same counts, so all of them skip an all-empty gather alike.
+            // An empty buffer's pointer is dangling (address 1 for bytes), which Open MPI takes
+            // for MPI_IN_PLACE: a receive buffer there is MPI_ERR_ARG, a send buffer is read as
+            // "in place". Empty blocks are sent from a real address instead.
+            if total > 0 {
+                let real = [0u8; 1];
+                let send = if local.is_empty() { &real[..0] } else { local };
                 let mut partition = PartitionMut::new(&mut all[..], &counts[..], &displs[..]);
-                self.world.all_gather_varcount_into(local, &mut partition);
+                self.world.all_gather_varcount_into(send, &mut partition);
             }
             let mut out = Vec::with_capacity(size);
             let mut rest = &all[..];

@@ -6,10 +6,13 @@
 //! Imports point down: this dispatcher (and each group's `mod.rs`) names its commands, and the
 //! commands name the helpers below them — [`options`] (the shared option groups and `--set`),
 //! [`inputs`] (reading datasets), [`outputs`] (the overwrite rule), [`coding_parameters`],
-//! [`args`] (value parsers) and [`progress`] (bars) — never the dispatcher.
+//! [`args`] (value parsers) and [`progress`] (bars) — never the dispatcher. [`run_digest`] is
+//! what MPI ranks compare before a command runs.
 
 use clap::{Parser, Subcommand};
 use neurotac_core::Ranks;
+
+pub use run_digest::run_digest;
 
 mod args;
 mod bench;
@@ -28,6 +31,7 @@ mod progress;
 mod recognise;
 mod record;
 mod reproduce;
+mod run_digest;
 mod search;
 mod simulate;
 mod synth;

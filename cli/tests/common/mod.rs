@@ -75,3 +75,26 @@ pub fn neurotac_on_ranks(mpirun: &Path, ranks: usize, args: &[&str]) -> (bool, S
         String::from_utf8_lossy(&out.stderr).into_owned(),
     )
 }
+
+/// `(success, stdout, stderr)` of an MPMD launch, one rank per entry of `per_rank`:
+/// `mpirun -n 1 neurotac ARGS0 : -n 1 neurotac ARGS1 : …` (each rank its own command line).
+pub fn neurotac_per_rank(mpirun: &Path, per_rank: &[Vec<&str>]) -> (bool, String, String) {
+    let mut c = Command::new(mpirun);
+    c.env("OMPI_ALLOW_RUN_AS_ROOT", "1")
+        .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
+        .arg("--oversubscribe");
+    for (rank, args) in per_rank.iter().enumerate() {
+        if rank > 0 {
+            c.arg(":");
+        }
+        c.args(["-n", "1"])
+            .arg(env!("CARGO_BIN_EXE_neurotac"))
+            .args(args);
+    }
+    let out = c.output().unwrap();
+    (
+        out.status.success(),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
