@@ -1,13 +1,17 @@
 //! `neurotac convert IN OUT`: converts an event file between AEDAT 2.0, AEDAT 3.1, AEDAT 4.0,
 //! ECD text and CSV. The input format is detected from its first bytes, the output format from
 //! the extension; the conversion streams chunk by chunk and prints its speed in events/s.
+//!
+//! The output states the input's sensor size (`neurotac_sensor::format::camera`), 240 × 180 for
+//! an input that states none; a size the output format cannot state (AEDAT 2.0 and 3.1: the
+//! DAVIS240's and DAVIS346's only) is refused before anything is written.
 
 use super::options::ForceOption;
 use super::outputs::refuse_existing;
 use anyhow::Context;
 use clap::{Args, ValueEnum};
 use neurotac_core::EventBuffer;
-use neurotac_sensor::format::{self, Compression, Format};
+use neurotac_sensor::format::{self, Compression, DAVIS240_SIZE, Format};
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -44,7 +48,8 @@ pub fn run(args: ConvertArgs) -> anyhow::Result<()> {
     };
     let start = Instant::now();
     let mut reader = format::open_reader(&args.input)?;
-    let mut writer = format::create_writer_as(&args.output, out_format)?;
+    let sensor = reader.sensor_size().unwrap_or(DAVIS240_SIZE);
+    let mut writer = format::create_writer_as(&args.output, out_format, sensor)?;
     let mut chunk = EventBuffer::new();
     while reader.read_chunk(&mut chunk)? > 0 {
         writer.write(&chunk)?;
@@ -56,10 +61,12 @@ pub fn run(args: ConvertArgs) -> anyhow::Result<()> {
     let seconds = start.elapsed().as_secs_f64();
     let stats = reader.stats();
     println!(
-        "{} → {} ({}): {} events in {:.3} s = {:.1} M events/s",
+        "{} → {} ({}, {} × {} sensor): {} events in {:.3} s = {:.1} M events/s",
         args.input.display(),
         args.output.display(),
         out_format.name(),
+        sensor.0,
+        sensor.1,
         stats.events,
         seconds,
         stats.events as f64 / seconds / 1e6
