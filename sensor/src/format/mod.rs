@@ -3,7 +3,7 @@
 //!
 //! | format | module | reader / writer | magic / extension |
 //! |---|---|---|---|
-//! | AEDAT 2.0 (jAER, DAVIS240 layout) | [`aedat2`] | [`Aedat2Reader`] / [`Aedat2Writer`] | `#!AER-DAT2.0` / `.aedat`, `.aedat2` |
+//! | AEDAT 2.0 (jAER, DAVIS layout: DAVIS240, DAVIS346) | [`aedat2`] | [`Aedat2Reader`] / [`Aedat2Writer`] | `#!AER-DAT2.0` / `.aedat`, `.aedat2` |
 //! | AEDAT 3.1 (polarity packets) | [`aedat3`] | [`Aedat3Reader`] / [`Aedat3Writer`] | `#!AER-DAT3.1` / `.aedat3` |
 //! | AEDAT 4.0 (LZ4 / Zstd / none) | [`aedat4`] | [`Aedat4Reader`] / [`Aedat4Writer`] | `#!AER-DAT4.0` / `.aedat4` |
 //! | Event Camera Dataset text (`t x y p`, t in s) | [`text`] | [`EcdTextReader`] / [`EcdTextWriter`] | a `t x y p` line / `.txt` |
@@ -72,7 +72,7 @@ use std::path::{Path, PathBuf};
 /// The event-file formats (davis240.md §2).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Format {
-    /// AEDAT 2.0, jAER DAVIS240 layout (davis240.md §2.1).
+    /// AEDAT 2.0, jAER DAVIS layout (davis240.md §2.1; DAVIS240 and DAVIS346).
     Aedat2,
     /// AEDAT 3.1 polarity packets (davis240.md §2.2).
     Aedat3,
