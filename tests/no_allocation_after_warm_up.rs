@@ -45,7 +45,7 @@ fn decoding_and_reading_allocate_nothing_after_warm_up() {
     let mut events = EventBuffer::new();
     decoder.decode(&bytes, &mut events);
     for format in Format::ALL {
-        let file = format::to_bytes(&events, format).unwrap();
+        let file = format::to_bytes(&events, format, format::DAVIS240_SIZE).unwrap();
         let mut reader = format::reader_from_bytes(&file).unwrap();
         let mut chunk = EventBuffer::with_capacity(1 << 18);
         reader.read_chunk(&mut chunk).unwrap(); // warm-up: payload and decompression buffers

@@ -7,7 +7,7 @@ mod common;
 use common::{neurotac, small_reproduce};
 use neurotac_core::testing::folder_names;
 use neurotac_core::{Event, EventBuffer, Timestamp};
-use neurotac_sensor::format::{read_file, write_file};
+use neurotac_sensor::format::{DAVIS240_SIZE, read_file, write_file};
 use std::path::Path;
 
 /// A small recording: 2000 events on a diagonal, 100 µs apart.
@@ -38,7 +38,7 @@ fn dead_pid() -> u32 {
 fn a_reader_error_mid_stream_leaves_no_output_and_keeps_an_old_one() {
     let dir = tempfile::tempdir().unwrap();
     let whole = dir.path().join("whole.aedat");
-    write_file(&whole, &recording()).unwrap();
+    write_file(&whole, &recording(), DAVIS240_SIZE).unwrap();
     let bytes = std::fs::read(&whole).unwrap();
     // Cut inside the last record: every event before it decodes, then the reader fails.
     let cut = dir.path().join("t.aedat");
@@ -100,7 +100,7 @@ fn a_writer_error_leaves_no_output() {
 fn transduce_with_a_raster_into_a_missing_folder_writes_nothing() {
     let dir = tempfile::tempdir().unwrap();
     let input = dir.path().join("r.csv");
-    write_file(&input, &recording()).unwrap();
+    write_file(&input, &recording(), DAVIS240_SIZE).unwrap();
     let (json, raster) = (dir.path().join("o.json"), dir.path().join("missing/r.svg"));
     let (ok, _, stderr) = neurotac(&[
         "transduce",
@@ -135,7 +135,7 @@ fn transduce_with_a_raster_into_a_missing_folder_writes_nothing() {
 fn an_output_that_is_the_input_is_refused_and_the_input_kept() {
     let dir = tempfile::tempdir().unwrap();
     let input = dir.path().join("s.aedat");
-    write_file(&input, &recording()).unwrap();
+    write_file(&input, &recording(), DAVIS240_SIZE).unwrap();
     let before = std::fs::read(&input).unwrap();
     let link = dir.path().join("link.aedat");
     std::fs::hard_link(&input, &link).unwrap();

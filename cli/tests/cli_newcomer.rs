@@ -208,7 +208,7 @@ fn transduce_raster_is_written_as_svg_and_png() {
     events.sort_by_key(|e| e.t);
     let events: EventBuffer = events.into_iter().collect();
     let input = dir.path().join("e.csv");
-    neurotac_sensor::format::write_file(&input, &events).unwrap();
+    neurotac_sensor::format::write_file(&input, &events, (240, 180)).unwrap();
     let (out, raster) = (dir.path().join("s.json"), dir.path().join("r.svg"));
     let args = [
         "transduce",

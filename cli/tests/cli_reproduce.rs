@@ -5,7 +5,7 @@ mod common;
 use common::{neurotac, small_reproduce};
 use neurotac_experiments::coding::CodingName;
 use neurotac_experiments::menu::Menu;
-use neurotac_sensor::format::{Compression, Format, to_bytes};
+use neurotac_sensor::format::{Compression, DAVIS240_SIZE, Format, to_bytes};
 use std::path::{Path, PathBuf};
 
 /// A fresh, empty scratch folder for one test.
@@ -169,8 +169,8 @@ fn recorded_dataset(dir: &Path, counts: &[usize]) {
             }
             events.sort_by_key(|e| e.t);
             let buffer: EventBuffer = events.into_iter().collect();
-            neurotac_sensor::format::write_file(&class.join(format!("{trial:02}.csv")), &buffer)
-                .unwrap();
+            let path = class.join(format!("{trial:02}.csv"));
+            neurotac_sensor::format::write_file(&path, &buffer, DAVIS240_SIZE).unwrap();
         }
         std::fs::write(class.join("notes.md"), "not an event file").unwrap();
     }
@@ -259,9 +259,7 @@ fn bad_datasets_are_clear_errors_and_leave_no_report() {
     let events = neurotac_sensor::format::read_file(&mixed.join("texture0").join("00.csv"))
         .unwrap()
         .0;
-    let mut bytes = to_bytes(&events, Format::Aedat4(Compression::Lz4)).unwrap();
-    let at = bytes.windows(5).position(|w| w == b">240<").unwrap();
-    bytes[at..at + 5].copy_from_slice(b">346<");
+    let bytes = to_bytes(&events, Format::Aedat4(Compression::Lz4), (346, 260)).unwrap();
     std::fs::write(mixed.join("texture0").join("99.aedat4"), bytes).unwrap();
     let (ok, _, stderr) = run(&mixed);
     assert!(!ok);

@@ -5,7 +5,7 @@ mod common;
 use common::neurotac;
 use neurotac_core::{Event, EventBuffer, SpikeDataset, Timestamp};
 use neurotac_sensor::filter::{BackgroundActivityFilter, MapStart};
-use neurotac_sensor::format::{read_file, write_file};
+use neurotac_sensor::format::{DAVIS240_SIZE, read_file, write_file};
 use neurotac_sensor::stage::EventFilter;
 use neurotac_sensor::taxel::TaxelLayout;
 
@@ -41,7 +41,7 @@ fn pin_activity() -> EventBuffer {
 fn transduce_writes_49_taxel_trains_and_a_raster() {
     let dir = tempfile::tempdir().unwrap();
     let input = dir.path().join("touch.csv");
-    write_file(&input, &pin_activity()).unwrap();
+    write_file(&input, &pin_activity(), DAVIS240_SIZE).unwrap();
     let (out, raster) = (
         dir.path().join("spikes.json"),
         dir.path().join("raster.svg"),
@@ -81,7 +81,7 @@ fn transduce_writes_49_taxel_trains_and_a_raster() {
 fn layout_finds_the_pins_and_transduce_accepts_it() {
     let dir = tempfile::tempdir().unwrap();
     let input = dir.path().join("calibration.aedat4");
-    write_file(&input, &pin_activity()).unwrap();
+    write_file(&input, &pin_activity(), DAVIS240_SIZE).unwrap();
     let layout = dir.path().join("layout.json");
     let (ok, _, stderr) = neurotac(&[
         "layout",
@@ -123,7 +123,7 @@ fn filter_writes_exactly_the_events_the_ba_filter_keeps() {
     let dir = tempfile::tempdir().unwrap();
     let (input, output) = (dir.path().join("in.aedat"), dir.path().join("out.csv"));
     let events = pin_activity();
-    write_file(&input, &events).unwrap();
+    write_file(&input, &events, DAVIS240_SIZE).unwrap();
     let (ok, stdout, stderr) = neurotac(&[
         "filter",
         input.to_str().unwrap(),
@@ -155,7 +155,7 @@ fn bad_inputs_fail_with_one_clear_line() {
     );
     assert_eq!(stderr.trim_end().lines().count(), 1, "{stderr}");
     let input = dir.path().join("in.csv");
-    write_file(&input, &pin_activity()).unwrap();
+    write_file(&input, &pin_activity(), DAVIS240_SIZE).unwrap();
     let layout = dir.path().join("three.json");
     std::fs::write(&layout, "[[10, 10], [40, 10], [70, 10]]").unwrap();
     let (ok, _, stderr) = neurotac(&[

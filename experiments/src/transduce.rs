@@ -6,7 +6,7 @@
 use crate::datasets::metadata::write_metadata;
 use neurotac_core::{DatasetError, EventBuffer, MultiSpikeTrain, SpikeDataset};
 use neurotac_sensor::filter::{BackgroundActivityFilter, MapStart, RefractoryFilter};
-use neurotac_sensor::format::{ReadStats, create_writer, open_reader};
+use neurotac_sensor::format::{DAVIS240_SIZE, ReadStats, create_writer, open_reader};
 use neurotac_sensor::geometry::{DAVIS240_HEIGHT, DAVIS240_WIDTH};
 use neurotac_sensor::stage::{Filtered, Stage};
 use neurotac_sensor::taxel::{
@@ -240,7 +240,8 @@ pub struct FilterCounts {
 }
 
 /// Event file → event file through the background-activity filter (`ba_window_us`, starting as
-/// `start`) and, when given, a refractory filter (`refractory_us`), on the DAVIS240.
+/// `start`) and, when given, a refractory filter (`refractory_us`), on the sensor the input
+/// states (240 × 180 when it states none); the output states the same sensor.
 pub fn filter_file(
     input: &Path,
     output: &Path,
@@ -248,7 +249,8 @@ pub fn filter_file(
     start: MapStart,
     refractory_us: Option<i64>,
 ) -> Result<FilterCounts, TransduceError> {
-    let (w, h) = (DAVIS240_WIDTH, DAVIS240_HEIGHT);
+    let mut reader = open_reader(input)?;
+    let (w, h) = reader.sensor_size().unwrap_or(DAVIS240_SIZE);
     let transduction = |source| TransduceError::Transduction {
         path: input.to_owned(),
         source,
@@ -259,8 +261,7 @@ pub fn filter_file(
         .map(|p| RefractoryFilter::new(w, h, p).map(Filtered::new))
         .transpose()
         .map_err(transduction)?;
-    let mut reader = open_reader(input)?;
-    let mut writer = create_writer(output)?;
+    let mut writer = create_writer(output, (w, h))?;
     let (mut chunk, mut kept, mut kept2) =
         (EventBuffer::new(), EventBuffer::new(), EventBuffer::new());
     while reader.read_chunk(&mut chunk)? > 0 {
@@ -306,7 +307,7 @@ mod tests {
             }
         }
         let path = dir.join("blob.csv");
-        neurotac_sensor::format::write_file(&path, &events).unwrap();
+        neurotac_sensor::format::write_file(&path, &events, DAVIS240_SIZE).unwrap();
         path
     }
 

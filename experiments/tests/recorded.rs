@@ -3,7 +3,7 @@
 
 use neurotac_core::{Event, EventBuffer, Timestamp, error_chain};
 use neurotac_experiments::datasets::recorded::{RecordedDataset, RecordedError, load_recorded};
-use neurotac_sensor::format::{Compression, Format, to_bytes, write_file};
+use neurotac_sensor::format::{Compression, DAVIS240_SIZE, Format, to_bytes, write_file};
 use neurotac_sensor::taxel::{TaxelLayout, TransductionConfig};
 use std::path::Path;
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -27,7 +27,7 @@ fn clustered(taxel: usize) -> EventBuffer {
 
 fn write(path: &Path, events: &EventBuffer) {
     std::fs::create_dir_all(path.parent().unwrap()).unwrap();
-    write_file(path, events).unwrap();
+    write_file(path, events, DAVIS240_SIZE).unwrap();
 }
 
 fn load(dir: &Path) -> Result<RecordedDataset, RecordedError> {
@@ -41,16 +41,8 @@ fn load(dir: &Path) -> Result<RecordedDataset, RecordedError> {
 
 /// An AEDAT 4.0 file whose header states a 346 × 260 sensor.
 fn write_aedat4_346(path: &Path, events: &EventBuffer) {
-    let mut bytes = to_bytes(events, Format::Aedat4(Compression::Lz4)).unwrap();
-    for (old, new) in [(">240<", ">346<"), (">180<", ">260<")] {
-        let at = bytes
-            .windows(old.len())
-            .position(|w| w == old.as_bytes())
-            .unwrap();
-        bytes[at..at + old.len()].copy_from_slice(new.as_bytes());
-    }
     std::fs::create_dir_all(path.parent().unwrap()).unwrap();
-    std::fs::write(path, bytes).unwrap();
+    write_file(path, events, (346, 260)).unwrap();
 }
 
 #[test]
@@ -183,7 +175,12 @@ fn a_corrupt_file_is_named_with_the_format_error_chained() {
     let message = error_chain(&e);
     assert!(message.contains("not an event file"), "{message}");
     // A truncated AEDAT 4.0 file fails while reading its events, not only at its header.
-    let bytes = to_bytes(&clustered(1), Format::Aedat4(Compression::Lz4)).unwrap();
+    let bytes = to_bytes(
+        &clustered(1),
+        Format::Aedat4(Compression::Lz4),
+        DAVIS240_SIZE,
+    )
+    .unwrap();
     std::fs::write(dir.path().join("b/2.aedat4"), &bytes[..bytes.len() / 2]).unwrap();
     let e = load(dir.path()).unwrap_err();
     assert!(
@@ -253,7 +250,7 @@ fn a_sensor_other_than_the_transductions_is_refused() {
 fn text_events_outside_the_sensor_are_refused() {
     let dir = tempfile::tempdir().unwrap();
     write(&dir.path().join("a/1.csv"), &clustered(0));
-    // A CSV from a larger camera: x = 300 lies beyond 240 × 180.
+    // A CSV from a larger camera that does not state its size: x = 300 lies beyond 240 × 180.
     let mut wide = clustered(1);
     wide.push(Event {
         t: Timestamp(1_000_000),
@@ -261,7 +258,12 @@ fn text_events_outside_the_sensor_are_refused() {
         y: 10,
         polarity: true,
     });
-    write(&dir.path().join("b/1.csv"), &wide);
+    let lines: String = wide
+        .iter()
+        .map(|e| format!("{},{},{},{}\n", e.t.0, e.x, e.y, u8::from(e.polarity)))
+        .collect();
+    std::fs::create_dir_all(dir.path().join("b")).unwrap();
+    std::fs::write(dir.path().join("b/1.csv"), format!("t,x,y,on\n{lines}")).unwrap();
     let e = load(dir.path()).unwrap_err();
     assert!(
         matches!(e, RecordedError::EventsOutsideSensor { dropped: 1, .. }),

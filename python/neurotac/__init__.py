@@ -81,15 +81,18 @@ def _fields(events):
         ) from e
 
 
-def write_events(path, events):
+def write_events(path, events, sensor=None):
     """Write events (a structured array or a dict with t, x, y, p) to ``path``.
 
     The format comes from the extension: ``.aedat``/``.aedat2`` AEDAT 2.0, ``.aedat3`` AEDAT 3.1,
     ``.aedat4`` AEDAT 4.0 (LZ4), ``.txt`` ECD text, ``.csv`` CSV. The file is replaced
-    atomically. ``p`` may be bool or any integer type (non-zero is ON).
+    atomically. ``p`` may be bool or any integer type (non-zero is ON). ``sensor`` is the
+    ``(width, height)`` the file states (default ``(240, 180)``): AEDAT 4.0 as ``sizeX``/``sizeY``,
+    AEDAT 2.0 and 3.1 by camera name (DAVIS240 or DAVIS346 only), text and CSV by a first line
+    ``# sensor WIDTHxHEIGHT``; a size the format cannot state, or an event outside it, raises.
     """
     t, x, y, p = _fields(events)
-    _native.write_event_arrays(path, t, x, y, p != 0)
+    _native.write_event_arrays(path, t, x, y, p != 0, sensor)
 
 
 def transduce(source, layout=None, **settings):

@@ -11,7 +11,7 @@ use neurotac_experiments::transduce::{
     LayoutSpec, TransduceError, resolve_layout, transduce_file, transduced_dataset,
 };
 use neurotac_sensor::filter::MapStart;
-use neurotac_sensor::format::{ReadStats, read_file, write_file};
+use neurotac_sensor::format::{DAVIS240_SIZE, ReadStats, read_file, write_file};
 use neurotac_sensor::taxel::{Transducer, TransductionConfig};
 use numpy::{IntoPyArray, PyArray1};
 use pyo3::exceptions::PyUserWarning;
@@ -91,10 +91,13 @@ fn event_buffer(
     Ok(EventBuffer { t, x, y, polarity })
 }
 
-/// Writes the events `(t, x, y, p)` to `path` in the format of its extension (`.aedat` /
-/// `.aedat2` AEDAT 2.0, `.aedat3` AEDAT 3.1, `.aedat4` AEDAT 4.0 with LZ4, `.txt` ECD text,
-/// `.csv` CSV), atomically: a failed write leaves the old file or none.
+/// Writes the events `(t, x, y, p)` of a `sensor` (width, height; 240 × 180 when `None`)
+/// recording to `path` in the format of its extension (`.aedat` / `.aedat2` AEDAT 2.0,
+/// `.aedat3` AEDAT 3.1, `.aedat4` AEDAT 4.0 with LZ4, `.txt` ECD text, `.csv` CSV), stating the
+/// sensor size in the format's own way, atomically: a failed write leaves the old file or none.
+/// A size the format cannot state, or an event outside it, is an error.
 #[pyfunction]
+#[pyo3(signature = (path, t, x, y, p, sensor=None))]
 pub(crate) fn write_event_arrays(
     py: Python<'_>,
     path: PathBuf,
@@ -102,9 +105,11 @@ pub(crate) fn write_event_arrays(
     x: &Bound<'_, PyAny>,
     y: &Bound<'_, PyAny>,
     p: &Bound<'_, PyAny>,
+    sensor: Option<(u16, u16)>,
 ) -> PyResult<()> {
     let events = event_buffer(t, x, y, p)?;
-    py.detach(|| write_file(&path, &events)).or_raise()
+    let sensor = sensor.unwrap_or(DAVIS240_SIZE);
+    py.detach(|| write_file(&path, &events, sensor)).or_raise()
 }
 
 /// The transduction settings of the keyword arguments (the CLI's defaults and checks).

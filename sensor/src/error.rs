@@ -124,6 +124,21 @@ pub enum FormatError {
         /// The decoder's message.
         message: String,
     },
+    /// A sensor size that the output format cannot state (AEDAT 2.0 and 3.1 name a camera, not
+    /// a size; AEDAT 4.0 coordinates are 16-bit signed), refused before any event is written.
+    #[error("{path}: {format} cannot state a {width} × {height} sensor (it can state {supported})")]
+    UnsupportedSensorSize {
+        /// The output file.
+        path: PathBuf,
+        /// The output format (`AEDAT 2.0`, …).
+        format: &'static str,
+        /// Sensor width (pixels).
+        width: u16,
+        /// Sensor height (pixels).
+        height: u16,
+        /// The sizes the format can state.
+        supported: &'static str,
+    },
     /// An event that the output format cannot store.
     #[error("{path}: event {index} cannot be written: {reason}")]
     Unrepresentable {

@@ -8,8 +8,8 @@ use neurotac_core::{Event, EventBuffer, Timestamp};
 use neurotac_sensor::FormatError;
 use neurotac_sensor::format::{
     Aedat2Reader, Aedat2Writer, Aedat3Reader, Aedat3Writer, Aedat4Reader, Compression, CsvReader,
-    EcdTextReader, EventReader, EventWriter, Format, ReadStats, aedat2, aedat4, reader_from_bytes,
-    to_bytes,
+    DAVIS240_SIZE, EcdTextReader, EventReader, EventWriter, Format, ReadStats, aedat2, aedat4,
+    reader_from_bytes, to_bytes,
 };
 use std::io::Read;
 use std::path::Path;
@@ -40,7 +40,7 @@ fn events(n: usize) -> EventBuffer {
 }
 
 fn encode(format: Format, ev: &EventBuffer) -> Vec<u8> {
-    to_bytes(ev, format).unwrap()
+    to_bytes(ev, format, DAVIS240_SIZE).unwrap()
 }
 
 /// Reads everything; returns the events delivered, the stats and the error that ended it.
@@ -113,8 +113,8 @@ fn every_reader_streams_an_endless_input_in_bounded_chunks() {
             Format::Aedat2 => Box::new(Aedat2Reader::new(endless).unwrap()),
             Format::Aedat3 => Box::new(Aedat3Reader::new(endless).unwrap()),
             Format::Aedat4(_) => Box::new(Aedat4Reader::new(endless).unwrap()),
-            Format::EcdText => Box::new(EcdTextReader::new(endless)),
-            Format::Csv => Box::new(CsvReader::new(endless)),
+            Format::EcdText => Box::new(EcdTextReader::new(endless).unwrap()),
+            Format::Csv => Box::new(CsvReader::new(endless).unwrap()),
         };
         let mut chunk = EventBuffer::new();
         let mut total = 0;
@@ -257,7 +257,7 @@ fn wrong_magic_is_a_typed_error_for_each_reader() {
     // A CSV with a wrong header names the line.
     let (_, _, err) = read(b"t,x,y,on\n1,2,3,1\n");
     assert!(err.is_none());
-    let mut r = CsvReader::new(&b"time,x,y,on\n1,2,3,1\n"[..]);
+    let mut r = CsvReader::new(&b"time,x,y,on\n1,2,3,1\n"[..]).unwrap();
     let err = r.read_chunk(&mut EventBuffer::new()).unwrap_err();
     assert!(
         matches!(
@@ -289,7 +289,7 @@ fn wrong_magic_is_a_typed_error_for_each_reader() {
 
 #[test]
 fn aedat2_of_another_chip_is_refused_by_name() {
-    let file = b"#!AER-DAT2.0\r\n# AEChip: eu.seebetter.ini.chips.davis.Davis346B\r\n#End Of ASCII Header\r\n";
+    let file = b"#!AER-DAT2.0\r\n# AEChip: ch.unizh.ini.jaer.chip.retina.DVS128\r\n#End Of ASCII Header\r\n";
     let err = Aedat2Reader::new(&file[..]).err().unwrap();
     assert!(
         matches!(
@@ -302,7 +302,7 @@ fn aedat2_of_another_chip_is_refused_by_name() {
         ),
         "{err}"
     );
-    assert!(err.to_string().contains("Davis346B"), "{err}");
+    assert!(err.to_string().contains("DVS128"), "{err}");
     // Without a sentinel the header ends at the first byte that does not start a `#` line.
     let ok =
         b"#!AER-DAT2.0\r\n# AEChip: eu.seebetter.ini.chips.davis.DAVIS240B\r\n\0\0\0\0\0\0\0\x05";
@@ -357,6 +357,7 @@ fn a_header_that_never_ends_stops_at_the_limit() {
         pos: 0,
     };
     let err = EcdTextReader::new(line)
+        .unwrap()
         .read_chunk(&mut EventBuffer::new())
         .unwrap_err();
     assert!(
@@ -570,29 +571,39 @@ fn out_of_range_coordinates_are_skipped_and_counted() {
     bytes[data..data + 4].copy_from_slice(&(240u32 << 17 | 1).to_le_bytes());
     let (got, stats, _) = read(&bytes);
     assert_eq!((got.len(), stats.out_of_range), (9, 1));
-    // AEDAT 4.0: y −1 and x 240.
-    let mut ev4 = events(10);
-    ev4.x[2] = 240;
-    let (got, stats, _) = read(&encode(Format::Aedat4(Compression::None), &ev4));
-    assert_eq!((got.len(), stats.out_of_range), (9, 1));
-    let mut bytes = encode(Format::Aedat4(Compression::None), &ev);
-    let first = 18 + u32::from_le_bytes(bytes[14..18].try_into().unwrap()) as usize;
-    let e5 = first + 8 + 32 + 5 * 16;
-    bytes[e5 + 10..e5 + 12].copy_from_slice(&(-1i16).to_le_bytes());
-    let (got, stats, _) = read(&bytes);
-    assert_eq!((got.len(), stats.out_of_range), (9, 1));
+    // AEDAT 4.0: x 240, then y −1.
+    let first_event =
+        |bytes: &[u8]| 18 + u32::from_le_bytes(bytes[14..18].try_into().unwrap()) as usize + 8 + 32;
+    for (field, value) in [(8, 240i16), (10, -1)] {
+        let mut bytes = encode(Format::Aedat4(Compression::None), &ev);
+        let e5 = first_event(&bytes) + 5 * 16;
+        bytes[e5 + field..e5 + field + 2].copy_from_slice(&value.to_le_bytes());
+        let (got, stats, _) = read(&bytes);
+        assert_eq!((got.len(), stats.out_of_range), (9, 1));
+    }
     // Text: y 180.
     let (got, stats, _) = read(b"t,x,y,on\n1,2,180,1\n2,3,4,0\n");
     assert_eq!((got.len(), stats.out_of_range), (1, 1));
-    // Writers refuse what their format cannot hold.
-    let mut w = Aedat2Writer::new(Vec::new()).unwrap();
+    // Writers refuse an event outside the sensor their file states, naming it.
+    let mut ev4 = events(10);
+    ev4.x[2] = 240;
+    for format in Format::ALL {
+        let err = to_bytes(&ev4, format, DAVIS240_SIZE).unwrap_err();
+        assert!(
+            matches!(&err, FormatError::Unrepresentable { index: 2, reason, .. }
+                if reason.contains("(240, 2)") && reason.contains("240 × 180")),
+            "{}: {err}",
+            format.name()
+        );
+    }
+    let mut w = Aedat2Writer::new(Vec::new(), DAVIS240_SIZE).unwrap();
     assert!(matches!(
         w.write(&ev4),
         Err(FormatError::Unrepresentable { index: 2, .. })
     ));
     let mut neg = events(2);
     neg.t[1] = -1;
-    let mut w = Aedat3Writer::new(Vec::new()).unwrap();
+    let mut w = Aedat3Writer::new(Vec::new(), DAVIS240_SIZE).unwrap();
     assert!(matches!(
         w.write(&neg),
         Err(FormatError::Unrepresentable { index: 1, .. })
@@ -781,7 +792,7 @@ fn aedat2_round_trips_steps_back_across_a_wrap() {
     for t in [vec![0, 1 << 31], vec![-(1 << 31) - 1]] {
         let mut ev = events(t.len());
         ev.t = t;
-        let err = to_bytes(&ev, Format::Aedat2).unwrap_err();
+        let err = to_bytes(&ev, Format::Aedat2, DAVIS240_SIZE).unwrap_err();
         assert!(matches!(err, FormatError::Unrepresentable { .. }), "{err}");
     }
 }

@@ -1,8 +1,8 @@
 //! The committed fuzz corpus (`fuzz/corpus/<target>/`), replayed on stable (no nightly, no
 //! cargo-fuzz): every file goes through every reader — each format's own reader, AEDAT 4.0 with
 //! and without the input length, format detection — and what a reader delivers goes through
-//! every writer and back (read → write → read gives the same events, or the writer refuses with
-//! a typed `Unrepresentable`). Nothing may panic, every reader hands out bounded chunks whose
+//! every writer and back with the reader's sensor size (read → write → read gives the same events
+//! and size, or the writer refuses with a typed `Unrepresentable` or `UnsupportedSensorSize`). Nothing may panic, every reader hands out bounded chunks whose
 //! events lie inside the sensor and match its counters, the events decoded are bounded by the
 //! input size, and the memory a file's reading allocates stays under a budget set by its size.
 //!
@@ -14,8 +14,8 @@ use neurotac_core::EventBuffer;
 use neurotac_sensor::FormatError;
 use neurotac_sensor::davis::UsbDecoder;
 use neurotac_sensor::format::{
-    Aedat2Reader, Aedat3Reader, Aedat4Reader, CsvReader, EcdTextReader, EventReader, Format,
-    ReadStats, reader_from_bytes, to_bytes,
+    Aedat2Reader, Aedat3Reader, Aedat4Reader, CsvReader, DAVIS240_SIZE, EcdTextReader, EventReader,
+    Format, ReadStats, reader_from_bytes, to_bytes,
 };
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::path::{Path, PathBuf};
@@ -112,8 +112,8 @@ fn readers(bytes: &[u8]) -> Vec<(&'static str, Opened<'_>)> {
             "AEDAT 4.0 (stream)",
             boxed(Aedat4Reader::with_name(bytes, "<corpus>".into(), None)),
         ),
-        ("ECD text", Ok(Box::new(EcdTextReader::new(bytes)) as _)),
-        ("CSV", Ok(Box::new(CsvReader::new(bytes)) as _)),
+        ("ECD text", boxed(EcdTextReader::new(bytes))),
+        ("CSV", boxed(CsvReader::new(bytes))),
         ("detected", reader_from_bytes(bytes)),
     ]
 }
@@ -125,7 +125,7 @@ fn drain(
     reader: &mut dyn EventReader,
     budget_events: Option<usize>,
 ) -> (EventBuffer, ReadStats, Option<FormatError>) {
-    let (w, h) = reader.sensor_size().unwrap_or((240, 180));
+    let (w, h) = reader.sensor_size().unwrap_or(DAVIS240_SIZE);
     let mut all = EventBuffer::new();
     let mut chunk = EventBuffer::new();
     let error = loop {
@@ -166,12 +166,17 @@ fn drain(
     (all, stats, error)
 }
 
-/// `events` through every writer and back: the same events, or a typed refusal.
-fn round_trip(what: &str, events: &EventBuffer) {
+/// `events` of a `size` sensor through every writer and back: the same events and size, or a
+/// typed refusal.
+fn round_trip(what: &str, events: &EventBuffer, size: (u16, u16)) {
     for format in Format::ALL {
-        let bytes = match to_bytes(events, format) {
+        let bytes = match to_bytes(events, format, size) {
             Ok(bytes) => bytes,
-            Err(FormatError::Unrepresentable { .. }) => continue,
+            Err(
+                FormatError::Unrepresentable { .. } | FormatError::UnsupportedSensorSize { .. },
+            ) => {
+                continue;
+            }
             Err(e) => panic!("{what} → {}: {e}", format.name()),
         };
         // Read back with the format's own reader: an empty text file (no events) is not
@@ -180,9 +185,15 @@ fn round_trip(what: &str, events: &EventBuffer) {
             Format::Aedat2 => Box::new(Aedat2Reader::new(&bytes[..]).unwrap()),
             Format::Aedat3 => Box::new(Aedat3Reader::new(&bytes[..]).unwrap()),
             Format::Aedat4(_) => Box::new(Aedat4Reader::new(&bytes[..]).unwrap()),
-            Format::EcdText => Box::new(EcdTextReader::new(&bytes[..])),
-            Format::Csv => Box::new(CsvReader::new(&bytes[..])),
+            Format::EcdText => Box::new(EcdTextReader::new(&bytes[..]).unwrap()),
+            Format::Csv => Box::new(CsvReader::new(&bytes[..]).unwrap()),
         };
+        assert_eq!(
+            reader.sensor_size().unwrap_or(DAVIS240_SIZE),
+            size,
+            "{what} → {}: the sensor size",
+            format.name()
+        );
         let mut back = EventBuffer::new();
         if let Err(e) = reader.read_to_end(&mut back) {
             panic!("{what} → {}: read back: {e}", format.name());
@@ -222,14 +233,15 @@ fn decode_usb(name: &str, bytes: &[u8]) -> EventBuffer {
 /// One corpus file through every reader and the round trip.
 fn replay(name: &str, bytes: &[u8]) {
     let usb = decode_usb(name, bytes);
-    round_trip(&format!("{name} [USB]"), &usb);
+    round_trip(&format!("{name} [USB]"), &usb, DAVIS240_SIZE);
     for (reader_name, reader) in readers(bytes) {
         let what = format!("{name} [{reader_name}]");
         let Ok(mut reader) = reader else { continue };
         let budget_events = min_bytes_per_event(reader_name, bytes).map(|b| bytes.len() / b + 1);
         let (events, _, _) = drain(&what, reader.as_mut(), budget_events);
+        let size = reader.sensor_size().unwrap_or(DAVIS240_SIZE);
         drop(reader);
-        round_trip(&what, &events);
+        round_trip(&what, &events, size);
     }
 }
 

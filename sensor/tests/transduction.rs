@@ -5,7 +5,7 @@ mod common;
 use neurotac_core::{Event, EventBuffer, Timestamp};
 use neurotac_sensor::error::{FormatError, ReaderTransductionError, TransductionError};
 use neurotac_sensor::filter::{BackgroundActivityFilter, MapStart, RefractoryFilter};
-use neurotac_sensor::format::{Format, reader_from_bytes, to_bytes};
+use neurotac_sensor::format::{DAVIS240_SIZE, Format, reader_from_bytes, to_bytes};
 use neurotac_sensor::stage::{Filtered, Stage};
 use neurotac_sensor::taxel::{
     PositionUpdate, ReceptiveFieldMask, ReceptiveFields, TaxelEvent, TaxelLayout, TaxelPixelEvent,
@@ -454,7 +454,7 @@ fn transducing_a_reader_equals_pushing_its_events() {
     let events = synthetic_stream(30_000, 5);
     let pushed = transduce(&events, usize::MAX, TransductionConfig::default());
     for format in [Format::Aedat2, Format::Csv] {
-        let bytes = to_bytes(&events, format).unwrap();
+        let bytes = to_bytes(&events, format, DAVIS240_SIZE).unwrap();
         let mut reader = reader_from_bytes(&bytes).unwrap();
         let mut t = Transducer::new(
             &TaxelLayout::neurotac_default(),

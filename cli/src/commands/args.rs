@@ -40,6 +40,12 @@ pub fn positive_u32(s: &str) -> Result<u32, String> {
     u32::try_from(n).map_err(|_| "too large".to_owned())
 }
 
+/// A sensor size `WIDTHxHEIGHT`, both at least 1 (`convert --sensor 346x260`).
+pub fn sensor_size(s: &str) -> Result<(u16, u16), String> {
+    neurotac_sensor::format::parse_sensor_size(s)
+        .ok_or_else(|| "not a sensor size (expected WIDTHxHEIGHT, e.g. 346x260)".into())
+}
+
 /// A finite number (`neuron --current`).
 pub fn finite_f64(s: &str) -> Result<f64, String> {
     match s.trim().parse::<f64>() {

@@ -1,5 +1,6 @@
 //! `neurotac record --out FILE --seconds S`: records the first DAVIS240 attached to an event file
-//! (format from the extension; `.aedat4` writes AEDAT 4.0 with LZ4).
+//! (format from the extension; `.aedat4` writes AEDAT 4.0 with LZ4) that states the camera's
+//! DVS size.
 //!
 //! The camera gets libcaer's default configuration and streams DVS events only. If it is
 //! unplugged mid-recording, every event received before is written, the file is completed and
@@ -52,7 +53,8 @@ pub fn run(args: RecordArgs) -> anyhow::Result<()> {
     davis
         .send_default_config()
         .context("configuring the camera")?;
-    let mut writer = format::create_writer_as(out, format)?;
+    let sensor = (davis.info().dvs_size_x, davis.info().dvs_size_y);
+    let mut writer = format::create_writer_as(out, format, sensor)?;
     let mut stream = davis.start(StartOptions::default())?;
     let offset_us = if args.unix_time {
         SystemTime::now()

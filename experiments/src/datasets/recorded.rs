@@ -22,10 +22,11 @@
 //! re-centring), files in parallel (rayon); the result is in file order whatever the thread
 //! count. Spike times are seconds since each recording's first event.
 //!
-//! Sensor size: AEDAT files state it (AEDAT 4.0 in its header, AEDAT 2.0 and 3.1 by their
-//! DAVIS240 layouts, see [`EventReader::sensor_size`]); every stated size must be the same and
-//! equal to the transduction's sensor (`config.width × config.height`). Text files state none:
-//! their events must lie inside the transduction's sensor.
+//! Sensor size: files state it in their format's way (AEDAT 4.0 `sizeX`/`sizeY`, the camera an
+//! AEDAT 2.0 or 3.1 header names, a `# sensor WIDTHxHEIGHT` first line in ECD text and CSV; see
+//! [`EventReader::sensor_size`]); every stated size must be the same and equal to the
+//! transduction's sensor (`config.width × config.height`). A file that states none: its events
+//! must lie inside the transduction's sensor.
 //!
 //! ```no_run
 //! use neurotac_experiments::datasets::recorded::load_recorded;

@@ -80,7 +80,7 @@ mod tests {
     use super::super::transport::{DeviceInfo, ReplayEnd, ReplayTransport};
     use super::super::{Davis, StartOptions, UsbDecoder};
     use super::*;
-    use crate::format::{Aedat4Reader, Aedat4Writer, Compression, EventReader};
+    use crate::format::{Aedat4Reader, Aedat4Writer, Compression, DAVIS240_SIZE, EventReader};
     use std::io::Cursor;
 
     fn stream(end: ReplayEnd) -> (Vec<u8>, DavisStream<ReplayTransport>) {
@@ -117,7 +117,7 @@ mod tests {
     fn an_unplugged_camera_leaves_a_complete_file_with_every_event() {
         let (bytes, mut s) = stream(ReplayEnd::Unplug);
         let mut file = Cursor::new(Vec::new());
-        let mut writer = Aedat4Writer::new(&mut file, Compression::Lz4).unwrap();
+        let mut writer = Aedat4Writer::new(&mut file, Compression::Lz4, DAVIS240_SIZE).unwrap();
         let rec = record(&mut s, &mut writer, Duration::from_secs(30), 0).unwrap();
         drop(writer);
         assert!(
@@ -135,7 +135,7 @@ mod tests {
     fn a_streaming_camera_is_recorded_for_the_duration_with_an_offset() {
         let (_, mut s) = stream(ReplayEnd::Idle);
         let mut file = Cursor::new(Vec::new());
-        let mut writer = Aedat4Writer::new(&mut file, Compression::None).unwrap();
+        let mut writer = Aedat4Writer::new(&mut file, Compression::None, DAVIS240_SIZE).unwrap();
         let rec = record(&mut s, &mut writer, Duration::from_millis(300), 1_000_000).unwrap();
         drop(writer);
         assert!(rec.ended_early.is_none(), "{rec:?}");

@@ -1,4 +1,4 @@
-//! AEDAT 2.0, the jAER format, in the DAVIS240 layout (davis240.md §2.1).
+//! AEDAT 2.0, the jAER format, in its DAVIS layout (davis240.md §2.1).
 //!
 //! Header: ASCII lines starting with `#` (CRLF), the first one `#!AER-DAT2.0`. Data starts right
 //! after a `#End Of ASCII Header` sentinel line (matched case-insensitively, ignoring `#` and
@@ -10,16 +10,28 @@
 //!
 //! Body: 8-byte big-endian records, `u32 address` then `i32 timestamp` (µs). A DVS polarity event
 //! has bit 31 = 0 and bits 11–10 ≠ `01`: raw y = bits 30–22, raw x = bits 21–12, polarity = bit
-//! 11 (1 = ON). For a DAVIS240, top-left coordinates are **x = 239 − raw x, y = 179 − raw y**.
+//! 11 (1 = ON). jAER records every DAVIS with raw x = W − 1 − x and raw y = H − 1 − y
+//! (`DAViSFX3HardwareInterface`), so top-left coordinates are **x = W − 1 − raw x, y = H − 1 −
+//! raw y** for a W × H sensor (239 − raw x, 179 − raw y on a DAVIS240).
 //! Other records (external input, APS samples, IMU) are skipped and counted. Timestamps are
 //! 32-bit: each one is unwrapped to the time closest to the one before with the same low 32
 //! bits, so a drop of more than 2³¹ µs is a wrap (counted), and a step back of less than 2³¹ µs
 //! is a timestamp going backwards — across a wrap too — reported in [`ReadStats`] and kept in
-//! file order. A header whose `AEChip`
-//! line names another chip than a DAVIS240 is refused (its layout differs); a header without one
-//! is read as DAVIS240.
+//! file order.
+//!
+//! Sensor size: the header's `AEChip` line names jAER's chip class, which fixes the size — a
+//! DAVIS240 class (`eu.seebetter.ini.chips.davis.DAVIS240C`) 240 × 180, a DAVIS346 class
+//! (`eu.seebetter.ini.chips.davis.Davis346B`, `Davis346red`, …) 346 × 260 (see
+//! [`CAMERAS`](super::camera::CAMERAS)). A header naming another chip is refused (its layout is
+//! not this one; aedat4to2's misspelt `DAVI346`, which also leaves x unmirrored, is among them); a
+//! header without one states no size and is read with the assumed one (240 × 180 by default).
+//! The writer names the class of its size and refuses any other size: AEDAT 2.0 cannot state one.
 
-use super::contract::{EventReader, EventWriter, READ_BLOCK, ReadStats, ReaderEnd, io_error};
+use super::camera::{CAMERA_SIZES, Camera, camera_named, camera_of_size};
+use super::contract::{
+    EventReader, EventWriter, READ_BLOCK, ReadStats, ReaderEnd, ReaderSensor, check_inside,
+    io_error, unsupported_size,
+};
 use super::header::{HeaderSpec, read_header};
 use super::input::Input;
 use crate::error::FormatError;
@@ -30,17 +42,20 @@ use std::path::PathBuf;
 /// Largest header accepted (jAER may embed its XML preferences, some 100 KB; davis240.md §2.1).
 pub const MAX_HEADER_BYTES: u64 = 16 << 20;
 
-const SIZE_X: u32 = crate::geometry::DAVIS240_WIDTH as u32;
-const SIZE_Y: u32 = crate::geometry::DAVIS240_HEIGHT as u32;
 const RECORD: usize = 8;
 
-/// The header lines this crate writes (a minimal jAER-style header for a DAVIS240C).
-const HEADER: &[u8] = b"#!AER-DAT2.0\r\n\
-# This is a raw AE data file - do not edit\r\n\
-# Data format is int32 address, int32 timestamp (8 bytes total), repeated for each event\r\n\
-# Timestamps tick is 1 us\r\n\
-# AEChip: eu.seebetter.ini.chips.davis.DAVIS240C\r\n\
-# End of ASCII Header\r\n";
+/// The header lines this crate writes: a minimal jAER-style header naming `camera`'s chip class.
+fn header(camera: &Camera) -> String {
+    format!(
+        "#!AER-DAT2.0\r\n\
+         # This is a raw AE data file - do not edit\r\n\
+         # Data format is int32 address, int32 timestamp (8 bytes total), repeated for each event\r\n\
+         # Timestamps tick is 1 us\r\n\
+         # AEChip: {}\r\n\
+         # End of ASCII Header\r\n",
+        camera.jaer_class
+    )
+}
 
 /// The AEDAT 2.0 header (module docs): ends at the sentinel, or at the first data byte in files
 /// without one.
@@ -68,9 +83,10 @@ fn is_sentinel(line: &[u8]) -> bool {
     letters.eq(b"endofasciiheader".iter().copied())
 }
 
-/// Streaming reader of AEDAT 2.0 DAVIS240 files (davis240.md §2.1; §7 pitfalls 5 and 6).
+/// Streaming reader of AEDAT 2.0 DAVIS files (davis240.md §2.1; §7 pitfalls 5 and 6).
 pub struct Aedat2Reader<R> {
     input: Input<R>,
+    sensor: ReaderSensor,
     /// The header lines, including the version line and the sentinel (if any).
     header: Vec<u8>,
     /// Raw block; `block[..filled]` holds unread bytes starting at a record boundary.
@@ -93,11 +109,15 @@ impl<R: Read> Aedat2Reader<R> {
     pub fn with_name(reader: R, path: PathBuf) -> Result<Self, FormatError> {
         let mut input = Input::new(reader, path);
         let header = read_header(&mut input, &HEADER_SPEC)?;
+        let mut camera = None;
         for (at, line) in header.lines() {
             if let Some(chip) = aechip(&line[1..]) {
-                if !chip.to_ascii_lowercase().contains("davis240") {
-                    let expected = "a DAVIS240 chip class (the x/y mirroring of this reader is DAVIS240-specific)";
-                    return Err(input.invalid(at, "AEChip", format!("`{chip}`"), expected));
+                match camera_named(&chip) {
+                    Some(c) => camera = Some(c),
+                    None => {
+                        let expected = "a DAVIS240 or DAVIS346 chip class (the address layout of this reader is jAER's DAVIS one)";
+                        return Err(input.invalid(at, "AEChip", format!("`{chip}`"), expected));
+                    }
                 }
             }
         }
@@ -110,6 +130,7 @@ impl<R: Read> Aedat2Reader<R> {
         block.resize(filled + READ_BLOCK, 0);
         Ok(Self {
             input,
+            sensor: ReaderSensor::new(camera.map(|c| c.size)),
             header,
             block,
             filled,
@@ -118,6 +139,12 @@ impl<R: Read> Aedat2Reader<R> {
             stats: ReadStats::default(),
             end: ReaderEnd::default(),
         })
+    }
+
+    /// Reads a file whose header names no chip as a `size` sensor (instead of 240 × 180).
+    pub fn assuming(mut self, size: (u16, u16)) -> Self {
+        self.sensor.assumed = size;
+        self
     }
 
     /// The header lines as read (version line through the sentinel).
@@ -130,6 +157,8 @@ impl<R: Read> Aedat2Reader<R> {
         let whole = self.filled - self.filled % RECORD;
         let mut stats = self.stats;
         let mut previous = self.previous;
+        let (size_x, size_y) = self.sensor.bounds();
+        let (size_x, size_y) = (u32::from(size_x), u32::from(size_y));
         out.t.reserve(whole / RECORD);
         out.x.reserve(whole / RECORD);
         out.y.reserve(whole / RECORD);
@@ -143,7 +172,7 @@ impl<R: Read> Aedat2Reader<R> {
             }
             let raw_x = (addr >> 12) & 0x3FF;
             let raw_y = (addr >> 22) & 0x1FF;
-            if raw_x >= SIZE_X || raw_y >= SIZE_Y {
+            if raw_x >= size_x || raw_y >= size_y {
                 stats.out_of_range += 1;
                 continue;
             }
@@ -164,8 +193,8 @@ impl<R: Read> Aedat2Reader<R> {
             };
             previous = t;
             out.t.push(t);
-            out.x.push((SIZE_X - 1 - raw_x) as u16);
-            out.y.push((SIZE_Y - 1 - raw_y) as u16);
+            out.x.push((size_x - 1 - raw_x) as u16);
+            out.y.push((size_y - 1 - raw_y) as u16);
             out.polarity.push(addr & 0x800 != 0);
         }
         self.stats = stats;
@@ -208,35 +237,44 @@ impl<R: Read> EventReader for Aedat2Reader<R> {
     }
 
     fn sensor_size(&self) -> Option<(u16, u16)> {
-        Some((SIZE_X as u16, SIZE_Y as u16))
+        self.sensor.stated
     }
 }
 
-/// Writer of AEDAT 2.0 DAVIS240 files (the header of `pick.aedat`, records as in
-/// davis240.md §2.1).
+/// Writer of AEDAT 2.0 DAVIS files (the header of `pick.aedat` naming the camera's jAER chip
+/// class, records as in davis240.md §2.1).
 ///
+/// The sensor must be one of [`CAMERAS`](super::camera::CAMERAS) (240 × 180 or 346 × 260).
 /// Times are stored as 32-bit timestamps; the first event must lie in `i32` range and
 /// consecutive events less than 2³¹ µs apart, so that the reader's unwrapping restores them.
 pub struct Aedat2Writer<W: Write> {
     out: W,
     path: PathBuf,
+    size: (u16, u16),
     previous: Option<i64>,
     written: u64,
     block: Vec<u8>,
 }
 
 impl<W: Write> Aedat2Writer<W> {
-    /// Writes the header to `out`, labelled `<output>` in errors.
-    pub fn new(out: W) -> Result<Self, FormatError> {
-        Self::with_name(out, PathBuf::from("<output>"))
+    /// Writes the header of a `sensor` (width, height) recording to `out`, labelled `<output>`
+    /// in errors.
+    pub fn new(out: W, sensor: (u16, u16)) -> Result<Self, FormatError> {
+        Self::with_name(out, PathBuf::from("<output>"), sensor)
     }
 
-    /// Writes the header to `out`, named `path` in errors.
-    pub fn with_name(mut out: W, path: PathBuf) -> Result<Self, FormatError> {
-        out.write_all(HEADER).map_err(io_error(&path))?;
+    /// Writes the header of a `sensor` (width, height) recording to `out`, named `path` in
+    /// errors; a sensor that no jAER chip class of [`CAMERAS`](super::camera::CAMERAS) has is
+    /// refused ([`FormatError::UnsupportedSensorSize`]).
+    pub fn with_name(mut out: W, path: PathBuf, sensor: (u16, u16)) -> Result<Self, FormatError> {
+        let camera = camera_of_size(sensor)
+            .ok_or_else(|| unsupported_size(&path, "AEDAT 2.0", sensor, CAMERA_SIZES))?;
+        out.write_all(header(camera).as_bytes())
+            .map_err(io_error(&path))?;
         Ok(Self {
             out,
             path,
+            size: sensor,
             previous: None,
             written: 0,
             block: Vec::with_capacity(READ_BLOCK),
@@ -260,10 +298,7 @@ impl<W: Write> EventWriter for Aedat2Writer<W> {
             for i in chunk_start..end {
                 let index = self.written + i as u64;
                 let (t, x, y) = (events.t[i], events.x[i], events.y[i]);
-                if u32::from(x) >= SIZE_X || u32::from(y) >= SIZE_Y {
-                    let reason = format!("pixel ({x}, {y}) is outside the DAVIS240's 240 × 180");
-                    return Err(self.unrepresentable(index, reason));
-                }
+                check_inside(&self.path, index, (x, y), self.size)?;
                 let step_ok = match self.previous {
                     None => i32::try_from(t).is_ok(),
                     Some(p) => t.abs_diff(p) < 1 << 31,
@@ -275,8 +310,8 @@ impl<W: Write> EventWriter for Aedat2Writer<W> {
                     return Err(self.unrepresentable(index, reason));
                 }
                 self.previous = Some(t);
-                let raw_x = SIZE_X - 1 - u32::from(x);
-                let raw_y = SIZE_Y - 1 - u32::from(y);
+                let raw_x = u32::from(self.size.0 - 1 - x);
+                let raw_y = u32::from(self.size.1 - 1 - y);
                 let addr = raw_y << 22 | raw_x << 12 | u32::from(events.polarity[i]) << 11;
                 self.block.extend_from_slice(&addr.to_be_bytes());
                 self.block.extend_from_slice(&(t as i32).to_be_bytes());

@@ -7,9 +7,17 @@
 //! `u32 data` (bit 0 valid, bit 1 polarity, bits 16–2 y, bits 31–17 x) then `i32 timestamp`;
 //! time = `(eventTSOverflow << 31) | timestamp`. Other packet types are skipped (counted), as are
 //! invalid events (valid bit 0) and the unused capacity past `eventNumber`.
+//!
+//! Sensor size: cAER names the camera on a header line `#Source <id>: <name>` (`DAVIS240C`,
+//! `DAVIS346`, `DAVIS346B`, …); a name of [`CAMERAS`](super::camera::CAMERAS) states its size.
+//! A header without one, or naming another camera, states none and is read with the assumed
+//! size (240 × 180 by default). The writer names the camera of its size and refuses any other
+//! size: AEDAT 3.1 cannot state one.
 
+use super::camera::{CAMERA_SIZES, camera_named, camera_of_size};
 use super::contract::{
-    DAVIS240_SIZE, EventReader, EventWriter, READ_BLOCK, ReadStats, ReaderEnd, io_error,
+    EventReader, EventWriter, READ_BLOCK, ReadStats, ReaderEnd, ReaderSensor, check_inside,
+    io_error, unsupported_size,
 };
 use super::header::{HeaderSpec, read_header};
 use super::input::Input;
@@ -38,6 +46,13 @@ const HEADER_SPEC: HeaderSpec = HeaderSpec {
     data_ends_header: false,
 };
 
+/// The camera of a `#Source <id>: <name>` header line, if it names one of the known cameras.
+fn source_camera(line: &[u8]) -> Option<&'static super::camera::Camera> {
+    let text = std::str::from_utf8(line).ok()?;
+    let (_, name) = text.strip_prefix("#Source ")?.split_once(':')?;
+    camera_named(name)
+}
+
 /// The packet being read.
 #[derive(Debug, Clone, Copy)]
 struct Packet {
@@ -53,7 +68,7 @@ struct Packet {
 pub struct Aedat3Reader<R> {
     input: Input<R>,
     header: Vec<u8>,
-    size: (u16, u16),
+    sensor: ReaderSensor,
     packet: Option<Packet>,
     block: Vec<u8>,
     previous: i64,
@@ -67,21 +82,33 @@ impl<R: Read> Aedat3Reader<R> {
         Self::with_name(reader, PathBuf::from("<input>"))
     }
 
-    /// Reads the header of an AEDAT 3.1 input named `path` in errors. Events outside 240 × 180
-    /// are skipped.
+    /// Reads the header of an AEDAT 3.1 input named `path` in errors. Events outside the
+    /// sensor its `#Source` line names (module docs) are skipped.
     pub fn with_name(reader: R, path: PathBuf) -> Result<Self, FormatError> {
         let mut input = Input::new(reader, path);
-        let header = read_header(&mut input, &HEADER_SPEC)?.bytes;
+        let header = read_header(&mut input, &HEADER_SPEC)?;
+        let stated = header
+            .lines()
+            .filter_map(|(_, line)| source_camera(line))
+            .map(|c| c.size)
+            .next();
         Ok(Self {
             input,
-            header,
-            size: DAVIS240_SIZE,
+            header: header.bytes,
+            sensor: ReaderSensor::new(stated),
             packet: None,
             block: vec![0; READ_BLOCK],
             previous: i64::MIN,
             stats: ReadStats::default(),
             end: ReaderEnd::default(),
         })
+    }
+
+    /// Reads a file whose header names no known camera as a `size` sensor (instead of
+    /// 240 × 180).
+    pub fn assuming(mut self, size: (u16, u16)) -> Self {
+        self.sensor.assumed = size;
+        self
     }
 
     /// The header lines as read.
@@ -163,7 +190,8 @@ impl<R: Read> Aedat3Reader<R> {
             .read_full(&mut self.block[..wanted * EVENT_SIZE])?;
         // Whole events that arrived are decoded even when the packet is cut short.
         let n = got / EVENT_SIZE;
-        let (size_x, size_y) = (u32::from(self.size.0), u32::from(self.size.1));
+        let (size_x, size_y) = self.sensor.bounds();
+        let (size_x, size_y) = (u32::from(size_x), u32::from(size_y));
         let mut delivered = 0u64;
         for (i, e) in self.block[..n * EVENT_SIZE]
             .chunks_exact(EVENT_SIZE)
@@ -239,15 +267,18 @@ impl<R: Read> EventReader for Aedat3Reader<R> {
     }
 
     fn sensor_size(&self) -> Option<(u16, u16)> {
-        Some(self.size)
+        self.sensor.stated
     }
 }
 
-/// Writer of AEDAT 3.1 files (davis240.md §2.2): polarity packets of up to [`PACKET_EVENTS`] events (capacity =
-/// number = valid), a new packet whenever `t >> 31` changes. Times must be non-negative.
+/// Writer of AEDAT 3.1 files (davis240.md §2.2): a header naming the camera, then polarity
+/// packets of up to [`PACKET_EVENTS`] events (capacity = number = valid), a new packet whenever
+/// `t >> 31` changes. The sensor must be one of [`CAMERAS`](super::camera::CAMERAS); times must
+/// be non-negative.
 pub struct Aedat3Writer<W: Write> {
     out: W,
     path: PathBuf,
+    size: (u16, u16),
     written: u64,
     packet: Vec<u8>,
     count: usize,
@@ -255,18 +286,27 @@ pub struct Aedat3Writer<W: Write> {
 }
 
 impl<W: Write> Aedat3Writer<W> {
-    /// Writes the header to `out`, labelled `<output>` in errors.
-    pub fn new(out: W) -> Result<Self, FormatError> {
-        Self::with_name(out, PathBuf::from("<output>"))
+    /// Writes the header of a `sensor` (width, height) recording to `out`, labelled `<output>`
+    /// in errors.
+    pub fn new(out: W, sensor: (u16, u16)) -> Result<Self, FormatError> {
+        Self::with_name(out, PathBuf::from("<output>"), sensor)
     }
 
-    /// Writes the header to `out`, named `path` in errors.
-    pub fn with_name(mut out: W, path: PathBuf) -> Result<Self, FormatError> {
-        let header = "#!AER-DAT3.1\r\n#Format: RAW\r\n#Source 1: DAVIS240C\r\n#!END-HEADER\r\n";
+    /// Writes the header of a `sensor` (width, height) recording to `out`, named `path` in
+    /// errors; a sensor that no camera of [`CAMERAS`](super::camera::CAMERAS) has is refused
+    /// ([`FormatError::UnsupportedSensorSize`]).
+    pub fn with_name(mut out: W, path: PathBuf, sensor: (u16, u16)) -> Result<Self, FormatError> {
+        let camera = camera_of_size(sensor)
+            .ok_or_else(|| unsupported_size(&path, "AEDAT 3.1", sensor, CAMERA_SIZES))?;
+        let header = format!(
+            "#!AER-DAT3.1\r\n#Format: RAW\r\n#Source 1: {}\r\n#!END-HEADER\r\n",
+            camera.name
+        );
         out.write_all(header.as_bytes()).map_err(io_error(&path))?;
         Ok(Self {
             out,
             path,
+            size: sensor,
             written: 0,
             packet: Vec::with_capacity(PACKET_HEADER + PACKET_EVENTS * EVENT_SIZE),
             count: 0,
@@ -310,18 +350,10 @@ impl<W: Write> EventWriter for Aedat3Writer<W> {
             if self.count == PACKET_EVENTS || (self.count > 0 && t >> 31 != self.overflow) {
                 self.flush_packet()?;
             }
+            check_inside(&self.path, self.written + i as u64, (e.x, e.y), self.size)?;
             self.overflow = t >> 31;
+            // The sensor is a known camera, so x and y fit the 15-bit fields.
             let data = u32::from(e.x) << 17 | u32::from(e.y) << 2 | u32::from(e.polarity) << 1 | 1;
-            if e.x > 0x7FFF || e.y > 0x7FFF {
-                return Err(FormatError::Unrepresentable {
-                    path: self.path.clone(),
-                    index: self.written + i as u64,
-                    reason: format!(
-                        "pixel ({}, {}) exceeds AEDAT 3.1's 15-bit addresses",
-                        e.x, e.y
-                    ),
-                });
-            }
             self.packet.extend_from_slice(&data.to_le_bytes());
             self.packet
                 .extend_from_slice(&((t & 0x7FFF_FFFF) as i32).to_le_bytes());

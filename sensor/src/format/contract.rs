@@ -144,13 +144,13 @@ pub trait EventReader {
     /// What was read and skipped so far.
     fn stats(&self) -> ReadStats;
 
-    /// The pixel-array size `(width, height)` the file states or its format fixes: the event
-    /// stream's `sizeX`/`sizeY` for AEDAT 4.0 (240 × 180 when the header names none), the
-    /// DAVIS240's 240 × 180 for AEDAT 2.0 and 3.1 (their DAVIS240 layouts); `None` for formats
-    /// that state no size (ECD text, CSV). Events outside it are skipped by the reader.
-    fn sensor_size(&self) -> Option<(u16, u16)> {
-        None
-    }
+    /// The pixel-array size `(width, height)` the file states (module `camera`): the event
+    /// stream's `sizeX`/`sizeY` (AEDAT 4.0), the camera of the `# AEChip:` line (AEDAT 2.0) or
+    /// of the `#Source` line (AEDAT 3.1), the `# sensor WIDTHxHEIGHT` first line (ECD text,
+    /// CSV); `None` when the file states none. Events outside the stated size, or outside the
+    /// size assumed when none is stated (240 × 180 unless opened with
+    /// [`open_reader_assuming`](super::open_reader_assuming)), are skipped and counted.
+    fn sensor_size(&self) -> Option<(u16, u16)>;
 
     /// Reads every remaining event into `out`.
     fn read_to_end(&mut self, out: &mut EventBuffer) -> Result<u64, FormatError> {
@@ -179,7 +179,73 @@ impl<R: EventReader + ?Sized> EventReader for Box<R> {
     }
 }
 
-/// A streaming event-file writer (one per format of davis240.md §2).
+/// The sensor size a reader bounds its events by: the one its file states, else the one
+/// assumed by the caller.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct ReaderSensor {
+    /// What the file states.
+    pub stated: Option<(u16, u16)>,
+    /// What the caller assumes when the file states nothing (default 240 × 180).
+    pub assumed: (u16, u16),
+}
+
+impl ReaderSensor {
+    /// A file that states `stated` (or nothing), with the default assumption.
+    pub(crate) fn new(stated: Option<(u16, u16)>) -> Self {
+        Self {
+            stated,
+            assumed: DAVIS240_SIZE,
+        }
+    }
+
+    /// The size events must lie inside.
+    #[inline]
+    pub(crate) fn bounds(&self) -> (u16, u16) {
+        self.stated.unwrap_or(self.assumed)
+    }
+}
+
+/// The typed refusal of a sensor size `format` cannot state, for the output `path`.
+pub(crate) fn unsupported_size(
+    path: &Path,
+    format: &'static str,
+    size: (u16, u16),
+    supported: &'static str,
+) -> FormatError {
+    FormatError::UnsupportedSensorSize {
+        path: path.to_path_buf(),
+        format,
+        width: size.0,
+        height: size.1,
+        supported,
+    }
+}
+
+/// Refuses event `index` at `(x, y)` when it lies outside the `size` a writer states: writers
+/// never write an event their own file says cannot exist.
+#[inline]
+pub(crate) fn check_inside(
+    path: &Path,
+    index: u64,
+    (x, y): (u16, u16),
+    size: (u16, u16),
+) -> Result<(), FormatError> {
+    if x < size.0 && y < size.1 {
+        return Ok(());
+    }
+    Err(FormatError::Unrepresentable {
+        path: path.to_path_buf(),
+        index,
+        reason: format!(
+            "pixel ({x}, {y}) is outside the {} × {} sensor the file states",
+            size.0, size.1
+        ),
+    })
+}
+
+/// A streaming event-file writer (one per format of davis240.md §2). Every writer states the
+/// sensor size it is created with in its format's own way (module `camera`) and refuses events
+/// outside it ([`FormatError::Unrepresentable`]).
 pub trait EventWriter {
     /// Writes the events of `events` (after those written before).
     fn write(&mut self, events: &EventBuffer) -> Result<(), FormatError>;

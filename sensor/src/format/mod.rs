@@ -3,7 +3,7 @@
 //!
 //! | format | module | reader / writer | magic / extension |
 //! |---|---|---|---|
-//! | AEDAT 2.0 (jAER, DAVIS240 layout) | [`aedat2`] | [`Aedat2Reader`] / [`Aedat2Writer`] | `#!AER-DAT2.0` / `.aedat`, `.aedat2` |
+//! | AEDAT 2.0 (jAER, DAVIS layout: DAVIS240, DAVIS346) | [`aedat2`] | [`Aedat2Reader`] / [`Aedat2Writer`] | `#!AER-DAT2.0` / `.aedat`, `.aedat2` |
 //! | AEDAT 3.1 (polarity packets) | [`aedat3`] | [`Aedat3Reader`] / [`Aedat3Writer`] | `#!AER-DAT3.1` / `.aedat3` |
 //! | AEDAT 4.0 (LZ4 / Zstd / none) | [`aedat4`] | [`Aedat4Reader`] / [`Aedat4Writer`] | `#!AER-DAT4.0` / `.aedat4` |
 //! | Event Camera Dataset text (`t x y p`, t in s) | [`text`] | [`EcdTextReader`] / [`EcdTextWriter`] | a `t x y p` line / `.txt` |
@@ -14,6 +14,14 @@
 //! no allocation is sized by a field read from the file (payloads are read incrementally, capped,
 //! and checked against the bytes actually present). [`open_reader`] detects the format from the
 //! first bytes; [`create_writer`] picks it from the extension.
+//!
+//! The sensor size travels with the events: every format states it in its own way ([`camera`]:
+//! AEDAT 4.0 `sizeX`/`sizeY`, the camera named by AEDAT 2.0 and 3.1 headers, a first line
+//! `# sensor 346x260` in ECD text and CSV); readers report it ([`EventReader::sensor_size`]) and
+//! writers are created with it, refusing a size their format cannot state
+//! ([`FormatError::UnsupportedSensorSize`]) and events outside it
+//! ([`FormatError::Unrepresentable`]). A file that states no size is read as 240 × 180, or as
+//! the size given to [`open_reader_assuming`].
 //!
 //! What readers skip, they count in [`ReadStats`]: events with coordinates outside the sensor,
 //! non-polarity records (APS, IMU, special events, frames and other AEDAT 4 streams, empty
@@ -36,6 +44,7 @@
 pub mod aedat2;
 pub mod aedat3;
 pub mod aedat4;
+pub mod camera;
 mod contract;
 mod escape;
 mod flatbuffer;
@@ -46,10 +55,12 @@ pub mod text;
 pub use aedat2::{Aedat2Reader, Aedat2Writer};
 pub use aedat3::{Aedat3Reader, Aedat3Writer};
 pub use aedat4::{Aedat4Reader, Aedat4Writer, Compression};
+pub use camera::{CAMERAS, Camera, parse_sensor_size};
 pub use contract::{Backwards, DAVIS240_SIZE, EventReader, EventWriter, ReadStats};
 pub use text::{CsvReader, CsvWriter, EcdTextReader, EcdTextWriter};
 
 use crate::error::FormatError;
+use camera::parse_sensor_line;
 use contract::{READ_BLOCK, io_error};
 use escape::escape;
 use neurotac_core::EventBuffer;
@@ -61,7 +72,7 @@ use std::path::{Path, PathBuf};
 /// The event-file formats (davis240.md §2).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Format {
-    /// AEDAT 2.0, jAER DAVIS240 layout (davis240.md §2.1).
+    /// AEDAT 2.0, jAER DAVIS layout (davis240.md §2.1; DAVIS240 and DAVIS346).
     Aedat2,
     /// AEDAT 3.1 polarity packets (davis240.md §2.2).
     Aedat3,
@@ -106,9 +117,18 @@ impl Format {
     }
 
     /// Detects the format from the first bytes of an input (davis240.md §2: the AEDAT version
-    /// line; for text, a `t,x,y,on` header or a first line of numbers). On failure returns the
-    /// byte offset that ruled every format out and what was found there.
+    /// line; for text, a `t,x,y,on` header or a first line of numbers, after a `# sensor` line
+    /// if there is one — that line alone is an ECD text file of no events). On failure returns
+    /// the byte offset that ruled every format out and what was found there.
     pub fn detect(head: &[u8]) -> Result<Self, (u64, String)> {
+        if let Some(skip) = sensor_line_end(head) {
+            let rest = &head[skip..];
+            return match rest.first() {
+                None => Ok(Self::EcdText),
+                Some(b'#') => Err((skip as u64, escape(&rest[..rest.len().min(16)]))),
+                Some(_) => Self::detect(rest).map_err(|(at, found)| (at + skip as u64, found)),
+            };
+        }
         if head.starts_with(b"#!AER-DAT") {
             let line_end = head.iter().position(|&b| b == b'\r' || b == b'\n');
             let version = &head[9..line_end.unwrap_or(head.len()).min(9 + 8)];
@@ -155,8 +175,31 @@ impl Format {
     }
 }
 
-/// Opens an event file, detecting its format from its first bytes.
+/// The end (after its line feed) of a `# sensor WIDTHxHEIGHT` first line of `head`, if it starts
+/// with one.
+fn sensor_line_end(head: &[u8]) -> Option<usize> {
+    if head.first() != Some(&b'#') {
+        return None;
+    }
+    let end = head.iter().position(|&b| b == b'\n');
+    let line = &head[..end.unwrap_or(head.len())];
+    parse_sensor_line(line.strip_suffix(b"\r").unwrap_or(line))?;
+    Some(end.map_or(head.len(), |e| e + 1))
+}
+
+/// Opens an event file, detecting its format from its first bytes; a file that states no sensor
+/// size is read as 240 × 180 ([`open_reader_assuming`]).
 pub fn open_reader(path: &Path) -> Result<Box<dyn EventReader>, FormatError> {
+    open_reader_assuming(path, DAVIS240_SIZE)
+}
+
+/// Opens an event file, detecting its format from its first bytes; a file that states no sensor
+/// size ([`EventReader::sensor_size`] is `None`) is read as a `sensor` (width, height) one: its
+/// events outside it are skipped, and AEDAT 2.0 addresses are mirrored by it.
+pub fn open_reader_assuming(
+    path: &Path,
+    sensor: (u16, u16),
+) -> Result<Box<dyn EventReader>, FormatError> {
     let file = File::open(path).map_err(io_error(path))?;
     let len = file.metadata().ok().map(|m| m.len());
     let mut buffered = BufReader::with_capacity(READ_BLOCK, file);
@@ -167,7 +210,7 @@ pub fn open_reader(path: &Path) -> Result<Box<dyn EventReader>, FormatError> {
         Ok(Format::EcdText) if len == Some(0) => Format::EcdText,
         _ => detect_or_error(head, path, len == Some(head.len() as u64))?,
     };
-    open_detected(format, buffered, path.to_path_buf(), len)
+    open_detected(format, buffered, path.to_path_buf(), len, sensor)
 }
 
 /// The version lines of the AEDAT versions read.
@@ -208,60 +251,75 @@ fn open_detected<'a, R: Read + 'a>(
     reader: R,
     path: PathBuf,
     len: Option<u64>,
+    sensor: (u16, u16),
 ) -> Result<Box<dyn EventReader + 'a>, FormatError> {
     Ok(match format {
-        Format::Aedat2 => Box::new(Aedat2Reader::with_name(reader, path)?),
-        Format::Aedat3 => Box::new(Aedat3Reader::with_name(reader, path)?),
-        Format::Aedat4(_) => Box::new(Aedat4Reader::with_name(reader, path, len)?),
-        Format::EcdText => Box::new(EcdTextReader::with_name(reader, path)),
-        Format::Csv => Box::new(CsvReader::with_name(reader, path)),
+        Format::Aedat2 => Box::new(Aedat2Reader::with_name(reader, path)?.assuming(sensor)),
+        Format::Aedat3 => Box::new(Aedat3Reader::with_name(reader, path)?.assuming(sensor)),
+        Format::Aedat4(_) => Box::new(Aedat4Reader::with_name(reader, path, len)?.assuming(sensor)),
+        Format::EcdText => Box::new(EcdTextReader::with_name(reader, path)?.assuming(sensor)),
+        Format::Csv => Box::new(CsvReader::with_name(reader, path)?.assuming(sensor)),
     })
 }
 
 /// Opens an in-memory event file (any format, detected from the bytes), labelled `<memory>` in
-/// errors.
+/// errors; one that states no sensor size is read as 240 × 180.
 pub fn reader_from_bytes(bytes: &[u8]) -> Result<Box<dyn EventReader + '_>, FormatError> {
     let path = PathBuf::from("<memory>");
     let format = detect_or_error(bytes, &path, true)?;
-    open_detected(format, bytes, path, Some(bytes.len() as u64))
+    open_detected(format, bytes, path, Some(bytes.len() as u64), DAVIS240_SIZE)
 }
 
-/// A writer of `format` to any seekable output (a file, a `Cursor<Vec<u8>>`), named `name` in
-/// errors. Only AEDAT 4.0 seeks (to patch the data-table position when finishing).
+/// A writer of `format` for a `sensor` (width, height) recording to any seekable output (a
+/// file, a `Cursor<Vec<u8>>`), named `name` in errors. Only AEDAT 4.0 seeks (to patch the
+/// data-table position when finishing). A size the format cannot state is refused
+/// ([`FormatError::UnsupportedSensorSize`]; module [`camera`]).
 pub fn writer_to<'a, W: Write + Seek + 'a>(
     out: W,
     format: Format,
+    sensor: (u16, u16),
     name: PathBuf,
 ) -> Result<Box<dyn EventWriter + 'a>, FormatError> {
     Ok(match format {
-        Format::Aedat2 => Box::new(Aedat2Writer::with_name(out, name)?),
-        Format::Aedat3 => Box::new(Aedat3Writer::with_name(out, name)?),
-        Format::Aedat4(c) => Box::new(Aedat4Writer::with_name(out, name, c)?),
-        Format::EcdText => Box::new(EcdTextWriter::with_name(out, name)?),
-        Format::Csv => Box::new(CsvWriter::with_name(out, name)?),
+        Format::Aedat2 => Box::new(Aedat2Writer::with_name(out, name, sensor)?),
+        Format::Aedat3 => Box::new(Aedat3Writer::with_name(out, name, sensor)?),
+        Format::Aedat4(c) => Box::new(Aedat4Writer::with_name(out, name, c, sensor)?),
+        Format::EcdText => Box::new(EcdTextWriter::with_name(out, name, sensor)?),
+        Format::Csv => Box::new(CsvWriter::with_name(out, name, sensor)?),
     })
 }
 
-/// Encodes `events` in `format` in memory (the bytes a file of that format would hold).
-pub fn to_bytes(events: &EventBuffer, format: Format) -> Result<Vec<u8>, FormatError> {
+/// Encodes `events` of a `sensor` (width, height) recording in `format` in memory (the bytes a
+/// file of that format would hold).
+pub fn to_bytes(
+    events: &EventBuffer,
+    format: Format,
+    sensor: (u16, u16),
+) -> Result<Vec<u8>, FormatError> {
     let mut cursor = std::io::Cursor::new(Vec::new());
-    let mut writer = writer_to(&mut cursor, format, PathBuf::from("<memory>"))?;
+    let mut writer = writer_to(&mut cursor, format, sensor, PathBuf::from("<memory>"))?;
     writer.write(events)?;
     writer.finish()?;
     drop(writer);
     Ok(cursor.into_inner())
 }
 
-/// Creates an event file in `format`, atomically: the events go to a hidden temporary file
-/// beside `path` ([`AtomicFile`]), and only a successful [`EventWriter::finish`] renames it onto
-/// `path`. A writer dropped before that (a reader or writer error, an early return) removes the
-/// temporary file, so `path` keeps its old content or stays absent.
-pub fn create_writer_as(path: &Path, format: Format) -> Result<Box<dyn EventWriter>, FormatError> {
+/// Creates an event file in `format` for a `sensor` (width, height) recording, atomically: the
+/// events go to a hidden temporary file beside `path` ([`AtomicFile`]), and only a successful
+/// [`EventWriter::finish`] renames it onto `path`. A writer dropped before that (a reader or
+/// writer error, an early return) removes the temporary file, so `path` keeps its old content or
+/// stays absent (so does a size the format cannot state, refused here).
+pub fn create_writer_as(
+    path: &Path,
+    format: Format,
+    sensor: (u16, u16),
+) -> Result<Box<dyn EventWriter>, FormatError> {
     let file = AtomicFile::create(path).map_err(io_error(path))?;
     let handle = file.try_clone_file().map_err(io_error(path))?;
     let inner = writer_to(
         BufWriter::with_capacity(READ_BLOCK, handle),
         format,
+        sensor,
         path.to_path_buf(),
     )?;
     Ok(Box::new(AtomicEventWriter {
@@ -295,9 +353,10 @@ impl EventWriter for AtomicEventWriter {
     }
 }
 
-/// Creates an event file whose format is given by its extension ([`Format::from_extension`]).
-pub fn create_writer(path: &Path) -> Result<Box<dyn EventWriter>, FormatError> {
-    create_writer_as(path, Format::from_extension(path)?)
+/// Creates an event file for a `sensor` (width, height) recording whose format is given by its
+/// extension ([`Format::from_extension`]).
+pub fn create_writer(path: &Path, sensor: (u16, u16)) -> Result<Box<dyn EventWriter>, FormatError> {
+    create_writer_as(path, Format::from_extension(path)?, sensor)
 }
 
 /// Reads a whole event file into memory (for small files and tests; stream large ones with
@@ -309,10 +368,14 @@ pub fn read_file(path: &Path) -> Result<(EventBuffer, ReadStats), FormatError> {
     Ok((out, reader.stats()))
 }
 
-/// Writes `events` to a file whose format is given by its extension, atomically (see
-/// [`create_writer_as`]).
-pub fn write_file(path: &Path, events: &EventBuffer) -> Result<(), FormatError> {
-    let mut writer = create_writer(path)?;
+/// Writes `events` of a `sensor` (width, height) recording to a file whose format is given by
+/// its extension, atomically (see [`create_writer_as`]).
+pub fn write_file(
+    path: &Path,
+    events: &EventBuffer,
+    sensor: (u16, u16),
+) -> Result<(), FormatError> {
+    let mut writer = create_writer(path, sensor)?;
     writer.write(events)?;
     writer.finish()
 }
@@ -327,7 +390,7 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         for ext in ["aedat", "aedat3", "aedat4", "txt", "csv"] {
             let path = dir.path().join(format!("empty.{ext}"));
-            write_file(&path, &EventBuffer::new()).unwrap();
+            write_file(&path, &EventBuffer::new(), DAVIS240_SIZE).unwrap();
             let (events, _) = read_file(&path).unwrap_or_else(|e| panic!("{ext}: {e}"));
             assert!(events.is_empty(), "{ext}");
         }
@@ -375,7 +438,7 @@ mod tests {
             polarity: true,
         });
         for format in Format::ALL {
-            let bytes = to_bytes(&events, format).unwrap();
+            let bytes = to_bytes(&events, format, DAVIS240_SIZE).unwrap();
             let reader = reader_from_bytes(&bytes).unwrap();
             let expected = match format {
                 Format::EcdText | Format::Csv => None,
@@ -384,7 +447,7 @@ mod tests {
             assert_eq!(reader.sensor_size(), expected, "{}", format.name());
         }
         // An AEDAT 4.0 header naming another sensor (same byte length: 240 → 346, 180 → 260).
-        let bytes = to_bytes(&events, Format::Aedat4(Compression::None)).unwrap();
+        let bytes = to_bytes(&events, Format::Aedat4(Compression::None), DAVIS240_SIZE).unwrap();
         let text = String::from_utf8_lossy(&bytes).into_owned();
         let from = "<attr key=\"sizeX\" type=\"int\">240</attr>";
         assert!(text.contains(from));
@@ -415,26 +478,26 @@ mod tests {
         // A time AEDAT 2.0 cannot hold: the write fails and no file appears.
         let aedat = dir.path().join("o.aedat");
         assert!(matches!(
-            write_file(&aedat, &events),
+            write_file(&aedat, &events, DAVIS240_SIZE),
             Err(FormatError::Unrepresentable { .. })
         ));
         assert_eq!(folder_names(dir.path()), Vec::<String>::new());
         // An existing file keeps its content.
         std::fs::write(&aedat, b"old").unwrap();
-        assert!(write_file(&aedat, &events).is_err());
+        assert!(write_file(&aedat, &events, DAVIS240_SIZE).is_err());
         assert_eq!(std::fs::read(&aedat).unwrap(), b"old");
         assert_eq!(folder_names(dir.path()), ["o.aedat"]);
         // Every format: nothing visible until `finish`, nothing left when dropped before it.
         for format in Format::ALL {
             let path = dir.path().join("x.out");
-            let mut writer = create_writer_as(&path, format).unwrap();
+            let mut writer = create_writer_as(&path, format, DAVIS240_SIZE).unwrap();
             let _ = writer.write(&events);
             assert!(!path.exists(), "{format:?}");
             drop(writer);
             assert_eq!(folder_names(dir.path()), ["o.aedat"], "{format:?}");
         }
         let csv = dir.path().join("o.csv");
-        write_file(&csv, &events).unwrap();
+        write_file(&csv, &events, DAVIS240_SIZE).unwrap();
         assert_eq!(read_file(&csv).unwrap().0, events);
         assert_eq!(folder_names(dir.path()), ["o.aedat", "o.csv"]);
     }

@@ -7,10 +7,20 @@
 //! | CSV | header `t,x,y,on`, then `t,x,y,on` | integer µs |
 //!
 //! Coordinates are top-left; polarity 1 = ON, 0 = OFF (−1 is also read as OFF). Lines end with
-//! LF or CRLF; empty lines are skipped. Events outside 240 × 180 are skipped and counted.
+//! LF or CRLF; empty lines are skipped.
+//!
+//! Sensor size: neither format has a header for it, so a file may state it on its first line,
+//! `# sensor 346x260` (width × height, each 1 … 65535; before the CSV header). Tools that skip
+//! `#` comment lines (numpy's `loadtxt`, pandas with `comment="#"`) read past it; it is the only
+//! `#` line these readers accept. Events outside the stated size — or, in a file without the
+//! line, outside the assumed one (240 × 180 unless told otherwise) — are skipped and counted.
+//! The writers write the line for every size but 240 × 180, so that a DAVIS240 file stays
+//! exactly the ECD / faery layout (read back, it gives the same 240 × 180 as the line would).
 
+use super::camera::{parse_sensor_line, sensor_line};
 use super::contract::{
-    DAVIS240_SIZE, EventReader, EventWriter, READ_BLOCK, ReadStats, ReaderEnd, io_error,
+    DAVIS240_SIZE, EventReader, EventWriter, READ_BLOCK, ReadStats, ReaderEnd, ReaderSensor,
+    check_inside, io_error, unsupported_size,
 };
 use super::escape::escape_text;
 use super::input::Input;
@@ -141,6 +151,9 @@ fn parse_line(dialect: Dialect, line: &[u8]) -> Result<(i64, i64, i64, bool), Fi
 struct TextReader<R> {
     input: Input<R>,
     dialect: Dialect,
+    sensor: ReaderSensor,
+    /// The number of the line that may hold the CSV header (1, or 2 after a sensor line).
+    header_line: u64,
     block: Vec<u8>,
     start: usize,
     filled: usize,
@@ -154,10 +167,13 @@ struct TextReader<R> {
 }
 
 impl<R: Read> TextReader<R> {
-    fn new(reader: R, path: PathBuf, dialect: Dialect) -> Self {
-        Self {
+    /// A reader of `reader`; reads the `# sensor` line if the input starts with `#`.
+    fn new(reader: R, path: PathBuf, dialect: Dialect) -> Result<Self, FormatError> {
+        let mut r = Self {
             input: Input::new(reader, path),
             dialect,
+            sensor: ReaderSensor::new(None),
+            header_line: 1,
             block: vec![0; READ_BLOCK],
             start: 0,
             filled: 0,
@@ -167,7 +183,33 @@ impl<R: Read> TextReader<R> {
             stats: ReadStats::default(),
             eof: false,
             end: ReaderEnd::default(),
+        };
+        let mut byte = [0u8; 1];
+        if r.input.read_full(&mut byte)? == 0 {
+            return Ok(r);
         }
+        if byte[0] != b'#' {
+            r.block[0] = byte[0];
+            r.filled = 1;
+            return Ok(r);
+        }
+        // Byte by byte: the line is short, and what follows is the line engine's.
+        let mut line = vec![b'#'];
+        while line.len() <= MAX_LINE_BYTES && r.input.read_full(&mut byte)? == 1 {
+            if byte[0] == b'\n' {
+                break;
+            }
+            line.push(byte[0]);
+        }
+        r.line = 1;
+        let line = line.strip_suffix(b"\r").unwrap_or(&line);
+        let expected = "`# sensor WIDTHxHEIGHT` (the one `#` line read, first in the file)";
+        let size = parse_sensor_line(line)
+            .ok_or_else(|| r.text_error(0, line, ("sensor line", expected, 0, line.len())))?;
+        r.sensor.stated = Some(size);
+        r.header_line = 2;
+        r.block_offset = r.input.offset();
+        Ok(r)
     }
 
     fn text_error(&self, offset: u64, line: &[u8], e: FieldError) -> FormatError {
@@ -189,7 +231,10 @@ impl<R: Read> TextReader<R> {
         if line.is_empty() {
             return Ok(());
         }
-        if self.line == 1 && self.dialect == Dialect::Csv && line[0].is_ascii_alphabetic() {
+        if self.line == self.header_line
+            && self.dialect == Dialect::Csv
+            && line[0].is_ascii_alphabetic()
+        {
             if line.eq_ignore_ascii_case(b"t,x,y,on") || line.eq_ignore_ascii_case(b"t,x,y,p") {
                 return Ok(());
             }
@@ -197,7 +242,8 @@ impl<R: Read> TextReader<R> {
         }
         let (t, x, y, on) =
             parse_line(self.dialect, line).map_err(|e| self.text_error(offset, line, e))?;
-        if x >= i64::from(DAVIS240_SIZE.0) || y >= i64::from(DAVIS240_SIZE.1) {
+        let (size_x, size_y) = self.sensor.bounds();
+        if x >= i64::from(size_x) || y >= i64::from(size_y) {
             self.stats.out_of_range += 1;
             return Ok(());
         }
@@ -264,14 +310,23 @@ macro_rules! text_reader {
         pub struct $name<R>(TextReader<R>);
 
         impl<R: Read> $name<R> {
-            /// A reader of `reader`, labelled `<input>` in errors.
-            pub fn new(reader: R) -> Self {
+            /// A reader of `reader`, labelled `<input>` in errors; reads its `# sensor` line,
+            /// if it has one.
+            pub fn new(reader: R) -> Result<Self, FormatError> {
                 Self::with_name(reader, PathBuf::from("<input>"))
             }
 
-            /// A reader of `reader`, named `path` in errors.
-            pub fn with_name(reader: R, path: PathBuf) -> Self {
-                Self(TextReader::new(reader, path, $dialect))
+            /// A reader of `reader`, named `path` in errors; reads its `# sensor` line, if it
+            /// has one (another `#` first line is an error).
+            pub fn with_name(reader: R, path: PathBuf) -> Result<Self, FormatError> {
+                Ok(Self(TextReader::new(reader, path, $dialect)?))
+            }
+
+            /// Reads a file without a `# sensor` line as a `size` sensor (instead of
+            /// 240 × 180).
+            pub fn assuming(mut self, size: (u16, u16)) -> Self {
+                self.0.sensor.assumed = size;
+                self
             }
         }
 
@@ -282,6 +337,10 @@ macro_rules! text_reader {
 
             fn stats(&self) -> ReadStats {
                 self.0.stats
+            }
+
+            fn sensor_size(&self) -> Option<(u16, u16)> {
+                self.0.sensor.stated
             }
         }
     };
@@ -303,25 +362,48 @@ struct TextWriter<W: Write> {
     out: W,
     path: PathBuf,
     dialect: Dialect,
+    size: (u16, u16),
+    written: u64,
     line: Vec<u8>,
 }
 
 impl<W: Write> TextWriter<W> {
-    fn new(mut out: W, path: PathBuf, dialect: Dialect) -> Result<Self, FormatError> {
-        if dialect == Dialect::Csv {
-            out.write_all(b"t,x,y,on\n").map_err(io_error(&path))?;
+    fn new(
+        mut out: W,
+        path: PathBuf,
+        dialect: Dialect,
+        sensor: (u16, u16),
+    ) -> Result<Self, FormatError> {
+        if sensor.0 == 0 || sensor.1 == 0 {
+            let format = match dialect {
+                Dialect::Ecd => "ECD text",
+                Dialect::Csv => "CSV",
+            };
+            let supported = "1 … 65535 pixels each way";
+            return Err(unsupported_size(&path, format, sensor, supported));
         }
+        let mut head = match sensor == DAVIS240_SIZE {
+            true => String::new(),
+            false => sensor_line(sensor),
+        };
+        if dialect == Dialect::Csv {
+            head.push_str("t,x,y,on\n");
+        }
+        out.write_all(head.as_bytes()).map_err(io_error(&path))?;
         Ok(Self {
             out,
             path,
             dialect,
+            size: sensor,
+            written: 0,
             line: Vec::with_capacity(READ_BLOCK),
         })
     }
 
     fn write(&mut self, events: &EventBuffer) -> Result<(), FormatError> {
         self.line.clear();
-        for e in events.iter() {
+        for (i, e) in events.iter().enumerate() {
+            check_inside(&self.path, self.written + i as u64, (e.x, e.y), self.size)?;
             let t = e.t.0;
             let on = u8::from(e.polarity);
             // Writing into a Vec cannot fail.
@@ -344,6 +426,7 @@ impl<W: Write> TextWriter<W> {
                 self.flush_line()?;
             }
         }
+        self.written += events.len() as u64;
         self.flush_line()
     }
 
@@ -366,14 +449,22 @@ macro_rules! text_writer {
         pub struct $name<W: Write>(TextWriter<W>);
 
         impl<W: Write> $name<W> {
-            /// A writer to `out`, labelled `<output>` in errors.
-            pub fn new(out: W) -> Result<Self, FormatError> {
-                Self::with_name(out, PathBuf::from("<output>"))
+            /// A writer of a `sensor` (width, height) recording to `out`, labelled `<output>`
+            /// in errors.
+            pub fn new(out: W, sensor: (u16, u16)) -> Result<Self, FormatError> {
+                Self::with_name(out, PathBuf::from("<output>"), sensor)
             }
 
-            /// A writer to `out`, named `path` in errors.
-            pub fn with_name(out: W, path: PathBuf) -> Result<Self, FormatError> {
-                Ok(Self(TextWriter::new(out, path, $dialect)?))
+            /// A writer of a `sensor` (width, height) recording to `out`, named `path` in
+            /// errors: a first line `# sensor WIDTHxHEIGHT` states any size but 240 × 180
+            /// (module docs); a width or height of 0 is refused
+            /// ([`FormatError::UnsupportedSensorSize`]).
+            pub fn with_name(
+                out: W,
+                path: PathBuf,
+                sensor: (u16, u16),
+            ) -> Result<Self, FormatError> {
+                Ok(Self(TextWriter::new(out, path, $dialect, sensor)?))
             }
         }
 
@@ -460,7 +551,8 @@ mod tests {
     fn crlf_blank_lines_and_a_last_line_without_end_are_read() {
         let mut out = EventBuffer::new();
         let mut r =
-            EcdTextReader::new(&b"0.000001 1 2 1\r\n\r\n0.000002  3 4 0\r\n0.000003 5 6 1"[..]);
+            EcdTextReader::new(&b"0.000001 1 2 1\r\n\r\n0.000002  3 4 0\r\n0.000003 5 6 1"[..])
+                .unwrap();
         r.read_to_end(&mut out).unwrap();
         assert_eq!(
             (out.t.clone(), out.x.clone()),
@@ -468,6 +560,7 @@ mod tests {
         );
         let mut out = EventBuffer::new();
         CsvReader::new(&b"7,1,2,1\n8,3,4,0"[..])
+            .unwrap()
             .read_to_end(&mut out)
             .unwrap();
         assert_eq!(out.t, vec![7, 8], "a CSV without header");

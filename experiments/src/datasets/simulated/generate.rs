@@ -107,7 +107,13 @@ pub fn generate(
                     }
                     PixelEventFiles::Format(ext) => {
                         let path = folder.join(format!("{:03}.{ext}", job.trial));
-                        Ok(neurotac_sensor::format::write_file(&path, &trial.events)?)
+                        // The simulator images the pins on a DAVIS240.
+                        let sensor = neurotac_sensor::format::DAVIS240_SIZE;
+                        Ok(neurotac_sensor::format::write_file(
+                            &path,
+                            &trial.events,
+                            sensor,
+                        )?)
                     }
                 }
             };

@@ -7,15 +7,17 @@
 //! (or the raw bytes) holding a size-prefixed flatbuffer. Event packets (identifier `EVTS`) hold
 //! a vector of 16-byte events `i64 t, i16 x, i16 y, u8 on, 3 bytes padding`.
 //!
-//! The reader takes the first stream whose `typeIdentifier` is `EVTS` (with its `sizeX`/`sizeY`)
+//! The reader takes the first stream whose `typeIdentifier` is `EVTS` (with its `sizeX`/`sizeY`,
+//! the sensor size the file states; without them it assumes 240 × 180 unless told otherwise)
 //! from the description; packets of other streams (frames, IMU, triggers, a second camera) and
 //! zero-length packets are skipped without decompressing them and counted in
 //! [`ReadStats::skipped`](super::ReadStats::skipped). It ignores the file data table and stops
 //! where it starts.
 //!
 //! The writer produces what dv-processing's `MonoCameraWriter` does for an event-only stream: one
-//! stream 0 `EVTS`, packets of [`PACKET_EVENTS`] events, and the `FTAB` data table at the end,
-//! its position patched into the IOHeader.
+//! stream 0 `EVTS` with the sensor's `sizeX`/`sizeY` (each 1 … 32767: coordinates are 16-bit
+//! signed), packets of [`PACKET_EVENTS`] events, and the `FTAB` data table at the end, its
+//! position patched into the IOHeader.
 //!
 //! | concern | where |
 //! |---|---|
@@ -29,8 +31,6 @@ mod writer;
 
 pub use reader::Aedat4Reader;
 pub use writer::Aedat4Writer;
-
-use super::contract::DAVIS240_SIZE;
 
 /// The magic line.
 const MAGIC: &[u8; 14] = b"#!AER-DAT4.0\r\n";
@@ -87,8 +87,8 @@ impl Compression {
 pub struct EventStream {
     /// The packets' `streamId`.
     pub id: i32,
-    /// Pixel-array size from the stream's `info` node (240 × 180 when absent).
-    pub size: (u16, u16),
+    /// Pixel-array size from the stream's `info` node (`sizeX`, `sizeY`); `None` when absent.
+    pub size: Option<(u16, u16)>,
 }
 
 /// Text of an `<attr key="KEY" …>VALUE</attr>` inside `xml`.
@@ -110,17 +110,14 @@ fn event_stream(description: &str) -> Option<EventStream> {
         if let Ok(id) = name.parse::<i32>() {
             current = Some(id);
             if found.is_none() && attr(node, "typeIdentifier") == Some("EVTS") {
-                found = Some(EventStream {
-                    id,
-                    size: DAVIS240_SIZE,
-                });
+                found = Some(EventStream { id, size: None });
             }
         } else if name == "info" {
             if let (Some(f), Some(id)) = (found.as_mut(), current) {
                 if f.id == id {
                     let size = |k| attr(node, k).and_then(|v| v.parse::<u16>().ok());
                     if let (Some(x), Some(y)) = (size("sizeX"), size("sizeY")) {
-                        f.size = (x, y);
+                        f.size = Some((x, y));
                     }
                 }
             }
@@ -140,7 +137,7 @@ mod tests {
             event_stream(xml),
             Some(EventStream {
                 id: 3,
-                size: (346, 260)
+                size: Some((346, 260))
             })
         );
         assert_eq!(event_stream("<dv></dv>"), None);

@@ -6,7 +6,7 @@ use super::{
     MAX_PACKET_BYTES, event_stream,
 };
 use crate::error::FormatError;
-use crate::format::contract::{DAVIS240_SIZE, EventReader, ReadStats, ReaderEnd};
+use crate::format::contract::{EventReader, ReadStats, ReaderEnd, ReaderSensor};
 use crate::format::escape::escape;
 use crate::format::flatbuffer::{Buffer, u32_at};
 use crate::format::input::Input;
@@ -22,6 +22,7 @@ pub struct Aedat4Reader<R> {
     file_len: Option<u64>,
     description: String,
     stream: Option<EventStream>,
+    sensor: ReaderSensor,
     payload: Vec<u8>,
     plain: Vec<u8>,
     zstd: Option<zstd::stream::raw::Decoder<'static>>,
@@ -94,6 +95,7 @@ impl<R: Read> Aedat4Reader<R> {
             file_len,
             description,
             stream,
+            sensor: ReaderSensor::new(stream.and_then(|s| s.size)),
             payload: Vec::new(),
             plain: Vec::new(),
             zstd: None,
@@ -101,6 +103,13 @@ impl<R: Read> Aedat4Reader<R> {
             stats: ReadStats::default(),
             end: ReaderEnd::default(),
         })
+    }
+
+    /// Reads a file whose event stream states no `sizeX`/`sizeY` as a `size` sensor (instead
+    /// of 240 × 180).
+    pub fn assuming(mut self, size: (u16, u16)) -> Self {
+        self.sensor.assumed = size;
+        self
     }
 
     /// The packet compression.
@@ -252,7 +261,7 @@ impl<R: Read> Aedat4Reader<R> {
                     "a valid flatbuffer",
                 )
             })?;
-        let (size_x, size_y) = self.stream.map_or(DAVIS240_SIZE, |s| s.size);
+        let (size_x, size_y) = self.sensor.bounds();
         let (size_x, size_y) = (
             i16::try_from(size_x).unwrap_or(i16::MAX),
             i16::try_from(size_y).unwrap_or(i16::MAX),
@@ -302,6 +311,6 @@ impl<R: Read> EventReader for Aedat4Reader<R> {
     }
 
     fn sensor_size(&self) -> Option<(u16, u16)> {
-        Some(self.stream.map_or(DAVIS240_SIZE, |s| s.size))
+        self.sensor.stated
     }
 }

@@ -4,7 +4,8 @@
 use super::framing::lz4_frame_encode;
 use super::{Compression, EVENT_BYTES, MAGIC, PACKET_EVENTS};
 use crate::error::FormatError;
-use crate::format::contract::{DAVIS240_SIZE, EventWriter, io_error};
+use crate::format::camera::camera_of_size;
+use crate::format::contract::{EventWriter, check_inside, io_error, unsupported_size};
 use neurotac_core::EventBuffer;
 use std::io::{Seek, SeekFrom, Write};
 use std::path::PathBuf;
@@ -18,11 +19,13 @@ struct TableEntry {
     t_end: i64,
 }
 
-/// Writer of AEDAT 4.0 files with one event stream (id 0, 240 × 180; davis240.md §2.3).
+/// Writer of AEDAT 4.0 files with one event stream (id 0, stating its sensor size; davis240.md
+/// §2.3).
 pub struct Aedat4Writer<W: Write + Seek> {
     out: W,
     path: PathBuf,
     compression: Compression,
+    size: (u16, u16),
     /// Offset of the next byte in the file.
     offset: u64,
     /// Events of the packet being filled (16 bytes each).
@@ -64,25 +67,43 @@ fn io_header(compression: Compression, description: &str) -> Vec<u8> {
     b
 }
 
+/// Largest sensor width or height an AEDAT 4.0 file can state: its coordinates are `i16`.
+const MAX_SIZE: u16 = i16::MAX as u16;
+
 impl<W: Write + Seek> Aedat4Writer<W> {
-    /// Writes the magic and IOHeader to `out`, labelled `<output>` in errors.
-    pub fn new(out: W, compression: Compression) -> Result<Self, FormatError> {
-        Self::with_name(out, PathBuf::from("<output>"), compression)
+    /// Writes the magic and IOHeader of a `sensor` (width, height) recording to `out`, labelled
+    /// `<output>` in errors.
+    pub fn new(out: W, compression: Compression, sensor: (u16, u16)) -> Result<Self, FormatError> {
+        Self::with_name(out, PathBuf::from("<output>"), compression, sensor)
     }
 
-    /// Writes the magic and IOHeader to `out`, named `path` in errors.
-    pub fn with_name(out: W, path: PathBuf, compression: Compression) -> Result<Self, FormatError> {
+    /// Writes the magic and IOHeader of a `sensor` (width, height) recording to `out`, named
+    /// `path` in errors. The description states the size as the stream's `sizeX`/`sizeY` and
+    /// its `source` as the camera of that size (`DAVIS240C`, `DAVIS346`; `neurotac` for others);
+    /// a width or height of 0 or above 32767 is refused ([`FormatError::UnsupportedSensorSize`]).
+    pub fn with_name(
+        out: W,
+        path: PathBuf,
+        compression: Compression,
+        sensor: (u16, u16),
+    ) -> Result<Self, FormatError> {
+        if !(1..=MAX_SIZE).contains(&sensor.0) || !(1..=MAX_SIZE).contains(&sensor.1) {
+            let supported = "1 … 32767 pixels each way";
+            return Err(unsupported_size(&path, "AEDAT 4.0", sensor, supported));
+        }
+        let source = camera_of_size(sensor).map_or("neurotac", |c| c.name);
         let description = format!(
-            "<dv version=\"2.0\">\n    <node name=\"outInfo\" path=\"/outInfo/\">\n        <node name=\"0\" path=\"/outInfo/0/\">\n            <attr key=\"compression\" type=\"string\">{}</attr>\n            <attr key=\"originalModuleName\" type=\"string\">neurotac</attr>\n            <attr key=\"originalOutputName\" type=\"string\">events</attr>\n            <attr key=\"typeDescription\" type=\"string\">Array of events (polarity ON/OFF).</attr>\n            <attr key=\"typeIdentifier\" type=\"string\">EVTS</attr>\n            <node name=\"info\" path=\"/outInfo/0/info/\">\n                <attr key=\"sizeX\" type=\"int\">{}</attr>\n                <attr key=\"sizeY\" type=\"int\">{}</attr>\n                <attr key=\"source\" type=\"string\">DAVIS240C</attr>\n            </node>\n        </node>\n    </node>\n</dv>\n",
+            "<dv version=\"2.0\">\n    <node name=\"outInfo\" path=\"/outInfo/\">\n        <node name=\"0\" path=\"/outInfo/0/\">\n            <attr key=\"compression\" type=\"string\">{}</attr>\n            <attr key=\"originalModuleName\" type=\"string\">neurotac</attr>\n            <attr key=\"originalOutputName\" type=\"string\">events</attr>\n            <attr key=\"typeDescription\" type=\"string\">Array of events (polarity ON/OFF).</attr>\n            <attr key=\"typeIdentifier\" type=\"string\">EVTS</attr>\n            <node name=\"info\" path=\"/outInfo/0/info/\">\n                <attr key=\"sizeX\" type=\"int\">{}</attr>\n                <attr key=\"sizeY\" type=\"int\">{}</attr>\n                <attr key=\"source\" type=\"string\">{source}</attr>\n            </node>\n        </node>\n    </node>\n</dv>\n",
             compression.name(),
-            DAVIS240_SIZE.0,
-            DAVIS240_SIZE.1
+            sensor.0,
+            sensor.1
         );
         let header = io_header(compression, &description);
         let mut w = Self {
             out,
             path,
             compression,
+            size: sensor,
             offset: 0,
             events: Vec::with_capacity(PACKET_EVENTS * EVENT_BYTES),
             count: 0,
@@ -222,13 +243,8 @@ impl<W: Write + Seek> EventWriter for Aedat4Writer<W> {
     fn write(&mut self, events: &EventBuffer) -> Result<(), FormatError> {
         for i in 0..events.len() {
             let (x, y) = (events.x[i], events.y[i]);
-            if x > i16::MAX as u16 || y > i16::MAX as u16 {
-                return Err(FormatError::Unrepresentable {
-                    path: self.path.clone(),
-                    index: self.written + i as u64,
-                    reason: format!("pixel ({x}, {y}) exceeds AEDAT 4.0's 16-bit signed addresses"),
-                });
-            }
+            // Inside a size of at most 32767, x and y fit AEDAT 4.0's 16-bit signed fields.
+            check_inside(&self.path, self.written + i as u64, (x, y), self.size)?;
             let t = events.t[i];
             if self.count == 0 {
                 self.range = (t, t);
