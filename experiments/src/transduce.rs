@@ -6,6 +6,7 @@
 use crate::datasets::metadata::write_metadata;
 use neurotac_core::{DatasetError, EventBuffer, MultiSpikeTrain, SpikeDataset};
 use neurotac_sensor::filter::{BackgroundActivityFilter, MapStart, RefractoryFilter};
+use neurotac_core::io::Replace;
 use neurotac_sensor::format::{ReadStats, create_writer, open_reader};
 use neurotac_sensor::geometry::{DAVIS240_HEIGHT, DAVIS240_WIDTH};
 use neurotac_sensor::stage::{Filtered, Stage};
@@ -240,10 +241,12 @@ pub struct FilterCounts {
 }
 
 /// Event file → event file through the background-activity filter (`ba_window_us`, starting as
-/// `start`) and, when given, a refractory filter (`refractory_us`), on the DAVIS240.
+/// `start`) and, when given, a refractory filter (`refractory_us`), on the DAVIS240. `replace`
+/// decides whether an existing `output` may be replaced.
 pub fn filter_file(
     input: &Path,
     output: &Path,
+    replace: Replace,
     ba_window_us: i64,
     start: MapStart,
     refractory_us: Option<i64>,
@@ -260,7 +263,7 @@ pub fn filter_file(
         .transpose()
         .map_err(transduction)?;
     let mut reader = open_reader(input)?;
-    let mut writer = create_writer(output)?;
+    let mut writer = create_writer(output, replace)?;
     let (mut chunk, mut kept, mut kept2) =
         (EventBuffer::new(), EventBuffer::new(), EventBuffer::new());
     while reader.read_chunk(&mut chunk)? > 0 {
@@ -338,7 +341,15 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let input = recording(dir.path());
         let output = dir.path().join("kept.csv");
-        let c = filter_file(&input, &output, 5000, MapStart::Empty, Some(2000)).unwrap();
+        let c = filter_file(
+            &input,
+            &output,
+            Replace::No,
+            5000,
+            MapStart::Empty,
+            Some(2000),
+        )
+        .unwrap();
         assert_eq!(c.seen, 2500);
         assert!(c.kept > 0 && c.kept < c.seen, "{c:?}");
         let (kept, _) = neurotac_sensor::format::read_file(&output).unwrap();

@@ -44,7 +44,8 @@ pub fn run(args: ConvertArgs) -> anyhow::Result<()> {
     };
     let start = Instant::now();
     let mut reader = format::open_reader(&args.input)?;
-    let mut writer = format::create_writer_as(&args.output, out_format)?;
+    let replace = format::Replace::when(args.force.force);
+    let mut writer = format::create_writer_as(&args.output, out_format, replace)?;
     let mut chunk = EventBuffer::new();
     while reader.read_chunk(&mut chunk)? > 0 {
         writer.write(&chunk)?;

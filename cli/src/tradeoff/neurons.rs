@@ -17,6 +17,7 @@ use neurotac_experiments::threads::with_threads;
 use neurotac_neurons::Integrator;
 use serde::Serialize;
 use std::fmt::Write;
+use neurotac_core::io::AtomicFileSet;
 use std::path::Path;
 
 /// What to sweep.
@@ -178,10 +179,11 @@ pub fn quick(config: &mut NeuronTradeoffConfig) {
     config.speed_neurons = 20_000;
 }
 
-/// Measures the sweep of `config` and writes `neurons.{csv,md,svg,png}` to `out`.
+/// Measures the sweep of `config` and adds `neurons.{csv,md,svg,png}` in `out` to `files`.
 pub fn report(
     config: &NeuronTradeoffConfig,
     out: &Path,
+    files: &mut AtomicFileSet,
 ) -> Result<Vec<NeuronTradeoffRow>, TradeoffError> {
     if !(config.duration_s.is_finite() && config.duration_s > 0.0) {
         return Err(TradeoffError::InvalidParameter {
@@ -192,6 +194,7 @@ pub fn report(
     }
     let rows = neuron_tradeoff(config)?;
     write_trade(
+        files,
         out,
         "neurons",
         &to_csv(&rows),

@@ -15,6 +15,7 @@ use neurotac_experiments::threads::{ThreadPoolError, with_threads};
 use neurotac_sensor::sim::{Camera, SimParams, SimulatedTrial, Simulator, Texture, taxel_spikes};
 use serde::Serialize;
 use std::collections::HashMap;
+use neurotac_core::io::AtomicFileSet;
 use std::path::Path;
 use std::time::Instant;
 
@@ -261,14 +262,16 @@ pub fn quick(config: &mut SimulatorTradeoffConfig) {
     config.tolerances = vec![0.02, 0.067, 0.2];
 }
 
-/// Measures the sweep and writes `simulator.{csv,md,svg,png}` to `out`.
+/// Measures the sweep and adds `simulator.{csv,md,svg,png}` in `out` to `files`.
 pub fn report(
     config: &SimulatorTradeoffConfig,
     out: &Path,
+    files: &mut AtomicFileSet,
 ) -> Result<Vec<SimulatorTradeoffRow>, TradeoffError> {
     let rows = simulator_tradeoff(config)?;
     let markdown = to_markdown(&rows, config);
-    write_trade(out, "simulator", &to_csv(&rows), &markdown, &to_svg(&rows))?;
+    let (csv, svg) = (to_csv(&rows), to_svg(&rows));
+    write_trade(files, out, "simulator", &csv, &markdown, &svg)?;
     Ok(rows)
 }
 

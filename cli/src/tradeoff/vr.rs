@@ -20,6 +20,7 @@ use neurotac_experiments::protocols::Accuracy;
 use neurotac_experiments::search::bayes::VanRossumInput;
 use neurotac_experiments::timing::{Timing, timed};
 use rayon::prelude::*;
+use neurotac_core::io::AtomicFileSet;
 use std::path::Path;
 
 /// What to measure.
@@ -185,14 +186,16 @@ pub fn quick(config: &mut VrTradeoffConfig) {
     config.precisions = vec![Precision::F64];
 }
 
-/// [`measure`]s the trade and writes `vr.{csv,md,svg,png}` to `out`.
+/// [`measure`]s the trade and adds `vr.{csv,md,svg,png}` in `out` to `files`.
 pub fn report(
     data: &SpikeDataset,
     config: &VrTradeoffConfig,
     out: &Path,
+    files: &mut AtomicFileSet,
 ) -> Result<VrTradeoff, TradeoffError> {
     let sweep = measure(data, config)?;
     write_trade(
+        files,
         out,
         "vr",
         &to_csv(&sweep),

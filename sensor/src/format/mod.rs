@@ -54,6 +54,7 @@ use contract::{READ_BLOCK, io_error};
 use escape::escape;
 use neurotac_core::EventBuffer;
 use neurotac_core::io::AtomicFile;
+pub use neurotac_core::io::Replace;
 use std::fs::File;
 use std::io::{BufRead, BufReader, BufWriter, Read, Seek, Write};
 use std::path::{Path, PathBuf};
@@ -255,9 +256,14 @@ pub fn to_bytes(events: &EventBuffer, format: Format) -> Result<Vec<u8>, FormatE
 /// Creates an event file in `format`, atomically: the events go to a hidden temporary file
 /// beside `path` ([`AtomicFile`]), and only a successful [`EventWriter::finish`] renames it onto
 /// `path`. A writer dropped before that (a reader or writer error, an early return) removes the
-/// temporary file, so `path` keeps its old content or stays absent.
-pub fn create_writer_as(path: &Path, format: Format) -> Result<Box<dyn EventWriter>, FormatError> {
-    let file = AtomicFile::create(path).map_err(io_error(path))?;
+/// temporary file, so `path` keeps its old content or stays absent. `replace` decides whether
+/// `finish` may replace a file that exists by then ([`Replace`]).
+pub fn create_writer_as(
+    path: &Path,
+    format: Format,
+    replace: Replace,
+) -> Result<Box<dyn EventWriter>, FormatError> {
+    let file = AtomicFile::create(path, replace).map_err(io_error(path))?;
     let handle = file.try_clone_file().map_err(io_error(path))?;
     let inner = writer_to(
         BufWriter::with_capacity(READ_BLOCK, handle),
@@ -296,8 +302,8 @@ impl EventWriter for AtomicEventWriter {
 }
 
 /// Creates an event file whose format is given by its extension ([`Format::from_extension`]).
-pub fn create_writer(path: &Path) -> Result<Box<dyn EventWriter>, FormatError> {
-    create_writer_as(path, Format::from_extension(path)?)
+pub fn create_writer(path: &Path, replace: Replace) -> Result<Box<dyn EventWriter>, FormatError> {
+    create_writer_as(path, Format::from_extension(path)?, replace)
 }
 
 /// Reads a whole event file into memory (for small files and tests; stream large ones with
@@ -310,9 +316,9 @@ pub fn read_file(path: &Path) -> Result<(EventBuffer, ReadStats), FormatError> {
 }
 
 /// Writes `events` to a file whose format is given by its extension, atomically (see
-/// [`create_writer_as`]).
+/// [`create_writer_as`]), replacing an existing file.
 pub fn write_file(path: &Path, events: &EventBuffer) -> Result<(), FormatError> {
-    let mut writer = create_writer(path)?;
+    let mut writer = create_writer(path, Replace::Yes)?;
     writer.write(events)?;
     writer.finish()
 }
@@ -427,7 +433,7 @@ mod tests {
         // Every format: nothing visible until `finish`, nothing left when dropped before it.
         for format in Format::ALL {
             let path = dir.path().join("x.out");
-            let mut writer = create_writer_as(&path, format).unwrap();
+            let mut writer = create_writer_as(&path, format, Replace::No).unwrap();
             let _ = writer.write(&events);
             assert!(!path.exists(), "{format:?}");
             drop(writer);
