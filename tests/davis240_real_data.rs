@@ -162,7 +162,9 @@ fn writers_round_trip_losslessly_and_reproduce_the_shared_files() {
         format::Compression::Zstd,
     ] {
         let path = out.path().join(format!("{compression:?}.aedat4"));
-        let mut writer = format::create_writer_as(&path, Format::Aedat4(compression), format::Replace::No).unwrap();
+        let mut writer =
+            format::create_writer_as(&path, Format::Aedat4(compression), format::Replace::No)
+                .unwrap();
         writer.write(&want).unwrap();
         writer.finish().unwrap();
         let (got, _) = format::read_file(&path).unwrap();

@@ -820,7 +820,10 @@ mod tests {
         let e = ours.commit().unwrap_err();
         assert_eq!(e.kind(), io::ErrorKind::AlreadyExists);
         assert_eq!(existing_output(&e), Some(target.as_path()));
-        assert_eq!(e.to_string(), format!("{} already exists", target.display()));
+        assert_eq!(
+            e.to_string(),
+            format!("{} already exists", target.display())
+        );
         assert_eq!(std::fs::read(&target).unwrap(), b"theirs");
         assert_eq!(folder_names(dir.path()), ["d.npy"]);
         // Asked to replace, it does.
@@ -906,7 +909,10 @@ mod tests {
         let (set, _) = set_of_three(dir.path(), false, Replace::No);
         std::fs::write(dir.path().join("b.svg"), "theirs").unwrap();
         let e = set.commit().unwrap_err();
-        assert_eq!(existing_output(&e), Some(dir.path().join("b.svg").as_path()));
+        assert_eq!(
+            existing_output(&e),
+            Some(dir.path().join("b.svg").as_path())
+        );
         assert_eq!(
             contents(dir.path(), &["a.json", "b.svg", "c.png"]),
             ["absent", "theirs", "absent"]
@@ -925,7 +931,10 @@ mod tests {
         assert_eq!(set.dir(&events).unwrap(), partial, "the same folder again");
         std::fs::write(partial.join("new.csv"), "new").unwrap();
         set.commit().unwrap();
-        assert_eq!(contents(dir.path(), &["a.json", "b.svg", "c.png"]), ["new"; 3]);
+        assert_eq!(
+            contents(dir.path(), &["a.json", "b.svg", "c.png"]),
+            ["new"; 3]
+        );
         assert_eq!(folder_names(&events), ["new.csv"]);
         assert_eq!(
             folder_names(dir.path()),
@@ -991,14 +1000,18 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let ds = dir.path().join("ds");
         std::fs::create_dir_all(ds.join("cotton")).unwrap();
-        let nesting = |input: &Path, output: &Path| check_not_nested(input, output).err().map(|e| e.nesting);
+        let nesting =
+            |input: &Path, output: &Path| check_not_nested(input, output).err().map(|e| e.nesting);
         assert_eq!(nesting(&ds, &ds), Some(Nesting::Same));
         assert_eq!(nesting(&ds, &ds.join("../ds/.")), Some(Nesting::Same));
         assert_eq!(nesting(&ds, dir.path()), Some(Nesting::Holds));
         assert_eq!(nesting(&ds, &ds.join("report")), Some(Nesting::Inside));
         // Not there yet: the nearest existing folder is made canonical, the rest appended.
         assert_eq!(nesting(&ds, &ds.join("new/deeper")), Some(Nesting::Inside));
-        assert_eq!(nesting(&ds, &dir.path().join("new/../ds")), Some(Nesting::Same));
+        assert_eq!(
+            nesting(&ds, &dir.path().join("new/../ds")),
+            Some(Nesting::Same)
+        );
         #[cfg(unix)]
         {
             let link = dir.path().join("link");
@@ -1006,9 +1019,16 @@ mod tests {
             assert_eq!(nesting(&ds, &link), Some(Nesting::Same));
             assert_eq!(nesting(&link.join("cotton"), &ds), Some(Nesting::Holds));
         }
-        assert_eq!(nesting(&ds, &dir.path().join("ds2")), None, "a sibling with a longer name");
+        assert_eq!(
+            nesting(&ds, &dir.path().join("ds2")),
+            None,
+            "a sibling with a longer name"
+        );
         assert_eq!(nesting(&ds.join("cotton"), &ds.join("report")), None);
         let e = check_not_nested(&ds, dir.path()).unwrap_err().to_string();
-        assert!(e.contains(&ds.display().to_string()) && e.contains(&dir.path().display().to_string()), "{e}");
+        assert!(
+            e.contains(&ds.display().to_string()) && e.contains(&dir.path().display().to_string()),
+            "{e}"
+        );
     }
 }

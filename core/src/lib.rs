@@ -58,8 +58,8 @@ pub use compact::Compact;
 pub use dataset::SpikeDataset;
 pub use distance::VanRossum;
 pub use error::{
-    CodingError, CoreError, DatasetError, DistanceError, FilePosition, GraphError, KnnError,
-    ExistsError, ModelError, NestedError, Nesting, SameFileError, SpikeError, SpikeLocation,
+    CodingError, CoreError, DatasetError, DistanceError, ExistsError, FilePosition, GraphError,
+    KnnError, ModelError, NestedError, Nesting, SameFileError, SpikeError, SpikeLocation,
     error_chain,
 };
 pub use event::{Event, EventBuffer};

@@ -4,9 +4,9 @@
 //! detected from the head of the recording) and [`filter_file`] (event file → event file).
 
 use crate::datasets::metadata::write_metadata;
+use neurotac_core::io::Replace;
 use neurotac_core::{DatasetError, EventBuffer, MultiSpikeTrain, SpikeDataset};
 use neurotac_sensor::filter::{BackgroundActivityFilter, MapStart, RefractoryFilter};
-use neurotac_core::io::Replace;
 use neurotac_sensor::format::{ReadStats, create_writer, open_reader};
 use neurotac_sensor::geometry::{DAVIS240_HEIGHT, DAVIS240_WIDTH};
 use neurotac_sensor::stage::{Filtered, Stage};

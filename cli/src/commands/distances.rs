@@ -79,11 +79,7 @@ pub fn run(args: DistancesArgs, ranks: &dyn Ranks) -> anyhow::Result<()> {
     if !ranks.is_root() {
         return Ok(());
     }
-    write_matrix(
-        &args.output,
-        matrix.view(),
-        Replace::when(args.force.force),
-    )?;
+    write_matrix(&args.output, matrix.view(), Replace::when(args.force.force))?;
     let n = data.len();
     println!(
         "{n}×{n} {:?} distance matrix of {} channels (mean {:.1} spikes/channel) → {} in {timing}",

@@ -52,7 +52,8 @@ pub fn run(args: RecordArgs) -> anyhow::Result<()> {
     davis
         .send_default_config()
         .context("configuring the camera")?;
-    let mut writer = format::create_writer_as(out, format, format::Replace::when(args.force.force))?;
+    let mut writer =
+        format::create_writer_as(out, format, format::Replace::when(args.force.force))?;
     let mut stream = davis.start(StartOptions::default())?;
     let offset_us = if args.unix_time {
         SystemTime::now()

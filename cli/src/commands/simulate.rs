@@ -13,11 +13,11 @@ use neurotac_cli::simulator_check::{
     CheckConfig, calibrate, check_trial_count, simulator_check, to_markdown,
 };
 use neurotac_core::Ranks;
+use neurotac_core::io::{AtomicFileSet, Replace};
+use neurotac_experiments::datasets::TextureSet;
 use neurotac_experiments::datasets::simulated::{
     GenerateConfig, Generated, PixelEventFiles, default_cache_dir,
 };
-use neurotac_experiments::datasets::TextureSet;
-use neurotac_core::io::{AtomicFileSet, Replace};
 use neurotac_experiments::export::OutputFormat;
 use neurotac_experiments::threads::with_threads;
 use neurotac_sensor::sim::SimParams;
@@ -216,7 +216,12 @@ fn generate(a: GenerateArgs, ranks: &dyn Ranks) -> anyhow::Result<()> {
         outputs.push(out.join("events"));
     }
     let cache = a.cache.clone().unwrap_or_else(default_cache_dir);
-    let inputs: Vec<&Path> = a.params.iter().chain([&cache]).map(|p| p.as_path()).collect();
+    let inputs: Vec<&Path> = a
+        .params
+        .iter()
+        .chain([&cache])
+        .map(|p| p.as_path())
+        .collect();
     refuse_nested(outputs.iter().map(|p| p.as_path()), &inputs)?;
     refuse_existing(outputs.iter().map(|p| p.as_path()), a.force.force)?;
     // Every set's files and the events folder are committed together at the end: an error or

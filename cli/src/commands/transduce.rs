@@ -91,6 +91,7 @@ pub fn run_transduce(a: TransduceArgs) -> anyhow::Result<()> {
     // Every output is checked against the input and created (hidden) before any work, and all
     // are committed together at the end (AtomicFileSet): a failure leaves each as it was.
     let out = &a.out.out;
+    check_distinct(&a.input, out)?;
     let format = OutputFormat::from_path(out, &DATASET_FORMATS)?;
     // The raster as SVG at the path given and as PNG beside it (`r.svg` → `r.png`); a path
     // ending in `.png` gets the PNG only.
@@ -108,7 +109,7 @@ pub fn run_transduce(a: TransduceArgs) -> anyhow::Result<()> {
     let outputs: Vec<&Path> = std::iter::once(out.as_path())
         .chain(raster.iter().map(PathBuf::as_path))
         .collect();
-    for p in &outputs {
+    for p in &raster {
         check_distinct(&a.input, p)?;
     }
     refuse_existing(outputs.iter().copied(), a.force.force)?;

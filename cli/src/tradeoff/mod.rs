@@ -27,8 +27,8 @@ pub use table::{
     Cell, Column, Table, error_series, mark_front, trade_files, write_files, write_trade,
 };
 
-use neurotac_experiments::progress::Progress;
 use neurotac_core::io::AtomicFileSet;
+use neurotac_experiments::progress::Progress;
 use std::path::Path;
 
 /// What [`run_all`] runs: every trade's settings and where the Van Rossum trade's samples come
@@ -105,11 +105,7 @@ pub fn run_all(
     let vr_s = timed_stage("vr", t);
     let t = std::time::Instant::now();
     progress.stage("simulator", 0);
-    let sim_rows = simulator::report(
-        &config.simulator,
-        &out.join(summary::SIMULATOR_DIR),
-        files,
-    )?;
+    let sim_rows = simulator::report(&config.simulator, &out.join(summary::SIMULATOR_DIR), files)?;
     let simulator_s = timed_stage("simulator", t);
     let header = format!(
         "Made by `neurotac tradeoff{}` in {:.0} s on {} threads (speeds: one thread unless stated).",

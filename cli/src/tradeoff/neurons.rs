@@ -11,13 +11,13 @@ use super::error::TradeoffError;
 use super::table::{Cell, Column, Table, mark_front, write_trade};
 use crate::bench::BenchError;
 use crate::report::svg::{Axis, Chart, Marker, PALETTE, Series, panels};
+use neurotac_core::io::AtomicFileSet;
 use neurotac_experiments::menu::Menu;
 use neurotac_experiments::neuron_setup::{NeuronKind, NeuronSetup, Precision};
 use neurotac_experiments::threads::with_threads;
 use neurotac_neurons::Integrator;
 use serde::Serialize;
 use std::fmt::Write;
-use neurotac_core::io::AtomicFileSet;
 use std::path::Path;
 
 /// What to sweep.

@@ -10,12 +10,12 @@
 use super::error::TradeoffError;
 use super::table::{Table, error_series, mark_front, write_trade};
 use crate::report::svg::{Axis, Chart, Marker, panels};
+use neurotac_core::io::AtomicFileSet;
 use neurotac_experiments::datasets::{DatasetsError, TextureSet, camera_seed, trial_seed};
 use neurotac_experiments::threads::{ThreadPoolError, with_threads};
 use neurotac_sensor::sim::{Camera, SimParams, SimulatedTrial, Simulator, Texture, taxel_spikes};
 use serde::Serialize;
 use std::collections::HashMap;
-use neurotac_core::io::AtomicFileSet;
 use std::path::Path;
 use std::time::Instant;
 

@@ -7,8 +7,8 @@ use super::error::TradeoffError;
 use super::pareto::pareto_front;
 use crate::report::png::PngRenderer;
 use crate::report::svg::{Marker, PALETTE, Series};
-use std::fmt::Write as _;
 use neurotac_core::io::AtomicFileSet;
+use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 /// A column of a [`Table`]: its name in the CSV and in the Markdown table, or `None` where the
@@ -337,7 +337,11 @@ mod tests {
         let sub = dir.path().join("t");
         let mut files = AtomicFileSet::new(neurotac_core::io::Replace::No);
         write_trade(&mut files, &sub, "x", "c", "m", "<svg/>").unwrap();
-        assert_eq!(neurotac_core::testing::folder_names(&sub).len(), 4, "hidden until committed");
+        assert_eq!(
+            neurotac_core::testing::folder_names(&sub).len(),
+            4,
+            "hidden until committed"
+        );
         files.commit().unwrap();
         for (f, text) in [("x.csv", "c"), ("x.md", "m"), ("x.svg", "<svg/>")] {
             assert_eq!(std::fs::read_to_string(sub.join(f)).unwrap(), text);

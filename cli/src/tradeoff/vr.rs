@@ -13,6 +13,7 @@ use super::table::{Cell, Column, Table, error_series, mark_front, write_trade};
 use crate::report::svg::{Axis, Chart, Marker, panels};
 use neurotac_core::coding::TraceRecord;
 use neurotac_core::distance::check_cos;
+use neurotac_core::io::AtomicFileSet;
 use neurotac_core::{CodingError, Knn, SpikeDataset};
 use neurotac_experiments::error::ExperimentError;
 use neurotac_experiments::neuron_setup::Precision;
@@ -20,7 +21,6 @@ use neurotac_experiments::protocols::Accuracy;
 use neurotac_experiments::search::bayes::VanRossumInput;
 use neurotac_experiments::timing::{Timing, timed};
 use rayon::prelude::*;
-use neurotac_core::io::AtomicFileSet;
 use std::path::Path;
 
 /// What to measure.

@@ -158,7 +158,10 @@ impl AtomicFileSet {
 fn twice(target: &Path) -> io::Error {
     io::Error::new(
         io::ErrorKind::InvalidInput,
-        format!("{} is named both as a file and as a folder", target.display()),
+        format!(
+            "{} is named both as a file and as a folder",
+            target.display()
+        ),
     )
 }
 
@@ -189,10 +192,11 @@ fn commit_moves(moves: &[Move], replace: Replace) -> io::Result<()> {
     };
     let listing = journal_bytes(moves)?;
     for (i, m) in moves.iter().enumerate() {
-        let kept = std::fs::write(&m.journal, &listing).and_then(|()| match m.existed && !m.folder {
-            true => keep_aside(&m.destination, &m.old),
-            false => Ok(()),
-        });
+        let kept =
+            std::fs::write(&m.journal, &listing).and_then(|()| match m.existed && !m.folder {
+                true => keep_aside(&m.destination, &m.old),
+                false => Ok(()),
+            });
         if let Err(e) = kept {
             cleanup(&moves[..=i]);
             return Err(e);
@@ -223,7 +227,11 @@ fn commit_moves(moves: &[Move], replace: Replace) -> io::Result<()> {
 fn journal_bytes(moves: &[Move]) -> io::Result<Vec<u8>> {
     let mut bytes = Vec::new();
     for m in moves {
-        bytes.extend_from_slice(std::path::absolute(&m.destination)?.as_os_str().as_encoded_bytes());
+        bytes.extend_from_slice(
+            std::path::absolute(&m.destination)?
+                .as_os_str()
+                .as_encoded_bytes(),
+        );
         bytes.push(0);
     }
     Ok(bytes)
@@ -237,7 +245,8 @@ fn journal_targets(journal: &Path) -> Vec<PathBuf> {
         .filter(|p| !p.is_empty())
         .map(|p| {
             #[cfg(unix)]
-            let path = PathBuf::from(<std::ffi::OsStr as std::os::unix::ffi::OsStrExt>::from_bytes(p));
+            let path =
+                PathBuf::from(<std::ffi::OsStr as std::os::unix::ffi::OsStrExt>::from_bytes(p));
             #[cfg(not(unix))]
             let path = PathBuf::from(String::from_utf8_lossy(p).into_owned());
             path

@@ -8,8 +8,8 @@ use crate::commands::outputs::refuse_existing;
 use crate::commands::progress::Bars;
 use anyhow::Context;
 use clap::Args;
-use neurotac_core::io::{AtomicFileSet, Replace};
 use neurotac_cli::tradeoff::{TradeoffAllConfig, run_all};
+use neurotac_core::io::{AtomicFileSet, Replace};
 use neurotac_experiments::datasets::synthetic::{SyntheticConfig, synthetic_dataset};
 use std::path::PathBuf;
 

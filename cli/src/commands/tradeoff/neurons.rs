@@ -5,10 +5,10 @@ use crate::commands::options::{ForceOption, TradeoffOutOption};
 use crate::commands::outputs::refuse_existing;
 use anyhow::Context;
 use clap::Args;
+use neurotac_cli::tradeoff::neurons::{NeuronTradeoffConfig, quick, report, to_markdown};
 use neurotac_cli::tradeoff::trade_files;
 use neurotac_core::io::{AtomicFileSet, Replace};
 use std::path::PathBuf;
-use neurotac_cli::tradeoff::neurons::{NeuronTradeoffConfig, quick, report, to_markdown};
 
 #[derive(Debug, Args)]
 pub struct NeuronsArgs {

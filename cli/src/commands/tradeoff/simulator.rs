@@ -5,9 +5,9 @@ use crate::commands::options::{ForceOption, SeedOption, TradeoffOutOption};
 use crate::commands::outputs::refuse_existing;
 use anyhow::Context;
 use clap::Args;
+use neurotac_cli::tradeoff::simulator::{SimulatorTradeoffConfig, quick, report, to_markdown};
 use neurotac_cli::tradeoff::trade_files;
 use neurotac_core::io::{AtomicFileSet, Replace};
-use neurotac_cli::tradeoff::simulator::{SimulatorTradeoffConfig, quick, report, to_markdown};
 use neurotac_sensor::sim::SimParams;
 use std::path::PathBuf;
 

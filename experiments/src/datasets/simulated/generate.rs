@@ -173,7 +173,9 @@ fn events_folder(
         return Ok(partial);
     }
     let gathered = ranks.all_gather_bytes(partial.to_string_lossy().as_bytes())?;
-    Ok(PathBuf::from(String::from_utf8_lossy(&gathered[0]).into_owned()))
+    Ok(PathBuf::from(
+        String::from_utf8_lossy(&gathered[0]).into_owned(),
+    ))
 }
 
 /// Writes pixel events as CSV (replacing an existing file): a header `t,x,y,on` (t in µs, `on`
@@ -190,8 +192,8 @@ pub fn write_events_csv(
         path: path.to_owned(),
         source,
     };
-    let mut w = neurotac_core::io::AtomicFile::create(path, neurotac_core::io::Replace::Yes)
-        .map_err(io)?;
+    let mut w =
+        neurotac_core::io::AtomicFile::create(path, neurotac_core::io::Replace::Yes).map_err(io)?;
     let header = if labels.is_some() {
         "t,x,y,on,pin\n"
     } else {
