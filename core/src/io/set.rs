@@ -107,7 +107,7 @@ impl AtomicFileSet {
     }
 
     /// Commits every member together (see the type). Fails, changing no target, when under
-    /// [`Replace::No`] a target exists ([`super::ExistsError`] inside the [`io::Error`]) or a
+    /// [`Replace::No`] a target exists ([`ExistsError`](crate::error::ExistsError) inside the [`io::Error`]) or a
     /// file's target is a folder; a move that fails midway is undone.
     pub fn commit(mut self) -> io::Result<()> {
         let mut moves = Vec::with_capacity(self.members.len());
