@@ -162,9 +162,13 @@ fn writers_round_trip_losslessly_and_reproduce_the_shared_files() {
         format::Compression::Zstd,
     ] {
         let path = out.path().join(format!("{compression:?}.aedat4"));
-        let mut writer =
-            format::create_writer_as(&path, Format::Aedat4(compression), format::DAVIS240_SIZE)
-                .unwrap();
+        let mut writer = format::create_writer_as(
+            &path,
+            Format::Aedat4(compression),
+            format::DAVIS240_SIZE,
+            format::Replace::No,
+        )
+        .unwrap();
         writer.write(&want).unwrap();
         writer.finish().unwrap();
         let (got, _) = format::read_file(&path).unwrap();
@@ -181,7 +185,8 @@ fn times_past_the_big_wrap_survive_every_format() {
     let out = tempfile::tempdir().unwrap();
     for name in ["a.aedat", "a.aedat3", "a.aedat4", "a.txt", "a.csv"] {
         let path = out.path().join(name);
-        let mut writer = format::create_writer(&path, format::DAVIS240_SIZE).unwrap();
+        let mut writer =
+            format::create_writer(&path, format::DAVIS240_SIZE, format::Replace::No).unwrap();
         for start in (0..usb.len()).step_by(50_000) {
             let end = (start + 50_000).min(usb.len());
             let chunk: EventBuffer = (start..end).map(|i| usb.get(i).unwrap()).collect();

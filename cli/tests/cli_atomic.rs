@@ -282,3 +282,191 @@ fn reproduce_removes_partial_folders_of_dead_runs() {
     assert_eq!(folder_names(dir.path()), ["cache", "report"]);
     assert!(out.join("report.md").exists());
 }
+
+/// The files under `dir`, hidden ones included, as paths relative to it (sorted).
+fn tree(dir: &Path) -> Vec<String> {
+    let mut found = Vec::new();
+    let mut folders = vec![dir.to_path_buf()];
+    while let Some(folder) = folders.pop() {
+        for entry in std::fs::read_dir(&folder).into_iter().flatten().flatten() {
+            let path = entry.path();
+            match path.is_dir() {
+                true => folders.push(path),
+                false => found.push(s(path.strip_prefix(dir).unwrap()).to_owned()),
+            }
+        }
+    }
+    found.sort();
+    found
+}
+
+#[test]
+fn reproduce_refuses_an_out_that_is_holds_or_lies_inside_an_input() {
+    let dir = tempfile::tempdir().unwrap();
+    let ds = dir.path().join("ds");
+    for class in ["cotton", "felt"] {
+        std::fs::create_dir_all(ds.join(class)).unwrap();
+        write_file(&ds.join(class).join("0.csv"), &recording(), DAVIS240_SIZE).unwrap();
+    }
+    let params = dir.path().join("params.json");
+    std::fs::write(&params, "{}").unwrap();
+    let before = tree(dir.path());
+    let cache = dir.path().join("cache");
+    for (out, input) in [
+        (ds.clone(), &ds),
+        (dir.path().to_path_buf(), &ds),
+        (ds.join("cotton").join("report"), &ds),
+        (params.clone(), &params),
+    ] {
+        let (ok, _, stderr) = neurotac(&[
+            "reproduce",
+            "--dataset",
+            s(&ds),
+            "--params",
+            s(&params),
+            "--cache",
+            s(&cache),
+            "--out",
+            s(&out),
+            "--force",
+        ]);
+        assert!(!ok);
+        assert_eq!(stderr.lines().count(), 1, "{stderr}");
+        assert!(
+            stderr.contains(&format!("the output {}", out.display()))
+                && stderr.contains(&format!("the input {}", input.display())),
+            "{stderr}"
+        );
+        assert_eq!(tree(dir.path()), before, "nothing written or deleted");
+    }
+}
+
+#[test]
+fn simulate_refuses_an_events_folder_holding_its_parameter_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    std::fs::create_dir_all(out.join("events")).unwrap();
+    let params = out.join("events").join("params.json");
+    let (ok, stdout, _) = neurotac(&["simulate", "params"]);
+    assert!(ok);
+    std::fs::write(&params, stdout).unwrap();
+    let (ok, _, stderr) = neurotac(&[
+        "simulate",
+        "--set",
+        "artificial",
+        "--trials",
+        "1",
+        "--params",
+        s(&params),
+        "--cache",
+        s(&dir.path().join("cache")),
+        "--out",
+        s(&out),
+        "--pixel-events",
+        "--force",
+    ]);
+    assert!(!ok);
+    assert!(
+        stderr.contains("holds the input") && stderr.contains("params.json"),
+        "{stderr}"
+    );
+    assert!(params.is_file());
+    assert_eq!(tree(&out), ["events/params.json"]);
+}
+
+#[test]
+fn transduce_with_a_blocked_png_leaves_the_json_and_svg_as_they_were() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("r.csv");
+    write_file(&input, &recording(), DAVIS240_SIZE).unwrap();
+    let (json, svg, png) = (
+        dir.path().join("s.json"),
+        dir.path().join("s.svg"),
+        dir.path().join("s.png"),
+    );
+    std::fs::write(&json, "old").unwrap();
+    std::fs::write(&svg, "old").unwrap();
+    std::fs::create_dir(&png).unwrap();
+    std::fs::write(png.join("keep.txt"), "mine").unwrap();
+    let (ok, _, stderr) = neurotac(&[
+        "transduce",
+        s(&input),
+        "--out",
+        s(&json),
+        "--raster",
+        s(&svg),
+        "--force",
+    ]);
+    assert!(!ok);
+    assert_eq!(stderr.lines().count(), 1, "{stderr}");
+    assert!(stderr.contains("s.png"), "{stderr}");
+    assert_eq!(std::fs::read_to_string(&json).unwrap(), "old");
+    assert_eq!(std::fs::read_to_string(&svg).unwrap(), "old");
+    assert_eq!(
+        tree(dir.path()),
+        ["r.csv", "s.json", "s.png/keep.txt", "s.svg"]
+    );
+    // Unblocked, all three are replaced together.
+    std::fs::remove_dir_all(&png).unwrap();
+    let (ok, _, stderr) = neurotac(&[
+        "transduce",
+        s(&input),
+        "--out",
+        s(&json),
+        "--raster",
+        s(&svg),
+        "--force",
+    ]);
+    assert!(ok, "{stderr}");
+    assert!(std::fs::read_to_string(&svg).unwrap().starts_with("<svg"));
+    assert_eq!(tree(dir.path()), ["r.csv", "s.json", "s.png", "s.svg"]);
+}
+
+#[test]
+fn a_killed_simulate_leaves_no_events_folder_and_a_rerun_writes_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let (out, cache) = (dir.path().join("out"), dir.path().join("cache"));
+    let args = |trials: &str| {
+        [
+            "simulate",
+            "--set",
+            "artificial",
+            "--trials",
+            trials,
+            "--seed",
+            "3",
+            "--out",
+            s(&out),
+            "--cache",
+            s(&cache),
+            "--pixel-events",
+            "--threads",
+            "1",
+        ]
+        .map(str::to_owned)
+    };
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_neurotac"))
+        .args(args("5"))
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    // Kill it as soon as its first pixel-event file is written (55 trials are to come).
+    let mut waited = 0;
+    while tree(&out).is_empty() {
+        assert!(child.try_wait().unwrap().is_none(), "simulate ended early");
+        assert!(waited < 6000, "no pixel-event file appeared");
+        std::thread::sleep(std::time::Duration::from_millis(50));
+        waited += 1;
+    }
+    child.kill().unwrap();
+    child.wait().unwrap();
+    assert!(!out.join("events").exists(), "{:?}", tree(&out));
+    let partial = format!(".events.partial-{}", child.id());
+    assert_eq!(folder_names(&out), [partial.as_str()]);
+    // The rerun is not told that events exists, and leaves only complete outputs.
+    let (ok, _, stderr) = neurotac(&args("1").each_ref().map(String::as_str));
+    assert!(ok, "{stderr}");
+    assert_eq!(folder_names(&out), ["artificial.bin", "events"]);
+    assert_eq!(tree(&out.join("events")).len(), 11, "one slide per texture");
+}

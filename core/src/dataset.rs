@@ -198,12 +198,15 @@ impl SpikeDataset {
         serde_json::to_string(self).expect("a dataset of finite floats always serialises")
     }
 
-    /// Writes the JSON form to `path`.
+    /// Writes the JSON form to `path`, replacing an existing file (a command's outputs that
+    /// must not replace one are written through [`crate::io::AtomicFile`] with
+    /// [`crate::io::Replace::No`] instead).
     pub fn save_json(&self, path: impl AsRef<Path>) -> Result<(), DatasetError> {
         write_file(path.as_ref(), self.to_json_string().as_bytes())
     }
 
-    /// Writes the compact binary form to `path`.
+    /// Writes the compact binary form to `path`, replacing an existing file (as
+    /// [`save_json`](Self::save_json)).
     pub fn save_binary(&self, path: impl AsRef<Path>) -> Result<(), DatasetError> {
         write_file(path.as_ref(), &self.to_binary())
     }
@@ -379,9 +382,9 @@ fn put_u64(out: &mut Vec<u8>, v: usize) {
     out.extend_from_slice(&(v as u64).to_le_bytes());
 }
 
-/// Writes `bytes` to `path` atomically (old content or nothing on failure).
+/// Writes `bytes` to `path` atomically (old content or nothing on failure), replacing it.
 fn write_file(path: &Path, bytes: &[u8]) -> Result<(), DatasetError> {
-    crate::io::write(path, bytes).map_err(|source| DatasetError::Io {
+    crate::io::write(path, bytes, crate::io::Replace::Yes).map_err(|source| DatasetError::Io {
         path: path.to_owned(),
         source,
     })

@@ -258,6 +258,55 @@ pub struct SameFileError {
     pub output: PathBuf,
 }
 
+/// An output whose commit was not allowed to replace an existing target (no `--force`), found
+/// at commit time: the target appeared after the run checked it (another run wrote it), or
+/// was there all along. It travels inside an [`std::io::Error`] of kind `AlreadyExists`;
+/// [`crate::io::existing_output`] finds it in an error chain.
+#[derive(Debug, Clone, PartialEq, Eq, Error)]
+#[error("{} already exists", path.display())]
+pub struct ExistsError {
+    /// The target that exists.
+    pub path: PathBuf,
+}
+
+/// How an output and an input overlap ([`NestedError`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Nesting {
+    /// The output is the input.
+    Same,
+    /// The output is a folder that holds the input.
+    Holds,
+    /// The output lies inside the input folder.
+    Inside,
+}
+
+impl std::fmt::Display for Nesting {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Nesting::Same => "is",
+            Nesting::Holds => "holds",
+            Nesting::Inside => "lies inside",
+        })
+    }
+}
+
+/// An output path that is, holds or lies inside an input path (compared as canonical paths):
+/// writing or replacing it could delete or change the input.
+#[derive(Debug, Clone, PartialEq, Eq, Error)]
+#[error(
+    "the output {output} {nesting} the input {input}: refusing to write there; choose an output apart from the inputs",
+    output = output.display(),
+    input = input.display()
+)]
+pub struct NestedError {
+    /// The input path as given.
+    pub input: PathBuf,
+    /// The output path as given.
+    pub output: PathBuf,
+    /// How they overlap.
+    pub nesting: Nesting,
+}
+
 /// A network that cannot be built as described.
 #[derive(Debug, Clone, PartialEq, Error)]
 pub enum GraphError {
@@ -703,6 +752,9 @@ pub enum CoreError {
     /// See [`SameFileError`].
     #[error(transparent)]
     SameFile(#[from] SameFileError),
+    /// See [`NestedError`].
+    #[error(transparent)]
+    Nested(#[from] NestedError),
 }
 
 /// Formats an error and its chain of sources on one line, `outer: inner: innermost`.

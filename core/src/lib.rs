@@ -18,8 +18,8 @@
 //! | several processes (MPI ranks, or threads in tests) | [`ranks`]: [`Ranks`], [`OneProcess`], [`ranks::balanced_blocks`] |
 //! | special functions | [`special`]: `erfc` |
 //! | seed hashes (names and parameters → seeds, seed mixing) | [`seed_hash`]: FNV-1a [`seed_hash::fnv1a`], SplitMix64 [`seed_hash::splitmix64`] |
-//! | outputs never half-written | [`io`]: [`AtomicFile`], [`AtomicDir`], [`io::check_distinct`] (input ≠ output) |
-//! | errors | [`SpikeError`], [`DatasetError`], [`GraphError`], [`ModelError`], [`CodingError`], [`DistanceError`], [`KnnError`], [`SameFileError`], [`CoreError`] |
+//! | outputs never half-written | [`io`]: [`AtomicFile`], [`AtomicDir`], [`AtomicFileSet`] (committed together), [`Replace`], [`io::check_distinct`] and [`io::check_not_nested`] (outputs apart from inputs) |
+//! | errors | [`SpikeError`], [`DatasetError`], [`GraphError`], [`ModelError`], [`CodingError`], [`DistanceError`], [`KnnError`], [`SameFileError`], [`NestedError`], [`ExistsError`], [`CoreError`] |
 //!
 //! Data flows one way through neurotac: sensor → core graph → readouts → experiments. Neuron
 //! models (LIF, Izhikevich) live in `neurotac-neurons`; the DAVIS240 and the sensor simulator in
@@ -58,8 +58,9 @@ pub use compact::Compact;
 pub use dataset::SpikeDataset;
 pub use distance::VanRossum;
 pub use error::{
-    CodingError, CoreError, DatasetError, DistanceError, FilePosition, GraphError, KnnError,
-    ModelError, SameFileError, SpikeError, SpikeLocation, error_chain,
+    CodingError, CoreError, DatasetError, DistanceError, ExistsError, FilePosition, GraphError,
+    KnnError, ModelError, NestedError, Nesting, SameFileError, SpikeError, SpikeLocation,
+    error_chain,
 };
 pub use event::{Event, EventBuffer};
 pub use graph::{
@@ -69,7 +70,7 @@ pub use graph::{
     SpikeSource, StateRecorder, StateSampler, StepView, Synapse, SynapticCurrentSampler,
     SynapticDrive, SynapticTraceRecorder, TraceRecorder, TraceSampler, one_spike_weight,
 };
-pub use io::{AtomicDir, AtomicFile};
+pub use io::{AtomicDir, AtomicFile, AtomicFileSet, Replace};
 pub use knn::{Decision, FittedKnn, Knn};
 pub use model::{NeuronModel, SpikeBuffer};
 /// The `ndarray` version neurotac's matrices use (feature matrices, distance matrices), so user

@@ -19,6 +19,7 @@
 use ndarray::{Array1, ArrayView2};
 use ndarray_npy::WriteNpyExt;
 use neurotac_core::SpikeDataset;
+pub use neurotac_core::io::Replace;
 use std::io::{self, Write};
 use std::path::{Path, PathBuf};
 use thiserror::Error;
@@ -124,23 +125,31 @@ pub const MATRIX_FORMATS: [OutputFormat; 3] =
 
 /// Writes a matrix in the format of `path`'s extension ([`MATRIX_FORMATS`]): `.json` as
 /// `{"matrix": [[…], …]}`, `.npy` as one float64 array, `.npz` as an archive with the member
-/// `matrix`.
-pub fn write_matrix(path: &Path, matrix: ArrayView2<f64>) -> Result<(), ExportError> {
+/// `matrix`. `replace` decides whether an existing file may be replaced ([`Replace`]).
+pub fn write_matrix(
+    path: &Path,
+    matrix: ArrayView2<f64>,
+    replace: Replace,
+) -> Result<(), ExportError> {
     match OutputFormat::from_path(path, &MATRIX_FORMATS)? {
-        OutputFormat::Npy => write_npy(path, matrix),
-        OutputFormat::Npz => write_npz(path, &[("matrix", matrix)]),
+        OutputFormat::Npy => write_npy(path, matrix, replace),
+        OutputFormat::Npz => write_npz(path, &[("matrix", matrix)], replace),
         _ => {
             let rows: Vec<Vec<f64>> = matrix.outer_iter().map(|r| r.to_vec()).collect();
             let text = serde_json::json!({ "matrix": rows }).to_string();
-            neurotac_core::io::write(path, text).map_err(io_error(path))
+            neurotac_core::io::write(path, text, replace).map_err(io_error(path))
         }
     }
 }
 
 /// Writes one matrix as `.npy` (float64, C order).
-pub fn write_npy(path: &Path, matrix: ArrayView2<f64>) -> Result<(), ExportError> {
+pub fn write_npy(
+    path: &Path,
+    matrix: ArrayView2<f64>,
+    replace: Replace,
+) -> Result<(), ExportError> {
     let bytes = npy_bytes(&matrix).map_err(io_error(path))?;
-    neurotac_core::io::write(path, bytes).map_err(io_error(path))
+    neurotac_core::io::write(path, bytes, replace).map_err(io_error(path))
 }
 
 /// Writes named members into an `.npz` archive: `.npy` arrays (`name` gets the `.npy`
@@ -186,9 +195,9 @@ impl NpzMembers {
     }
 
     /// Writes the archive to `path` atomically.
-    pub fn write(self, path: &Path) -> Result<(), ExportError> {
+    pub fn write(self, path: &Path, replace: Replace) -> Result<(), ExportError> {
         let bytes = self.into_bytes().map_err(io_error(path))?;
-        neurotac_core::io::write(path, bytes).map_err(io_error(path))
+        neurotac_core::io::write(path, bytes, replace).map_err(io_error(path))
     }
 }
 
@@ -199,12 +208,16 @@ impl Default for NpzMembers {
 }
 
 /// Writes named matrices (float64) into an `.npz` archive.
-pub fn write_npz(path: &Path, matrices: &[(&str, ArrayView2<f64>)]) -> Result<(), ExportError> {
+pub fn write_npz(
+    path: &Path,
+    matrices: &[(&str, ArrayView2<f64>)],
+    replace: Replace,
+) -> Result<(), ExportError> {
     let mut members = NpzMembers::new();
     for (name, m) in matrices {
         members = members.array(name, m).map_err(io_error(path))?;
     }
-    members.write(path)
+    members.write(path, replace)
 }
 
 /// The formats a spike dataset is written in ([`write_dataset`]).
@@ -212,11 +225,16 @@ pub const DATASET_FORMATS: [OutputFormat; 3] =
     [OutputFormat::Binary, OutputFormat::Json, OutputFormat::Npz];
 
 /// Writes a spike dataset in the format of `path`'s extension ([`DATASET_FORMATS`]): `.bin`
-/// (neurotac's checksummed binary), `.json`, or `.npz` ([`dataset_npz_bytes`]).
-pub fn write_dataset(dataset: &SpikeDataset, path: &Path) -> Result<(), ExportError> {
+/// (neurotac's checksummed binary), `.json`, or `.npz` ([`dataset_npz_bytes`]). `replace`
+/// decides whether an existing file may be replaced ([`Replace`]).
+pub fn write_dataset(
+    dataset: &SpikeDataset,
+    path: &Path,
+    replace: Replace,
+) -> Result<(), ExportError> {
     let format = OutputFormat::from_path(path, &DATASET_FORMATS)?;
     let bytes = dataset_bytes(dataset, format).map_err(io_error(path))?;
-    neurotac_core::io::write(path, bytes).map_err(io_error(path))
+    neurotac_core::io::write(path, bytes, replace).map_err(io_error(path))
 }
 
 /// A spike dataset's bytes in `format` (binary, JSON or `.npz`; a `.npy` holds one array, not
@@ -315,12 +333,17 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let m: Array2<f64> = array![[0.0, 1.5], [1.5, 0.0]];
         let npy = dir.path().join("m.npy");
-        write_npy(&npy, m.view()).unwrap();
+        write_npy(&npy, m.view(), Replace::No).unwrap();
         let back = Array2::<f64>::read_npy(std::fs::File::open(&npy).unwrap()).unwrap();
         assert_eq!(back, m);
 
         let npz = dir.path().join("m.npz");
-        write_npz(&npz, &[("ll2", m.view()), ("sp2", (&m * 2.0).view())]).unwrap();
+        write_npz(
+            &npz,
+            &[("ll2", m.view()), ("sp2", (&m * 2.0).view())],
+            Replace::No,
+        )
+        .unwrap();
         let sp = Array2::<f64>::read_npy(&member(&npz, "sp2.npy")[..]).unwrap();
         assert_eq!(sp, &m * 2.0);
 
@@ -334,7 +357,7 @@ mod tests {
         )
         .unwrap();
         let path = dir.path().join("d.npz");
-        write_dataset(&data, &path).unwrap();
+        write_dataset(&data, &path, Replace::No).unwrap();
         let f64s = |name| {
             Array1::<f64>::read_npy(&member(&path, name)[..])
                 .unwrap()

@@ -4,6 +4,7 @@
 //! detected from the head of the recording) and [`filter_file`] (event file → event file).
 
 use crate::datasets::metadata::write_metadata;
+use neurotac_core::io::Replace;
 use neurotac_core::{DatasetError, EventBuffer, MultiSpikeTrain, SpikeDataset};
 use neurotac_sensor::filter::{BackgroundActivityFilter, MapStart, RefractoryFilter};
 use neurotac_sensor::format::{DAVIS240_SIZE, ReadStats, create_writer, open_reader};
@@ -241,10 +242,12 @@ pub struct FilterCounts {
 
 /// Event file → event file through the background-activity filter (`ba_window_us`, starting as
 /// `start`) and, when given, a refractory filter (`refractory_us`), on the sensor the input
-/// states (240 × 180 when it states none); the output states the same sensor.
+/// states (240 × 180 when it states none); the output states the same sensor. `replace` decides
+/// whether an existing `output` may be replaced.
 pub fn filter_file(
     input: &Path,
     output: &Path,
+    replace: Replace,
     ba_window_us: i64,
     start: MapStart,
     refractory_us: Option<i64>,
@@ -261,7 +264,7 @@ pub fn filter_file(
         .map(|p| RefractoryFilter::new(w, h, p).map(Filtered::new))
         .transpose()
         .map_err(transduction)?;
-    let mut writer = create_writer(output, (w, h))?;
+    let mut writer = create_writer(output, (w, h), replace)?;
     let (mut chunk, mut kept, mut kept2) =
         (EventBuffer::new(), EventBuffer::new(), EventBuffer::new());
     while reader.read_chunk(&mut chunk)? > 0 {
@@ -339,7 +342,15 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let input = recording(dir.path());
         let output = dir.path().join("kept.csv");
-        let c = filter_file(&input, &output, 5000, MapStart::Empty, Some(2000)).unwrap();
+        let c = filter_file(
+            &input,
+            &output,
+            Replace::No,
+            5000,
+            MapStart::Empty,
+            Some(2000),
+        )
+        .unwrap();
         assert_eq!(c.seen, 2500);
         assert!(c.kept > 0 && c.kept < c.seen, "{c:?}");
         let (kept, _) = neurotac_sensor::format::read_file(&output).unwrap();

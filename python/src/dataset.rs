@@ -301,7 +301,8 @@ pub(crate) fn save_dataset(
     let data = dataset_from_py(dataset)?;
     neurotac_experiments::export::OutputFormat::from_path(&path, &DATASET_FORMATS)
         .or_value_error()?;
-    py.detach(|| neurotac_experiments::export::write_dataset(&data, &path))
+    let replace = neurotac_experiments::export::Replace::Yes;
+    py.detach(|| neurotac_experiments::export::write_dataset(&data, &path, replace))
         .or_raise()
 }
 

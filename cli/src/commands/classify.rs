@@ -8,7 +8,7 @@ use crate::commands::args;
 use clap::{Args, ValueEnum};
 use neurotac_core::{Knn, Ranks};
 use neurotac_experiments::coding::{CodingName, coding_distances};
-use neurotac_experiments::export::{MATRIX_FORMATS, OutputFormat, write_matrix};
+use neurotac_experiments::export::{MATRIX_FORMATS, OutputFormat, Replace, write_matrix};
 use neurotac_experiments::protocols::{Protocol, evaluate};
 use neurotac_experiments::timing::timed;
 use std::path::PathBuf;
@@ -101,7 +101,7 @@ pub fn run(args: ClassifyArgs, ranks: &dyn Ranks) -> anyhow::Result<()> {
         return Ok(());
     }
     if let Some(path) = &args.matrix {
-        write_matrix(path, distances.view())?;
+        write_matrix(path, distances.view(), Replace::when(args.force.force))?;
     }
     let (evaluation, knn_time) = timed(|| {
         evaluate(

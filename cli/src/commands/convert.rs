@@ -68,7 +68,8 @@ pub fn run(args: ConvertArgs) -> anyhow::Result<()> {
         ),
         (stated, _) => stated.unwrap_or(assumed),
     };
-    let mut writer = format::create_writer_as(&args.output, out_format, sensor)?;
+    let replace = format::Replace::when(args.force.force);
+    let mut writer = format::create_writer_as(&args.output, out_format, sensor, replace)?;
     let mut chunk = EventBuffer::new();
     while reader.read_chunk(&mut chunk)? > 0 {
         writer.write(&chunk)?;

@@ -10,7 +10,7 @@ use anyhow::bail;
 use clap::{Args, ValueEnum};
 use neurotac_core::Ranks;
 use neurotac_experiments::coding::{CodingName, coding_distances, mean_spikes_per_channel};
-use neurotac_experiments::export::{MATRIX_FORMATS, OutputFormat, write_matrix};
+use neurotac_experiments::export::{MATRIX_FORMATS, OutputFormat, Replace, write_matrix};
 use neurotac_experiments::menu::Menu;
 use neurotac_experiments::timing::timed;
 use std::path::PathBuf;
@@ -79,7 +79,7 @@ pub fn run(args: DistancesArgs, ranks: &dyn Ranks) -> anyhow::Result<()> {
     if !ranks.is_root() {
         return Ok(());
     }
-    write_matrix(&args.output, matrix.view())?;
+    write_matrix(&args.output, matrix.view(), Replace::when(args.force.force))?;
     let n = data.len();
     println!(
         "{n}×{n} {:?} distance matrix of {} channels (mean {:.1} spikes/channel) → {} in {timing}",

@@ -6,7 +6,7 @@ use super::inputs::load_dataset;
 use super::options::{ForceOption, help};
 use super::outputs::refuse_existing;
 use clap::Args;
-use neurotac_experiments::export::{DATASET_FORMATS, OutputFormat, write_dataset};
+use neurotac_experiments::export::{DATASET_FORMATS, OutputFormat, Replace, write_dataset};
 use std::path::PathBuf;
 
 #[derive(Debug, Args)]
@@ -26,7 +26,7 @@ pub fn run(args: ExportArgs) -> anyhow::Result<()> {
     OutputFormat::from_path(&args.out, &DATASET_FORMATS)?;
     refuse_existing([args.out.as_path()], args.force.force)?;
     let data = load_dataset(&args.dataset)?;
-    write_dataset(&data, &args.out)?;
+    write_dataset(&data, &args.out, Replace::when(args.force.force))?;
     let spikes: usize = data.observations().iter().map(|o| o.total_spikes()).sum();
     println!(
         "{} samples × {} units, {spikes} spikes → {}",

@@ -116,7 +116,7 @@ pub fn run(cli: Cli, ranks: &dyn Ranks) -> anyhow::Result<()> {
         }
         Ok(())
     };
-    match cli.command {
+    let ran = match cli.command {
         Command::Reproduce(args) => reproduce::run(args, ranks),
         Command::Bench(args) => bench::run(args, ranks),
         Command::Distances(args) => distances::run(args, ranks),
@@ -137,7 +137,8 @@ pub fn run(cli: Cli, ranks: &dyn Ranks) -> anyhow::Result<()> {
         Command::Devices(args) => single("devices").and_then(|()| devices::run(args)),
         Command::Record(args) => single("record").and_then(|()| record::run(args)),
         Command::Recognise(args) => single("recognise").and_then(|()| recognise::run(args)),
-    }
+    };
+    ran.map_err(outputs::exists_as_refusal)
 }
 
 #[cfg(test)]

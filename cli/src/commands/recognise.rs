@@ -4,7 +4,7 @@
 
 use super::inputs::load_labelled;
 use super::options::{ForceOption, OutOption, SeedOption, SetArg, SetOption, ThreadsOption, help};
-use super::outputs::refuse_existing;
+use super::outputs::{refuse_existing, refuse_nested};
 use crate::commands::args;
 use anyhow::{Context, bail};
 use clap::{Args, ValueEnum};
@@ -306,6 +306,8 @@ fn decision_json(d: &Decision, names: &[String]) -> serde_json::Value {
 
 fn run_eval(a: &RecogniseArgs) -> anyhow::Result<()> {
     let out = a.out.out.as_ref().expect("clap requires --out");
+    let cache = a.cache.clone().unwrap_or_else(default_cache_dir);
+    refuse_nested([out.as_path()], &[cache.as_path()])?;
     refuse_existing([out.as_path()], a.force.force)?;
     let set = match a.set.set.expect("clap requires --set") {
         SetArg::Artificial => TextureSet::Artificial,
@@ -329,7 +331,6 @@ fn run_eval(a: &RecogniseArgs) -> anyhow::Result<()> {
         stable_windows: a.stable,
         test_fraction: 0.2,
     };
-    let cache = a.cache.clone().unwrap_or_else(default_cache_dir);
     let bar = super::progress::bar(
         "held-out slides",
         (config.trials as f64 * set.textures().len() as f64 * 0.2).round() as u64,

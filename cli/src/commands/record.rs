@@ -54,7 +54,8 @@ pub fn run(args: RecordArgs) -> anyhow::Result<()> {
         .send_default_config()
         .context("configuring the camera")?;
     let sensor = (davis.info().dvs_size_x, davis.info().dvs_size_y);
-    let mut writer = format::create_writer_as(out, format, sensor)?;
+    let replace = format::Replace::when(args.force.force);
+    let mut writer = format::create_writer_as(out, format, sensor, replace)?;
     let mut stream = davis.start(StartOptions::default())?;
     let offset_us = if args.unix_time {
         SystemTime::now()

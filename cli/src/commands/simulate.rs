@@ -4,7 +4,7 @@
 use super::options::{
     ForceOption, OutOption, SeedOption, SetOption, ThreadsOption, help, required,
 };
-use super::outputs::refuse_existing;
+use super::outputs::{refuse_existing, refuse_nested};
 use super::progress::{Bars, bar};
 use crate::commands::args;
 use anyhow::Context;
@@ -13,8 +13,10 @@ use neurotac_cli::simulator_check::{
     CheckConfig, calibrate, check_trial_count, simulator_check, to_markdown,
 };
 use neurotac_core::Ranks;
+use neurotac_core::io::{AtomicFileSet, Replace};
+use neurotac_experiments::datasets::TextureSet;
 use neurotac_experiments::datasets::simulated::{
-    GenerateConfig, PixelEventFiles, default_cache_dir,
+    GenerateConfig, Generated, PixelEventFiles, default_cache_dir,
 };
 use neurotac_experiments::export::OutputFormat;
 use neurotac_experiments::threads::with_threads;
@@ -213,7 +215,19 @@ fn generate(a: GenerateArgs, ranks: &dyn Ranks) -> anyhow::Result<()> {
     if a.pixel_events {
         outputs.push(out.join("events"));
     }
+    let cache = a.cache.clone().unwrap_or_else(default_cache_dir);
+    let inputs: Vec<&Path> = a
+        .params
+        .iter()
+        .chain([&cache])
+        .map(|p| p.as_path())
+        .collect();
+    refuse_nested(outputs.iter().map(|p| p.as_path()), &inputs)?;
     refuse_existing(outputs.iter().map(|p| p.as_path()), a.force.force)?;
+    // Every set's files and the events folder are committed together at the end: an error or
+    // an interrupted run leaves none of them (the events folder appears only complete).
+    let mut files = AtomicFileSet::new(Replace::when(a.force.force));
+    let mut made_sets = Vec::new();
     for set in sets {
         let config = GenerateConfig {
             set,
@@ -221,49 +235,59 @@ fn generate(a: GenerateArgs, ranks: &dyn Ranks) -> anyhow::Result<()> {
             seed: a.seed.seed,
             params,
             out: out.clone(),
-            cache: a.cache.clone().unwrap_or_else(default_cache_dir),
+            cache: cache.clone(),
             also: also.clone(),
             pixel_events: pixel_events.clone(),
         };
         let start = Instant::now();
         let bars = Bars::new();
         let made = with_threads(a.threads.threads, || {
-            neurotac_experiments::datasets::simulated::generate(&config, &bars, ranks)
+            neurotac_experiments::datasets::simulated::generate(&config, &mut files, &bars, ranks)
         })??;
-        if !ranks.is_root() {
-            continue;
-        }
-        let wall = start.elapsed().as_secs_f64();
-        let data = &made.dataset;
-        let how = match made.from_cache {
-            true => "loaded from the cache".to_owned(),
-            false => format!("{:.1} trials/s", data.len() as f64 / wall),
-        };
-        let on = match ranks.size() {
-            1 => String::new(),
-            k => format!(" on {k} ranks"),
-        };
-        println!(
-            "{} set: {} textures × {} slides = {} trials in {wall:.1} s{on} ({how})",
-            set.name(),
-            set.textures().len(),
-            config.trials,
-            data.len(),
-        );
-        let stat = |key: &str| data.meta().get(key).and_then(|v| v.as_f64());
-        if let (Some(pixel), Some(noise)) = (
-            stat("pixel_events_per_trial"),
-            stat("noise_events_per_trial"),
-        ) {
-            println!("pixel events per trial: {pixel:.0} (of which noise {noise:.0})");
-        }
-        println!("  class                   spikes/taxel (mean over slides)");
-        for (name, m) in data.class_names().iter().zip(&made.class_means) {
-            println!("  {name:22}  {m:8.2}");
-        }
-        println!("→ {}", made.binary.display());
+        made_sets.push((set, config.trials, made, start.elapsed().as_secs_f64()));
+    }
+    if !ranks.is_root() {
+        return Ok(());
+    }
+    files
+        .commit()
+        .with_context(|| format!("writing the dataset files into {}", out.display()))?;
+    for (set, trials, made, wall) in &made_sets {
+        print_generated(*set, *trials, made, *wall, ranks.size());
     }
     Ok(())
+}
+
+/// What `neurotac simulate` says of one set it made and wrote.
+fn print_generated(set: TextureSet, trials: usize, made: &Generated, wall: f64, ranks: usize) {
+    let data = &made.dataset;
+    let how = match made.from_cache {
+        true => "loaded from the cache".to_owned(),
+        false => format!("{:.1} trials/s", data.len() as f64 / wall),
+    };
+    let on = match ranks {
+        1 => String::new(),
+        k => format!(" on {k} ranks"),
+    };
+    println!(
+        "{} set: {} textures × {} slides = {} trials in {wall:.1} s{on} ({how})",
+        set.name(),
+        set.textures().len(),
+        trials,
+        data.len(),
+    );
+    let stat = |key: &str| data.meta().get(key).and_then(|v| v.as_f64());
+    if let (Some(pixel), Some(noise)) = (
+        stat("pixel_events_per_trial"),
+        stat("noise_events_per_trial"),
+    ) {
+        println!("pixel events per trial: {pixel:.0} (of which noise {noise:.0})");
+    }
+    println!("  class                   spikes/taxel (mean over slides)");
+    for (name, m) in data.class_names().iter().zip(&made.class_means) {
+        println!("  {name:22}  {m:8.2}");
+    }
+    println!("→ {}", made.binary.display());
 }
 
 fn check(a: CheckArgs) -> anyhow::Result<()> {
@@ -320,13 +344,17 @@ fn check(a: CheckArgs) -> anyhow::Result<()> {
     );
     if let Some(out) = a.out.out {
         std::fs::create_dir_all(&out).with_context(|| format!("creating {}", out.display()))?;
-        neurotac_core::io::write(out.join("check.md"), markdown)
-            .with_context(|| format!("writing {}", out.join("check.md").display()))?;
-        neurotac_core::io::write(
-            out.join("check.json"),
-            serde_json::to_string_pretty(&report)?,
-        )
-        .with_context(|| format!("writing {}", out.join("check.json").display()))?;
+        let mut files = AtomicFileSet::new(Replace::when(a.force.force));
+        let json = serde_json::to_string_pretty(&report)?;
+        for (name, text) in [("check.md", markdown), ("check.json", json)] {
+            let path = out.join(name);
+            files
+                .write(&path, text)
+                .with_context(|| format!("writing {}", path.display()))?;
+        }
+        files
+            .commit()
+            .with_context(|| format!("writing check.md and check.json into {}", out.display()))?;
     }
     Ok(())
 }
@@ -352,7 +380,7 @@ fn calibrate_command(a: CalibrateArgs) -> anyhow::Result<()> {
     let text = c.params.to_json_string();
     match a.out.out {
         Some(path) => {
-            neurotac_core::io::write(&path, text)
+            neurotac_core::io::write(&path, text, Replace::when(a.force.force))
                 .with_context(|| format!("writing {}", path.display()))?;
             println!("→ {}", path.display());
         }

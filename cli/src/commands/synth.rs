@@ -50,7 +50,11 @@ pub fn run(args: SynthArgs) -> anyhow::Result<()> {
     };
     config.check()?;
     let data = synthetic_dataset(&config);
-    neurotac_experiments::export::write_dataset(&data, &args.output)?;
+    neurotac_experiments::export::write_dataset(
+        &data,
+        &args.output,
+        neurotac_experiments::export::Replace::when(args.force.force),
+    )?;
     println!(
         "{} samples × {} channels, {} classes → {}",
         data.len(),

@@ -8,12 +8,11 @@ use anyhow::{Context, bail};
 use clap::Args;
 use neurotac_cli::report::figures::spike_train_figure;
 use neurotac_cli::report::png::PngRenderer;
-use neurotac_core::io::{AtomicFile, check_distinct};
+use neurotac_core::io::{AtomicFileSet, Replace, check_distinct};
 use neurotac_experiments::export::{DATASET_FORMATS, OutputFormat, dataset_bytes};
 use neurotac_experiments::transduce::{LayoutSpec, filter_file, resolve_layout, transduce_file};
 use neurotac_sensor::filter::MapStart;
 use neurotac_sensor::taxel::{TaxelLayout, TransductionConfig};
-use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -36,11 +35,6 @@ fn layout_from(
         );
     }
     Ok(layout)
-}
-
-/// An output file, created hidden beside `path` until committed.
-fn create_output(path: &Path) -> anyhow::Result<AtomicFile> {
-    AtomicFile::create(path).with_context(|| format!("creating {}", path.display()))
 }
 
 fn ba_start(empty: bool) -> MapStart {
@@ -95,26 +89,35 @@ pub struct TransduceArgs {
 
 pub fn run_transduce(a: TransduceArgs) -> anyhow::Result<()> {
     // Every output is checked against the input and created (hidden) before any work, and all
-    // are renamed into place together at the end: a failure leaves none of them.
+    // are committed together at the end (AtomicFileSet): a failure leaves each as it was.
     let out = &a.out.out;
     check_distinct(&a.input, out)?;
     let format = OutputFormat::from_path(out, &DATASET_FORMATS)?;
-    refuse_existing(
-        [out.as_path()].into_iter().chain(a.raster.as_deref()),
-        a.force.force,
-    )?;
-    let mut out_file = create_output(out)?;
     // The raster as SVG at the path given and as PNG beside it (`r.svg` → `r.png`); a path
     // ending in `.png` gets the PNG only.
-    let mut raster_files = Vec::new();
-    if let Some(path) = &a.raster {
-        let png = path.with_extension("png");
-        let svg = (png != *path).then(|| path.clone());
-        refuse_existing([png.as_path()], a.force.force)?;
-        for p in svg.iter().chain(std::iter::once(&png)) {
-            check_distinct(&a.input, p)?;
-            raster_files.push(create_output(p)?);
+    let raster: Vec<PathBuf> = match &a.raster {
+        Some(path) => {
+            let png = path.with_extension("png");
+            let svg = (png != *path).then(|| path.clone());
+            svg.into_iter().chain([png]).collect()
         }
+        None => Vec::new(),
+    };
+    if let Some(same) = raster.iter().find(|p| *p == out) {
+        bail!("--raster would write {} as well as --out", same.display());
+    }
+    let outputs: Vec<&Path> = std::iter::once(out.as_path())
+        .chain(raster.iter().map(PathBuf::as_path))
+        .collect();
+    for p in &raster {
+        check_distinct(&a.input, p)?;
+    }
+    refuse_existing(outputs.iter().copied(), a.force.force)?;
+    let mut files = AtomicFileSet::new(Replace::when(a.force.force));
+    for p in &outputs {
+        files
+            .file(p)
+            .with_context(|| format!("creating {}", p.display()))?;
     }
     let layout = layout_from(&a.layout, &a.input, a.calibration_ms, a.rf_radius_px)?;
     if !(a.pool_ms.is_finite() && a.pool_ms > 0.0) {
@@ -133,32 +136,32 @@ pub fn run_transduce(a: TransduceArgs) -> anyhow::Result<()> {
         eprintln!("{warning}");
     }
     let bytes = dataset_bytes(&t.dataset, format)?;
-    out_file
-        .write_all(&bytes)
+    files
+        .write(out, &bytes)
         .with_context(|| format!("writing {}", out.display()))?;
-    if !raster_files.is_empty() {
+    if !raster.is_empty() {
         let title = format!(
             "{}: {} taxel spikes",
             a.input.display(),
             t.trains.total_spikes()
         );
         let svg = spike_train_figure(&t.trains, &title, 0.159);
-        for file in &mut raster_files {
-            let bytes = match file.target().extension().is_some_and(|e| e == "png") {
+        for path in &raster {
+            let bytes = match path.extension().is_some_and(|e| e == "png") {
                 true => PngRenderer::new()
                     .render(&svg, 1.5)
-                    .with_context(|| format!("drawing {}", file.target().display()))?,
+                    .with_context(|| format!("drawing {}", path.display()))?,
                 false => svg.clone().into_bytes(),
             };
-            file.write_all(&bytes)
-                .with_context(|| format!("writing {}", file.target().display()))?;
+            files
+                .write(path, &bytes)
+                .with_context(|| format!("writing {}", path.display()))?;
         }
     }
-    for file in std::iter::once(out_file).chain(raster_files) {
-        let path = file.target().to_path_buf();
-        file.commit()
-            .with_context(|| format!("writing {}", path.display()))?;
-    }
+    let written: Vec<String> = outputs.iter().map(|p| p.display().to_string()).collect();
+    files
+        .commit()
+        .with_context(|| format!("writing {}", written.join(", ")))?;
     let c = t.counts;
     println!(
         "{} pixel events → {} after filters → {} in receptive fields → {} taxel spikes ({:.2} per taxel); transduction {:.1} M events/s, with reading the file {:.1} M events/s",
@@ -201,6 +204,7 @@ pub fn run_filter(a: FilterArgs) -> anyhow::Result<()> {
     let c = filter_file(
         &a.input,
         &a.output,
+        Replace::when(a.force.force),
         a.ba_window_us,
         start_mode,
         a.refractory_us,
@@ -245,7 +249,7 @@ pub fn run_layout(a: LayoutArgs) -> anyhow::Result<()> {
     refuse_existing(out, a.force.force)?;
     let layout = layout_from("auto", &a.input, a.calibration_ms, a.rf_radius_px)?;
     if let Some(path) = out {
-        neurotac_core::io::write(path, layout.to_json())
+        neurotac_core::io::write(path, layout.to_json(), Replace::when(a.force.force))
             .with_context(|| format!("writing {}", path.display()))?;
         println!("wrote {}", path.display());
     } else {

@@ -6,6 +6,9 @@ use super::error::ReportError;
 use super::png::PngRenderer;
 use std::path::Path;
 
+/// The files of a folder being filled are new: none may be there already.
+const NEW: neurotac_core::io::Replace = neurotac_core::io::Replace::No;
+
 pub(crate) fn io(path: &Path) -> impl FnOnce(std::io::Error) -> ReportError + '_ {
     move |source| ReportError::Io {
         path: path.to_owned(),
@@ -34,16 +37,17 @@ pub fn write_folder_atomically(
     // Filled in a hidden partial folder, then swapped in (neurotac_core::io::AtomicDir: the new
     // folder complete → the old one renamed away → the new one renamed in → the old one
     // deleted); stale partial folders of dead processes are removed on the way.
-    let partial = neurotac_core::io::AtomicDir::create(out).map_err(io(out))?;
+    let replace = neurotac_core::io::Replace::when(force);
+    let partial = neurotac_core::io::AtomicDir::create(out, replace).map_err(io(out))?;
     fill(partial.path())?;
     check_destination(out, force)?;
     partial.commit().map_err(io(out))
 }
 
-/// Writes `text` to `dir/file`.
+/// Writes `text` to `dir/file` (a new file in the folder being filled).
 pub fn write(dir: &Path, file: &str, text: &str) -> Result<(), ReportError> {
     let path = dir.join(file);
-    neurotac_core::io::write(&path, text).map_err(io(&path))
+    neurotac_core::io::write(&path, text, NEW).map_err(io(&path))
 }
 
 /// Writes a figure as `<stem>.svg` and `<stem>.png`.
@@ -59,7 +63,7 @@ pub fn write_figure(
         path: path.clone(),
         source,
     })?;
-    neurotac_core::io::write(&path, bytes).map_err(io(&path))
+    neurotac_core::io::write(&path, bytes, NEW).map_err(io(&path))
 }
 
 #[cfg(test)]

@@ -23,8 +23,11 @@ mod table;
 pub mod vr;
 
 pub use error::TradeoffError;
-pub use table::{Cell, Column, Table, error_series, mark_front, write_files, write_trade};
+pub use table::{
+    Cell, Column, Table, error_series, mark_front, trade_files, write_files, write_trade,
+};
 
+use neurotac_core::io::AtomicFileSet;
 use neurotac_experiments::progress::Progress;
 use std::path::Path;
 
@@ -75,13 +78,14 @@ pub struct TradeoffAll {
     pub seconds: [f64; 3],
 }
 
-/// Runs every trade (`data`: the Van Rossum trade's spike dataset), writes each one's files to
-/// its sub-folder of `out` and the summary to `out/tradeoff.md`; `progress` gets one stage and
-/// one note (`neurons: 1.2 s`) per trade.
+/// Runs every trade (`data`: the Van Rossum trade's spike dataset) and adds to `files` each
+/// one's files in its sub-folder of `out` and the summary `out/tradeoff.md`, committed by the
+/// caller; `progress` gets one stage and one note (`neurons: 1.2 s`) per trade.
 pub fn run_all(
     config: &TradeoffAllConfig,
     data: &neurotac_core::SpikeDataset,
     out: &Path,
+    files: &mut AtomicFileSet,
     progress: &dyn Progress,
 ) -> Result<TradeoffAll, TradeoffError> {
     let timed_stage = |name: &str, t: std::time::Instant| {
@@ -93,15 +97,15 @@ pub fn run_all(
     let start = std::time::Instant::now();
     let t = std::time::Instant::now();
     progress.stage("neurons", 0);
-    let neuron_rows = neurons::report(&config.neurons, &out.join(summary::NEURONS_DIR))?;
+    let neuron_rows = neurons::report(&config.neurons, &out.join(summary::NEURONS_DIR), files)?;
     let neurons_s = timed_stage("neurons", t);
     let t = std::time::Instant::now();
     progress.stage("vr", 0);
-    let sweep = vr::report(data, &config.vr, &out.join(summary::VR_DIR))?;
+    let sweep = vr::report(data, &config.vr, &out.join(summary::VR_DIR), files)?;
     let vr_s = timed_stage("vr", t);
     let t = std::time::Instant::now();
     progress.stage("simulator", 0);
-    let sim_rows = simulator::report(&config.simulator, &out.join(summary::SIMULATOR_DIR))?;
+    let sim_rows = simulator::report(&config.simulator, &out.join(summary::SIMULATOR_DIR), files)?;
     let simulator_s = timed_stage("simulator", t);
     let header = format!(
         "Made by `neurotac tradeoff{}` in {:.0} s on {} threads (speeds: one thread unless stated).",
@@ -111,7 +115,7 @@ pub fn run_all(
     );
     let summary =
         summary::summary_markdown(&header, &neuron_rows, &sweep, &sim_rows, &config.simulator);
-    write_files(out, &[("tradeoff.md", &summary)])?;
+    write_files(files, out, &[("tradeoff.md", &summary)])?;
     Ok(TradeoffAll {
         neurons: neuron_rows,
         vr: sweep,

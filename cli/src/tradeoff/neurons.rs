@@ -11,6 +11,7 @@ use super::error::TradeoffError;
 use super::table::{Cell, Column, Table, mark_front, write_trade};
 use crate::bench::BenchError;
 use crate::report::svg::{Axis, Chart, Marker, PALETTE, Series, panels};
+use neurotac_core::io::AtomicFileSet;
 use neurotac_experiments::menu::Menu;
 use neurotac_experiments::neuron_setup::{NeuronKind, NeuronSetup, Precision};
 use neurotac_experiments::threads::with_threads;
@@ -178,10 +179,11 @@ pub fn quick(config: &mut NeuronTradeoffConfig) {
     config.speed_neurons = 20_000;
 }
 
-/// Measures the sweep of `config` and writes `neurons.{csv,md,svg,png}` to `out`.
+/// Measures the sweep of `config` and adds `neurons.{csv,md,svg,png}` in `out` to `files`.
 pub fn report(
     config: &NeuronTradeoffConfig,
     out: &Path,
+    files: &mut AtomicFileSet,
 ) -> Result<Vec<NeuronTradeoffRow>, TradeoffError> {
     if !(config.duration_s.is_finite() && config.duration_s > 0.0) {
         return Err(TradeoffError::InvalidParameter {
@@ -192,6 +194,7 @@ pub fn report(
     }
     let rows = neuron_tradeoff(config)?;
     write_trade(
+        files,
         out,
         "neurons",
         &to_csv(&rows),

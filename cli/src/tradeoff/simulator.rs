@@ -10,6 +10,7 @@
 use super::error::TradeoffError;
 use super::table::{Table, error_series, mark_front, write_trade};
 use crate::report::svg::{Axis, Chart, Marker, panels};
+use neurotac_core::io::AtomicFileSet;
 use neurotac_experiments::datasets::{DatasetsError, TextureSet, camera_seed, trial_seed};
 use neurotac_experiments::threads::{ThreadPoolError, with_threads};
 use neurotac_sensor::sim::{Camera, SimParams, SimulatedTrial, Simulator, Texture, taxel_spikes};
@@ -259,14 +260,16 @@ pub fn quick(config: &mut SimulatorTradeoffConfig) {
     config.tolerances = vec![0.02, 0.067, 0.2];
 }
 
-/// Measures the sweep and writes `simulator.{csv,md,svg,png}` to `out`.
+/// Measures the sweep and adds `simulator.{csv,md,svg,png}` in `out` to `files`.
 pub fn report(
     config: &SimulatorTradeoffConfig,
     out: &Path,
+    files: &mut AtomicFileSet,
 ) -> Result<Vec<SimulatorTradeoffRow>, TradeoffError> {
     let rows = simulator_tradeoff(config)?;
     let markdown = to_markdown(&rows, config);
-    write_trade(out, "simulator", &to_csv(&rows), &markdown, &to_svg(&rows))?;
+    let (csv, svg) = (to_csv(&rows), to_svg(&rows));
+    write_trade(files, out, "simulator", &csv, &markdown, &svg)?;
     Ok(rows)
 }
 

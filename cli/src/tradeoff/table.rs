@@ -7,8 +7,9 @@ use super::error::TradeoffError;
 use super::pareto::pareto_front;
 use crate::report::png::PngRenderer;
 use crate::report::svg::{Marker, PALETTE, Series};
+use neurotac_core::io::AtomicFileSet;
 use std::fmt::Write as _;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// A column of a [`Table`]: its name in the CSV and in the Markdown table, or `None` where the
 /// column is left out of that format.
@@ -201,9 +202,15 @@ pub fn error_series(label: &str, color: usize, marker: Marker, points: Vec<(f64,
     }
 }
 
-/// Creates `dir` and writes a trade's `<stem>.csv`, `<stem>.md`, `<stem>.svg` and `<stem>.png`
-/// (the figure rasterised as the report's figures are).
+/// A trade's files in `dir`: `<stem>.csv`, `<stem>.md`, `<stem>.svg` and `<stem>.png`.
+pub fn trade_files(dir: &Path, stem: &str) -> [PathBuf; 4] {
+    ["csv", "md", "svg", "png"].map(|ext| dir.join(format!("{stem}.{ext}")))
+}
+
+/// Creates `dir` and adds a trade's files ([`trade_files`]) to `files`, committed by the
+/// caller with the command's other outputs (the figure rasterised as the report's figures are).
 pub fn write_trade(
+    files: &mut AtomicFileSet,
     dir: &Path,
     stem: &str,
     csv: &str,
@@ -211,6 +218,7 @@ pub fn write_trade(
     svg: &str,
 ) -> Result<(), TradeoffError> {
     write_files(
+        files,
         dir,
         &[
             (&format!("{stem}.csv"), csv),
@@ -225,19 +233,25 @@ pub fn write_trade(
             path: path.clone(),
             source,
         })?;
-    neurotac_core::io::write(&path, png).map_err(|source| TradeoffError::Io { path, source })
+    files
+        .write(&path, png)
+        .map_err(|source| TradeoffError::Io { path, source })
 }
 
-/// Creates `dir` and writes each `(file name, text)` into it.
-pub fn write_files(dir: &Path, files: &[(&str, &str)]) -> Result<(), TradeoffError> {
+/// Creates `dir` and adds each `(file name, text)` in it to `files`.
+pub fn write_files(
+    files: &mut AtomicFileSet,
+    dir: &Path,
+    texts: &[(&str, &str)],
+) -> Result<(), TradeoffError> {
     let io = |path: &Path| {
         let path = path.to_owned();
         move |source| TradeoffError::Io { path, source }
     };
     std::fs::create_dir_all(dir).map_err(io(dir))?;
-    for (name, text) in files {
+    for (name, text) in texts {
         let path = dir.join(name);
-        neurotac_core::io::write(&path, text).map_err(io(&path))?;
+        files.write(&path, text).map_err(io(&path))?;
     }
     Ok(())
 }
@@ -321,7 +335,14 @@ mod tests {
     fn a_trade_writes_its_three_files() {
         let dir = tempfile::tempdir().unwrap();
         let sub = dir.path().join("t");
-        write_trade(&sub, "x", "c", "m", "<svg/>").unwrap();
+        let mut files = AtomicFileSet::new(neurotac_core::io::Replace::No);
+        write_trade(&mut files, &sub, "x", "c", "m", "<svg/>").unwrap();
+        assert_eq!(
+            neurotac_core::testing::folder_names(&sub).len(),
+            4,
+            "hidden until committed"
+        );
+        files.commit().unwrap();
         for (f, text) in [("x.csv", "c"), ("x.md", "m"), ("x.svg", "<svg/>")] {
             assert_eq!(std::fs::read_to_string(sub.join(f)).unwrap(), text);
         }

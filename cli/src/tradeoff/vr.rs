@@ -13,6 +13,7 @@ use super::table::{Cell, Column, Table, error_series, mark_front, write_trade};
 use crate::report::svg::{Axis, Chart, Marker, panels};
 use neurotac_core::coding::TraceRecord;
 use neurotac_core::distance::check_cos;
+use neurotac_core::io::AtomicFileSet;
 use neurotac_core::{CodingError, Knn, SpikeDataset};
 use neurotac_experiments::error::ExperimentError;
 use neurotac_experiments::neuron_setup::Precision;
@@ -185,14 +186,16 @@ pub fn quick(config: &mut VrTradeoffConfig) {
     config.precisions = vec![Precision::F64];
 }
 
-/// [`measure`]s the trade and writes `vr.{csv,md,svg,png}` to `out`.
+/// [`measure`]s the trade and adds `vr.{csv,md,svg,png}` in `out` to `files`.
 pub fn report(
     data: &SpikeDataset,
     config: &VrTradeoffConfig,
     out: &Path,
+    files: &mut AtomicFileSet,
 ) -> Result<VrTradeoff, TradeoffError> {
     let sweep = measure(data, config)?;
     write_trade(
+        files,
         out,
         "vr",
         &to_csv(&sweep),

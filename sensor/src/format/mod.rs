@@ -65,6 +65,7 @@ use contract::{READ_BLOCK, io_error};
 use escape::escape;
 use neurotac_core::EventBuffer;
 use neurotac_core::io::AtomicFile;
+pub use neurotac_core::io::Replace;
 use std::fs::File;
 use std::io::{BufRead, BufReader, BufWriter, Read, Seek, Write};
 use std::path::{Path, PathBuf};
@@ -308,13 +309,15 @@ pub fn to_bytes(
 /// events go to a hidden temporary file beside `path` ([`AtomicFile`]), and only a successful
 /// [`EventWriter::finish`] renames it onto `path`. A writer dropped before that (a reader or
 /// writer error, an early return) removes the temporary file, so `path` keeps its old content or
-/// stays absent (so does a size the format cannot state, refused here).
+/// stays absent (so does a size the format cannot state, refused here). `replace` decides
+/// whether `finish` may replace a file that exists by then ([`Replace`]).
 pub fn create_writer_as(
     path: &Path,
     format: Format,
     sensor: (u16, u16),
+    replace: Replace,
 ) -> Result<Box<dyn EventWriter>, FormatError> {
-    let file = AtomicFile::create(path).map_err(io_error(path))?;
+    let file = AtomicFile::create(path, replace).map_err(io_error(path))?;
     let handle = file.try_clone_file().map_err(io_error(path))?;
     let inner = writer_to(
         BufWriter::with_capacity(READ_BLOCK, handle),
@@ -354,9 +357,13 @@ impl EventWriter for AtomicEventWriter {
 }
 
 /// Creates an event file for a `sensor` (width, height) recording whose format is given by its
-/// extension ([`Format::from_extension`]).
-pub fn create_writer(path: &Path, sensor: (u16, u16)) -> Result<Box<dyn EventWriter>, FormatError> {
-    create_writer_as(path, Format::from_extension(path)?, sensor)
+/// extension ([`Format::from_extension`]); `replace` as in [`create_writer_as`].
+pub fn create_writer(
+    path: &Path,
+    sensor: (u16, u16),
+    replace: Replace,
+) -> Result<Box<dyn EventWriter>, FormatError> {
+    create_writer_as(path, Format::from_extension(path)?, sensor, replace)
 }
 
 /// Reads a whole event file into memory (for small files and tests; stream large ones with
@@ -369,13 +376,13 @@ pub fn read_file(path: &Path) -> Result<(EventBuffer, ReadStats), FormatError> {
 }
 
 /// Writes `events` of a `sensor` (width, height) recording to a file whose format is given by
-/// its extension, atomically (see [`create_writer_as`]).
+/// its extension, atomically (see [`create_writer_as`]), replacing an existing file.
 pub fn write_file(
     path: &Path,
     events: &EventBuffer,
     sensor: (u16, u16),
 ) -> Result<(), FormatError> {
-    let mut writer = create_writer(path, sensor)?;
+    let mut writer = create_writer(path, sensor, Replace::Yes)?;
     writer.write(events)?;
     writer.finish()
 }
@@ -490,7 +497,7 @@ mod tests {
         // Every format: nothing visible until `finish`, nothing left when dropped before it.
         for format in Format::ALL {
             let path = dir.path().join("x.out");
-            let mut writer = create_writer_as(&path, format, DAVIS240_SIZE).unwrap();
+            let mut writer = create_writer_as(&path, format, DAVIS240_SIZE, Replace::No).unwrap();
             let _ = writer.write(&events);
             assert!(!path.exists(), "{format:?}");
             drop(writer);

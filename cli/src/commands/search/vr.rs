@@ -88,7 +88,8 @@ pub fn run(args: VrArgs, ranks: &dyn Ranks) -> anyhow::Result<()> {
         return Ok(());
     }
     if let Some(path) = &args.trace {
-        neurotac_core::io::write(path, serde_json::to_string(&result.trace)?)
+        let replace = neurotac_core::io::Replace::when(args.force.force);
+        neurotac_core::io::write(path, serde_json::to_string(&result.trace)?, replace)
             .with_context(|| format!("writing {}", path.display()))?;
     }
     if args.json {

@@ -6,8 +6,10 @@ use crate::commands::inputs::load_dataset;
 use crate::commands::options::{ForceOption, TradeoffOutOption, help};
 use crate::commands::outputs::refuse_existing;
 use crate::commands::progress::Bars;
+use anyhow::Context;
 use clap::Args;
 use neurotac_cli::tradeoff::{TradeoffAllConfig, run_all};
+use neurotac_core::io::{AtomicFileSet, Replace};
 use neurotac_experiments::datasets::synthetic::{SyntheticConfig, synthetic_dataset};
 use std::path::PathBuf;
 
@@ -42,7 +44,9 @@ pub fn run(args: AllArgs) -> anyhow::Result<()> {
             ..SyntheticConfig::default()
         }),
     };
-    let all = run_all(&config, &data, &args.out.out, &Bars::new())?;
+    let mut files = AtomicFileSet::new(Replace::when(args.force.force));
+    let all = run_all(&config, &data, &args.out.out, &mut files, &Bars::new())?;
+    files.commit().context("writing the trade-off files")?;
     println!("{}", all.summary);
     println!("wrote {}", args.out.out.join("tradeoff.md").display());
     Ok(())

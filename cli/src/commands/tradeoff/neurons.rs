@@ -3,8 +3,12 @@
 use crate::commands::args;
 use crate::commands::options::{ForceOption, TradeoffOutOption};
 use crate::commands::outputs::refuse_existing;
+use anyhow::Context;
 use clap::Args;
 use neurotac_cli::tradeoff::neurons::{NeuronTradeoffConfig, quick, report, to_markdown};
+use neurotac_cli::tradeoff::trade_files;
+use neurotac_core::io::{AtomicFileSet, Replace};
+use std::path::PathBuf;
 
 #[derive(Debug, Args)]
 pub struct NeuronsArgs {
@@ -29,11 +33,11 @@ pub fn run(args: NeuronsArgs) -> anyhow::Result<()> {
     if args.quick {
         quick(&mut config);
     }
-    refuse_existing(
-        [args.out.out.join("neurons.csv").as_path()],
-        args.force.force,
-    )?;
-    let rows = report(&config, &args.out.out)?;
+    let outputs = trade_files(&args.out.out, "neurons");
+    refuse_existing(outputs.iter().map(PathBuf::as_path), args.force.force)?;
+    let mut files = AtomicFileSet::new(Replace::when(args.force.force));
+    let rows = report(&config, &args.out.out, &mut files)?;
+    files.commit().context("writing the trade's files")?;
     let markdown = to_markdown(&rows, config.speed_neurons);
     let front_end = markdown.find("\n## Every point").unwrap_or(markdown.len());
     println!("{}", &markdown[..front_end]);

@@ -3,8 +3,11 @@
 use crate::commands::args;
 use crate::commands::options::{ForceOption, SeedOption, TradeoffOutOption};
 use crate::commands::outputs::refuse_existing;
+use anyhow::Context;
 use clap::Args;
 use neurotac_cli::tradeoff::simulator::{SimulatorTradeoffConfig, quick, report, to_markdown};
+use neurotac_cli::tradeoff::trade_files;
+use neurotac_core::io::{AtomicFileSet, Replace};
 use neurotac_sensor::sim::SimParams;
 use std::path::PathBuf;
 
@@ -28,10 +31,8 @@ pub struct SimulatorArgs {
 }
 
 pub fn run(args: SimulatorArgs) -> anyhow::Result<()> {
-    refuse_existing(
-        [args.out.out.join("simulator.csv").as_path()],
-        args.force.force,
-    )?;
+    let outputs = trade_files(&args.out.out, "simulator");
+    refuse_existing(outputs.iter().map(PathBuf::as_path), args.force.force)?;
     let mut config = SimulatorTradeoffConfig {
         trials: args.trials,
         seed: args.seed.seed,
@@ -45,7 +46,9 @@ pub fn run(args: SimulatorArgs) -> anyhow::Result<()> {
         quick(&mut config);
     }
     let start = std::time::Instant::now();
-    let rows = report(&config, &args.out.out)?;
+    let mut files = AtomicFileSet::new(Replace::when(args.force.force));
+    let rows = report(&config, &args.out.out, &mut files)?;
+    files.commit().context("writing the trade's files")?;
     println!("{}", to_markdown(&rows, &config));
     println!(
         "{} tolerances in {:.1} s → {}/simulator.{{csv,md,svg,png}}",

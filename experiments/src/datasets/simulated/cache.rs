@@ -110,7 +110,10 @@ pub(super) fn load_or_simulate_cached(
 /// and removed (a folder that is a file, read-only or gone is refused here).
 fn usable_cache_dir(dir: &Path) -> std::io::Result<()> {
     std::fs::create_dir_all(dir)?;
-    drop(neurotac_core::io::AtomicFile::create(dir.join("probe"))?);
+    drop(neurotac_core::io::AtomicFile::create(
+        dir.join("probe"),
+        neurotac_core::io::Replace::Yes,
+    )?);
     Ok(())
 }
 

@@ -6,6 +6,7 @@ use super::{DatasetsError, TextureSet, TrialJob, simulate_set};
 use crate::coding::class_means;
 use crate::export::{OutputFormat, dataset_bytes};
 use crate::progress::Progress;
+use neurotac_core::io::AtomicFileSet;
 use neurotac_core::{EventBuffer, Ranks, SpikeDataset};
 use neurotac_sensor::sim::{EventLabel, SimParams, SimulatedTrial, check_trials};
 use std::io::Write;
@@ -58,14 +59,19 @@ pub struct Generated {
     pub class_means: Vec<f64>,
 }
 
-/// Simulates (or reads from the cache) the dataset of `config` and writes its files; `progress`
-/// sees one stage with one step per simulated trial. Runs on the current rayon pool.
+/// Simulates (or reads from the cache) the dataset of `config` and writes its files into
+/// `outputs`, which the caller commits (together with the files of other sets): `<set>.bin`, the
+/// forms of [`GenerateConfig::also`], and the folder `events` (shared by the sets of one
+/// `outputs`), which thus appears only complete. `progress` sees one stage with one step per
+/// simulated trial. Runs on the current rayon pool.
 ///
 /// On several `ranks` the trials are split over them ([`simulate_set`]); each rank writes
-/// its own trials' pixel-event files and rank 0 writes the datasets (and the cache), which are
-/// byte-identical to a one-process run's. Collective.
+/// its own trials' pixel-event files into rank 0's hidden events folder, and rank 0's `outputs`
+/// gets the datasets (rank 0 also stores the cache), byte-identical to a one-process run's;
+/// the other ranks' `outputs` stay empty. Collective.
 pub fn generate(
     config: &GenerateConfig,
+    outputs: &mut AtomicFileSet,
     progress: &dyn Progress,
     ranks: &dyn Ranks,
 ) -> Result<Generated, DatasetsError> {
@@ -92,7 +98,7 @@ pub fn generate(
         None => load_or_simulate_cached(set, trials, seed, params, cache, &advance, ranks)?,
         Some(files) => {
             let names = set.class_names();
-            let dir = out.join("events");
+            let dir = events_folder(&out.join("events"), outputs, ranks)?;
             let each = |job: &TrialJob, trial: &SimulatedTrial| {
                 let folder = dir.join(format!(
                     "{:02}-{}",
@@ -129,14 +135,16 @@ pub fn generate(
     let binary = out.join(format!("{}.bin", set.name()));
     let root = ranks.is_root();
     if root {
-        dataset.save_binary(&binary)?;
+        outputs
+            .write(&binary, dataset.to_binary())
+            .map_err(io(&binary))?;
     }
     let mut also = Vec::new();
     for &format in &config.also {
         let path = out.join(format!("{}.{}", set.name(), format.extensions()[0]));
         if root {
             let bytes = dataset_bytes(&dataset, format).map_err(io(&path))?;
-            neurotac_core::io::write(&path, bytes).map_err(io(&path))?;
+            outputs.write(&path, bytes).map_err(io(&path))?;
         }
         also.push(path);
     }
@@ -150,8 +158,32 @@ pub fn generate(
     })
 }
 
-/// Writes pixel events as CSV: a header `t,x,y,on` (t in µs, `on` 1/0), one event per line;
-/// with `labels`, a fifth column `pin` (source pin, −1 for noise).
+/// The hidden folder the pixel-event files go into: rank 0's member `target` of `outputs`,
+/// its path told to every rank.
+fn events_folder(
+    target: &Path,
+    outputs: &mut AtomicFileSet,
+    ranks: &dyn Ranks,
+) -> Result<PathBuf, DatasetsError> {
+    let io = |source| DatasetsError::Io {
+        path: target.to_owned(),
+        source,
+    };
+    let partial = match ranks.is_root() {
+        true => outputs.dir(target).map_err(io)?.to_path_buf(),
+        false => PathBuf::new(),
+    };
+    if ranks.size() == 1 {
+        return Ok(partial);
+    }
+    let gathered = ranks.all_gather_bytes(partial.to_string_lossy().as_bytes())?;
+    Ok(PathBuf::from(
+        String::from_utf8_lossy(&gathered[0]).into_owned(),
+    ))
+}
+
+/// Writes pixel events as CSV (replacing an existing file): a header `t,x,y,on` (t in µs, `on`
+/// 1/0), one event per line; with `labels`, a fifth column `pin` (source pin, −1 for noise).
 ///
 /// This is the simulator's own minimal writer; the event-file formats of the DAVIS stack
 /// supersede it.
@@ -164,7 +196,8 @@ pub fn write_events_csv(
         path: path.to_owned(),
         source,
     };
-    let mut w = neurotac_core::io::AtomicFile::create(path).map_err(io)?;
+    let mut w =
+        neurotac_core::io::AtomicFile::create(path, neurotac_core::io::Replace::Yes).map_err(io)?;
     let header = if labels.is_some() {
         "t,x,y,on,pin\n"
     } else {

@@ -2,6 +2,7 @@ use super::*;
 use crate::export::OutputFormat;
 use crate::threads::with_threads;
 use neurotac_core::OneProcess;
+use neurotac_core::io::{AtomicFileSet, Replace};
 use neurotac_sensor::sim::{SimulationError, Simulator, Texture};
 
 fn short_params() -> SimParams {
@@ -186,7 +187,16 @@ fn generate_writes_the_dataset_then_reads_it_from_the_cache() {
         also: vec![OutputFormat::Json, OutputFormat::Npz],
         pixel_events: None,
     };
-    let first = generate(&config, &NoProgress, &OneProcess).unwrap();
+    let run = |config: &GenerateConfig, replace: Replace| {
+        let mut outputs = AtomicFileSet::new(replace);
+        let made = generate(config, &mut outputs, &NoProgress, &OneProcess)?;
+        outputs.commit().map_err(|source| DatasetsError::Io {
+            path: config.out.clone(),
+            source,
+        })?;
+        Ok::<_, DatasetsError>(made)
+    };
+    let first = run(&config, Replace::No).unwrap();
     assert!(!first.from_cache);
     assert_eq!(first.binary, dir.path().join("out/artificial.bin"));
     assert_eq!(SpikeDataset::load(&first.binary).unwrap(), first.dataset);
@@ -198,14 +208,23 @@ fn generate_writes_the_dataset_then_reads_it_from_the_cache() {
         crate::export::dataset_npz_bytes(&first.dataset).unwrap()
     );
     assert_eq!(first.class_means.len(), 11);
-    let again = generate(&config, &NoProgress, &OneProcess).unwrap();
+    let again = run(&config, Replace::Yes).unwrap();
     assert!(again.from_cache);
     assert_eq!(again.dataset, first.dataset);
     let with_events = GenerateConfig {
         pixel_events: Some(PixelEventFiles::LabelledCsv),
         ..config.clone()
     };
-    let made = generate(&with_events, &NoProgress, &OneProcess).unwrap();
+    // Interrupted before its commit (an error, or the process killed): no events folder.
+    let mut dropped = AtomicFileSet::new(Replace::Yes);
+    generate(&with_events, &mut dropped, &NoProgress, &OneProcess).unwrap();
+    assert!(!dir.path().join("out/events").exists());
+    drop(dropped);
+    assert_eq!(
+        neurotac_core::testing::folder_names(&dir.path().join("out")),
+        ["artificial.bin", "artificial.json", "artificial.npz"]
+    );
+    let made = run(&with_events, Replace::Yes).unwrap();
     assert!(!made.from_cache);
     assert!(
         dir.path()
@@ -218,7 +237,7 @@ fn generate_writes_the_dataset_then_reads_it_from_the_cache() {
         ..config
     };
     assert!(matches!(
-        generate(&zero, &NoProgress, &OneProcess),
+        run(&zero, Replace::No),
         Err(DatasetsError::Simulation(SimulationError::ZeroTrials))
     ));
 }
