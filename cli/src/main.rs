@@ -44,7 +44,7 @@ fn main() -> ExitCode {
     if cluster.size() > 1 {
         match cluster.agree_on(&commands::run_digest(&matches)) {
             Ok(()) => {}
-            Err(e @ ClusterError::Disagree { .. }) => {
+            Err(e @ ClusterError::Disagree(_)) => {
                 if cluster.is_root() {
                     eprintln!("error: {e}");
                 }

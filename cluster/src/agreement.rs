@@ -8,7 +8,7 @@
 //! different paths agrees and different data under the same name does not).
 //! [`Cluster::agree_on`](crate::Cluster::agree_on) all-gathers the parts and compares every
 //! rank's with rank 0's; every rank finds the same first difference and returns the same
-//! [`ClusterError::Disagree`].
+//! [`ClusterError::Disagree`](crate::ClusterError::Disagree).
 //!
 //! The digest guards against mistakes (a different file, seed or build per rank), not against
 //! someone forging two files with the same digest: the SipHash key is fixed and public.
@@ -23,7 +23,6 @@
 //! # Ok::<(), neurotac_cluster::ClusterError>(())
 //! ```
 
-use crate::ClusterError;
 use neurotac_core::{Ranks, RanksError};
 use siphasher::sip128::{Hasher128, SipHasher24};
 use std::fmt;
@@ -209,8 +208,8 @@ fn hex(digest: &[u8; 16]) -> String {
     digest.iter().map(|b| format!("{b:02x}")).collect()
 }
 
-/// The message of [`ClusterError::Disagree`]: how rank `rank`'s part differs from rank 0's.
-pub(crate) fn disagreement(rank: usize, theirs: &DigestPart, ours: &DigestPart) -> String {
+/// The message of a [`Disagreement`]: how rank `rank`'s part differs from rank 0's.
+fn disagreement(rank: usize, theirs: &DigestPart, ours: &DigestPart) -> String {
     let input = |p: &DigestPart| match p.readable() {
         true => format!("{}, digest {}", p.shown, hex(&p.digest)),
         false => p.shown.clone(),
@@ -246,10 +245,27 @@ fn missing(like: &DigestPart) -> DigestPart {
     }
 }
 
-/// Every rank's `digest` compared with rank 0's (see [`crate::Cluster::agree_on`]). Collective.
-pub(crate) fn agree_on(ranks: &dyn Ranks, digest: &RunDigest) -> Result<(), ClusterError> {
+/// A rank started with other settings or reading other inputs than rank 0: the first rank and
+/// part that differ, the same on every rank.
+#[derive(Debug, thiserror::Error)]
+#[error("{}", disagreement(*.rank, .theirs, .ours))]
+pub struct Disagreement {
+    /// The first rank that differs from rank 0.
+    pub rank: usize,
+    /// Its part that differs.
+    pub theirs: Box<DigestPart>,
+    /// Rank 0's part.
+    pub ours: Box<DigestPart>,
+}
+
+/// Every rank's `digest` compared with rank 0's (see [`crate::Cluster::agree_on`]): the first
+/// [`Disagreement`], or an exchange that failed. Collective.
+pub(crate) fn agree_on(
+    ranks: &dyn Ranks,
+    digest: &RunDigest,
+) -> Result<Result<(), Disagreement>, RanksError> {
     if ranks.size() == 1 {
-        return Ok(());
+        return Ok(Ok(()));
     }
     let gathered = ranks.all_gather_bytes(&digest.to_bytes())?;
     let mut all = Vec::with_capacity(gathered.len());
@@ -274,14 +290,14 @@ pub(crate) fn agree_on(ranks: &dyn Ranks, digest: &RunDigest) -> Result<(), Clus
                 (None, None) => None,
             });
         if let Some((theirs, ours)) = first_difference {
-            return Err(ClusterError::Disagree {
+            return Ok(Err(Disagreement {
                 rank,
                 theirs: Box::new(theirs),
                 ours: Box::new(ours),
-            });
+            }));
         }
     }
-    Ok(())
+    Ok(Ok(()))
 }
 
 #[cfg(test)]
@@ -293,7 +309,7 @@ mod tests {
     /// result, as a message or `Ok`.
     fn agree(digests: &[RunDigest]) -> Vec<Result<(), String>> {
         ThreadRanks::run(digests.len(), |r| {
-            agree_on(r, &digests[r.rank()]).map_err(|e| e.to_string())
+            (agree_on(r, &digests[r.rank()]).unwrap()).map_err(|e| e.to_string())
         })
     }
 

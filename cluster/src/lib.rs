@@ -29,7 +29,7 @@
 
 pub mod agreement;
 
-pub use agreement::{DigestPart, PartKind, RunDigest};
+pub use agreement::{DigestPart, Disagreement, PartKind, RunDigest};
 use neurotac_core::{OneProcess, Ranks, RanksError};
 use thiserror::Error;
 
@@ -53,15 +53,8 @@ pub enum ClusterError {
     MpiInit,
     /// A rank was started with other settings or read other inputs than rank 0
     /// ([`Cluster::agree_on`]): the first difference found, the same on every rank.
-    #[error("{}", agreement::disagreement(*.rank, .theirs, .ours))]
-    Disagree {
-        /// The first rank that differs from rank 0.
-        rank: usize,
-        /// Its part that differs.
-        theirs: Box<DigestPart>,
-        /// Rank 0's part.
-        ours: Box<DigestPart>,
-    },
+    #[error(transparent)]
+    Disagree(#[from] Disagreement),
     /// The ranks could not exchange what they need.
     #[error(transparent)]
     Ranks(#[from] RanksError),
@@ -108,7 +101,7 @@ impl Cluster {
     /// [`ClusterError::Disagree`], naming the first rank and part that differ. A group of one
     /// agrees without communication. Collective.
     pub fn agree_on(&self, digest: &RunDigest) -> Result<(), ClusterError> {
-        agreement::agree_on(self, digest)
+        Ok(agreement::agree_on(self, digest)??)
     }
 
     /// Ends the whole group at once with exit code `code` (MPI_Abort): for a rank that failed

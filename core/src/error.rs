@@ -37,13 +37,12 @@ pub enum SpikeError {
         value: f64,
     },
     /// More channels than a spike train may have ([`MAX_CHANNELS`](crate::spikes::MAX_CHANNELS)).
-    #[error(
-        "{n_channels} channels: more than the limit of {limit} channels per sample",
-        limit = crate::spikes::MAX_CHANNELS
-    )]
+    #[error("{n_channels} channels: more than the limit of {limit} channels per sample")]
     TooManyChannels {
         /// Channels asked for.
         n_channels: usize,
+        /// The limit.
+        limit: usize,
     },
     /// A spike names a channel that does not exist.
     #[error("spike on channel {channel}, but there are only {n_channels} channels")]
@@ -547,14 +546,15 @@ pub enum CodingError {
     },
     /// A feature matrix larger than the budget ([`MAX_FEATURE_VALUES`](crate::coding::MAX_FEATURE_VALUES)).
     #[error(
-        "{samples} samples × {features} features: more than the limit of {limit} feature values",
-        limit = crate::coding::MAX_FEATURE_VALUES
+        "{samples} samples × {features} features: more than the limit of {limit} feature values"
     )]
     TooManyFeatures {
         /// Rows (samples).
         samples: usize,
         /// Columns (features per sample).
         features: usize,
+        /// The limit.
+        limit: usize,
     },
     /// The temporal window is longer than the sample duration, so there is no window at all.
     #[error(

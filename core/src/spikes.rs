@@ -220,7 +220,10 @@ impl MultiSpikeTrain {
         spikes: &[(u32, f64)],
     ) -> Result<Self, SpikeError> {
         if n_channels > MAX_CHANNELS {
-            return Err(SpikeError::TooManyChannels { n_channels });
+            return Err(SpikeError::TooManyChannels {
+                n_channels,
+                limit: MAX_CHANNELS,
+            });
         }
         let mut offsets = vec![0usize; n_channels + 1];
         for (index, &(c, t)) in spikes.iter().enumerate() {
@@ -450,7 +453,9 @@ mod tests {
     #[test]
     fn a_channel_count_over_the_budget_is_refused_before_allocation() {
         let e = MultiSpikeTrain::from_labelled_spikes(1 << 40, &[(0, 0.1)]).unwrap_err();
-        assert!(matches!(e, SpikeError::TooManyChannels { n_channels } if n_channels == 1 << 40));
+        assert!(
+            matches!(e, SpikeError::TooManyChannels { n_channels, .. } if n_channels == 1 << 40)
+        );
         assert!(MultiSpikeTrain::from_labelled_spikes(MAX_CHANNELS, &[]).is_ok());
     }
 

@@ -120,6 +120,7 @@ pub fn feature_matrix<C: FeatureCoding>(
         return Err(CodingError::TooManyFeatures {
             samples: observations.len(),
             features: width,
+            limit: MAX_FEATURE_VALUES,
         });
     }
     let mut out = Array2::zeros((observations.len(), width));
@@ -202,7 +203,8 @@ mod tests {
             e,
             CodingError::TooManyFeatures {
                 samples: 100,
-                features: 3_600_000
+                features: 3_600_000,
+                ..
             }
         ));
         assert!(

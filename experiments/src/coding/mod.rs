@@ -218,6 +218,7 @@ pub fn sample_duration_ms(
         return Err(CodingError::TooManyFeatures {
             samples: data.len(),
             features: duration_ms as usize,
+            limit: MAX_FEATURE_VALUES,
         }
         .into());
     }

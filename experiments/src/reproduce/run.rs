@@ -414,6 +414,7 @@ mod tests {
                 SimulationError::TooManyTrials {
                     trials: 10usize.pow(15),
                     textures: 11,
+                    limit: neurotac_sensor::sim::MAX_TRIALS,
                 },
             ),
         ] {

@@ -27,17 +27,18 @@ pub enum SimulationError {
     /// A request for zero trials.
     #[error("`trials` = 0: at least one trial per texture is needed")]
     ZeroTrials,
-    /// More trials than a run may simulate ([`MAX_TRIALS`](super::MAX_TRIALS)).
+    /// More trials than a run may simulate.
     #[error(
         "`trials` = {trials} slides of each of {textures} textures: more than the limit of \
-         {limit} simulated trials per run",
-        limit = super::MAX_TRIALS
+         {limit} simulated trials per run"
     )]
     TooManyTrials {
         /// Slides per texture asked for.
         trials: usize,
         /// Textures slid over.
         textures: usize,
+        /// The limit (the simulator's `MAX_TRIALS`).
+        limit: usize,
     },
     /// A parameter file that cannot be read.
     #[error("cannot read parameter file {path}")]

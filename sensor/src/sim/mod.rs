@@ -68,7 +68,11 @@ pub fn check_trials(trials: usize, textures: usize) -> Result<(), SimulationErro
     }
     match trials.checked_mul(textures) {
         Some(n) if n <= MAX_TRIALS => Ok(()),
-        _ => Err(SimulationError::TooManyTrials { trials, textures }),
+        _ => Err(SimulationError::TooManyTrials {
+            trials,
+            textures,
+            limit: MAX_TRIALS,
+        }),
     }
 }
 pub use mechanics::{Mounting, PinTrajectories, TrialDraw};

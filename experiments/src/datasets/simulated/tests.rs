@@ -63,7 +63,8 @@ fn zero_trials_or_more_than_the_trial_budget_is_an_error_before_simulating() {
         load(usize::MAX),
         Err(DatasetsError::Simulation(SimulationError::TooManyTrials {
             trials: usize::MAX,
-            textures: 20
+            textures: 20,
+            ..
         }))
     ));
     assert!(std::fs::read_dir(dir.path()).unwrap().next().is_none());
