@@ -378,6 +378,24 @@ pub struct SimParams {
     pub solver: SolverParams,
 }
 
+/// A parameter file: the groups of [`SimParams`] and the documentary sections that
+/// [`SimParams::to_json_string`] writes, skipped. Parsed straight from the text (not through a
+/// `serde_json::Value`, which keeps the last of two equal keys and has no positions).
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ParamFile {
+    #[serde(default, rename = "sources")]
+    _sources: serde::de::IgnoredAny,
+    #[serde(default, rename = "calibrated")]
+    _calibrated: serde::de::IgnoredAny,
+    kinematics: KinematicsParams,
+    contact: ContactParams,
+    optics: OpticsParams,
+    pixel: PixelParams,
+    noise: NoiseParams,
+    solver: SolverParams,
+}
+
 /// The paper's intensive-code means (spikes per taxel) of the 0, 2.5 and 5 mm grids: the only
 /// numbers the simulator is calibrated on (spec §5).
 pub const PAPER_INTENSIVE_MEANS: [(f64, f64); 3] = [(0.0, 4.63), (2.5, 9.84), (5.0, 34.73)];
@@ -608,18 +626,22 @@ impl SimParams {
 
     /// Parses and validates the JSON form; `path` only names the source in errors. The
     /// documentary sections `sources` and `calibrated` written by
-    /// [`to_json_string`](Self::to_json_string) are skipped.
+    /// [`to_json_string`](Self::to_json_string) are skipped. A field or group given twice is an
+    /// error, like a missing or unknown one, with its line and column.
     pub fn from_json_str(text: &str, path: &Path) -> Result<Self, SimulationError> {
-        let json_error = |source| SimulationError::ParamsJson {
-            path: path.to_owned(),
-            source,
+        let file: ParamFile =
+            serde_json::from_str(text).map_err(|source| SimulationError::ParamsJson {
+                path: path.to_owned(),
+                source,
+            })?;
+        let params = SimParams {
+            kinematics: file.kinematics,
+            contact: file.contact,
+            optics: file.optics,
+            pixel: file.pixel,
+            noise: file.noise,
+            solver: file.solver,
         };
-        let mut value: serde_json::Value = serde_json::from_str(text).map_err(json_error)?;
-        if let Some(map) = value.as_object_mut() {
-            map.remove("sources");
-            map.remove("calibrated");
-        }
-        let params: SimParams = serde_json::from_value(value).map_err(json_error)?;
         params.validate()?;
         Ok(params)
     }
@@ -793,5 +815,31 @@ mod tests {
         let negative = text.replace("\"threshold_off\": 0.25", "\"threshold_off\": -0.25");
         let err = SimParams::from_json_str(&negative, Path::new("p.json")).unwrap_err();
         assert!(err.to_string().contains("pixel.threshold_off"), "{err}");
+    }
+
+    #[test]
+    fn a_field_or_group_given_twice_is_an_error_with_its_line() {
+        let text = SimParams::default().to_json_string();
+        let twice_field = text.replacen(
+            "\"speed_mm_s\": 15.0,",
+            "\"speed_mm_s\": 150.0,\n    \"speed_mm_s\": 15.0,",
+            1,
+        );
+        let pixel = &text[text.find("  \"pixel\": {").unwrap()..];
+        let pixel = &pixel[..pixel.find("},").unwrap() + 2];
+        let twice_group = text.replacen(pixel, &format!("{pixel}\n{pixel}"), 1);
+        let missing = text.replacen("\"refractory_s\": 0.0005,", "", 1);
+        for (bad, what) in [
+            (twice_field, "duplicate field `speed_mm_s`"),
+            (twice_group, "duplicate field `pixel`"),
+            (missing, "missing field `refractory_s`"),
+        ] {
+            let err = SimParams::from_json_str(&bad, Path::new("p.json")).unwrap_err();
+            let SimulationError::ParamsJson { source, .. } = &err else {
+                panic!("{what}: {err:?}")
+            };
+            assert!(source.to_string().contains(what), "{source}");
+            assert!(source.line() > 1, "{what}: no line in {source}");
+        }
     }
 }
