@@ -11,50 +11,19 @@
 //! hold, …); `fuzz/README.md` says how it is grown.
 
 use neurotac_core::EventBuffer;
+use neurotac_core::testing::fuzz::{PeakAllocator, peak_since, reset_peak};
 use neurotac_sensor::FormatError;
 use neurotac_sensor::davis::UsbDecoder;
 use neurotac_sensor::format::{
     Aedat2Reader, Aedat3Reader, Aedat4Reader, CsvReader, EcdTextReader, EventReader, Format,
     ReadStats, reader_from_bytes, to_bytes,
 };
-use std::alloc::{GlobalAlloc, Layout, System};
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicUsize, Ordering};
 
-/// Counts the bytes allocated and live, and their peak since the last reset. This test binary
-/// holds one test, so the counts are that test's.
-struct Peak;
-
-static LIVE: AtomicUsize = AtomicUsize::new(0);
-static PEAK: AtomicUsize = AtomicUsize::new(0);
-
-fn grow(bytes: usize) {
-    let live = LIVE.fetch_add(bytes, Ordering::Relaxed) + bytes;
-    PEAK.fetch_max(live, Ordering::Relaxed);
-}
-
-unsafe impl GlobalAlloc for Peak {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        grow(layout.size());
-        unsafe { System.alloc(layout) }
-    }
-    unsafe fn alloc_zeroed(&self, layout: Layout) -> *mut u8 {
-        grow(layout.size());
-        unsafe { System.alloc_zeroed(layout) }
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        LIVE.fetch_sub(layout.size(), Ordering::Relaxed);
-        unsafe { System.dealloc(ptr, layout) }
-    }
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        grow(new_size);
-        LIVE.fetch_sub(layout.size(), Ordering::Relaxed);
-        unsafe { System.realloc(ptr, layout, new_size) }
-    }
-}
-
+/// Tracks the bytes live and their peak. This test binary holds one test, so the counts are
+/// that test's.
 #[global_allocator]
-static GLOBAL: Peak = Peak;
+static GLOBAL: PeakAllocator = PeakAllocator;
 
 /// The cargo-fuzz targets, each with a corpus folder.
 const TARGETS: [&str; 6] = [
@@ -257,10 +226,9 @@ fn every_corpus_file_through_every_reader_and_writer() {
                 continue;
             }
             let name = format!("{target}/{}", path.file_name().unwrap().to_string_lossy());
-            let before = LIVE.load(Ordering::Relaxed);
-            PEAK.store(before, Ordering::Relaxed);
+            let start = reset_peak();
             replay(&name, &bytes);
-            let used = PEAK.load(Ordering::Relaxed) - before;
+            let used = peak_since(start);
             let budget = BUDGET_FIXED_BYTES + BUDGET_PER_INPUT_BYTE * bytes.len();
             assert!(
                 used <= budget,
