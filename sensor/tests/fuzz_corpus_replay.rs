@@ -11,14 +11,13 @@
 //! hold, …); `fuzz/README.md` says how it is grown.
 
 use neurotac_core::EventBuffer;
-use neurotac_core::testing::fuzz::{PeakAllocator, peak_since, reset_peak};
+use neurotac_core::testing::fuzz::{PeakAllocator, corpus, peak_since, reset_peak};
 use neurotac_sensor::FormatError;
 use neurotac_sensor::davis::UsbDecoder;
 use neurotac_sensor::format::{
     Aedat2Reader, Aedat3Reader, Aedat4Reader, CsvReader, EcdTextReader, EventReader, Format,
     ReadStats, reader_from_bytes, to_bytes,
 };
-use std::path::{Path, PathBuf};
 
 /// Tracks the bytes live and their peak. This test binary holds one test, so the counts are
 /// that test's.
@@ -55,10 +54,6 @@ fn min_bytes_per_event(reader: &str, bytes: &[u8]) -> Option<usize> {
         _ if bytes.starts_with(b"#!AER-DAT4.0") => None,
         _ => Some(7),
     }
-}
-
-fn corpus_dir() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../fuzz/corpus")
 }
 
 /// A reader, or the error that refused its input's header.
@@ -204,28 +199,22 @@ fn replay(name: &str, bytes: &[u8]) {
 
 #[test]
 fn every_corpus_file_through_every_reader_and_writer() {
-    let root = corpus_dir();
     let mut files = 0;
     let mut total_bytes = 0;
     let mut largest_peak = 0;
     let mut seen = std::collections::HashSet::new();
     for target in TARGETS {
-        let dir = root.join(target);
-        let mut entries: Vec<PathBuf> = std::fs::read_dir(&dir)
-            .unwrap_or_else(|e| panic!("{}: {e} (the corpus is committed)", dir.display()))
-            .map(|e| e.unwrap().path())
-            .filter(|p| p.is_file())
-            .collect();
-        entries.sort();
-        assert!(!entries.is_empty(), "{}: empty corpus", dir.display());
-        for path in entries {
-            let bytes = std::fs::read(&path).unwrap();
+        let Some(entries) = corpus(target) else {
+            return;
+        };
+        assert!(!entries.is_empty(), "{target}: empty corpus");
+        for (file, bytes) in entries {
             // A file several targets share (cmin names finds by their hash) is replayed once,
             // and git stores it once.
             if !seen.insert(bytes.clone()) {
                 continue;
             }
-            let name = format!("{target}/{}", path.file_name().unwrap().to_string_lossy());
+            let name = format!("{target}/{file}");
             let start = reset_peak();
             replay(&name, &bytes);
             let used = peak_since(start);

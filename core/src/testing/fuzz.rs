@@ -54,9 +54,10 @@ fn read_dataset_checked(bytes: &[u8]) -> Result<SpikeDataset, DatasetError> {
 }
 
 /// What a dataset that was read promises its user: one label per observation (or none), each
-/// with a class name when names are given, at most [`MAX_CLASSES`] classes; the same channels in every observation; finite,
-/// non-decreasing spike times in every channel; a `duration_s` (when stated) finite and > 0; and
-/// both forms written from it read back equal (what `neurotac export` does).
+/// with a class name when names are given, at most [`MAX_CLASSES`] classes; the same channels
+/// in every observation; finite, non-decreasing spike times in every channel; a `duration_s`
+/// (when stated) finite and > 0; and both forms written from it read back equal (what
+/// `neurotac export` does).
 pub fn check_dataset(data: &SpikeDataset) {
     let labels = data.labels();
     assert!(

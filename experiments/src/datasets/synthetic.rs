@@ -180,13 +180,18 @@ mod tests {
                 duration_s: 0.0,
                 ..SyntheticConfig::default()
             },
-            SyntheticConfig {
-                classes: MAX_CLASSES + 1,
-                ..SyntheticConfig::default()
-            },
         ] {
             assert!(config.check().is_err(), "{config:?}");
         }
+        let too_many = SyntheticConfig {
+            classes: MAX_CLASSES + 1,
+            ..SyntheticConfig::default()
+        };
+        let message = too_many.check().unwrap_err().to_string();
+        assert!(
+            message.contains(&format!("at most {MAX_CLASSES} ")),
+            "{message}"
+        );
     }
 
     #[test]
