@@ -11,7 +11,8 @@
 //! ```
 //! Times are seconds. `observations` is required; `labels`, `class_names` and `meta` may be
 //! absent (an unlabelled dataset). Errors give the line and column, and inside `observations`
-//! the observation, channel and spike (see [`SpikeDataset::from_json_str`]).
+//! the observation, channel and spike (see [`SpikeDataset::from_json_str`]). In either form a
+//! dataset has at most [`MAX_CLASSES`] (1024) classes: labels below it, no more class names.
 //!
 //! # Typed metadata
 //! `meta` is free-form JSON, except for the fields read through typed accessors, which are
@@ -53,18 +54,25 @@ pub struct SpikeDataset {
     meta: serde_json::Map<String, serde_json::Value>,
 }
 
-const MAGIC: &[u8; 8] = b"NTSPIKES";
+/// The first bytes of the binary form.
+pub(crate) const MAGIC: &[u8; 8] = b"NTSPIKES";
+/// The most classes a dataset may have: labels lie in `0..MAX_CLASSES` and there are at most
+/// this many class names. Per-class tables (class means, a confusion matrix of
+/// `MAX_CLASSES²` counts) are sized by [`SpikeDataset::n_classes`], so a corrupt label cannot
+/// make them huge.
+pub const MAX_CLASSES: usize = 1024;
 /// The metadata key of [`SpikeDataset::duration_s`].
 pub const DURATION_S_KEY: &str = "duration_s";
 /// The version written: the layout of version 1 followed by a CRC-32.
-const VERSION: u32 = 2;
+pub(crate) const VERSION: u32 = 2;
 /// The first version, without a checksum (still read).
-const VERSION_WITHOUT_CHECKSUM: u32 = 1;
+pub(crate) const VERSION_WITHOUT_CHECKSUM: u32 = 1;
 /// Bytes of the trailing CRC-32.
 const CHECKSUM_BYTES: usize = 4;
 
 impl SpikeDataset {
     /// Builds a dataset, checking that labels (if any) match the observations one to one, that
+    /// there are at most [`MAX_CLASSES`] classes (labels below it, no more class names), that
     /// every label has a class name (when names are given) and that all observations have the
     /// same number of channels.
     pub fn new(
@@ -77,6 +85,21 @@ impl SpikeDataset {
             return Err(DatasetError::LabelCount {
                 labels: labels.len(),
                 observations: observations.len(),
+            });
+        }
+        if class_names.len() > MAX_CLASSES {
+            return Err(DatasetError::TooManyClassNames {
+                names: class_names.len(),
+                max: MAX_CLASSES,
+            });
+        }
+        if let Some((observation, &label)) =
+            labels.iter().enumerate().find(|(_, l)| **l >= MAX_CLASSES)
+        {
+            return Err(DatasetError::LabelBeyondLimit {
+                observation,
+                label,
+                max: MAX_CLASSES,
             });
         }
         if !class_names.is_empty() {
@@ -150,9 +173,10 @@ impl SpikeDataset {
         &self.class_names
     }
 
-    /// Number of classes: the number of names, or one more than the largest label.
+    /// Number of classes: the number of names, or one more than the largest label; at most
+    /// [`MAX_CLASSES`].
     pub fn n_classes(&self) -> usize {
-        let from_labels = self.labels.iter().max().map_or(0, |m| m.saturating_add(1));
+        let from_labels = self.labels.iter().max().map_or(0, |m| m + 1);
         self.class_names.len().max(from_labels)
     }
 
@@ -211,17 +235,24 @@ impl SpikeDataset {
         write_file(path.as_ref(), &self.to_binary())
     }
 
-    /// Reads a dataset in either form; the binary magic decides which.
+    /// Reads a dataset in either form; the binary magic decides which
+    /// ([`from_bytes`](Self::from_bytes)).
     pub fn load(path: impl AsRef<Path>) -> Result<Self, DatasetError> {
         let path = path.as_ref();
         let bytes = std::fs::read(path).map_err(|source| DatasetError::Io {
             path: path.to_owned(),
             source,
         })?;
+        Self::from_bytes(&bytes, path)
+    }
+
+    /// Decodes a file's bytes in either form: the binary form when they start with its magic,
+    /// else the JSON form (UTF-8 text); `path` only names the source in errors.
+    pub fn from_bytes(bytes: &[u8], path: &Path) -> Result<Self, DatasetError> {
         if bytes.starts_with(MAGIC) {
-            Self::from_binary(&bytes, path)
+            Self::from_binary(bytes, path)
         } else {
-            let text = std::str::from_utf8(&bytes).map_err(|e| DatasetError::Binary {
+            let text = std::str::from_utf8(bytes).map_err(|e| DatasetError::Binary {
                 path: path.to_owned(),
                 offset: e.valid_up_to(),
                 what: "neither the binary dataset magic nor UTF-8 JSON text".into(),
@@ -328,11 +359,9 @@ impl SpikeDataset {
                 return Err(r.error(r.pos, "labels exceed the bytes left in the file"));
             }
             for _ in 0..n_obs {
-                let at = r.pos;
+                // A label beyond MAX_CLASSES is refused by `new`, naming its observation.
                 let l = r.u64("label")?;
-                let l = u32::try_from(l)
-                    .map_err(|_| r.error(at, &format!("label {l} is not a class index")))?;
-                labels.push(l as usize);
+                labels.push(usize::try_from(l).unwrap_or(usize::MAX));
             }
         } else if labelled != 0 {
             return Err(r.error(r.pos - 1, "label flag must be 0 or 1"));

@@ -130,6 +130,29 @@ pub enum DatasetError {
         /// Number of class names.
         n_classes: usize,
     },
+    /// A label at or beyond [`MAX_CLASSES`](crate::dataset::MAX_CLASSES): per-class tables
+    /// (class means, confusion matrices) are sized by the number of classes, so a corrupt label
+    /// must not size them.
+    #[error(
+        "observation {observation}: label {label}, but a dataset has at most {max} classes (labels 0 to {})",
+        max - 1
+    )]
+    LabelBeyondLimit {
+        /// Index of the observation.
+        observation: usize,
+        /// The label.
+        label: usize,
+        /// The most classes a dataset may have.
+        max: usize,
+    },
+    /// More class names than [`MAX_CLASSES`](crate::dataset::MAX_CLASSES).
+    #[error("{names} class names, but a dataset has at most {max} classes")]
+    TooManyClassNames {
+        /// Number of class names.
+        names: usize,
+        /// The most classes a dataset may have.
+        max: usize,
+    },
     /// Observations with different channel counts.
     #[error("observation {observation} has {got} channels, observation 0 has {expected}")]
     ChannelCount {
@@ -177,6 +200,8 @@ impl DatasetError {
             Self::Spikes { .. }
             | Self::LabelCount { .. }
             | Self::LabelOutOfRange { .. }
+            | Self::LabelBeyondLimit { .. }
+            | Self::TooManyClassNames { .. }
             | Self::ChannelCount { .. }
             | Self::Meta { .. } => None,
         }

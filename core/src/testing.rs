@@ -6,8 +6,12 @@
 //! needs them calls [`shared_data`]: when the folder is absent the test prints why it skips and
 //! returns — unless the environment variable `CI` is set (non-empty, not `false` or `0`), where
 //! a missing folder fails the test, so that a CI run never passes without having read the data.
+//!
+//! [`fuzz`] holds what the fuzz targets check, shared with the tests that replay their corpus.
 
 use std::path::{Path, PathBuf};
+
+pub mod fuzz;
 
 /// The names in `folder` (hidden ones included), sorted: what a test expects a command to
 /// have left behind. Panics when the folder cannot be read (a test's precondition).

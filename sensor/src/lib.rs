@@ -67,6 +67,8 @@ pub mod geometry;
 pub mod sim;
 pub mod stage;
 pub mod taxel;
+#[doc(hidden)]
+pub mod testing;
 
 pub use error::{
     DeviceError, FormatError, ReaderTransductionError, SensorError, TransductionError,

@@ -11,50 +11,18 @@
 //! hold, …); `fuzz/README.md` says how it is grown.
 
 use neurotac_core::EventBuffer;
+use neurotac_core::testing::fuzz::{PeakAllocator, corpus, peak_since, reset_peak};
 use neurotac_sensor::FormatError;
 use neurotac_sensor::davis::UsbDecoder;
 use neurotac_sensor::format::{
     Aedat2Reader, Aedat3Reader, Aedat4Reader, CsvReader, DAVIS240_SIZE, EcdTextReader, EventReader,
     Format, ReadStats, reader_from_bytes, to_bytes,
 };
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicUsize, Ordering};
 
-/// Counts the bytes allocated and live, and their peak since the last reset. This test binary
-/// holds one test, so the counts are that test's.
-struct Peak;
-
-static LIVE: AtomicUsize = AtomicUsize::new(0);
-static PEAK: AtomicUsize = AtomicUsize::new(0);
-
-fn grow(bytes: usize) {
-    let live = LIVE.fetch_add(bytes, Ordering::Relaxed) + bytes;
-    PEAK.fetch_max(live, Ordering::Relaxed);
-}
-
-unsafe impl GlobalAlloc for Peak {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        grow(layout.size());
-        unsafe { System.alloc(layout) }
-    }
-    unsafe fn alloc_zeroed(&self, layout: Layout) -> *mut u8 {
-        grow(layout.size());
-        unsafe { System.alloc_zeroed(layout) }
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        LIVE.fetch_sub(layout.size(), Ordering::Relaxed);
-        unsafe { System.dealloc(ptr, layout) }
-    }
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        grow(new_size);
-        LIVE.fetch_sub(layout.size(), Ordering::Relaxed);
-        unsafe { System.realloc(ptr, layout, new_size) }
-    }
-}
-
+/// Tracks the bytes live and their peak. This test binary holds one test, so the counts are
+/// that test's.
 #[global_allocator]
-static GLOBAL: Peak = Peak;
+static GLOBAL: PeakAllocator = PeakAllocator;
 
 /// The cargo-fuzz targets, each with a corpus folder.
 const TARGETS: [&str; 6] = [
@@ -86,10 +54,6 @@ fn min_bytes_per_event(reader: &str, bytes: &[u8]) -> Option<usize> {
         _ if bytes.starts_with(b"#!AER-DAT4.0") => None,
         _ => Some(7),
     }
-}
-
-fn corpus_dir() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../fuzz/corpus")
 }
 
 /// A reader, or the error that refused its input's header.
@@ -247,32 +211,25 @@ fn replay(name: &str, bytes: &[u8]) {
 
 #[test]
 fn every_corpus_file_through_every_reader_and_writer() {
-    let root = corpus_dir();
     let mut files = 0;
     let mut total_bytes = 0;
     let mut largest_peak = 0;
     let mut seen = std::collections::HashSet::new();
     for target in TARGETS {
-        let dir = root.join(target);
-        let mut entries: Vec<PathBuf> = std::fs::read_dir(&dir)
-            .unwrap_or_else(|e| panic!("{}: {e} (the corpus is committed)", dir.display()))
-            .map(|e| e.unwrap().path())
-            .filter(|p| p.is_file())
-            .collect();
-        entries.sort();
-        assert!(!entries.is_empty(), "{}: empty corpus", dir.display());
-        for path in entries {
-            let bytes = std::fs::read(&path).unwrap();
+        let Some(entries) = corpus(target) else {
+            return;
+        };
+        assert!(!entries.is_empty(), "{target}: empty corpus");
+        for (file, bytes) in entries {
             // A file several targets share (cmin names finds by their hash) is replayed once,
             // and git stores it once.
             if !seen.insert(bytes.clone()) {
                 continue;
             }
-            let name = format!("{target}/{}", path.file_name().unwrap().to_string_lossy());
-            let before = LIVE.load(Ordering::Relaxed);
-            PEAK.store(before, Ordering::Relaxed);
+            let name = format!("{target}/{file}");
+            let start = reset_peak();
             replay(&name, &bytes);
-            let used = PEAK.load(Ordering::Relaxed) - before;
+            let used = peak_since(start);
             let budget = BUDGET_FIXED_BYTES + BUDGET_PER_INPUT_BYTE * bytes.len();
             assert!(
                 used <= budget,

@@ -458,3 +458,67 @@ fn corrupt_binary_is_a_typed_error_never_a_huge_allocation() {
     trailing.push(0);
     assert!(SpikeDataset::from_binary(&trailing, Path::new("t")).is_err());
 }
+
+#[test]
+fn labels_and_class_names_beyond_the_class_limit_are_refused_in_both_forms() {
+    let obs = || vec![MultiSpikeTrain::from_channels([[0.1]]).unwrap(); 2];
+    let largest = MAX_CLASSES - 1;
+    let ok = SpikeDataset::new(obs(), vec![0, largest], vec![], Default::default()).unwrap();
+    assert_eq!(ok.n_classes(), MAX_CLASSES);
+    // A label the binary form once refused (≥ 2³²) and one it read (4·10⁹): refused in JSON, in
+    // binary version 1 and 2 alike, naming the observation, so a JSON file converts to binary
+    // and back and no per-class table is sized by a corrupt label.
+    for label in [MAX_CLASSES, 4_000_000_000, 1 << 32] {
+        let json = format!(r#"{{"labels":[0,{label}],"observations":[[[0.1]],[[0.1]]]}}"#);
+        let mut binary = ok.to_binary();
+        let at = binary.len() - 4 - 2 * (8 + 8 + 8) - 8;
+        binary[at..at + 8].copy_from_slice(&(label as u64).to_le_bytes());
+        let n = binary.len() - CHECKSUM_BYTES;
+        let crc = crc32fast::hash(&binary[..n]);
+        binary[n..].copy_from_slice(&crc.to_le_bytes());
+        let v1 = {
+            let mut b = binary[..n].to_vec();
+            b[8..12].copy_from_slice(&VERSION_WITHOUT_CHECKSUM.to_le_bytes());
+            b
+        };
+        for (form, read) in [
+            (
+                "JSON",
+                SpikeDataset::from_json_str(&json, Path::new("d.json")),
+            ),
+            (
+                "binary",
+                SpikeDataset::from_binary(&binary, Path::new("d.bin")),
+            ),
+            (
+                "version 1",
+                SpikeDataset::from_binary(&v1, Path::new("d.bin")),
+            ),
+        ] {
+            match read {
+                Err(
+                    e @ DatasetError::LabelBeyondLimit {
+                        observation: 1,
+                        max: MAX_CLASSES,
+                        ..
+                    },
+                ) => assert_eq!(
+                    e.to_string(),
+                    format!(
+                        "observation 1: label {label}, but a dataset has at most 1024 classes (labels 0 to 1023)"
+                    )
+                ),
+                other => panic!("{form}, label {label}: {other:?}"),
+            }
+        }
+    }
+    let names = vec![String::new(); MAX_CLASSES + 1];
+    let json = serde_json::json!({"class_names": names, "observations": []}).to_string();
+    match SpikeDataset::from_json_str(&json, Path::new("d.json")) {
+        Err(e @ DatasetError::TooManyClassNames { names: 1025, .. }) => assert_eq!(
+            e.to_string(),
+            "1025 class names, but a dataset has at most 1024 classes"
+        ),
+        other => panic!("{other:?}"),
+    }
+}

@@ -13,7 +13,7 @@
 //! data for correctness and timing, not for accuracy claims.
 
 use crate::error::ExperimentError;
-use neurotac_core::dataset::DURATION_S_KEY;
+use neurotac_core::dataset::{DURATION_S_KEY, MAX_CLASSES};
 use neurotac_core::time::us_to_s;
 use neurotac_core::{MultiSpikeTrain, SpikeDataset};
 use rand::{RngExt, SeedableRng};
@@ -25,7 +25,7 @@ use rayon::prelude::*;
 pub struct SyntheticConfig {
     /// Number of samples. Default 1100 (100 per class, as the paper's artificial textures).
     pub samples: usize,
-    /// Number of classes. Default 11.
+    /// Number of classes, at most [`MAX_CLASSES`]. Default 11.
     pub classes: usize,
     /// Channels (taxels) per sample. Default 49.
     pub channels: usize,
@@ -59,9 +59,16 @@ pub const MAX_SYNTHETIC_SPIKES: f64 = 2e8;
 
 impl SyntheticConfig {
     /// Refuses a configuration that [`synthetic_dataset`] cannot draw, or would draw for longer
-    /// than its budget allows: non-finite or non-positive spikes per unit or duration, or more
-    /// than [`MAX_SYNTHETIC_SPIKES`] spike candidates.
+    /// than its budget allows: more than [`MAX_CLASSES`] classes, non-finite or non-positive
+    /// spikes per unit or duration, or more than [`MAX_SYNTHETIC_SPIKES`] spike candidates.
     pub fn check(&self) -> Result<(), ExperimentError> {
+        if self.classes > MAX_CLASSES {
+            return Err(ExperimentError::InvalidParameter {
+                what: "classes",
+                value: self.classes as f64,
+                expected: "at most 1024 (the most classes a spike dataset may have)",
+            });
+        }
         let positive = |x: f64| x.is_finite() && x > 0.0;
         if !positive(self.spikes_per_unit) {
             return Err(ExperimentError::InvalidParameter {
@@ -176,6 +183,15 @@ mod tests {
         ] {
             assert!(config.check().is_err(), "{config:?}");
         }
+        let too_many = SyntheticConfig {
+            classes: MAX_CLASSES + 1,
+            ..SyntheticConfig::default()
+        };
+        let message = too_many.check().unwrap_err().to_string();
+        assert!(
+            message.contains(&format!("at most {MAX_CLASSES} ")),
+            "{message}"
+        );
     }
 
     #[test]

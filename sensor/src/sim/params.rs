@@ -10,7 +10,8 @@ use super::error::SimulationError;
 pub use super::parameter_sources::PARAMETER_SOURCES;
 use crate::geometry::{DAVIS240_HEIGHT, DAVIS240_WIDTH};
 use serde::{Deserialize, Serialize};
-use std::path::Path;
+
+mod file;
 
 /// Robot kinematics and the variability a robot arm has (spec §2.1; hierarchical, §8).
 ///
@@ -640,56 +641,6 @@ impl SimParams {
             }),
             None => Ok(()),
         }
-    }
-
-    /// Reads and validates a JSON parameter file (every field required).
-    pub fn from_json_file(path: &Path) -> Result<Self, SimulationError> {
-        let text = std::fs::read_to_string(path).map_err(|source| SimulationError::ParamsIo {
-            path: path.to_owned(),
-            source,
-        })?;
-        Self::from_json_str(&text, path)
-    }
-
-    /// Parses and validates the JSON form; `path` only names the source in errors. The
-    /// documentary sections `sources` and `calibrated` written by
-    /// [`to_json_string`](Self::to_json_string) are skipped.
-    pub fn from_json_str(text: &str, path: &Path) -> Result<Self, SimulationError> {
-        let json_error = |source| SimulationError::ParamsJson {
-            path: path.to_owned(),
-            source,
-        };
-        let mut value: serde_json::Value = serde_json::from_str(text).map_err(json_error)?;
-        if let Some(map) = value.as_object_mut() {
-            map.remove("sources");
-            map.remove("calibrated");
-        }
-        let params: SimParams = serde_json::from_value(value).map_err(json_error)?;
-        params.validate()?;
-        Ok(params)
-    }
-
-    /// The JSON form: a `sources` section naming where each prior comes from
-    /// ([`PARAMETER_SOURCES`]), a `calibrated` section ([`calibrated_parameters`](Self::calibrated_parameters)),
-    /// then every field.
-    pub fn to_json_string(&self) -> String {
-        let mut map = serde_json::Map::new();
-        let sources: serde_json::Map<String, serde_json::Value> = PARAMETER_SOURCES
-            .iter()
-            .map(|(k, v)| ((*k).to_owned(), (*v).into()))
-            .collect();
-        map.insert("sources".into(), sources.into());
-        map.insert(
-            "calibrated".into(),
-            serde_json::to_value(self.calibrated_parameters()).expect("finite values serialise"),
-        );
-        if let serde_json::Value::Object(fields) =
-            serde_json::to_value(self).expect("finite parameters serialise")
-        {
-            map.extend(fields);
-        }
-        serde_json::to_string_pretty(&serde_json::Value::Object(map))
-            .expect("finite parameters serialise")
     }
 
     /// The (at most three) calibrated parameters, each with the one intensive mean it is

@@ -1,4 +1,5 @@
 use super::*;
+use std::path::Path;
 
 #[test]
 fn every_parameter_names_its_source_or_says_it_has_none() {
