@@ -27,6 +27,14 @@ fn defaults_validate_and_a_trial_lasts_about_4_5_s() {
     assert!((p.duration_s() - 4.55).abs() < 1e-12, "{}", p.duration_s());
 }
 
+/// The field `validate` names when it refuses `p`.
+fn refused_field(p: &SimParams) -> &'static str {
+    match p.validate() {
+        Err(SimulationError::InvalidParameter { field, .. }) => field,
+        other => panic!("{other:?}"),
+    }
+}
+
 #[test]
 fn bad_values_name_their_field() {
     type Spoil = fn(&mut SimParams);
@@ -44,10 +52,7 @@ fn bad_values_name_their_field() {
     for (spoil, name) in cases {
         let mut p = SimParams::default();
         spoil(&mut p);
-        match p.validate() {
-            Err(SimulationError::InvalidParameter { field, .. }) => assert_eq!(field, name),
-            other => panic!("{name}: {other:?}"),
-        }
+        assert_eq!(refused_field(&p), name);
     }
 }
 
@@ -73,10 +78,7 @@ fn a_trial_too_long_names_the_field_that_makes_it_long() {
     for (spoil, name) in cases {
         let mut p = SimParams::default();
         spoil(&mut p);
-        match p.validate() {
-            Err(SimulationError::InvalidParameter { field, .. }) => assert_eq!(field, name),
-            other => panic!("{name}: {other:?}"),
-        }
+        assert_eq!(refused_field(&p), name);
     }
 }
 
@@ -87,12 +89,7 @@ fn a_leak_spread_whose_mean_noise_exceeds_the_budget_is_refused() {
     p.validate().unwrap();
     for spread in [2.0, 1e300] {
         p.noise.leak_spread_decades = spread;
-        match p.validate() {
-            Err(SimulationError::InvalidParameter { field, .. }) => {
-                assert_eq!(field, "noise.leak_spread_decades")
-            }
-            other => panic!("{spread}: {other:?}"),
-        }
+        assert_eq!(refused_field(&p), "noise.leak_spread_decades");
     }
     // The mean of r₀·10^(s·N(0,1)) is r₀·exp((s·ln 10)²/2).
     p.noise.leak_spread_decades = 1.0;
@@ -106,12 +103,7 @@ fn noise_events_beyond_the_memory_budget_are_refused_naming_the_larger_rate() {
     p.noise.shot_rate_hz = 500.0; // 500 Hz × 43 200 pixels × 4.55 s ≈ 9.8·10⁷ events
     p.validate().unwrap();
     p.kinematics.rest_after_s = 100.0; // ≈ 2.2·10⁹
-    match p.validate() {
-        Err(SimulationError::InvalidParameter { field, .. }) => {
-            assert_eq!(field, "noise.shot_rate_hz")
-        }
-        other => panic!("{other:?}"),
-    }
+    assert_eq!(refused_field(&p), "noise.shot_rate_hz");
 }
 
 #[test]
