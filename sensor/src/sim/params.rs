@@ -334,7 +334,7 @@ pub const MAX_NOISE_EVENTS: f64 = 2e8;
 
 impl NoiseParams {
     /// The leak rate averaged over the pixels (Hz): with r = r₀·10^(s·N(0,1)),
-    /// E[r] = r₀·exp((s·ln 10)²/2) (the mean of a log-normal).
+    /// the mean of r is r₀·exp((s·ln 10)²/2) (the mean of a log-normal).
     pub fn mean_leak_rate_hz(&self) -> f64 {
         let s = self.leak_spread_decades * std::f64::consts::LN_10;
         self.leak_rate_hz * (s * s / 2.0).exp()
