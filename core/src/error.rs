@@ -478,7 +478,7 @@ pub enum GraphError {
 #[derive(Debug, Clone, PartialEq, Error)]
 pub enum ModelError {
     /// A parameter outside its domain.
-    #[error("{model}: parameter {field} = {value}: {expected}")]
+    #[error("{model}: parameter {field} = {}: {expected}", crate::Compact(*value))]
     InvalidParameter {
         /// Model name.
         model: &'static str,

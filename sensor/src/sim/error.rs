@@ -7,7 +7,7 @@ use thiserror::Error;
 #[derive(Debug, Error)]
 pub enum SimulationError {
     /// A parameter outside its physical domain (negative size, threshold, NaN, …).
-    #[error("parameter `{field}` = {value}: {expected}")]
+    #[error("parameter `{field}` = {}: {expected}", neurotac_core::Compact(*value))]
     InvalidParameter {
         /// The parameter, as spelled in the parameter file (`group.field`).
         field: &'static str,

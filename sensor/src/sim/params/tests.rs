@@ -91,6 +91,12 @@ fn a_leak_spread_whose_mean_noise_exceeds_the_budget_is_refused() {
         p.noise.leak_spread_decades = spread;
         assert_eq!(refused_field(&p), "noise.leak_spread_decades");
     }
+    // The error prints the number as a person writes it, not 301 digits.
+    let e = p.validate().unwrap_err().to_string();
+    assert!(
+        e.starts_with("parameter `noise.leak_spread_decades` = 1e300: "),
+        "{e}"
+    );
     // The mean of r₀·10^(s·N(0,1)) is r₀·exp((s·ln 10)²/2).
     p.noise.leak_spread_decades = 1.0;
     let mean = p.noise.mean_leak_rate_hz() / p.noise.leak_rate_hz;
