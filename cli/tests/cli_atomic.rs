@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::{neurotac, small_reproduce};
+use common::{neurotac, small_reproduce, small_simulate};
 use neurotac_core::testing::folder_names;
 use neurotac_core::{Event, EventBuffer, Timestamp};
 use neurotac_sensor::format::{DAVIS240_SIZE, read_file, write_file};
@@ -228,20 +228,7 @@ fn a_corrupt_cache_is_simulated_again_with_a_one_line_warning() {
     let dir = tempfile::tempdir().unwrap();
     let (out, cache) = (dir.path().join("sim"), dir.path().join("cache"));
     // The second run replaces the first one's output (--force).
-    let simulate = || {
-        neurotac(&[
-            "simulate",
-            "--set",
-            "artificial",
-            "--trials",
-            "1",
-            "--out",
-            s(&out),
-            "--cache",
-            s(&cache),
-            "--force",
-        ])
-    };
+    let simulate = || small_simulate(&out, &cache, &["--force"]);
     let (ok, _, stderr) = simulate();
     assert!(ok, "{stderr}");
     let first = std::fs::read(out.join("artificial.bin")).unwrap();
@@ -350,21 +337,11 @@ fn simulate_refuses_an_events_folder_holding_its_parameter_file() {
     let (ok, stdout, _) = neurotac(&["simulate", "params"]);
     assert!(ok);
     std::fs::write(&params, stdout).unwrap();
-    let (ok, _, stderr) = neurotac(&[
-        "simulate",
-        "--set",
-        "artificial",
-        "--trials",
-        "1",
-        "--params",
-        s(&params),
-        "--cache",
-        s(&dir.path().join("cache")),
-        "--out",
-        s(&out),
-        "--pixel-events",
-        "--force",
-    ]);
+    let (ok, _, stderr) = small_simulate(
+        &out,
+        &dir.path().join("cache"),
+        &["--params", s(&params), "--pixel-events", "--force"],
+    );
     assert!(!ok);
     assert!(
         stderr.contains("holds the input") && stderr.contains("params.json"),

@@ -2,7 +2,7 @@
 //! terms, one overwrite rule (refuse without --force), one cache, PNG beside every figure.
 
 mod common;
-use common::neurotac;
+use common::{neurotac, small_simulate};
 use std::path::Path;
 
 fn s(p: &Path) -> &str {
@@ -285,19 +285,7 @@ fn an_unusable_cache_is_said_before_simulating_and_the_run_goes_on_without_it() 
     let (out, cache) = (dir.path().join("out"), dir.path().join("cache"));
     // The cache "folder" is a file.
     std::fs::write(&cache, "not a folder").unwrap();
-    let (ok, _, stderr) = neurotac(&[
-        "simulate",
-        "--set",
-        "artificial",
-        "--trials",
-        "1",
-        "--threads",
-        "1",
-        "--out",
-        out.to_str().unwrap(),
-        "--cache",
-        cache.to_str().unwrap(),
-    ]);
+    let (ok, _, stderr) = small_simulate(&out, &cache, &["--threads", "1"]);
     assert!(ok, "{stderr}");
     assert!(
         stderr.contains("the cache folder") && stderr.contains("simulating without caching"),

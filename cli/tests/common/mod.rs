@@ -40,6 +40,25 @@ pub fn small_reproduce(out: &Path, cache: &Path, extra: &[&str]) -> (bool, Strin
     neurotac(&args)
 }
 
+/// A one-slide artificial `simulate` into `out`, caching datasets in `cache`, with `extra`
+/// arguments.
+pub fn small_simulate(out: &Path, cache: &Path, extra: &[&str]) -> (bool, String, String) {
+    let (out, cache) = (out.to_str().unwrap(), cache.to_str().unwrap());
+    let mut args = vec![
+        "simulate",
+        "--set",
+        "artificial",
+        "--trials",
+        "1",
+        "--out",
+        out,
+        "--cache",
+        cache,
+    ];
+    args.extend_from_slice(extra);
+    neurotac(&args)
+}
+
 /// `mpirun` when it is on the PATH (Open MPI), else `None` with the reason printed.
 pub fn mpirun() -> Option<std::path::PathBuf> {
     let found = std::env::var_os("PATH").and_then(|paths| {
