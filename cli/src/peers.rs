@@ -4,7 +4,13 @@
 //! standalone mode and prints its simulation-loop time. It needs a Python with Brian2 (e.g.
 //! `python -m venv v && v/bin/pip install brian2 "numpy<2"`) and a C++ compiler; neurotac
 //! itself never needs Python.
+//!
+//! A comparison is like for like: the peer runs at the same precision
+//! ([`brian2_precision`]) with the same integration method ([`brian2_method`]), both sides
+//! say what they ran, and [`PeerResult::matches`] refuses a ratio when they differ.
 
+use neurotac_experiments::neuron_setup::{NeuronKind, Precision};
+use neurotac_neurons::Integrator;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -14,20 +20,85 @@ pub fn brian2_script() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../benches/peers/brian2_bench.py")
 }
 
+/// Brian2's name of `precision` (its `prefs.core.default_float_dtype`).
+pub fn brian2_precision(precision: Precision) -> &'static str {
+    match precision {
+        Precision::F32 => "float32",
+        Precision::F64 => "float64",
+    }
+}
+
+/// The method the Brian2 script runs for `model` integrated as neurotac's `integrator` does,
+/// named as neurotac names it (the script maps it to Brian2's: `exact`, `euler`, Heun's method
+/// for `rk2` — Brian2's own `rk2` is the midpoint method —, `rk4`, `exponential_euler` for
+/// LIF's `exp-euler`), or why Brian2 has none.
+pub fn brian2_method(model: NeuronKind, integrator: Integrator) -> Result<&'static str, PeerError> {
+    let why = match (model, integrator) {
+        (NeuronKind::Izhikevich, Integrator::Izhikevich2003) => {
+            "Izhikevich's 2003 scheme (two half steps of v, then u from the new v)"
+        }
+        (NeuronKind::Izhikevich, Integrator::ExponentialEuler) => {
+            "exp-euler for Izhikevich (Brian2's exponential_euler needs equations linear in \
+             their own variable; v is quadratic)"
+        }
+        _ => return Ok(integrator.name()),
+    };
+    Err(PeerError::NoCounterpart {
+        what: why,
+        model: model.name(),
+    })
+}
+
 /// A peer measurement.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct PeerResult {
     /// Peer name and version.
     pub peer: String,
+    /// The precision the peer ran at, as it reports it (`float32`, `float64`); `None` from a
+    /// script that does not say.
+    #[serde(default)]
+    pub precision: Option<String>,
+    /// The integration method the peer ran, named as neurotac names it; `None` from a script
+    /// that does not say.
+    #[serde(default)]
+    pub method: Option<String>,
     /// Simulation-loop wall time (s), compilation excluded.
     pub run_s: f64,
     /// Spikes the peer fired (a sanity check that it ran the same case).
     pub spikes: u64,
 }
 
+impl PeerResult {
+    /// `Ok` when the peer ran at `precision` with `method`; otherwise the line that says what
+    /// differs, printed instead of a ratio.
+    pub fn matches(&self, precision: &str, method: &str) -> Result<(), String> {
+        let said = |x: &Option<String>| x.clone().unwrap_or_else(|| "unstated".into());
+        let (p, m) = (said(&self.precision), said(&self.method));
+        if p == precision && m == method {
+            Ok(())
+        } else {
+            Err(format!(
+                "no ratio: {} ran {p} / {m}, neurotac {precision} / {method}",
+                self.peer
+            ))
+        }
+    }
+}
+
 /// A peer that could not be run.
 #[derive(Debug, thiserror::Error)]
 pub enum PeerError {
+    /// The peer has no method that integrates as the chosen integrator does.
+    #[error(
+        "Brian2 has no counterpart of {what}, so no like-for-like comparison: choose \
+         --integrator euler, rk2 or rk4 for {model}, or drop --brian2"
+    )]
+    NoCounterpart {
+        /// The integrator and why.
+        what: &'static str,
+        /// The model.
+        model: &'static str,
+    },
     /// The script is not where a checkout keeps it.
     #[error("peer script {0} not found (run from a checkout of neurotac)")]
     MissingScript(PathBuf),

@@ -4,11 +4,12 @@ use super::options::{SeedOption, ThreadsOption, help};
 use crate::commands::args;
 use clap::{Args, Subcommand};
 use neurotac_cli::bench::{CubaConfig, afferent_activity, cuba, cuba_spikes, neuron_throughput};
-use neurotac_cli::peers::run_brian2;
+use neurotac_cli::peers::{PeerResult, brian2_method, brian2_precision, run_brian2};
 use neurotac_core::Ranks;
 use neurotac_experiments::afferents::AfferentConfig;
 use neurotac_experiments::menu::Menu;
 use neurotac_experiments::neuron_setup::{NeuronKind, Precision};
+use neurotac_experiments::threads::with_threads;
 use neurotac_neurons::Integrator;
 use serde_json::{Value, json};
 use std::path::{Path, PathBuf};
@@ -98,28 +99,60 @@ struct CubaArgs {
     run: RunOptions,
 }
 
-/// Adds the peer's numbers and `speedup = peer time / our time` to `report`.
-fn compare(
-    report: &mut Value,
-    python: &Path,
-    peer_args: Vec<String>,
-    our_wall_s: f64,
-    work: f64,
+/// What the peer runs: the script's arguments, and the precision and method (Brian2's
+/// precision name, neurotac's method name) that both sides must have run for a ratio.
+struct PeerCase<'a> {
+    python: &'a Path,
+    args: Vec<String>,
+    precision: &'static str,
+    method: &'static str,
+}
+
+/// Runs `ours` and, with a peer, the peer `repeats` times each, interleaved (ours, peer, ours,
+/// …) so that both sides see the same machine, and keeps the fastest run of each (`wall` of
+/// ours, `run_s` of the peer's): a shared machine's noise only ever adds time.
+fn fastest_interleaved<T>(
     repeats: usize,
-) -> anyhow::Result<()> {
-    let mut peer = run_brian2(python, &peer_args)?;
-    for _ in 1..repeats {
-        let again = run_brian2(python, &peer_args)?;
-        if again.run_s < peer.run_s {
-            peer = again;
+    mut ours: impl FnMut() -> anyhow::Result<T>,
+    wall: impl Fn(&T) -> f64,
+    peer: Option<&PeerCase<'_>>,
+) -> anyhow::Result<(T, Option<PeerResult>)> {
+    let mut best: Option<T> = None;
+    let mut best_peer: Option<PeerResult> = None;
+    for _ in 0..repeats.max(1) {
+        let run = ours()?;
+        if best.as_ref().is_none_or(|b| wall(&run) < wall(b)) {
+            best = Some(run);
+        }
+        if let Some(case) = peer {
+            let run = run_brian2(case.python, &case.args)?;
+            if best_peer.as_ref().is_none_or(|b| run.run_s < b.run_s) {
+                best_peer = Some(run);
+            }
         }
     }
+    Ok((best.expect("at least one run"), best_peer))
+}
+
+/// Adds the peer's numbers to `report`, and `speedup = peer time / our time` when the peer ran
+/// what `case` asked (else `no_ratio`, the line that says what differs).
+fn add_peer(
+    report: &mut Value,
+    peer: &PeerResult,
+    case: &PeerCase<'_>,
+    our_wall_s: f64,
+    work: f64,
+) {
     report["peer"] = json!(peer.peer);
+    report["peer_precision"] = json!(peer.precision);
+    report["peer_method"] = json!(peer.method);
     report["peer_wall_s"] = json!(peer.run_s);
     report["peer_spikes"] = json!(peer.spikes);
     report["peer_per_s"] = json!(work / peer.run_s);
-    report["speedup"] = json!(peer.run_s / our_wall_s);
-    Ok(())
+    match peer.matches(case.precision, case.method) {
+        Ok(()) => report["speedup"] = json!(peer.run_s / our_wall_s),
+        Err(why) => report["no_ratio"] = json!(why),
+    }
 }
 
 fn print(report: &Value, json: bool, line: String) {
@@ -128,13 +161,20 @@ fn print(report: &Value, json: bool, line: String) {
         return;
     }
     println!("{line}");
-    if let Some(peer) = report["peer"].as_str() {
-        println!(
-            "{peer}: {:.4} s wall, {} spikes → neurotac is {:.2}× faster",
-            report["peer_wall_s"].as_f64().unwrap_or(f64::NAN),
-            report["peer_spikes"],
-            report["speedup"].as_f64().unwrap_or(f64::NAN)
-        );
+    let Some(peer) = report["peer"].as_str() else {
+        return;
+    };
+    let said = |key: &str| report[key].as_str().unwrap_or("unstated").to_owned();
+    print!(
+        "{peer} ({}, {}): {:.4} s wall, {} spikes",
+        said("peer_precision"),
+        said("peer_method"),
+        report["peer_wall_s"].as_f64().unwrap_or(f64::NAN),
+        report["peer_spikes"],
+    );
+    match report["speedup"].as_f64() {
+        Some(speedup) => println!(" → neurotac is {speedup:.2}× faster"),
+        None => println!("\n{}", said("no_ratio")),
     }
 }
 
@@ -158,41 +198,48 @@ fn neurons(a: NeuronsArgs) -> anyhow::Result<()> {
     for (flag, value) in [("duration", a.duration), ("dt", a.dt)] {
         super::neuron::check_precision(flag, value, a.precision)?;
     }
+    let integrator = a.integrator.unwrap_or(a.model.default_integrator());
+    // Like for like or not at all: refused before anything runs.
+    let method = match &a.run.brian2 {
+        Some(_) => Some(brian2_method(a.model, integrator)?),
+        None => None,
+    };
+    let threads = with_threads(a.run.threads.threads, rayon::current_num_threads)?;
+    let case = a
+        .run
+        .brian2
+        .as_deref()
+        .zip(method)
+        .map(|(python, method)| PeerCase {
+            python,
+            args: vec![
+                "neurons".into(),
+                a.model.name().into(),
+                a.n.to_string(),
+                a.duration.to_string(),
+                a.dt.to_string(),
+                threads.to_string(),
+                brian2_precision(a.precision).into(),
+                method.into(),
+            ],
+            precision: brian2_precision(a.precision),
+            method,
+        });
     let run = || {
-        neuron_throughput(
+        Ok(neuron_throughput(
             a.model,
             a.n,
             a.duration,
             a.dt,
             a.precision,
-            a.integrator,
-            a.run.threads.threads,
-        )
+            Some(integrator),
+            threads,
+        )?)
     };
-    let mut r = run()?;
-    for _ in 1..a.run.repeats {
-        let again = run()?;
-        if again.wall_s < r.wall_s {
-            r = again;
-        }
-    }
+    let (r, peer) = fastest_interleaved(a.run.repeats, run, |r| r.wall_s, case.as_ref())?;
     let mut report = serde_json::to_value(&r)?;
-    if let Some(python) = &a.run.brian2 {
-        let peer_args = ["neurons", r.model.name()].map(String::from).into_iter();
-        let peer_args = peer_args.chain([
-            a.n.to_string(),
-            a.duration.to_string(),
-            a.dt.to_string(),
-            r.threads.to_string(),
-        ]);
-        compare(
-            &mut report,
-            python,
-            peer_args.collect(),
-            r.wall_s,
-            r.updates,
-            a.run.repeats,
-        )?;
+    if let (Some(peer), Some(case)) = (&peer, &case) {
+        add_peer(&mut report, peer, case, r.wall_s, r.updates);
     }
     let line = format!(
         "{} {} {} n={} dt={} s: {:.3e} updates/s ({:.3e} per thread, {} threads), {} spikes, {:.3} s wall",
@@ -224,41 +271,52 @@ fn cuba_network(a: CubaArgs, ranks: &dyn Ranks) -> anyhow::Result<()> {
         n_inh: a.neurons - n_exc,
         probability: a.probability,
     };
-    let (r, spikes, threads) =
-        neurotac_experiments::threads::with_threads(a.run.threads.threads, || {
-            let (mut best, spikes) = cuba_spikes(config, ranks)?;
-            for _ in 1..a.run.repeats {
-                let again = cuba(config, ranks)?;
-                if again.run_s < best.run_s {
-                    best = again;
-                }
+    let threads = with_threads(a.run.threads.threads, rayon::current_num_threads)?;
+    // neurotac's CUBA: f64, v exact with the synaptic currents held over each step and the
+    // currents decayed exactly, which is Brian2's exponential_euler on these equations.
+    let (precision, method) = ("float64", Integrator::ExponentialEuler.name());
+    let case = a.run.brian2.as_deref().map(|python| PeerCase {
+        python,
+        args: vec![
+            "cuba".into(),
+            a.duration.to_string(),
+            a.dt.to_string(),
+            threads.to_string(),
+            precision.into(),
+            method.into(),
+        ],
+        precision,
+        method,
+    });
+    // The first run keeps its spikes (for the checksum); every run counts for the fastest.
+    let mut spikes = None;
+    let run = || {
+        with_threads(threads, || {
+            if spikes.is_none() {
+                let (r, s) = cuba_spikes(config, ranks)?;
+                spikes = Some(s);
+                Ok(r)
+            } else {
+                cuba(config, ranks)
             }
-            Ok::<_, neurotac_cli::bench::BenchError>((best, spikes, rayon::current_num_threads()))
-        })??;
+        })?
+        .map_err(anyhow::Error::from)
+    };
+    let (r, peer) = fastest_interleaved(a.run.repeats, run, |r| r.run_s, case.as_ref())?;
+    let spikes = spikes.expect("the first run keeps its spikes");
     if !ranks.is_root() {
         return Ok(());
     }
     let mut report = serde_json::to_value(&r)?;
     report["threads"] = json!(threads);
+    report["precision"] = json!(Precision::F64);
+    report["method"] = json!(method);
     report["spike_checksum"] = json!(format!("{:016x}", spikes.checksum()));
-    if let Some(python) = &a.run.brian2 {
-        let peer_args = vec![
-            "cuba".into(),
-            a.duration.to_string(),
-            a.dt.to_string(),
-            threads.to_string(),
-        ];
-        compare(
-            &mut report,
-            python,
-            peer_args,
-            r.run_s,
-            r.duration_s,
-            a.run.repeats,
-        )?;
+    if let (Some(peer), Some(case)) = (&peer, &case) {
+        add_peer(&mut report, peer, case, r.run_s, r.duration_s);
     }
     let mut line = format!(
-        "CUBA: {} neurons, {} synapses, {} s simulated in {:.4} s ({:.4} s per simulated second, {} threads; build {:.3} s), {} spikes ({:.1} Hz)",
+        "CUBA (f64, {method}): {} neurons, {} synapses, {} s simulated in {:.4} s ({:.4} s per simulated second, {} threads; build {:.3} s), {} spikes ({:.1} Hz)",
         r.neurons,
         r.synapses,
         r.duration_s,
