@@ -2,7 +2,7 @@
 """Brian2 (C++ standalone) on the cases `neurotac bench` measures, for same-run ratios.
 
 Usage: python brian2_bench.py neurons MODEL N DURATION_S DT_S THREADS PRECISION METHOD
-       python brian2_bench.py cuba DURATION_S DT_S THREADS PRECISION METHOD
+       python brian2_bench.py cuba DURATION_S DT_S THREADS PRECISION METHOD NEURONS PROBABILITY
 PRECISION is float32 or float64 (Brian2's `prefs.core.default_float_dtype`: the state
 variables' type). METHOD is the integration method, named as neurotac names it:
   exact      Brian2 "exact" (LIF under constant input)
@@ -94,7 +94,7 @@ def neurons(model, n, duration, dt, threads, precision, method_name):
     return finish(lambda: counter.num_spikes, method_name)
 
 
-def cuba(duration, dt, threads, precision, method_name):
+def cuba(duration, dt, threads, precision, method_name, neurons, probability):
     standalone(threads, precision)
     b2.defaultclock.dt = dt * second
     taum, taue, taui = 20 * ms, 5 * ms, 10 * ms
@@ -102,15 +102,16 @@ def cuba(duration, dt, threads, precision, method_name):
     eqs = """dv/dt  = (ge + gi - (v - el)) / taum : volt (unless refractory)
              dge/dt = -ge / taue : volt
              dgi/dt = -gi / taui : volt"""
-    p = b2.NeuronGroup(4000, eqs, threshold="v > vt", reset="v = vr", refractory=5 * ms,
+    n_exc = neurons * 4 // 5
+    p = b2.NeuronGroup(neurons, eqs, threshold="v > vt", reset="v = vr", refractory=5 * ms,
                        method=method(method_name),
                        namespace={"taum": taum, "taue": taue, "taui": taui, "vt": vt, "vr": vr, "el": el})
     p.v = "vr + rand() * (vt - vr)"
     we, wi = (60 * 0.27 / 10) * mV, (-20 * 4.5 / 10) * mV
     ce = b2.Synapses(p, p, on_pre="ge += we", namespace={"we": we})
     ci = b2.Synapses(p, p, on_pre="gi += wi", namespace={"wi": wi})
-    ce.connect("i < 3200", p=0.02)
-    ci.connect("i >= 3200", p=0.02)
+    ce.connect("i < n_exc", p=probability, namespace={"n_exc": n_exc})
+    ci.connect("i >= n_exc", p=probability, namespace={"n_exc": n_exc})
     counter = b2.SpikeMonitor(p, record=False)
     b2.run(duration * second)
     return finish(lambda: counter.num_spikes, method_name)
@@ -120,8 +121,8 @@ if __name__ == "__main__":
     args = sys.argv[1:]
     if args[:1] == ["neurons"] and len(args) == 8:
         out = neurons(args[1], int(args[2]), float(args[3]), float(args[4]), int(args[5]), args[6], args[7])
-    elif args[:1] == ["cuba"] and len(args) == 6:
-        out = cuba(float(args[1]), float(args[2]), int(args[3]), args[4], args[5])
+    elif args[:1] == ["cuba"] and len(args) == 8:
+        out = cuba(float(args[1]), float(args[2]), int(args[3]), args[4], args[5], int(args[6]), float(args[7]))
     else:
         raise SystemExit(__doc__)
     print(json.dumps(out))

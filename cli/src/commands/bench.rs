@@ -284,6 +284,8 @@ fn cuba_network(a: CubaArgs, ranks: &dyn Ranks) -> anyhow::Result<()> {
             threads.to_string(),
             precision.into(),
             method.into(),
+            a.neurons.to_string(),
+            a.probability.to_string(),
         ],
         precision,
         method,
