@@ -38,7 +38,7 @@ impl BlockStep {
     }
 
     #[inline]
-    pub(super) fn add(self, other: BlockStep) -> BlockStep {
+    pub(crate) fn add(self, other: BlockStep) -> BlockStep {
         BlockStep {
             spikes: self.spikes + other.spikes,
             diverged: self.diverged + other.diverged,
