@@ -68,7 +68,7 @@ use crate::family::{AfferentPreset, Benchmark, ModelFamily};
 use crate::integrate::{self, Integrator};
 use crate::population::{
     ActiveNeurons, ActiveStep, BlockModel, BlockPopulation, BlockStep, DIVERGED_BIT, Drive,
-    InitialPotential, for_each_spike, take_diverged, unit_fraction,
+    InitialPotential, count_ones, for_each_spike, take_diverged, unit_fraction,
 };
 use crate::real::Real;
 #[cfg(doc)]
@@ -259,7 +259,17 @@ fn step_block_with<
         // The flag rides in the mask byte and is collected once per block (`take_diverged`):
         // a reduction here would cost the loop its unrolling.
         spiked[i] = spike as u8 | if unreachable { DIVERGED_BIT } else { 0 };
-        count += spike as u32;
+        if GUARDED {
+            count += spike as u32;
+        }
+    }
+    if !GUARDED {
+        // Unguarded, the mask is 0/1: its bytes are counted after the loop, more cheaply
+        // than in it (`count_ones`), and carry no divergence flags.
+        return BlockStep {
+            spikes: count_ones(spiked),
+            diverged: 0,
+        };
     }
     BlockStep {
         spikes: count as u64,
