@@ -80,7 +80,7 @@
 //! [`ModelError::Diverged`] (`neurotac neuron --model izhikevich --current=-1e5` at 0.1 ms, or
 //! `--current 0 --dt 1e-2`, are such runs).
 
-use crate::family::{AfferentPreset, Benchmark, ModelFamily};
+use crate::family::{AfferentPreset, Benchmark, ModelFamily, UpdateCost};
 use crate::integrate::{self, Integrator};
 use crate::population::{
     BlockModel, BlockPopulation, BlockStep, Drive, InitialPotential, for_each_spike, unit_fraction,
@@ -470,6 +470,33 @@ impl ModelFamily for IzhikevichFamily {
             description: "Izhikevich RS afferents",
             bench_description: "Izhikevich RS afferents (izhikevich2003, f64, from rest, held at rest within 1e-3 mV)",
         }
+    }
+
+    /// The derivative as written, `dv = 0.04·v·v + 5·v + 140 − u + I` (3 mul + 4 add/sub = 7)
+    /// and `du = a·(b·v − u)` (2 mul + 1 sub = 3), is 10 flops; `axpy(x, s, y) = x + s·y` is 2
+    /// per variable; every neuron also computes its reset value `u + d` (1), selected only if
+    /// it spikes. Products of per-step constants alone (`h/2`, `h·a`) are not counted.
+    /// - euler: `f` (10) + an axpy on `(v, u)` (4) + reset (1) = **15**;
+    /// - exp-euler: `v + h·dv` (7 + 2), `u∞ = b·v` (1), `u∞ + (u − u∞)·e^(−a·h)` (3), reset (1):
+    ///   **14**;
+    /// - izhikevich2003: two half steps of `v`, `v + h/2·dv` (9 each), then
+    ///   `u + (h·a)·(b·v − u)` (4), reset (1): **23**;
+    /// - rk2: `f` twice (20), an axpy (4), `x + h/2·(k₁ + k₂)` on both (6), reset (1): **31**;
+    /// - rk4: `f` four times (40), three axpys (12), `x + h/6·(k₁ + 2·(k₂ + k₃) + k₄)` on both
+    ///   (12), reset (1): **65**.
+    ///
+    /// Clamps, threshold and the divergence check (after the loop, for spikes only) are not
+    /// counted. Two state variables: 17 bytes per update in `f32`, 33 in `f64`.
+    fn update_cost<F: Real>(integrator: Integrator) -> Option<UpdateCost> {
+        let flops = match integrator {
+            Integrator::Euler => 15,
+            Integrator::ExponentialEuler => 14,
+            Integrator::Izhikevich2003 => 23,
+            Integrator::Rk2 => 31,
+            Integrator::Rk4 => 65,
+            Integrator::Exact => return None,
+        };
+        Some(UpdateCost::of::<F>(flops, 2))
     }
 
     fn preset(name: &str) -> Option<IzhikevichParams> {
