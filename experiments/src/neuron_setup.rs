@@ -13,7 +13,7 @@ use crate::menu::Menu;
 use neurotac_core::{ModelError, SpikeBuffer};
 use neurotac_neurons::{
     BlockModel, BlockPopulation, FamilyVisitor, InitialPotential, Integrator, ModelFamily,
-    Population,
+    Population, UpdateCost,
 };
 #[cfg(doc)]
 use neurotac_neurons::{IzhikevichFamily, LifFamily};
@@ -287,6 +287,23 @@ impl FamilyVisitor for Initial {
     }
 }
 
+/// The update cost of a set-up ([`NeuronSetup::update_cost`]).
+struct Cost {
+    integrator: Integrator,
+    precision: Precision,
+}
+
+impl FamilyVisitor for Cost {
+    type Output = UpdateCost;
+    fn visit<Fam: ModelFamily>(self) -> UpdateCost {
+        match self.precision {
+            Precision::F32 => Fam::update_cost::<f32>(self.integrator),
+            Precision::F64 => Fam::update_cost::<f64>(self.integrator),
+        }
+        .unwrap_or_default()
+    }
+}
+
 /// Builds the population of a set-up ([`NeuronSetup::population`]).
 struct Build<'a> {
     setup: &'a NeuronSetup,
@@ -330,6 +347,18 @@ impl NeuronSetup {
             initial: kind.visit(Initial { single: true }),
             ..Self::benchmark(kind, precision)
         }
+    }
+
+    /// The cost of one neuron update of this set-up's model, integrator and precision on the
+    /// model's benchmark case ([`ModelFamily::update_cost`]: floating-point operations and
+    /// bytes of state memory per update, with the conventions of [`UpdateCost`] and each
+    /// model's derivation from its equations). An integrator the model does not support (its
+    /// population refuses to prepare) costs nothing: [`UpdateCost::default`].
+    pub fn update_cost(&self) -> UpdateCost {
+        self.kind.visit(Cost {
+            integrator: self.integrator,
+            precision: self.precision,
+        })
     }
 
     /// A population of `n` neurons of this set-up, as a network node.
@@ -447,6 +476,34 @@ mod tests {
         assert_eq!(NeuronKind::Izhikevich.benchmark_current(), 10.0);
         let single = NeuronSetup::single(NeuronKind::Izhikevich, Precision::F64);
         assert_eq!(single.initial, InitialPotential::Constant(-65.0));
+    }
+
+    #[test]
+    fn the_update_cost_counts_the_equations_operations_and_the_state_bytes() {
+        // Izhikevich by Euler: dv = 0.04·v·v + 5·v + 140 − u + I is 3 mul + 4 add/sub,
+        // du = a·(b·v − u) 2 mul + 1 sub, v + h·dv and u + h·du 2 each, the reset value u + d
+        // 1: 7 + 3 + 4 + 1 = 15 flops. v and u read and written in f64 (4 × 8 bytes) and the
+        // spike byte: 33 bytes.
+        let izhikevich = NeuronSetup {
+            integrator: Integrator::Euler,
+            ..NeuronSetup::benchmark(NeuronKind::Izhikevich, Precision::F64)
+        };
+        assert_eq!(
+            izhikevich.update_cost(),
+            UpdateCost {
+                flops: 15,
+                bytes: 33
+            }
+        );
+        // LIF's exact step under a constant input: v·e^(−h) + (a per-step constant), 2 flops;
+        // v read and written in f32 and the spike byte, 9 bytes.
+        let lif = NeuronSetup::benchmark(NeuronKind::Lif, Precision::F32);
+        assert_eq!(lif.update_cost(), UpdateCost { flops: 2, bytes: 9 });
+        let unsupported = NeuronSetup {
+            integrator: Integrator::Izhikevich2003,
+            ..lif
+        };
+        assert_eq!(unsupported.update_cost(), UpdateCost::default());
     }
 
     #[test]

@@ -67,6 +67,12 @@ pub trait ModelFamily: 'static {
         None
     }
 
+    /// The cost of one neuron update of the [`benchmark`](Self::benchmark) case with
+    /// `integrator` in precision `F` ([`UpdateCost`]: its conventions); `None` when the model
+    /// does not support `integrator`. Each model derives its counts from its equations in its
+    /// implementation's docs.
+    fn update_cost<F: Real>(integrator: Integrator) -> Option<UpdateCost>;
+
     /// The integrator a population starts with ([`BlockModel::DEFAULT_INTEGRATOR`]).
     fn default_integrator() -> Integrator {
         <Self::Model<f64> as BlockModel>::DEFAULT_INTEGRATOR
@@ -84,6 +90,38 @@ pub trait ModelFamily: 'static {
             .iter()
             .find(|(key, _)| key.eq_ignore_ascii_case(name))
             .map(|&(_, params)| params)
+    }
+}
+
+/// The cost of one neuron update of a model's benchmark case ([`ModelFamily::update_cost`]),
+/// as its fused loop computes it: one neuron, one step, constant input.
+///
+/// Conventions:
+/// - `flops`: floating-point additions, subtractions, multiplications and divisions on the
+///   neuron's values, one each (an FMA would count 2; the loops issue none, Rust does not
+///   contract `a·b + c`). Compares, selects, minimum/maximum, clamps and absolute values count
+///   0; so do terms of the per-step constants alone (`v∞·(1 − e^(−h))` under a constant input),
+///   which the loop computes once per step, not per neuron.
+/// - `bytes`: state memory read plus written per update: each state variable read once and
+///   written once, in place (`v` for LIF, `v` and `u` for Izhikevich; 4 bytes each in `f32`,
+///   8 in `f64`), plus the one-byte spike mask written. The constant input is not in memory;
+///   the benchmark case has no refractory counters and no interpolation buffers.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash)]
+pub struct UpdateCost {
+    /// Floating-point operations per update.
+    pub flops: u32,
+    /// Bytes of state memory read plus written per update.
+    pub bytes: u32,
+}
+
+impl UpdateCost {
+    /// The cost of `flops` operations on `variables` state variables of precision `F`, each
+    /// read and written once, plus the spike mask byte.
+    pub(crate) fn of<F: Real>(flops: u32, variables: u32) -> UpdateCost {
+        UpdateCost {
+            flops,
+            bytes: 2 * variables * std::mem::size_of::<F>() as u32 + 1,
+        }
     }
 }
 

@@ -45,7 +45,7 @@ pub mod population;
 pub mod real;
 pub mod run;
 
-pub use family::{AfferentPreset, Benchmark, FamilyVisitor, ModelFamily, check_family};
+pub use family::{AfferentPreset, Benchmark, FamilyVisitor, ModelFamily, UpdateCost, check_family};
 pub use integrate::{Integrator, UnknownIntegrator};
 pub use izhikevich::{
     Izhikevich, IzhikevichFamily, IzhikevichModel, IzhikevichParams, IzhikevichState,

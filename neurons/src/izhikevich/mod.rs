@@ -72,15 +72,15 @@
 //!   bounds `dv/dt` on the way up, and even at that rate the rise takes more than two steps.
 //!
 //! A non-finite update of `v` or `u` is flagged too. The fused loop stays as lean as the step
-//! itself: the state is double-buffered (a step reads the old state from one pair of buffers and
-//! writes the new one to the other), so the step's start state survives it at no cost, and the
-//! check runs after the loop for the neurons that spiked only (rare in a healthy run): their
+//! itself: it updates the state in place, 256 neurons at a time, keeping their start state on
+//! the stack (in L1, not in a second pair of state buffers that would cost memory traffic), and
+//! the check runs after each 256 for the neurons that spiked only (rare in a healthy run): their
 //! update is redone from the start state, a non-finite one is flagged, and so is a spike from
 //! `v_old ≤ c` that fails the criterion above. [`NeuronModel::check_divergence`] reports the first flagged step as
 //! [`ModelError::Diverged`] (`neurotac neuron --model izhikevich --current=-1e5` at 0.1 ms, or
 //! `--current 0 --dt 1e-2`, are such runs).
 
-use crate::family::{AfferentPreset, Benchmark, ModelFamily};
+use crate::family::{AfferentPreset, Benchmark, ModelFamily, UpdateCost};
 use crate::integrate::{self, Integrator};
 use crate::population::{
     BlockModel, BlockPopulation, BlockStep, Drive, InitialPotential, for_each_spike, unit_fraction,
@@ -111,11 +111,6 @@ pub struct IzhikevichState<F> {
     u_at_spike: Vec<F>,
     /// 1 where the neuron spiked in the last step.
     spiked: Vec<u8>,
-    /// `v` and `u` at the start of the last step, for the divergence check of its rare
-    /// suspicious spikes (module docs, Divergence). Double buffers, not copies: a step swaps
-    /// them with `v`, `u` and reads the old state from here, so keeping it costs no store.
-    v_prev: Vec<F>,
-    u_prev: Vec<F>,
 }
 
 /// Per-step constants, computed once by `prepare` in the population's precision.
@@ -241,6 +236,11 @@ fn step_block<F: Real, const INTERPOLATE: bool>(
     }
 }
 
+/// Neurons per chunk of the fused loop: the loop keeps the start state of one chunk on the
+/// stack (2 × 256 values, in L1) for the divergence check of its spikes, so that it can update
+/// the state in place.
+const CHUNK: usize = 256;
+
 #[inline(always)]
 fn step_block_with<F: Real, const INTERPOLATE: bool>(
     s: &mut IzhikevichState<F>,
@@ -255,17 +255,59 @@ fn step_block_with<F: Real, const INTERPOLATE: bool>(
         phi,
         u_at_spike,
         spiked,
-        v_prev,
-        u_prev,
     } = s;
-    // The state at the start of the step moves to the `_prev` buffers; the loop reads it there
-    // and writes the new state over the buffers of the step before.
-    std::mem::swap(v, v_prev);
-    std::mem::swap(u, u_prev);
-    let (v, u, spiked) = (&mut v[..n], &mut u[..n], &mut spiked[..n]);
-    let (v_prev, u_prev) = (&v_prev[..n], &u_prev[..n]);
+    // The start state of the chunk being stepped: a scratch buffer on the stack, in L1.
+    let mut start_state = ([F::zero(); CHUNK], [F::zero(); CHUNK]);
+    let mut out = BlockStep::default();
+    let mut start = 0;
+    while start < n {
+        let r = start..n.min(start + CHUNK);
+        let (phi, u_at_spike) = if INTERPOLATE {
+            (&mut phi[r.clone()], &mut u_at_spike[r.clone()])
+        } else {
+            (&mut phi[..0], &mut u_at_spike[..0])
+        };
+        let input = |j: usize| input(start + j);
+        let step = step_chunk::<F, INTERPOLATE>(
+            &mut v[r.clone()],
+            &mut u[r.clone()],
+            &mut spiked[r.clone()],
+            phi,
+            u_at_spike,
+            &mut start_state,
+            k,
+            update,
+            input,
+        );
+        out = out.add(step);
+        start = r.end;
+    }
+    out
+}
+
+/// The fused update, clamp, threshold and reset of one chunk of at most [`CHUNK`] neurons, in
+/// place (`phi` and `u_at_spike` empty unless `INTERPOLATE`); then the divergence check
+/// (module docs) of its spikes, redone from the start state the loop kept in `start_state`,
+/// the caller's scratch buffer on the stack (rare:
+/// keeping the fused loop free of it keeps its speed). Out of line, so that the compiler knows
+/// the slices apart (no overlap checks) and the loop has the registers to itself.
+#[inline(never)]
+#[allow(clippy::too_many_arguments)]
+fn step_chunk<F: Real, const INTERPOLATE: bool>(
+    v: &mut [F],
+    u: &mut [F],
+    spiked: &mut [u8],
+    phi: &mut [F],
+    u_at_spike: &mut [F],
+    (v_start, u_start): &mut ([F; CHUNK], [F; CHUNK]),
+    k: &IzhikevichConstants<F>,
+    update: &impl Fn(F, F, F) -> (F, F),
+    input: impl Fn(usize) -> F,
+) -> BlockStep {
+    let len = v.len().min(CHUNK);
+    let (v, u, spiked) = (&mut v[..len], &mut u[..len], &mut spiked[..len]);
     let (phi, u_at_spike) = if INTERPOLATE {
-        (&mut phi[..n], &mut u_at_spike[..n])
+        (&mut phi[..len], &mut u_at_spike[..len])
     } else {
         (&mut phi[..0], &mut u_at_spike[..0])
     };
@@ -279,8 +321,10 @@ fn step_block_with<F: Real, const INTERPOLATE: bool>(
         ..
     } = *k;
     let mut count = 0u32;
-    for j in 0..n {
-        let (v_old, u_old) = (v_prev[j], u_prev[j]);
+    for j in 0..len {
+        let (v_old, u_old) = (v[j], u[j]);
+        v_start[j] = v_old;
+        u_start[j] = u_old;
         let i = input(j);
         let (v_raw, u_raw) = update(v_old, u_old, i);
         let (v_next, u_next, u_new, spike) = clamp_and_reset(v_raw, u_raw, c, d, v_peak, v_floor);
@@ -294,10 +338,8 @@ fn step_block_with<F: Real, const INTERPOLATE: bool>(
         spiked[j] = spike as u8;
         count += spike as u32;
     }
-    // Divergence (module docs), after the loop and for the spikes only (rare: keeping the
-    // fused loop free of it keeps its speed).
     let diverged = if count > 0 {
-        diverged_spikes(k, spiked, v_prev, u_prev, update, input)
+        diverged_spikes(k, spiked, &v_start[..len], &u_start[..len], update, input)
     } else {
         0
     };
@@ -307,23 +349,23 @@ fn step_block_with<F: Real, const INTERPOLATE: bool>(
     }
 }
 
-/// The spikes of the last step that diverged (module docs, Divergence): each is redone from
-/// its start state, still in the `_prev` buffers. A non-finite update ends in a spike (NaN and
-/// +∞ become the peak), except `v → −∞`, which lands on the floor; the next step from there
+/// The spikes of a chunk's step that diverged (module docs, Divergence): each is redone from
+/// its start state `v_start`, `u_start`. A non-finite update ends in a spike (NaN and +∞
+/// become the peak), except `v → −∞`, which lands on the floor; the next step from there
 /// overflows to a spike and is caught then. Out of line, so the fused loop keeps its
 /// registers.
 #[inline(never)]
 fn diverged_spikes<F: Real>(
     k: &IzhikevichConstants<F>,
     spiked: &[u8],
-    v_prev: &[F],
-    u_prev: &[F],
+    v_start: &[F],
+    u_start: &[F],
     update: &impl Fn(F, F, F) -> (F, F),
     input: impl Fn(usize) -> F,
 ) -> u64 {
     let mut diverged = 0u64;
     for_each_spike(spiked, |j| {
-        diverged += u64::from(spike_diverged(k, v_prev[j], u_prev[j], input(j), update));
+        diverged += u64::from(spike_diverged(k, v_start[j], u_start[j], input(j), update));
     });
     diverged
 }
@@ -430,6 +472,33 @@ impl ModelFamily for IzhikevichFamily {
         }
     }
 
+    /// The derivative as written, `dv = 0.04·v·v + 5·v + 140 − u + I` (3 mul + 4 add/sub = 7)
+    /// and `du = a·(b·v − u)` (2 mul + 1 sub = 3), is 10 flops; `axpy(x, s, y) = x + s·y` is 2
+    /// per variable; every neuron also computes its reset value `u + d` (1), selected only if
+    /// it spikes. Products of per-step constants alone (`h/2`, `h·a`) are not counted.
+    /// - euler: `f` (10) + an axpy on `(v, u)` (4) + reset (1) = **15**;
+    /// - exp-euler: `v + h·dv` (7 + 2), `u∞ = b·v` (1), `u∞ + (u − u∞)·e^(−a·h)` (3), reset (1):
+    ///   **14**;
+    /// - izhikevich2003: two half steps of `v`, `v + h/2·dv` (9 each), then
+    ///   `u + (h·a)·(b·v − u)` (4), reset (1): **23**;
+    /// - rk2: `f` twice (20), an axpy (4), `x + h/2·(k₁ + k₂)` on both (6), reset (1): **31**;
+    /// - rk4: `f` four times (40), three axpys (12), `x + h/6·(k₁ + 2·(k₂ + k₃) + k₄)` on both
+    ///   (12), reset (1): **65**.
+    ///
+    /// Clamps, threshold and the divergence check (after the loop, for spikes only) are not
+    /// counted. Two state variables: 17 bytes per update in `f32`, 33 in `f64`.
+    fn update_cost<F: Real>(integrator: Integrator) -> Option<UpdateCost> {
+        let flops = match integrator {
+            Integrator::Euler => 15,
+            Integrator::ExponentialEuler => 14,
+            Integrator::Izhikevich2003 => 23,
+            Integrator::Rk2 => 31,
+            Integrator::Rk4 => 65,
+            Integrator::Exact => return None,
+        };
+        Some(UpdateCost::of::<F>(flops, 2))
+    }
+
     fn preset(name: &str) -> Option<IzhikevichParams> {
         IzhikevichParams::named(name)
     }
@@ -534,8 +603,6 @@ impl<F: Real> BlockModel for IzhikevichModel<F> {
                 Vec::new()
             },
             spiked: vec![0; v.len()],
-            v_prev: vec![F::zero(); v.len()],
-            u_prev: vec![F::zero(); v.len()],
         }
     }
 

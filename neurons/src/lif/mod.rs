@@ -64,11 +64,11 @@
 //! ([`LifParams::closed_form_period_s`], [`LifParams::closed_form_spike_times`]); for the defaults
 //! `T = τ·ln(I/(I − 1))`.
 
-use crate::family::{AfferentPreset, Benchmark, ModelFamily};
+use crate::family::{AfferentPreset, Benchmark, ModelFamily, UpdateCost};
 use crate::integrate::{self, Integrator};
 use crate::population::{
     ActiveNeurons, ActiveStep, BlockModel, BlockPopulation, BlockStep, DIVERGED_BIT, Drive,
-    InitialPotential, for_each_spike, take_diverged, unit_fraction,
+    InitialPotential, count_ones, for_each_spike, take_diverged, unit_fraction,
 };
 use crate::real::Real;
 #[cfg(doc)]
@@ -259,7 +259,17 @@ fn step_block_with<
         // The flag rides in the mask byte and is collected once per block (`take_diverged`):
         // a reduction here would cost the loop its unrolling.
         spiked[i] = spike as u8 | if unreachable { DIVERGED_BIT } else { 0 };
-        count += spike as u32;
+        if GUARDED {
+            count += spike as u32;
+        }
+    }
+    if !GUARDED {
+        // Unguarded, the mask is 0/1: its bytes are counted after the loop, more cheaply
+        // than in it (`count_ones`), and carry no divergence flags.
+        return BlockStep {
+            spikes: count_ones(spiked),
+            diverged: 0,
+        };
     }
     BlockStep {
         spikes: count as u64,
@@ -388,6 +398,27 @@ impl ModelFamily for LifFamily {
             description: "LIF afferents (event-driven)",
             bench_description: "LIF afferents (exact, f64)",
         }
+    }
+
+    /// LIF integrates `dv/dh = v∞ − v` (one subtraction; `v∞` is a per-step constant under
+    /// the benchmark's constant input), with `axpy(x, s, y) = x + s·y` two flops:
+    /// - exact: `v·e^(−h) + v∞·(1 − e^(−h))`, the second term per step: 1 mul + 1 add = **2**;
+    /// - euler: `v + h·(v∞ − v)`: 1 + 2 = **3**;
+    /// - rk2: `k₁ = f(v)` (1), `k₂ = f(v + h·k₁)` (2 + 1), `v + h/2·(k₁ + k₂)` (3): **7**;
+    /// - rk4: `k₁` (1), `k₂`, `k₃`, `k₄` (3 each: an axpy and `f`),
+    ///   `v + h/6·(k₁ + 2·(k₂ + k₃) + k₄)` (6): **16**.
+    ///
+    /// Floor, flush, threshold and reset are compares and selects (0). One state variable:
+    /// 9 bytes per update in `f32`, 17 in `f64`.
+    fn update_cost<F: Real>(integrator: Integrator) -> Option<UpdateCost> {
+        let flops = match integrator {
+            Integrator::Exact | Integrator::ExponentialEuler => 2,
+            Integrator::Euler => 3,
+            Integrator::Rk2 => 7,
+            Integrator::Rk4 => 16,
+            Integrator::Izhikevich2003 => return None,
+        };
+        Some(UpdateCost::of::<F>(flops, 1))
     }
 
     /// [`LifParams::closed_form_spike_times`], which counts from `v_reset`: the rest when

@@ -38,7 +38,7 @@ impl BlockStep {
     }
 
     #[inline]
-    pub(super) fn add(self, other: BlockStep) -> BlockStep {
+    pub(crate) fn add(self, other: BlockStep) -> BlockStep {
         BlockStep {
             spikes: self.spikes + other.spikes,
             diverged: self.diverged + other.diverged,
@@ -133,6 +133,28 @@ pub(crate) fn take_diverged(mask: &mut [u8]) -> u64 {
     flagged
 }
 
+/// The number of ones in a block's mask of 0/1 bytes (no [`DIVERGED_BIT`]s), eight bytes at a
+/// time: a fused loop that counts its spikes here, after the loop, instead of in it spends one
+/// vector addition per 32 neurons instead of a compare and a subtraction per vector of states.
+#[inline]
+pub(crate) fn count_ones(mask: &[u8]) -> u64 {
+    const LOW_BYTES: u64 = 0x00ff_00ff_00ff_00ff;
+    let mut total = 0;
+    // Up to 255 words per sum, so that no byte lane of `acc` overflows.
+    for group in mask.chunks(8 * 255) {
+        let mut words = group.chunks_exact(8);
+        let mut acc = 0u64;
+        for word in words.by_ref() {
+            acc += u64::from_ne_bytes(word.try_into().expect("8 bytes"));
+        }
+        // Byte lanes summed in pairs (16-bit lanes ≤ 510), then the four lanes by one multiply.
+        let pairs = (acc & LOW_BYTES) + ((acc >> 8) & LOW_BYTES);
+        total += pairs.wrapping_mul(0x0001_0001_0001_0001) >> 48;
+        total += words.remainder().iter().map(|&m| u64::from(m)).sum::<u64>();
+    }
+    total
+}
+
 /// Calls `f(i)` for every `i` with `mask[i] != 0`, skipping eight silent neurons at a time.
 #[inline]
 pub fn for_each_spike(mask: &[u8], mut f: impl FnMut(usize)) {
@@ -172,5 +194,21 @@ pub fn unit_fraction(phi: f64) -> f64 {
         1.0
     } else {
         phi.clamp(0.0, 1.0)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn count_ones_counts_the_spikes_of_any_mask_length() {
+        // Past 255 words a byte lane of the running sum would overflow: 5000 bytes cross it.
+        for len in [0, 1, 7, 8, 9, 2040, 2041, 4096, 5000] {
+            let mask: Vec<u8> = (0..len).map(|i| u8::from(i % 3 != 1)).collect();
+            let ones = mask.iter().filter(|&&m| m == 1).count() as u64;
+            assert_eq!(count_ones(&mask), ones, "{len}");
+            assert_eq!(count_ones(&vec![1; len]), len as u64, "{len}");
+        }
     }
 }

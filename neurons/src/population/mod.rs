@@ -20,7 +20,7 @@ mod stepping;
 pub use active::{ActiveNeurons, ActiveStep};
 pub use block_population::BlockPopulation;
 pub use blocks::{BLOCK, BlockStep, PARALLEL_MIN, for_each_spike, unit_fraction};
-pub(crate) use blocks::{DIVERGED_BIT, take_diverged};
+pub(crate) use blocks::{DIVERGED_BIT, count_ones, take_diverged};
 pub use checks::{check_param, check_representable};
 pub use inputs::{Drive, InitialPotential};
 pub use model::BlockModel;
