@@ -102,18 +102,17 @@ impl SpikeDataset {
                 max: MAX_CLASSES,
             });
         }
-        if !class_names.is_empty() {
-            if let Some((observation, &label)) = labels
+        if !class_names.is_empty()
+            && let Some((observation, &label)) = labels
                 .iter()
                 .enumerate()
                 .find(|(_, l)| **l >= class_names.len())
-            {
-                return Err(DatasetError::LabelOutOfRange {
-                    observation,
-                    label,
-                    n_classes: class_names.len(),
-                });
-            }
+        {
+            return Err(DatasetError::LabelOutOfRange {
+                observation,
+                label,
+                n_classes: class_names.len(),
+            });
         }
         if let Some(first) = observations.first() {
             let expected = first.n_channels();

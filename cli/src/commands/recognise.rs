@@ -132,13 +132,13 @@ pub fn run(a: RecogniseArgs) -> anyhow::Result<()> {
     }
     let path = a.train.as_ref().expect("clap requires --train");
     let data = load_labelled(path)?;
-    if let Some(unit) = data.meta().get("time_unit").and_then(|u| u.as_str()) {
-        if unit != "s" {
-            bail!(
-                "{}: spike times are in '{unit}', but recognition compares them with the stream in seconds",
-                path.display()
-            );
-        }
+    if let Some(unit) = data.meta().get("time_unit").and_then(|u| u.as_str())
+        && unit != "s"
+    {
+        bail!(
+            "{}: spike times are in '{unit}', but recognition compares them with the stream in seconds",
+            path.display()
+        );
     }
     let transduction = transduction_of(&data)?.with_context(|| {
         format!(

@@ -236,10 +236,11 @@ pub(super) fn analyse(
             let mut x = vec![0.0; n];
             for (e, l) in trial.events.iter().zip(&trial.labels) {
                 let t = e.t.0 as f64 / 1e6 - steady_span.0;
-                if let Some(pin) = l.pin() {
-                    if info.in_contact[pin] && (0.0..steady_len).contains(&t) {
-                        x[((t / RATE_BIN_S) as usize).min(n - 1)] += 1.0;
-                    }
+                if let Some(pin) = l.pin()
+                    && info.in_contact[pin]
+                    && (0.0..steady_len).contains(&t)
+                {
+                    x[((t / RATE_BIN_S) as usize).min(n - 1)] += 1.0;
                 }
             }
             let mean = x.iter().sum::<f64>() / n as f64;

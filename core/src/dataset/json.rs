@@ -87,20 +87,18 @@ impl Place {
             channel: Some(channel),
             spike: Some(index),
         }) = at
+            && source.classify() == serde_json::error::Category::Syntax
+            && let Some(value) = non_finite_number_at(text, source.line(), source.column())
         {
-            if source.classify() == serde_json::error::Category::Syntax {
-                if let Some(value) = non_finite_number_at(text, source.line(), source.column()) {
-                    return DatasetError::Spikes {
-                        observation,
-                        position,
-                        source: SpikeError::NonFinite {
-                            channel,
-                            index,
-                            value,
-                        },
-                    };
-                }
-            }
+            return DatasetError::Spikes {
+                observation,
+                position,
+                source: SpikeError::NonFinite {
+                    channel,
+                    index,
+                    value,
+                },
+            };
         }
         DatasetError::Json {
             path: path.to_owned(),

@@ -354,12 +354,12 @@ impl Network {
         let to = self.step;
         let mut diverged = None;
         for n in &self.nodes {
-            if let RunningKind::Population(m) = &n.kind {
-                if let Err(source) = m.check_divergence() {
-                    let population = n.name.clone();
-                    diverged = Some(GraphError::Model { population, source });
-                    break;
-                }
+            if let RunningKind::Population(m) = &n.kind
+                && let Err(source) = m.check_divergence()
+            {
+                let population = n.name.clone();
+                diverged = Some(GraphError::Model { population, source });
+                break;
             }
         }
         let steps = from..to;

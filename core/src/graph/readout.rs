@@ -159,7 +159,7 @@ pub struct StateSampler {
 impl TraceSampler for StateSampler {
     fn sample(&self, view: &StepView<'_>, neurons: &[u32], values: &mut Vec<f64>) -> bool {
         match view.population {
-            Some(p) if (view.step + 1) % self.every_steps == 0 => {
+            Some(p) if (view.step + 1).is_multiple_of(self.every_steps) => {
                 p.read_variable(self.variable, neurons, values);
                 true
             }

@@ -218,10 +218,10 @@ pub(super) fn remove_any(path: &Path) -> io::Result<()> {
 /// `fsync`s the folder holding `path` so a rename in it survives a crash (best effort: not
 /// every system can open a folder).
 pub(super) fn sync_folder(path: &Path) {
-    if let Ok((folder, _)) = folder_and_name(path) {
-        if let Ok(dir) = File::open(folder) {
-            let _ = dir.sync_all();
-        }
+    if let Ok((folder, _)) = folder_and_name(path)
+        && let Ok(dir) = File::open(folder)
+    {
+        let _ = dir.sync_all();
     }
 }
 

@@ -341,7 +341,7 @@ impl UsbDecoder {
         out: &mut EventBuffer,
         specials: Option<&mut Vec<SpecialEvent>>,
     ) {
-        debug_assert!(bytes.len() % 2 == 0 && bytes.len() <= 2 * BLOCK);
+        debug_assert!(bytes.len().is_multiple_of(2) && bytes.len() <= 2 * BLOCK);
         let mut s = self.scratch.take().unwrap_or_else(|| {
             Box::new(Scratch {
                 words: [0; BLOCK],

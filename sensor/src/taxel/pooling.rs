@@ -200,10 +200,10 @@ impl TaxelPooling {
     /// Closes the open window if time `t_us` is past its end (live streams: bounded latency
     /// even when no event arrives).
     pub fn advance_to(&mut self, t_us: i64, out: &mut Vec<TaxelEvent>) {
-        if let (Some(w), Some(origin)) = (self.current, self.origin_us) {
-            if t_us >= origin + (w as i64 + 1) * self.window_us {
-                self.close(out);
-            }
+        if let (Some(w), Some(origin)) = (self.current, self.origin_us)
+            && t_us >= origin + (w as i64 + 1) * self.window_us
+        {
+            self.close(out);
         }
     }
 }

@@ -112,14 +112,13 @@ fn event_stream(description: &str) -> Option<EventStream> {
             if found.is_none() && attr(node, "typeIdentifier") == Some("EVTS") {
                 found = Some(EventStream { id, size: None });
             }
-        } else if name == "info" {
-            if let (Some(f), Some(id)) = (found.as_mut(), current) {
-                if f.id == id {
-                    let size = |k| attr(node, k).and_then(|v| v.parse::<u16>().ok());
-                    if let (Some(x), Some(y)) = (size("sizeX"), size("sizeY")) {
-                        f.size = Some((x, y));
-                    }
-                }
+        } else if name == "info"
+            && let (Some(f), Some(id)) = (found.as_mut(), current)
+            && f.id == id
+        {
+            let size = |k| attr(node, k).and_then(|v| v.parse::<u16>().ok());
+            if let (Some(x), Some(y)) = (size("sizeX"), size("sizeY")) {
+                f.size = Some((x, y));
             }
         }
     }
