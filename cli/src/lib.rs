@@ -10,6 +10,7 @@
 //! | [`report`] | a reproduction's report folder ([`report::write_report`]): Markdown tables, CSV, figures (SVG, PNG), atomic folder writing |
 //! | [`tradeoff`] | speed ↔ accuracy trade-offs (neurons, Van Rossum, simulator), their shared table and writers, the summary page |
 //! | [`bench`](mod@bench) | throughput benchmarks (neuron updates/s, the CUBA network, the afferent pipeline at an activity) |
+//! | [`ceiling`] | this core's own ceilings (peak FMA throughput, read-modify-write bandwidth) and the share of them a loop reaches |
 //! | [`peers`] | same-run comparisons against peer simulators (Brian2), as ratios |
 //! | [`simulator_check`] | the simulator's acceptance statistics and calibration (`neurotac simulate check`, `calibrate`) |
 //!
@@ -29,6 +30,7 @@
 
 pub mod bench;
 pub mod budget;
+pub mod ceiling;
 pub mod peers;
 pub mod report;
 pub mod simulator_check;

@@ -296,6 +296,58 @@ fn bench_activity_compares_clock_and_event_driven_with_identical_spikes() {
     assert!(!ok && stderr.contains("drop --integrator"), "{stderr}");
 }
 
+/// `bench neurons` says how close it came to this core's own ceilings, with the work per
+/// update it divides by: LIF's exact step is `v·e^(−h)` plus a per-step constant (2 flops)
+/// over `v` read and written plus the mask byte (9 bytes in f32, 17 in f64).
+#[test]
+fn bench_neurons_reports_its_share_of_this_cores_fma_peak_and_bandwidth() {
+    for (precision, bytes) in [("f32", 9), ("f64", 17)] {
+        let (ok, stdout, stderr) = neurotac(&[
+            "bench",
+            "neurons",
+            "--n",
+            "5000",
+            "--duration",
+            "0.01",
+            "--threads",
+            "1",
+            "--precision",
+            precision,
+            "--json",
+        ]);
+        assert!(ok, "{stderr}");
+        let r: serde_json::Value = serde_json::from_str(stdout.trim()).unwrap();
+        let c = &r["ceiling"];
+        assert_eq!(
+            (
+                c["flops_per_update"].as_u64(),
+                c["bytes_per_update"].as_u64()
+            ),
+            (Some(2), Some(bytes)),
+            "{c}"
+        );
+        // The bandwidth was measured over what one step of the 5000 neurons moves.
+        assert_eq!(
+            c["working_set_bytes"].as_u64(),
+            Some(5000 * bytes / 2),
+            "{c}"
+        );
+        let per_thread = r["updates_per_s_per_thread"].as_f64().unwrap();
+        let peak = c["peak_flops_per_s"].as_f64().unwrap();
+        let share = c["of_peak_flops"].as_f64().unwrap();
+        assert!(
+            peak > 0.0 && (share - per_thread * 2.0 / peak).abs() <= 1e-12 * share,
+            "{c}"
+        );
+        assert!(c["of_bandwidth"].as_f64().unwrap() > 0.0, "{c}");
+    }
+    let (ok, stdout, _) = neurotac(&["bench", "neurons", "--n", "5000", "--duration", "0.01"]);
+    assert!(
+        ok && stdout.contains("FMA peak") && stdout.contains("bandwidth over"),
+        "{stdout}"
+    );
+}
+
 /// One absurd number must not run for years, fill the memory or print NaN: the bench refuses
 /// it at once, naming the flag and the limit.
 #[test]

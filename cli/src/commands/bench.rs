@@ -4,11 +4,12 @@ use super::options::{SeedOption, ThreadsOption, help};
 use crate::commands::args;
 use clap::{Args, Subcommand};
 use neurotac_cli::bench::{CubaConfig, afferent_activity, cuba, cuba_spikes, neuron_throughput};
+use neurotac_cli::ceiling::{Ceiling, CeilingFractions};
 use neurotac_cli::peers::{PeerResult, brian2_method, brian2_precision, run_brian2};
 use neurotac_core::Ranks;
 use neurotac_experiments::afferents::AfferentConfig;
 use neurotac_experiments::menu::Menu;
-use neurotac_experiments::neuron_setup::{NeuronKind, Precision};
+use neurotac_experiments::neuron_setup::{NeuronKind, NeuronSetup, Precision};
 use neurotac_experiments::threads::with_threads;
 use neurotac_neurons::Integrator;
 use serde_json::{Value, json};
@@ -241,8 +242,10 @@ fn neurons(a: NeuronsArgs) -> anyhow::Result<()> {
     if let (Some(peer), Some(case)) = (&peer, &case) {
         add_peer(&mut report, peer, case, r.wall_s, r.updates);
     }
+    let limit = ceiling(&a, integrator, r.updates_per_s_per_thread);
+    report["ceiling"] = serde_json::to_value(&limit)?;
     let line = format!(
-        "{} {} {} n={} dt={} s: {:.3e} updates/s ({:.3e} per thread, {} threads), {} spikes, {:.3} s wall",
+        "{} {} {} n={} dt={} s: {:.3e} updates/s ({:.3e} per thread, {} threads), {} spikes, {:.3} s wall\n{}",
         r.model.name(),
         r.integrator,
         r.precision.name(),
@@ -252,10 +255,68 @@ fn neurons(a: NeuronsArgs) -> anyhow::Result<()> {
         r.updates_per_s_per_thread,
         r.threads,
         r.spikes,
-        r.wall_s
+        r.wall_s,
+        limit.describe(a.precision)
     );
     print(&report, a.run.json, line);
     Ok(())
+}
+
+/// How close a throughput is to this core's ceilings ([`Ceiling`]) for the work of one update.
+#[derive(serde::Serialize)]
+struct LoopCeiling {
+    #[serde(flatten)]
+    ceiling: Ceiling,
+    /// Floating-point operations per update ([`UpdateCost`](neurotac_neurons::UpdateCost)).
+    flops_per_update: u32,
+    /// Bytes of state read and written per update.
+    bytes_per_update: u32,
+    #[serde(flatten)]
+    fractions: CeilingFractions,
+}
+
+/// Measures this core's ceilings for the loop of `a` (the FMA peak at its precision; the
+/// read-modify-write bandwidth over a buffer that moves what one step of its `n` neurons
+/// moves) and the share of them that `updates_per_s` (one thread's) reaches.
+fn ceiling(a: &NeuronsArgs, integrator: Integrator, updates_per_s: f64) -> LoopCeiling {
+    let setup = NeuronSetup {
+        integrator,
+        ..NeuronSetup::benchmark(a.model, a.precision)
+    };
+    let cost = setup.update_cost();
+    // Each byte of state is read once and written once per step.
+    let ceiling = Ceiling::measure(a.precision, a.n * cost.bytes as usize / 2);
+    LoopCeiling {
+        fractions: ceiling.fractions(updates_per_s, cost.flops, cost.bytes),
+        flops_per_update: cost.flops,
+        bytes_per_update: cost.bytes,
+        ceiling,
+    }
+}
+
+impl LoopCeiling {
+    /// One line: both shares, with the numbers they divide.
+    fn describe(&self, precision: Precision) -> String {
+        let LoopCeiling {
+            ceiling: c,
+            fractions: f,
+            ..
+        } = self;
+        format!(
+            "per thread: {:.0} % of this core's {} FMA peak ({:.3} Gflop/s, {} kernel) for {} \
+             flops per update; {:.0} % of its read-modify-write bandwidth over {:.2} MB ({:.1} \
+             GB/s) for {} bytes per update",
+            100.0 * f.of_peak_flops,
+            precision.name(),
+            c.peak_flops_per_s / 1e9,
+            c.peak_kernel,
+            self.flops_per_update,
+            100.0 * f.of_bandwidth,
+            c.working_set_bytes as f64 / 1e6,
+            c.bandwidth_bytes_per_s / 1e9,
+            self.bytes_per_update
+        )
+    }
 }
 
 fn cuba_network(a: CubaArgs, ranks: &dyn Ranks) -> anyhow::Result<()> {
