@@ -67,12 +67,14 @@ struct NeuronsArgs {
 struct RunOptions {
     #[command(flatten)]
     threads: ThreadsOption,
-    /// Also run the same case in Brian2 (C++ standalone) with this Python and report the ratio.
+    /// Also run the same case in Brian2 (C++ standalone) with this Python, at the same precision
+    /// with the same integration method, and report the ratio (refused for an integrator
+    /// Brian2 does not have).
     #[arg(long, value_name = "PYTHON")]
     brian2: Option<PathBuf>,
-    /// Runs of each side (neurotac and, with --brian2, the peer); the fastest of each is
-    /// reported, since a shared machine's noise only ever adds time.
-    #[arg(value_parser = args::positive_count, allow_negative_numbers = true, long, default_value_t = 3)]
+    /// Runs of each side (neurotac and, with --brian2, the peer, interleaved); the fastest of
+    /// each is reported, since a shared machine's noise only ever adds time.
+    #[arg(value_parser = args::positive_count, allow_negative_numbers = true, long, default_value_t = 5)]
     repeats: usize,
     /// Print one JSON object.
     #[arg(long)]
