@@ -287,10 +287,10 @@ fn step_block_with<F: Real, const INTERPOLATE: bool>(
 
 /// The fused update, clamp, threshold and reset of one chunk of at most [`CHUNK`] neurons, in
 /// place (`phi` and `u_at_spike` empty unless `INTERPOLATE`); then the divergence check
-/// (module docs) of its spikes, redone from the start state the loop kept in `start_state`,
-/// the caller's scratch buffer on the stack (rare:
-/// keeping the fused loop free of it keeps its speed). Out of line, so that the compiler knows
-/// the slices apart (no overlap checks) and the loop has the registers to itself.
+/// (module docs) of its spikes, redone from the start state the loop kept in the caller's
+/// scratch buffer on the stack (rare: keeping the fused loop free of it keeps its speed). Out
+/// of line, so that the compiler knows the slices apart (no overlap checks) and the loop has
+/// the registers to itself.
 #[inline(never)]
 #[allow(clippy::too_many_arguments)]
 fn step_chunk<F: Real, const INTERPOLATE: bool>(
