@@ -195,9 +195,14 @@ impl Sweep<'_> {
             let rows = BAND.min(ny - j0);
             for step in 0..nx + rows - 1 {
                 // Row j0 + r is at cell step − r.
-                for r in step.saturating_sub(nx - 1)..rows.min(step + 1) {
+                let active = &mut change[..rows.min(step + 1)];
+                for (r, row_change) in active
+                    .iter_mut()
+                    .enumerate()
+                    .skip(step.saturating_sub(nx - 1))
+                {
                     let (i, j) = (step - r, j0 + r);
-                    change[r] = change[r].max(self.cell(z, i, j, k_mean));
+                    *row_change = row_change.max(self.cell(z, i, j, k_mean));
                 }
             }
         }
@@ -325,7 +330,16 @@ mod tests {
         let law = ContactLaw::new(&ContactParams::default(), 0.008);
         // Shapes around the band height and the periodic seams: single rows and columns,
         // two rows (north and south are the same row), a partial last band.
-        for (nx, ny) in [(1, 1), (1, 5), (7, 1), (2, 2), (5, 2), (9, 8), (12, 9), (33, 21)] {
+        for (nx, ny) in [
+            (1, 1),
+            (1, 5),
+            (7, 1),
+            (2, 2),
+            (5, 2),
+            (9, 8),
+            (12, 9),
+            (33, 21),
+        ] {
             let h: Vec<f64> = (0..nx * ny)
                 .map(|c| {
                     let x = (c % nx) as f64 / nx as f64;
