@@ -7,8 +7,8 @@ Usage: python brian2_table.py NEUROTAC PYTHON [REPEATS]
   REPEATS   interleaved runs of each side per case, the fastest counting (default 5)
 
 Runs `neurotac bench neurons|cuba --threads 1 --brian2 PYTHON --json` for every case of the
-table (both precisions; LIF exact and Euler at N = 10^5; Izhikevich RS Euler and RK2 at
-N = 10^6; CUBA at f64) and prints a Markdown table with the machine, its load before and
+table (both precisions; LIF exact and Euler at N = 10^5; Izhikevich RS Euler at N = 10^6;
+CUBA at f64) and prints a Markdown table with the machine, its load before and
 after, and each side's time, rate and spikes, the ratio and the share of this core's ceilings.
 Needs nothing beyond the standard library.
 """
@@ -22,7 +22,6 @@ CASES = [
     ("neurons", "lif", "exact", "100000"),
     ("neurons", "lif", "euler", "100000"),
     ("neurons", "izhikevich", "euler", "1000000"),
-    ("neurons", "izhikevich", "rk2", "1000000"),
 ]
 
 

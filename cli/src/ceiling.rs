@@ -72,6 +72,22 @@ impl Ceiling {
         }
     }
 
+    /// The higher of two measurements of each ceiling (over the same working set): noise
+    /// only ever lowers a measured ceiling.
+    pub fn max(self, other: Ceiling) -> Ceiling {
+        let (peak_flops_per_s, peak_kernel) = if other.peak_flops_per_s > self.peak_flops_per_s {
+            (other.peak_flops_per_s, other.peak_kernel)
+        } else {
+            (self.peak_flops_per_s, self.peak_kernel)
+        };
+        Ceiling {
+            peak_flops_per_s,
+            peak_kernel,
+            bandwidth_bytes_per_s: self.bandwidth_bytes_per_s.max(other.bandwidth_bytes_per_s),
+            working_set_bytes: self.working_set_bytes,
+        }
+    }
+
     /// The fractions of both ceilings reached by `updates_per_s` (one thread's) doing `flops`
     /// and moving `bytes` per update.
     pub fn fractions(&self, updates_per_s: f64, flops: u32, bytes: u32) -> CeilingFractions {
@@ -241,5 +257,16 @@ mod tests {
         };
         let f = ceiling.fractions(2e9, 8, 16);
         assert_eq!((f.of_peak_flops, f.of_bandwidth), (0.2, 0.8));
+        // Of two measurements, each ceiling's higher one counts (noise only lowers them).
+        let busy = Ceiling {
+            peak_flops_per_s: 4e10,
+            bandwidth_bytes_per_s: 5e10,
+            ..ceiling
+        };
+        let best = ceiling.max(busy);
+        assert_eq!(
+            (best.peak_flops_per_s, best.bandwidth_bytes_per_s),
+            (8e10, 5e10)
+        );
     }
 }

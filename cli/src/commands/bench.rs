@@ -228,8 +228,18 @@ fn neurons(a: NeuronsArgs) -> anyhow::Result<()> {
             precision: brian2_precision(a.precision),
             method,
         });
+    let setup = NeuronSetup {
+        integrator,
+        ..NeuronSetup::benchmark(a.model, a.precision)
+    };
+    let cost = setup.update_cost();
+    // The ceilings are measured after every run and the highest counts, as the fastest run
+    // does: one measurement can fall into a moment when the core is busy with something else.
+    // Each byte of state is read once and written once per step.
+    let working_set = a.n * cost.bytes as usize / 2;
+    let mut ceiling: Option<Ceiling> = None;
     let run = || {
-        Ok(neuron_throughput(
+        let r = neuron_throughput(
             a.model,
             a.n,
             a.duration,
@@ -237,14 +247,23 @@ fn neurons(a: NeuronsArgs) -> anyhow::Result<()> {
             a.precision,
             Some(integrator),
             threads,
-        )?)
+        )?;
+        let now = Ceiling::measure(a.precision, working_set);
+        ceiling = Some(ceiling.map_or(now, |c| c.max(now)));
+        Ok(r)
     };
     let (r, peer) = fastest_interleaved(a.run.repeats, run, |r| r.wall_s, case.as_ref())?;
+    let ceiling = ceiling.expect("at least one run");
     let mut report = serde_json::to_value(&r)?;
     if let (Some(peer), Some(case)) = (&peer, &case) {
         add_peer(&mut report, peer, case, r.wall_s, r.updates);
     }
-    let limit = ceiling(&a, integrator, r.updates_per_s_per_thread);
+    let limit = LoopCeiling {
+        fractions: ceiling.fractions(r.updates_per_s_per_thread, cost.flops, cost.bytes),
+        flops_per_update: cost.flops,
+        bytes_per_update: cost.bytes,
+        ceiling,
+    };
     report["ceiling"] = serde_json::to_value(&limit)?;
     let line = format!(
         "{} {} {} n={} dt={} s: {:.3e} updates/s ({:.3e} per thread, {} threads), {} spikes, {:.3} s wall\n{}",
@@ -275,25 +294,6 @@ struct LoopCeiling {
     bytes_per_update: u32,
     #[serde(flatten)]
     fractions: CeilingFractions,
-}
-
-/// Measures this core's ceilings for the loop of `a` (the FMA peak at its precision; the
-/// read-modify-write bandwidth over a buffer that moves what one step of its `n` neurons
-/// moves) and the share of them that `updates_per_s` (one thread's) reaches.
-fn ceiling(a: &NeuronsArgs, integrator: Integrator, updates_per_s: f64) -> LoopCeiling {
-    let setup = NeuronSetup {
-        integrator,
-        ..NeuronSetup::benchmark(a.model, a.precision)
-    };
-    let cost = setup.update_cost();
-    // Each byte of state is read once and written once per step.
-    let ceiling = Ceiling::measure(a.precision, a.n * cost.bytes as usize / 2);
-    LoopCeiling {
-        fractions: ceiling.fractions(updates_per_s, cost.flops, cost.bytes),
-        flops_per_update: cost.flops,
-        bytes_per_update: cost.bytes,
-        ceiling,
-    }
 }
 
 impl LoopCeiling {
