@@ -99,7 +99,7 @@ impl Ceiling {
 }
 /// Peak fused-multiply-add throughput of the calling thread at `precision` (flop/s, an FMA
 /// counting 2) and the kernel that reached it: independent chains `x ← x·a + b` in
-/// [`ACCUMULATORS`] scalars the compiler vectorises (`"portable"`) and, where the build
+/// 64 scalars the compiler vectorises (`"portable"`) and, where the build
 /// targets AVX-512, in 512-bit registers (`"avx512"`: compilers prefer 256-bit vectors on such
 /// CPUs, so the portable kernel alone would understate the core); the faster counts.
 pub fn peak_fma_flops(precision: Precision) -> (f64, &'static str) {
@@ -207,7 +207,7 @@ mod avx512 {
 
 /// Read-modify-write bandwidth of the calling thread over a buffer of `bytes` of `F` (bytes
 /// read + written per second): passes of `x[i] ← x[i]·a + b`, as a neuron-update loop reads
-/// and writes its state, over ≥ 64 MiB of traffic per timing; the fastest of [`REPEATS`].
+/// and writes its state, over ≥ 64 MiB of traffic per timing; the fastest of five.
 pub fn stream_bandwidth<F: Real>(bytes: usize) -> f64 {
     let n = (bytes / size_of::<F>()).max(1);
     let mut x = vec![F::one(); n];
