@@ -25,6 +25,11 @@ const ACCUMULATORS: usize = 64;
 #[cfg(all(target_arch = "x86_64", target_feature = "avx512f"))]
 const ZMM_ACCUMULATORS: usize = 16;
 
+/// The largest working set the bandwidth is measured on: far beyond any cache, so a larger
+/// population's loop streams from memory at the bandwidth measured here, without a second
+/// buffer the size of its state.
+pub const MAX_WORKING_SET: usize = 1 << 30;
+
 /// Repetitions of each micro-benchmark; the fastest counts (noise only ever adds time).
 const REPEATS: usize = 5;
 
@@ -55,10 +60,10 @@ pub struct CeilingFractions {
 
 impl Ceiling {
     /// Measures both ceilings on the calling thread: the FMA peak at `precision`, and the
-    /// bandwidth of a read-modify-write pass over `working_set_bytes` (at least 4 KiB; the
-    /// buffer is allocated here, so the caller bounds it).
+    /// bandwidth of a read-modify-write pass over `working_set_bytes` (from 4 KiB to
+    /// [`MAX_WORKING_SET`]).
     pub fn measure(precision: Precision, working_set_bytes: usize) -> Ceiling {
-        let working_set_bytes = working_set_bytes.max(4096);
+        let working_set_bytes = working_set_bytes.clamp(4096, MAX_WORKING_SET);
         let (peak_flops_per_s, peak_kernel) = peak_fma_flops(precision);
         let bandwidth_bytes_per_s = match precision {
             Precision::F32 => stream_bandwidth::<f32>(working_set_bytes),
