@@ -4,39 +4,31 @@
 //! neuron, the network's path) and `run_constant` (the benchmark's path). A change to a fused
 //! loop must leave each fingerprint as it is: a faster kernel computes the same numbers.
 
+use neurotac_core::seed_hash::Fnv1a;
 use neurotac_core::{NeuronModel, SpikeBuffer};
 use neurotac_neurons::population::BLOCK;
 use neurotac_neurons::{
-    BlockModel, BlockPopulation, InitialPotential, Integrator, IzhikevichModel, IzhikevichParams,
-    LifModel, LifParams, Population,
+    BlockModel, BlockPopulation, InitialPotential, Integrator, IzhikevichFamily, IzhikevichParams,
+    LifFamily, LifParams, ModelFamily, Population,
 };
 
 const N: usize = BLOCK + 300;
 const STEPS: u64 = 1500;
 const DT_S: f64 = 1e-4;
 
-/// FNV-1a over 64-bit words.
-struct Fingerprint(u64);
-
-impl Fingerprint {
-    fn new() -> Self {
-        Fingerprint(0xcbf2_9ce4_8422_2325)
-    }
-    fn add(&mut self, word: u64) {
-        for byte in word.to_le_bytes() {
-            self.0 = (self.0 ^ u64::from(byte)).wrapping_mul(0x0100_0000_01b3);
-        }
-    }
+/// FNV-1a over 64-bit words (little-endian).
+fn add(fp: &mut Fnv1a, word: u64) {
+    fp.write(&word.to_le_bytes());
 }
 
 /// The population's state, every variable of every neuron, bit for bit.
-fn add_state(model: &dyn NeuronModel, fp: &mut Fingerprint) {
+fn add_state(model: &dyn NeuronModel, fp: &mut Fnv1a) {
     let all: Vec<u32> = (0..N as u32).collect();
     let mut values = Vec::new();
     for var in 0..model.variables().len() {
         model.read_variable(var, &all, &mut values);
     }
-    values.iter().for_each(|x| fp.add(x.to_bits()));
+    values.iter().for_each(|x| add(fp, x.to_bits()));
 }
 
 /// `(step path, constant path)` fingerprints: spikes (step, neuron, fraction bits) and final
@@ -58,20 +50,68 @@ fn fingerprints<M: BlockModel>(
     };
     let mut pop = build();
     pop.prepare(DT_S).unwrap();
-    let mut fp = Fingerprint::new();
+    let mut fp = Fnv1a::new();
     let mut spikes = SpikeBuffer::new();
     for step in 0..STEPS {
         pop.step_checked(input, &mut spikes).unwrap();
-        fp.add(step);
-        spikes.indices().iter().for_each(|&i| fp.add(u64::from(i)));
-        spikes.fractions().iter().for_each(|f| fp.add(f.to_bits()));
+        add(&mut fp, step);
+        spikes
+            .indices()
+            .iter()
+            .for_each(|&i| add(&mut fp, u64::from(i)));
+        spikes
+            .fractions()
+            .iter()
+            .for_each(|f| add(&mut fp, f.to_bits()));
     }
     add_state(&pop, &mut fp);
     let mut pop = build();
-    let mut constant_fp = Fingerprint::new();
-    constant_fp.add(pop.run_constant(constant, DT_S, STEPS).unwrap());
+    let mut constant_fp = Fnv1a::new();
+    add(
+        &mut constant_fp,
+        pop.run_constant(constant, DT_S, STEPS).unwrap(),
+    );
     add_state(&pop, &mut constant_fp);
-    (fp.0, constant_fp.0)
+    (fp.finish(), constant_fp.finish())
+}
+
+/// One case of a family's model, run in f32 and in f64.
+struct Case<'a, P> {
+    name: &'a str,
+    params: P,
+    integrator: Integrator,
+    interpolate: bool,
+    initial: &'a InitialPotential,
+    input: &'a [f64],
+    constant: f64,
+}
+
+/// The lines of `case` at both precisions.
+fn both_precisions<Fam: ModelFamily>(case: Case<'_, Fam::Params>, lines: &mut Vec<String>) {
+    let Case {
+        name,
+        params,
+        integrator,
+        interpolate,
+        initial,
+        input,
+        constant,
+    } = case;
+    let f32 = fingerprints::<Fam::Model<f32>>;
+    let f64 = fingerprints::<Fam::Model<f64>>;
+    for (precision, run) in [("f32", f32 as fn(_, _, _, _, _, _) -> _), ("f64", f64)] {
+        let (a, b) = run(
+            params,
+            integrator,
+            interpolate,
+            initial.clone(),
+            input,
+            constant,
+        );
+        lines.push(format!(
+            "{name} {integrator} {precision} {interpolate} {a:016x} {b:016x}"
+        ));
+    }
 }
 
 /// One line per case: `model integrator precision interpolate step-fingerprint constant-fingerprint`.
@@ -103,28 +143,16 @@ fn all_cases() -> Vec<String> {
             Integrator::Rk4,
         ] {
             for (params, name) in [(LifParams::default(), "lif"), (lif_params, "lif-ref")] {
-                let (a, b) = fingerprints::<LifModel<f32>>(
+                let case = Case {
+                    name,
                     params,
                     integrator,
                     interpolate,
-                    lif_initial.clone(),
-                    &lif_input,
-                    1.04,
-                );
-                lines.push(format!(
-                    "{name} {integrator} f32 {interpolate} {a:016x} {b:016x}"
-                ));
-                let (a, b) = fingerprints::<LifModel<f64>>(
-                    params,
-                    integrator,
-                    interpolate,
-                    lif_initial.clone(),
-                    &lif_input,
-                    1.04,
-                );
-                lines.push(format!(
-                    "{name} {integrator} f64 {interpolate} {a:016x} {b:016x}"
-                ));
+                    initial: &lif_initial,
+                    input: &lif_input,
+                    constant: 1.04,
+                };
+                both_precisions::<LifFamily>(case, &mut lines);
             }
         }
         for integrator in [
@@ -134,29 +162,16 @@ fn all_cases() -> Vec<String> {
             Integrator::Rk2,
             Integrator::Rk4,
         ] {
-            let rs = IzhikevichParams::rs();
-            let (a, b) = fingerprints::<IzhikevichModel<f32>>(
-                rs,
+            let case = Case {
+                name: "izhikevich",
+                params: IzhikevichParams::rs(),
                 integrator,
                 interpolate,
-                izh_initial.clone(),
-                &izh_input,
-                10.0,
-            );
-            lines.push(format!(
-                "izhikevich {integrator} f32 {interpolate} {a:016x} {b:016x}"
-            ));
-            let (a, b) = fingerprints::<IzhikevichModel<f64>>(
-                rs,
-                integrator,
-                interpolate,
-                izh_initial.clone(),
-                &izh_input,
-                10.0,
-            );
-            lines.push(format!(
-                "izhikevich {integrator} f64 {interpolate} {a:016x} {b:016x}"
-            ));
+                initial: &izh_initial,
+                input: &izh_input,
+                constant: 10.0,
+            };
+            both_precisions::<IzhikevichFamily>(case, &mut lines);
         }
     }
     lines
