@@ -97,9 +97,12 @@ fn both_precisions<Fam: ModelFamily>(case: Case<'_, Fam::Params>, lines: &mut Ve
         input,
         constant,
     } = case;
-    let f32 = fingerprints::<Fam::Model<f32>>;
-    let f64 = fingerprints::<Fam::Model<f64>>;
-    for (precision, run) in [("f32", f32 as fn(_, _, _, _, _, _) -> _), ("f64", f64)] {
+    type Run<P> = fn(P, Integrator, bool, InitialPotential, &[f64], f64) -> (u64, u64);
+    let runs: [(&str, Run<Fam::Params>); 2] = [
+        ("f32", fingerprints::<Fam::Model<f32>>),
+        ("f64", fingerprints::<Fam::Model<f64>>),
+    ];
+    for (precision, run) in runs {
         let (a, b) = run(
             params,
             integrator,
