@@ -365,15 +365,18 @@ fn transduce_with_a_blocked_png_leaves_the_json_and_svg_as_they_were() {
     std::fs::write(&svg, "old").unwrap();
     std::fs::create_dir(&png).unwrap();
     std::fs::write(png.join("keep.txt"), "mine").unwrap();
-    let (ok, _, stderr) = neurotac(&[
-        "transduce",
-        s(&input),
-        "--out",
-        s(&json),
-        "--raster",
-        s(&svg),
-        "--force",
-    ]);
+    let transduce = || {
+        neurotac(&[
+            "transduce",
+            s(&input),
+            "--out",
+            s(&json),
+            "--raster",
+            s(&svg),
+            "--force",
+        ])
+    };
+    let (ok, _, stderr) = transduce();
     assert!(!ok);
     assert_eq!(stderr.lines().count(), 1, "{stderr}");
     assert!(stderr.contains("s.png"), "{stderr}");
@@ -385,15 +388,7 @@ fn transduce_with_a_blocked_png_leaves_the_json_and_svg_as_they_were() {
     );
     // Unblocked, all three are replaced together.
     std::fs::remove_dir_all(&png).unwrap();
-    let (ok, _, stderr) = neurotac(&[
-        "transduce",
-        s(&input),
-        "--out",
-        s(&json),
-        "--raster",
-        s(&svg),
-        "--force",
-    ]);
+    let (ok, _, stderr) = transduce();
     assert!(ok, "{stderr}");
     assert!(std::fs::read_to_string(&svg).unwrap().starts_with("<svg"));
     assert_eq!(tree(dir.path()), ["r.csv", "s.json", "s.png", "s.svg"]);

@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::{mpirun, neurotac_on_ranks};
+use common::{mpirun, neurotac_on_ranks, small_simulate_args};
 
 #[test]
 fn without_the_mpi_feature_mpirun_gets_one_clear_line_and_no_output() {
@@ -12,17 +12,7 @@ fn without_the_mpi_feature_mpirun_gets_one_clear_line_and_no_output() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("sim");
     let cache = dir.path().join("cache");
-    let args = [
-        "simulate",
-        "--set",
-        "artificial",
-        "--trials",
-        "1",
-        "--out",
-        out.to_str().unwrap(),
-        "--cache",
-        cache.to_str().unwrap(),
-    ];
+    let args = small_simulate_args(&out, &cache);
     let (ok, stdout, stderr) = neurotac_on_ranks(&mpirun, 2, &args);
     assert!(!ok, "{stdout}");
     let ours: Vec<&str> = stderr.lines().filter(|l| l.starts_with("error:")).collect();

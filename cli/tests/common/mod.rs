@@ -40,11 +40,11 @@ pub fn small_reproduce(out: &Path, cache: &Path, extra: &[&str]) -> (bool, Strin
     neurotac(&args)
 }
 
-/// A one-slide artificial `simulate` into `out`, caching datasets in `cache`, with `extra`
-/// arguments.
-pub fn small_simulate(out: &Path, cache: &Path, extra: &[&str]) -> (bool, String, String) {
+/// The arguments of a one-slide artificial `simulate` into `out`, caching datasets in
+/// `cache`.
+pub fn small_simulate_args<'a>(out: &'a Path, cache: &'a Path) -> Vec<&'a str> {
     let (out, cache) = (out.to_str().unwrap(), cache.to_str().unwrap());
-    let mut args = vec![
+    vec![
         "simulate",
         "--set",
         "artificial",
@@ -54,7 +54,13 @@ pub fn small_simulate(out: &Path, cache: &Path, extra: &[&str]) -> (bool, String
         out,
         "--cache",
         cache,
-    ];
+    ]
+}
+
+/// A one-slide artificial `simulate` into `out` ([`small_simulate_args`]), with `extra`
+/// arguments.
+pub fn small_simulate(out: &Path, cache: &Path, extra: &[&str]) -> (bool, String, String) {
+    let mut args = small_simulate_args(out, cache);
     args.extend_from_slice(extra);
     neurotac(&args)
 }
