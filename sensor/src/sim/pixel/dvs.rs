@@ -5,6 +5,7 @@
 
 use super::PixelModel;
 use super::event::{NOISE_LABEL, RawEvent};
+use super::render::{PinSlots, Tables, render_offsets};
 use neurotac_core::seed_hash::splitmix64;
 use neurotac_core::time::{s_to_us, us_to_s};
 
@@ -22,6 +23,92 @@ fn exp_neg(x: f32) -> f32 {
             + l * (0.5
                 + l * (1.0 / 6.0 + l * (1.0 / 24.0 + l * (1.0 / 120.0 + l * (1.0 / 720.0))))));
     p * f32::from_bits((((n as i32) + 127) as u32) << 23)
+}
+
+/// The largest of `values` (0 when empty; NaNs ignored, as by `f32::max`), in independent
+/// lanes so the reduction vectorises; `max` is exact and order-free on non-NaN values, so the
+/// result equals a sequential fold.
+fn max_of(values: &[f32]) -> f32 {
+    const LANES: usize = 16;
+    let mut lanes = [0.0f32; LANES];
+    let chunks = values.chunks_exact(LANES);
+    let rest = chunks.remainder();
+    for chunk in chunks {
+        for (m, &v) in lanes.iter_mut().zip(chunk) {
+            *m = m.max(v);
+        }
+    }
+    rest.iter().chain(&lanes).fold(0.0f32, |m, &v| m.max(v))
+}
+
+/// What the first pass of a patch step reads: the tables, the pins, and the patch's slices
+/// of pixel geometry, thresholds and state (all of one length).
+struct PassInputs<'a> {
+    tables: &'a Tables,
+    pin_dx: &'a PinSlots,
+    pin_dy: &'a PinSlots,
+    /// The owner pin's displacement (px).
+    own: (f32, f32),
+    own_dx: &'a [f32],
+    own_dy: &'a [f32],
+    other: &'a [u8],
+    other_dx: &'a [f32],
+    other_dy: &'a [f32],
+    c_on: &'a [f32],
+    c_off: &'a [f32],
+    l_ref: &'a [f32],
+    dt: f32,
+}
+
+/// The first pass of a patch step over every pixel: renders L, integrates the low-pass
+/// (updating L, L̃ and the rate in place), and records L̃ at the step's start, the filter rate
+/// |L − L̃|/τ_p and whether the pixel can emit anything this step. Branch-free, and the
+/// outputs are separate arguments (so the compiler knows they alias nothing it reads): it
+/// vectorises.
+#[inline(never)]
+fn filter_pass(
+    inp: &PassInputs,
+    l_in: &mut [f32],
+    l_filt: &mut [f32],
+    rate_old: &mut [f32],
+    f_start: &mut [f32],
+    filter_rate: &mut [f32],
+    slow: &mut [bool],
+) {
+    let n = l_in.len();
+    let (l_filt, rate_old, f_start) = (&mut l_filt[..n], &mut rate_old[..n], &mut f_start[..n]);
+    let (filter_rate, slow) = (&mut filter_rate[..n], &mut slow[..n]);
+    let (own_dx, own_dy, other) = (&inp.own_dx[..n], &inp.own_dy[..n], &inp.other[..n]);
+    let (other_dx, other_dy) = (&inp.other_dx[..n], &inp.other_dy[..n]);
+    let (c_on, c_off, l_ref) = (&inp.c_on[..n], &inp.c_off[..n], &inp.l_ref[..n]);
+    let (own_x, own_y) = inp.own;
+    let dt = inp.dt;
+    for k in 0..n {
+        let o = other[k] as usize;
+        let (l_new, rate) = render_offsets(
+            inp.tables,
+            (own_dx[k] - own_x, own_dy[k] - own_y),
+            (other_dx[k] - inp.pin_dx[o], other_dy[k] - inp.pin_dy[o]),
+        );
+        let l_old = l_in[k];
+        let f_old = l_filt[k];
+        let x = dt * 0.5 * (rate + rate_old[k]);
+        let a = exp_neg(x);
+        // g = (1 − e^(−x))/x; its series below x = 0.1 (both computed: a select).
+        let series = 1.0 - x * (0.5 - x * (1.0 / 6.0 - x * (1.0 / 24.0 - x / 120.0)));
+        let direct = (1.0 - a) / x.max(0.1);
+        let g = if x > 0.1 { direct } else { series };
+        // Exact first-order response to an input ramping from l_old to l_new.
+        let f_new = l_new - (l_new - l_old) * g + (f_old - l_old) * a;
+        filter_rate[k] = (l_new - f_new).abs() * rate;
+        let r = l_ref[k];
+        // Non-short-circuit `|`: one mask, no branches.
+        slow[k] = (f_new - r >= c_on[k]) | (r - f_new >= c_off[k]);
+        f_start[k] = f_old;
+        l_in[k] = l_new;
+        l_filt[k] = f_new;
+        rate_old[k] = rate;
+    }
 }
 
 impl PixelModel {
@@ -57,6 +144,13 @@ impl PixelModel {
 
     /// One step of the pixels of `patch` (= its owner pin) from `t0` to `t1`; returns the largest filter rate
     /// |L − L̃|/τ_p at `t1`.
+    ///
+    /// Two passes: a branch-free pass over every pixel (render, low-pass, "can this pixel
+    /// emit anything this step?") that the compiler vectorises, then the slow path
+    /// ([`events`](Self::events)) for the few pixels that can — a pixel that crosses no
+    /// threshold, is not held in reset and has no noise event due emits nothing, and its step
+    /// is complete after the first pass. Per pixel, the arithmetic is the same as one scalar
+    /// update in the same order, so the result does not depend on the vector width.
     pub(super) fn step(
         &mut self,
         patch: usize,
@@ -66,35 +160,42 @@ impl PixelModel {
         out: &mut Vec<RawEvent>,
     ) -> f32 {
         let (start, end) = self.patches.ranges[patch];
+        let n = end - start;
         let dt = (t1 - t0) as f32;
-        let mut max_rate = 0.0f32;
-        for j in start..end {
-            let (l_new, rate) = self.render(j, patch);
-            let l_old = self.l_in[j];
-            let f_old = self.l_filt[j];
-            let x = dt * 0.5 * (rate + self.rate_old[j]);
-            let a = exp_neg(x);
-            // g = (1 − e^(−x))/x; its series below x = 0.1 (both computed: a select, not a
-            // branch, which mispredicts on mixed bright and dark pixels).
-            let series = 1.0 - x * (0.5 - x * (1.0 / 6.0 - x * (1.0 / 24.0 - x / 120.0)));
-            let direct = (1.0 - a) / x.max(0.1);
-            let g = if x > 0.1 { direct } else { series };
-            // Exact first-order response to an input ramping from l_old to l_new.
-            let f_new = l_new - (l_new - l_old) * g + (f_old - l_old) * a;
-            max_rate = max_rate.max((l_new - f_new).abs() * rate);
-            let r = self.l_ref[j];
-            if f_new - r >= self.c_on[j]
-                || r - f_new >= self.c_off[j]
-                || self.reset_until[j] > t0
-                || self.next_noise[j] < t1
-            {
-                self.events(j, t0, t1, f_old, f_new, seed, out);
+        let p = &self.patches;
+        let (pin_dx, pin_dy) = (&*self.pin_dx, &*self.pin_dy);
+        let inputs = PassInputs {
+            tables: &self.tables,
+            pin_dx,
+            pin_dy,
+            own: (pin_dx[patch], pin_dy[patch]),
+            own_dx: &p.own_dx[start..end],
+            own_dy: &p.own_dy[start..end],
+            other: &p.other[start..end],
+            other_dx: &p.other_dx[start..end],
+            other_dy: &p.other_dy[start..end],
+            c_on: &self.c_on[start..end],
+            c_off: &self.c_off[start..end],
+            l_ref: &self.l_ref[start..end],
+            dt,
+        };
+        filter_pass(
+            &inputs,
+            &mut self.l_in[start..end],
+            &mut self.l_filt[start..end],
+            &mut self.rate_old[start..end],
+            &mut self.f_start[..n],
+            &mut self.filter_rate[..n],
+            &mut self.slow[..n],
+        );
+        for k in 0..n {
+            let j = start + k;
+            if self.slow[k] || self.reset_until[j] > t0 || self.next_noise[j] < t1 {
+                let (f0, f1) = (self.f_start[k], self.l_filt[j]);
+                self.events(j, t0, t1, f0, f1, seed, out);
             }
-            self.l_in[j] = l_new;
-            self.l_filt[j] = f_new;
-            self.rate_old[j] = rate;
         }
-        max_rate
+        max_of(&self.filter_rate[..n])
     }
 
     /// The slow path of one pixel over one step: threshold crossings, refractory resets and

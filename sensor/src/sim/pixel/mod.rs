@@ -65,7 +65,7 @@ use super::camera::Camera;
 use super::params::SimParams;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
-use render::{Patches, Tables, render_pixel};
+use render::{PIN_SLOTS, Patches, PinSlots, Tables, render_pixel};
 
 /// Statistics of one run of the pixel model.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
@@ -105,9 +105,14 @@ pub struct PixelModel {
     // Scratch of the noise draw: (patch pixel, time, ON) and one pixel's events.
     pending_noise: Vec<(usize, f64, bool)>,
     pixel_noise: Vec<(f64, bool)>,
-    // Pin displacements at the end of the current step.
-    pin_dx: Vec<f32>,
-    pin_dy: Vec<f32>,
+    // Scratch of one patch step (sized for the largest patch): each pixel's L̃ at the step's
+    // start, its filter rate |L − L̃|/τ_p at the end, and whether it takes the slow path.
+    f_start: Vec<f32>,
+    filter_rate: Vec<f32>,
+    slow: Vec<bool>,
+    // Pin displacements at the end of the current step, one slot per `u8` pin index.
+    pin_dx: Box<PinSlots>,
+    pin_dy: Box<PinSlots>,
 }
 
 /// The pins' image displacements over time (px), as seen by the pixel model.
@@ -144,6 +149,12 @@ impl PixelModel {
             camera.height,
         );
         let n = patches.x.len();
+        let largest = patches
+            .ranges
+            .iter()
+            .map(|&(s, e)| e - s)
+            .max()
+            .unwrap_or(0);
         let at = |v: &Vec<f32>| -> Vec<f32> {
             patches
                 .x
@@ -172,8 +183,11 @@ impl PixelModel {
             next_noise: vec![f64::INFINITY; n],
             pending_noise: Vec::new(),
             pixel_noise: Vec::new(),
-            pin_dx: vec![0.0; pins_px.len()],
-            pin_dy: vec![0.0; pins_px.len()],
+            f_start: vec![0.0; largest],
+            filter_rate: vec![0.0; largest],
+            slow: vec![false; largest],
+            pin_dx: Box::new([0.0; PIN_SLOTS]),
+            pin_dy: Box::new([0.0; PIN_SLOTS]),
         }
     }
 
@@ -244,7 +258,7 @@ impl PixelModel {
         render_pixel(
             &self.tables,
             &self.patches,
-            (&self.pin_dx, &self.pin_dy),
+            (&*self.pin_dx, &*self.pin_dy),
             j,
             own,
         )
