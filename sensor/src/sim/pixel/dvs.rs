@@ -5,7 +5,7 @@
 
 use super::PixelModel;
 use super::event::{NOISE_LABEL, RawEvent};
-use super::render::{PinSlots, Tables, render_offsets};
+use super::render::{PinSlots, Tables, integral_to_i32, render_offsets};
 use neurotac_core::seed_hash::splitmix64;
 use neurotac_core::time::{s_to_us, us_to_s};
 
@@ -22,7 +22,7 @@ fn exp_neg(x: f32) -> f32 {
         + l * (1.0
             + l * (0.5
                 + l * (1.0 / 6.0 + l * (1.0 / 24.0 + l * (1.0 / 120.0 + l * (1.0 / 720.0))))));
-    p * f32::from_bits((((n as i32) + 127) as u32) << 23)
+    p * f32::from_bits(((integral_to_i32(n) + 127) as u32) << 23)
 }
 
 /// The largest of `values` (0 when empty; NaNs ignored, as by `f32::max`), in independent

@@ -8,6 +8,15 @@ use super::event::NOISE_LABEL;
 use crate::sim::params::SimParams;
 use neurotac_core::special::erfc;
 
+/// The integer value of a whole-numbered `x` with |x| < 2²², through the bits of
+/// `x + 1.5·2²³` (exact there, one unit per ulp): unlike `as`, which saturates and is
+/// converted one lane at a time, this stays in vector lanes.
+#[inline(always)]
+pub(super) fn integral_to_i32(x: f32) -> i32 {
+    const MAGIC: f32 = 12_582_912.0; // 1.5·2²³, bits 0x4B40_0000
+    (x + MAGIC).to_bits() as i32 - MAGIC.to_bits() as i32
+}
+
 /// Lookup tables of the rendering and the photoreceptor.
 #[derive(Debug, Clone)]
 pub(super) struct Tables {
@@ -81,9 +90,11 @@ impl Tables {
     #[inline(always)]
     pub(super) fn coverage(&self, rho2: f32) -> f32 {
         let x = (rho2 * self.rho2_inv_step).min((COVERAGE_ENTRIES - 2) as f32);
-        // x ≥ 0, so the index clamp changes nothing; it proves both lookups in range.
-        let i = (x as u32).min((COVERAGE_ENTRIES - 2) as u32) as usize;
-        let f = x - i as f32;
+        // x ≥ 0, so its floor is its truncation and the index clamp changes nothing; the
+        // clamp proves both lookups in range.
+        let floor = x.floor();
+        let i = integral_to_i32(floor).clamp(0, (COVERAGE_ENTRIES - 2) as i32) as usize;
+        let f = x - floor;
         let (a, b) = (self.coverage[i], self.coverage[i + 1]);
         a + f * (b - a)
     }
@@ -91,8 +102,9 @@ impl Tables {
     #[inline(always)]
     pub(super) fn log_and_rate(&self, cover: f32) -> (f32, f32) {
         let x = (cover * self.s_inv_step).min((LOG_ENTRIES - 2) as f32);
-        let i = (x as u32).min((LOG_ENTRIES - 2) as u32) as usize;
-        let f = x - i as f32;
+        let floor = x.floor();
+        let i = integral_to_i32(floor).clamp(0, (LOG_ENTRIES - 2) as i32) as usize;
+        let f = x - floor;
         let (l0, l1) = (self.log_intensity[i], self.log_intensity[i + 1]);
         let (r0, r1) = (self.inv_tau[i], self.inv_tau[i + 1]);
         (l0 + f * (l1 - l0), r0 + f * (r1 - r0))
