@@ -275,26 +275,39 @@ impl PinTrajectories {
 
     /// The earliest time after `t_s` at which `pin` has travelled `distance_px` more, if before
     /// `limit_s`.
+    ///
+    /// The first sample after `t_s` that reaches the target distance, lies at or after
+    /// `limit_s`, or is past the end: a monotone predicate of the sample index (the path length
+    /// never decreases), found by a galloping search — a pin at rest is not scanned sample by
+    /// sample up to the limit.
     pub fn time_to_travel(&self, pin: usize, t_s: f64, distance_px: f32, limit_s: f64) -> f64 {
         let target = self.arc(pin, t_s) + distance_px;
         let series = &self.arc_px[pin * self.n_samples..(pin + 1) * self.n_samples];
-        let (mut k, _) = self.locate(t_s);
+        let (k0, _) = self.locate(t_s);
         let last = self.n_samples - 1;
-        loop {
-            k += 1;
-            if k > last {
-                return limit_s;
-            }
-            let tk = k as f64 * self.dt_s;
-            if tk >= limit_s {
-                return limit_s;
-            }
-            if series[k] >= target {
-                let (a0, a1) = (series[k - 1], series[k]);
-                let f = ((target - a0) / (a1 - a0)).clamp(0.0, 1.0) as f64;
-                return ((k - 1) as f64 + f) * self.dt_s;
+        let stops = |k: usize| k > last || k as f64 * self.dt_s >= limit_s || series[k] >= target;
+        // Gallop: the predicate is false at `lo` (or lo = k0) and true at `hi`.
+        let (mut lo, mut hi, mut stride) = (k0, k0 + 1, 1);
+        while !stops(hi) {
+            lo = hi;
+            stride *= 2;
+            hi = (hi + stride).min(last + 1);
+        }
+        while hi - lo > 1 {
+            let mid = lo + (hi - lo) / 2;
+            if stops(mid) {
+                hi = mid;
+            } else {
+                lo = mid;
             }
         }
+        let k = hi;
+        if k > last || k as f64 * self.dt_s >= limit_s {
+            return limit_s;
+        }
+        let (a0, a1) = (series[k - 1], series[k]);
+        let f = ((target - a0) / (a1 - a0)).clamp(0.0, 1.0) as f64;
+        ((k - 1) as f64 + f) * self.dt_s
     }
 
     #[inline]

@@ -111,6 +111,16 @@ fn filter_pass(
     }
 }
 
+/// Also marks for the slow path every pixel held in reset at `t0` or with a noise event due
+/// before `t1` (a pass of its own: its f64 lanes would halve the width of the first pass).
+fn mark_due(reset_until: &[f64], next_noise: &[f64], (t0, t1): (f64, f64), slow: &mut [bool]) {
+    let n = slow.len();
+    let (reset_until, next_noise) = (&reset_until[..n], &next_noise[..n]);
+    for k in 0..n {
+        slow[k] |= (reset_until[k] > t0) | (next_noise[k] < t1);
+    }
+}
+
 impl PixelModel {
     /// The state of the pixels of `patch` at the start of slide `seed`: settled on the rendered
     /// image, with the reference level drawn between the thresholds
@@ -188,9 +198,15 @@ impl PixelModel {
             &mut self.filter_rate[..n],
             &mut self.slow[..n],
         );
+        mark_due(
+            &self.reset_until[start..end],
+            &self.next_noise[start..end],
+            (t0, t1),
+            &mut self.slow[..n],
+        );
         for k in 0..n {
             let j = start + k;
-            if self.slow[k] || self.reset_until[j] > t0 || self.next_noise[j] < t1 {
+            if self.slow[k] {
                 let (f0, f1) = (self.f_start[k], self.l_filt[j]);
                 self.events(j, t0, t1, f0, f1, seed, out);
             }
