@@ -191,27 +191,63 @@ impl TrialDraw {
 
 /// Base position (mm) and speed (mm/s) at time `t_s` of the trial.
 pub fn base_motion(params: &SimParams, t_s: f64) -> (f64, f64) {
-    let k = &params.kinematics;
-    let (v, a, d) = (k.speed_mm_s, k.acceleration_mm_s2, k.distance_mm);
-    let total = params.motion_duration_s();
-    let t = t_s - k.rest_before_s;
-    if t <= 0.0 || d <= 0.0 {
-        return (0.0, 0.0);
+    Trapezoid::new(params).at(t_s)
+}
+
+/// The base's trapezoidal speed profile with its constants worked out once (a slide samples
+/// it a hundred thousand times).
+#[derive(Debug, Clone, Copy)]
+struct Trapezoid {
+    rest_before_s: f64,
+    /// Motion duration (s).
+    total_s: f64,
+    /// Acceleration (mm/s²) and distance (mm).
+    a: f64,
+    d: f64,
+    /// Peak speed: v, or √(a·d) for a triangular profile (mm/s).
+    peak: f64,
+    /// Ramp and cruise durations (s).
+    ramp_s: f64,
+    cruise_s: f64,
+}
+
+impl Trapezoid {
+    fn new(params: &SimParams) -> Self {
+        let k = &params.kinematics;
+        let (v, a, d) = (k.speed_mm_s, k.acceleration_mm_s2, k.distance_mm);
+        let total_s = params.motion_duration_s();
+        let peak = v.min((a * d).sqrt());
+        let ramp_s = peak / a;
+        Self {
+            rest_before_s: k.rest_before_s,
+            total_s,
+            a,
+            d,
+            peak,
+            ramp_s,
+            cruise_s: total_s - 2.0 * ramp_s,
+        }
     }
-    if t >= total {
-        return (d, 0.0);
-    }
-    // Peak speed: v, or √(a·d) for a triangular profile.
-    let vp = v.min((a * d).sqrt());
-    let ta = vp / a;
-    let cruise = total - 2.0 * ta;
-    if t < ta {
-        (0.5 * a * t * t, a * t)
-    } else if t < ta + cruise {
-        (0.5 * a * ta * ta + vp * (t - ta), vp)
-    } else {
-        let r = total - t;
-        (d - 0.5 * a * r * r, a * r)
+
+    /// Base position (mm) and speed (mm/s) at `t_s`.
+    #[inline]
+    fn at(&self, t_s: f64) -> (f64, f64) {
+        let (a, d, ta) = (self.a, self.d, self.ramp_s);
+        let t = t_s - self.rest_before_s;
+        if t <= 0.0 || d <= 0.0 {
+            return (0.0, 0.0);
+        }
+        if t >= self.total_s {
+            return (d, 0.0);
+        }
+        if t < ta {
+            (0.5 * a * t * t, a * t)
+        } else if t < ta + self.cruise_s {
+            (0.5 * a * ta * ta + self.peak * (t - ta), self.peak)
+        } else {
+            let r = self.total_s - t;
+            (d - 0.5 * a * r * r, a * r)
+        }
     }
 }
 
@@ -511,10 +547,11 @@ impl Mechanics {
         };
         let mut t = 0.0;
         let scale = self.scale_px_per_mm;
+        let base = Trapezoid::new(params);
         for n in 0..n_samples {
             if n > 0 {
                 for _ in 0..sub {
-                    let (_, vb) = base_motion(params, t + 0.5 * h - onset_delay);
+                    let (_, vb) = base.at(t + 0.5 * h - onset_delay);
                     let vb = shear_share * vb;
                     if stuck {
                         s += vb * h;
@@ -550,7 +587,7 @@ impl Mechanics {
             }
             self.pin_shear
                 .step(s, s_static, kinetic_ratio, stuck, relax);
-            let (xb, _) = base_motion(params, t - onset_delay);
+            let (xb, _) = base.at(t - onset_delay);
             let patch_x = xb - s + draw.start_phase_mm;
             out.shear_mm[n] = (s + micro) as f32;
             for (i, pin) in self.pin_constants.iter().enumerate() {
