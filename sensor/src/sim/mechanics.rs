@@ -346,6 +346,30 @@ impl PinTrajectories {
         ((k - 1) as f64 + f) * self.dt_s
     }
 
+    /// Fills the cumulative path lengths from the displacements: the step lengths of each pin
+    /// first (independent, so they vectorise), then their running sum in sample order.
+    fn accumulate_arcs(&mut self) {
+        let n = self.n_samples;
+        if n == 0 {
+            return;
+        }
+        for ((arc, dx), dy) in self
+            .arc_px
+            .chunks_exact_mut(n)
+            .zip(self.dx_px.chunks_exact(n))
+            .zip(self.dy_px.chunks_exact(n))
+        {
+            arc[0] = 0.0;
+            for (a, (x, y)) in arc[1..].iter_mut().zip(dx.windows(2).zip(dy.windows(2))) {
+                let (ddx, ddy) = (x[1] - x[0], y[1] - y[0]);
+                *a = (ddx * ddx + ddy * ddy).sqrt();
+            }
+            for k in 1..n {
+                arc[k] += arc[k - 1];
+            }
+        }
+    }
+
     #[inline]
     fn locate(&self, t_s: f64) -> (usize, f32) {
         let x = (t_s / self.dt_s).max(0.0);
@@ -607,15 +631,9 @@ impl Mechanics {
                 let idx = i * n_samples + n;
                 out.dx_px[idx] = (scale * ux) as f32;
                 out.dy_px[idx] = (scale * uy) as f32;
-                if n > 0 {
-                    let (ddx, ddy) = (
-                        out.dx_px[idx] - out.dx_px[idx - 1],
-                        out.dy_px[idx] - out.dy_px[idx - 1],
-                    );
-                    out.arc_px[idx] = out.arc_px[idx - 1] + (ddx * ddx + ddy * ddy).sqrt();
-                }
             }
         }
+        out.accumulate_arcs();
     }
 }
 
