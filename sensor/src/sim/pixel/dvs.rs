@@ -5,7 +5,7 @@
 
 use super::PixelModel;
 use super::event::{NOISE_LABEL, RawEvent};
-use super::render::{PinSlots, Tables, integral_to_i32, render_offsets};
+use super::render::{PinSlots, Tables, integral_to_i32, render_offset, render_offsets};
 use neurotac_core::seed_hash::splitmix64;
 use neurotac_core::time::{s_to_us, us_to_s};
 
@@ -65,8 +65,10 @@ struct PassInputs<'a> {
 /// |L − L̃|/τ_p and whether the pixel can emit anything this step. Branch-free, and the
 /// outputs are separate arguments (so the compiler knows they alias nothing it reads): it
 /// vectorises.
+///
+/// `TWO_PINS`: whether a second pin renders into these pixels (else only the owner does).
 #[inline(never)]
-fn filter_pass(
+fn filter_pass<const TWO_PINS: bool>(
     inp: &PassInputs,
     l_in: &mut [f32],
     l_filt: &mut [f32],
@@ -84,12 +86,14 @@ fn filter_pass(
     let (own_x, own_y) = inp.own;
     let dt = inp.dt;
     for k in 0..n {
-        let o = other[k] as usize;
-        let (l_new, rate) = render_offsets(
-            inp.tables,
-            (own_dx[k] - own_x, own_dy[k] - own_y),
-            (other_dx[k] - inp.pin_dx[o], other_dy[k] - inp.pin_dy[o]),
-        );
+        let own = (own_dx[k] - own_x, own_dy[k] - own_y);
+        let (l_new, rate) = if TWO_PINS {
+            let o = other[k] as usize;
+            let second = (other_dx[k] - inp.pin_dx[o], other_dy[k] - inp.pin_dy[o]);
+            render_offsets(inp.tables, own, second)
+        } else {
+            render_offset(inp.tables, own)
+        };
         let l_old = l_in[k];
         let f_old = l_filt[k];
         let x = dt * 0.5 * (rate + rate_old[k]);
@@ -135,7 +139,8 @@ impl PixelModel {
             self.l_filt[j] = l;
             self.l_ref[j] = if random {
                 // A 24-bit uniform in [0, 1): L̃ − L_ref = u·(C⁺ + C⁻) − C⁻.
-                let u = (splitmix64(seed ^ splitmix64(0x7265_6600 ^ j as u64)) >> 40) as f32
+                let id = self.patches.seed_index[j] as u64;
+                let u = (splitmix64(seed ^ splitmix64(0x7265_6600 ^ id)) >> 40) as f32
                     / (1u32 << 24) as f32;
                 l + self.c_off[j] - u * (self.c_on[j] + self.c_off[j])
             } else {
@@ -172,32 +177,41 @@ impl PixelModel {
         let (start, end) = self.patches.ranges[patch];
         let n = end - start;
         let dt = (t1 - t0) as f32;
-        let p = &self.patches;
-        let (pin_dx, pin_dy) = (&*self.pin_dx, &*self.pin_dy);
-        let inputs = PassInputs {
-            tables: &self.tables,
-            pin_dx,
-            pin_dy,
-            own: (pin_dx[patch], pin_dy[patch]),
-            own_dx: &p.own_dx[start..end],
-            own_dy: &p.own_dy[start..end],
-            other: &p.other[start..end],
-            other_dx: &p.other_dx[start..end],
-            other_dy: &p.other_dy[start..end],
-            c_on: &self.c_on[start..end],
-            c_off: &self.c_off[start..end],
-            l_ref: &self.l_ref[start..end],
-            dt,
-        };
-        filter_pass(
-            &inputs,
-            &mut self.l_in[start..end],
-            &mut self.l_filt[start..end],
-            &mut self.rate_old[start..end],
-            &mut self.f_start[..n],
-            &mut self.filter_rate[..n],
-            &mut self.slow[..n],
-        );
+        let second = self.patches.second[patch];
+        for (from, to) in [(start, second), (second, end)] {
+            let p = &self.patches;
+            let (pin_dx, pin_dy) = (&*self.pin_dx, &*self.pin_dy);
+            let inputs = PassInputs {
+                tables: &self.tables,
+                pin_dx,
+                pin_dy,
+                own: (pin_dx[patch], pin_dy[patch]),
+                own_dx: &p.own_dx[from..to],
+                own_dy: &p.own_dy[from..to],
+                other: &p.other[from..to],
+                other_dx: &p.other_dx[from..to],
+                other_dy: &p.other_dy[from..to],
+                c_on: &self.c_on[from..to],
+                c_off: &self.c_off[from..to],
+                l_ref: &self.l_ref[from..to],
+                dt,
+            };
+            let pass = if from == start {
+                filter_pass::<false>
+            } else {
+                filter_pass::<true>
+            };
+            let scratch = from - start..to - start;
+            pass(
+                &inputs,
+                &mut self.l_in[from..to],
+                &mut self.l_filt[from..to],
+                &mut self.rate_old[from..to],
+                &mut self.f_start[scratch.clone()],
+                &mut self.filter_rate[scratch.clone()],
+                &mut self.slow[scratch],
+            );
+        }
         mark_due(
             &self.reset_until[start..end],
             &self.next_noise[start..end],
@@ -303,7 +317,8 @@ impl PixelModel {
         let p = &self.params.pixel;
         let k = self.n_events[j];
         self.n_events[j] = k + 1;
-        let h = splitmix64(seed ^ splitmix64(((j as u64) << 32) | k as u64));
+        let id = self.patches.seed_index[j] as u64;
+        let h = splitmix64(seed ^ splitmix64((id << 32) | k as u64));
         let u = ((h >> 11) as f64 + 0.5) / (1u64 << 53) as f64;
         let t = te + p.latency_s - p.latency_jitter_s * u.ln();
         let owner = self.patch_owner(j) as u8;

@@ -112,10 +112,19 @@ impl Tables {
 }
 
 /// Which pixels are simulated and which pins render into them (fixed by the geometry).
+///
+/// Within a patch, the pixels only their owner pin renders into come first, then those a
+/// second pin reaches too (`second[patch]` is where they start), so each part runs its own
+/// loop without per-pixel choices. A pixel's random draws are keyed by its `seed_index`: its
+/// rank in image order among all patch pixels (patch by patch), whatever its position.
 #[derive(Debug, Clone)]
 pub(super) struct Patches {
     /// Pixel index range of each patch (patch = its owner pin).
     pub(super) ranges: Vec<(usize, usize)>,
+    /// Per patch: the first pixel that a second pin renders into too.
+    pub(super) second: Vec<usize>,
+    /// Per pixel: the index its random draws are keyed by.
+    pub(super) seed_index: Vec<u32>,
     /// Pins rendering into each patch (owner first).
     pub(super) pins: Vec<Vec<usize>>,
     /// Per pixel: coordinates.
@@ -160,6 +169,8 @@ impl Patches {
         }
         let mut p = Patches {
             ranges: Vec::with_capacity(n_pins),
+            second: Vec::with_capacity(n_pins),
+            seed_index: Vec::new(),
             pins: Vec::with_capacity(n_pins),
             x: Vec::new(),
             y: Vec::new(),
@@ -174,7 +185,13 @@ impl Patches {
             let start = p.x.len();
             let mut pins = vec![pin];
             let (cx, cy) = pins_px[pin];
-            for &(x, y, other) in pixels {
+            let alone = |&(_, &(_, _, other)): &(usize, &(u16, u16, u8))| other == NOISE_LABEL;
+            let ranked = || pixels.iter().enumerate();
+            let order = ranked().filter(alone).chain(ranked().filter(|q| !alone(q)));
+            p.second
+                .push(start + pixels.iter().filter(|q| q.2 == NOISE_LABEL).count());
+            for (rank, &(x, y, other)) in order {
+                p.seed_index.push((start + rank) as u32);
                 p.index_of[y as usize * width as usize + x as usize] = p.x.len() as u32;
                 p.x.push(x);
                 p.y.push(y);
@@ -217,6 +234,12 @@ pub(super) fn render_offsets(tables: &Tables, own: (f32, f32), other: (f32, f32)
     let cover = tables.coverage(own.0 * own.0 + own.1 * own.1)
         + tables.coverage(other.0 * other.0 + other.1 * other.1);
     tables.log_and_rate(cover)
+}
+
+/// [`render_offsets`] for a pixel that only its owner pin renders into.
+#[inline(always)]
+pub(super) fn render_offset(tables: &Tables, own: (f32, f32)) -> (f32, f32) {
+    tables.log_and_rate(tables.coverage(own.0 * own.0 + own.1 * own.1))
 }
 
 /// Log intensity and photoreceptor rate of patch pixel `j` of pin `own`'s patch, for pins
