@@ -683,6 +683,41 @@ mod tests {
     }
 
     #[test]
+    fn galloping_travel_search_equals_the_sample_by_sample_scan() {
+        // The scan it replaced: sample by sample from t_s up to the limit.
+        fn scan(tr: &PinTrajectories, pin: usize, t_s: f64, distance: f32, limit_s: f64) -> f64 {
+            let target = tr.arc(pin, t_s) + distance;
+            let series = &tr.arc_px[pin * tr.n_samples..(pin + 1) * tr.n_samples];
+            let (mut k, _) = tr.locate(t_s);
+            loop {
+                k += 1;
+                if k > tr.n_samples - 1 || k as f64 * tr.dt_s >= limit_s {
+                    return limit_s;
+                }
+                if series[k] >= target {
+                    let (a0, a1) = (series[k - 1], series[k]);
+                    let f = ((target - a0) / (a1 - a0)).clamp(0.0, 1.0) as f64;
+                    return ((k - 1) as f64 + f) * tr.dt_s;
+                }
+            }
+        }
+        let tr = slide(5.0, 1.0, None);
+        let end = tr.n_samples as f64 * tr.dt_s;
+        let mut rng = ChaCha8Rng::seed_from_u64(5);
+        for _ in 0..20_000 {
+            let pin = rng.random_range(0..tr.n_pins);
+            let t = rng.random_range(0.0..end);
+            let distance = 10f32.powf(rng.random_range(-4.0..1.0));
+            let limit = t + 10f64.powf(rng.random_range(-5.0..0.0));
+            let (a, b) = (
+                tr.time_to_travel(pin, t, distance, limit),
+                scan(&tr, pin, t, distance, limit),
+            );
+            assert_eq!(a.to_bits(), b.to_bits(), "pin {pin} at {t}: {a} vs {b}");
+        }
+    }
+
+    #[test]
     fn flat_plate_onset_sticks_then_slips_back_and_recoils_at_the_stop() {
         let p = SimParams::default();
         let out = slide(0.0, 0.0, Some((1.0, 0.7)));

@@ -379,4 +379,148 @@ mod tests {
         }
         assert!(exp_neg(1e6) < 1e-37);
     }
+
+    /// The pixel step as one scalar loop, written out independently: the lookups and the
+    /// exponent through saturating casts, the second pin's coverage added only where there is
+    /// one, the slow path taken inline.
+    mod reference {
+        use super::super::super::PixelModel;
+        use super::super::super::event::{NOISE_LABEL, RawEvent};
+
+        fn lookup(table: &[f32], x: f32) -> f32 {
+            let i = x as usize;
+            let f = x - i as f32;
+            table[i] + f * (table[i + 1] - table[i])
+        }
+
+        fn exp_neg(x: f32) -> f32 {
+            let y = (-x * std::f32::consts::LOG2_E).max(-125.0);
+            let n = (y + 0.5).floor();
+            let l = std::f32::consts::LN_2 * (y - n);
+            let p = 1.0
+                + l * (1.0
+                    + l * (0.5
+                        + l * (1.0 / 6.0
+                            + l * (1.0 / 24.0 + l * (1.0 / 120.0 + l * (1.0 / 720.0))))));
+            p * f32::from_bits((((n as i32) + 127) as u32) << 23)
+        }
+
+        pub(super) fn step(
+            m: &mut PixelModel,
+            patch: usize,
+            t0: f64,
+            t1: f64,
+            seed: u64,
+            out: &mut Vec<RawEvent>,
+        ) -> f32 {
+            let (start, end) = m.patches.ranges[patch];
+            let dt = (t1 - t0) as f32;
+            let mut max_rate = 0.0f32;
+            for j in start..end {
+                let (t, p) = (&m.tables, &m.patches);
+                let n_cov = t.coverage.len() - 2;
+                let coverage =
+                    |rho2: f32| lookup(&t.coverage[..], (rho2 * t.rho2_inv_step).min(n_cov as f32));
+                let (ex, ey) = (p.own_dx[j] - m.pin_dx[patch], p.own_dy[j] - m.pin_dy[patch]);
+                let mut cover = coverage(ex * ex + ey * ey);
+                if p.other[j] != NOISE_LABEL {
+                    let o = p.other[j] as usize;
+                    let (fx, fy) = (p.other_dx[j] - m.pin_dx[o], p.other_dy[j] - m.pin_dy[o]);
+                    cover += coverage(fx * fx + fy * fy);
+                }
+                let x = (cover * t.s_inv_step).min((t.log_intensity.len() - 2) as f32);
+                let (l_new, rate) = (lookup(&t.log_intensity[..], x), lookup(&t.inv_tau[..], x));
+                let (l_old, f_old) = (m.l_in[j], m.l_filt[j]);
+                let x = dt * 0.5 * (rate + m.rate_old[j]);
+                let a = exp_neg(x);
+                let g = if x > 0.1 {
+                    (1.0 - a) / x.max(0.1)
+                } else {
+                    1.0 - x * (0.5 - x * (1.0 / 6.0 - x * (1.0 / 24.0 - x / 120.0)))
+                };
+                let f_new = l_new - (l_new - l_old) * g + (f_old - l_old) * a;
+                max_rate = max_rate.max((l_new - f_new).abs() * rate);
+                let r = m.l_ref[j];
+                if f_new - r >= m.c_on[j]
+                    || r - f_new >= m.c_off[j]
+                    || m.reset_until[j] > t0
+                    || m.next_noise[j] < t1
+                {
+                    m.events(j, t0, t1, f_old, f_new, seed, out);
+                }
+                m.l_in[j] = l_new;
+                m.l_filt[j] = f_new;
+                m.rate_old[j] = rate;
+            }
+            max_rate
+        }
+    }
+
+    #[test]
+    fn vectorised_pixel_step_equals_the_scalar_step_bit_for_bit() {
+        use crate::geometry::PinGeometry;
+        use crate::sim::{Camera, SimParams};
+        use rand::{RngExt, SeedableRng};
+        use rand_chacha::ChaCha8Rng;
+
+        let mut params = SimParams::default();
+        // Busy pixels: plenty of noise events and resets to take the slow path through.
+        params.noise.shot_rate_hz = 40.0;
+        let camera = Camera::new(&params, 3);
+        let pins = PinGeometry::default().pin_positions_px();
+        let mut fast = PixelModel::new(&params, &pins, &camera);
+        let mut rng = ChaCha8Rng::seed_from_u64(9);
+        let (duration, seed) = (0.5, 77);
+        let mut noise = Vec::new();
+        fast.draw_noise(&camera, duration, &mut rng, &mut noise);
+        for patch in 0..pins.len() {
+            fast.init_patch(patch, seed);
+        }
+        let mut slow = fast.clone();
+        let (mut out_fast, mut out_slow) = (Vec::new(), Vec::new());
+        let mut t = 0.0;
+        while t < duration {
+            // Random jumps and drifts of every pin (px), random step lengths (s).
+            let t1 = (t + 10f64.powf(rng.random_range(-5.0..-2.0))).min(duration);
+            for pin in 0..pins.len() {
+                let (dx, dy) = (rng.random_range(-3.0..3.0), rng.random_range(-3.0..3.0));
+                for m in [&mut fast, &mut slow] {
+                    m.pin_dx[pin] = dx;
+                    m.pin_dy[pin] = dy;
+                }
+            }
+            for patch in 0..pins.len() {
+                let a = fast.step(patch, t, t1, seed, &mut out_fast);
+                let b = reference::step(&mut slow, patch, t, t1, seed, &mut out_slow);
+                assert_eq!(
+                    a.to_bits(),
+                    b.to_bits(),
+                    "largest rate of patch {patch} at {t}"
+                );
+            }
+            t = t1;
+        }
+        let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        let bits64 = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        assert_eq!(bits(&fast.l_in), bits(&slow.l_in));
+        assert_eq!(bits(&fast.l_filt), bits(&slow.l_filt));
+        assert_eq!(bits(&fast.l_ref), bits(&slow.l_ref));
+        assert_eq!(bits(&fast.rate_old), bits(&slow.rate_old));
+        assert_eq!(bits64(&fast.reset_until), bits64(&slow.reset_until));
+        assert_eq!(fast.n_events, slow.n_events);
+        assert_eq!(fast.noise_cursor, slow.noise_cursor);
+        // Signal and noise events of lone and shared pixels alike, in the same order.
+        assert_eq!(out_fast, out_slow);
+        let shared = |e: &RawEvent| {
+            let j = fast.patches.index_of[e.y as usize * 240 + e.x as usize] as usize;
+            fast.patches.other[j] != NOISE_LABEL
+        };
+        assert!(out_fast.iter().any(|e| e.label == NOISE_LABEL));
+        assert!(out_fast.iter().any(|e| e.label != NOISE_LABEL && shared(e)));
+        assert!(
+            out_fast
+                .iter()
+                .any(|e| e.label != NOISE_LABEL && !shared(e))
+        );
+    }
 }
