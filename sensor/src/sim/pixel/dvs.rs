@@ -468,7 +468,7 @@ mod tests {
         params.noise.shot_rate_hz = 40.0;
         let camera = Camera::new(&params, 3);
         let pins = PinGeometry::default().pin_positions_px();
-        let mut fast = PixelModel::new(&params, &pins, &camera);
+        let mut fast = PixelModel::new(&params, &pins, &camera).unwrap();
         let mut rng = ChaCha8Rng::seed_from_u64(9);
         let (duration, seed) = (0.5, 77);
         let mut noise = Vec::new();

@@ -62,6 +62,7 @@ pub(crate) use event::RawEvent;
 pub use event::{EventLabel, NOISE_LABEL};
 
 use super::camera::Camera;
+use super::error::SimulationError;
 use super::params::SimParams;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
@@ -140,8 +141,18 @@ impl PinMotion for super::mechanics::PinTrajectories {
 
 impl PixelModel {
     /// Prepares patches around `pins_px` (rest positions, px), lookup tables and state for
-    /// `camera`. Allocates; each run reuses everything.
-    pub fn new(params: &SimParams, pins_px: &[(f64, f64)], camera: &Camera) -> Self {
+    /// `camera`. Allocates; each run reuses everything. At most 254 pins (a pin index is a
+    /// `u8` label, [`NOISE_LABEL`] excluded): more is [`SimulationError::Geometry`].
+    pub fn new(
+        params: &SimParams,
+        pins_px: &[(f64, f64)],
+        camera: &Camera,
+    ) -> Result<Self, SimulationError> {
+        if pins_px.len() >= NOISE_LABEL as usize {
+            return Err(SimulationError::Geometry {
+                pins: pins_px.len(),
+            });
+        }
         let patches = Patches::new(
             pins_px,
             params.optics.patch_radius_px,
@@ -163,7 +174,7 @@ impl PixelModel {
                 .map(|(&x, &y)| v[y as usize * camera.width as usize + x as usize])
                 .collect()
         };
-        Self {
+        Ok(Self {
             params: *params,
             tables: Tables::new(params),
             c_on: at(&camera.threshold_on),
@@ -188,7 +199,7 @@ impl PixelModel {
             slow: vec![false; largest],
             pin_dx: Box::new([0.0; PIN_SLOTS]),
             pin_dy: Box::new([0.0; PIN_SLOTS]),
-        }
+        })
     }
 
     /// Pixels simulated in patches.
@@ -270,5 +281,23 @@ impl PixelModel {
             self.pin_dx[pin] = dx;
             self.pin_dy[pin] = dy;
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn more_pins_than_labels_is_a_geometry_error() {
+        let params = SimParams::default();
+        let camera = Camera::new(&params, 1);
+        let pins: Vec<(f64, f64)> = (0..255).map(|i| (i as f64 % 240.0, 90.0)).collect();
+        let err = PixelModel::new(&params, &pins, &camera).unwrap_err();
+        assert!(
+            matches!(err, SimulationError::Geometry { pins: 255 }),
+            "{err}"
+        );
+        assert!(PixelModel::new(&params, &pins[..254], &camera).is_ok());
     }
 }
