@@ -178,7 +178,7 @@ impl PixelModel {
         let n = end - start;
         let dt = (t1 - t0) as f32;
         let second = self.patches.second[patch];
-        for (from, to) in [(start, second), (second, end)] {
+        for (from, to, two_pins) in [(start, second, false), (second, end, true)] {
             let p = &self.patches;
             let (pin_dx, pin_dy) = (&*self.pin_dx, &*self.pin_dy);
             let inputs = PassInputs {
@@ -196,10 +196,10 @@ impl PixelModel {
                 l_ref: &self.l_ref[from..to],
                 dt,
             };
-            let pass = if from == start {
-                filter_pass::<false>
-            } else {
+            let pass = if two_pins {
                 filter_pass::<true>
+            } else {
+                filter_pass::<false>
             };
             let scratch = from - start..to - start;
             pass(
@@ -460,19 +460,33 @@ mod tests {
     fn vectorised_pixel_step_equals_the_scalar_step_bit_for_bit() {
         use crate::geometry::PinGeometry;
         use crate::sim::{Camera, SimParams};
-        use rand::{RngExt, SeedableRng};
-        use rand_chacha::ChaCha8Rng;
 
         let mut params = SimParams::default();
         // Busy pixels: plenty of noise events and resets to take the slow path through.
         params.noise.shot_rate_hz = 40.0;
         let camera = Camera::new(&params, 3);
-        let pins = PinGeometry::default().pin_positions_px();
-        let mut fast = PixelModel::new(&params, &pins, &camera).unwrap();
+        let default = PinGeometry::default().pin_positions_px();
+        // Also a pin doubled in place: its patch has no pixel that it alone renders into.
+        let doubled: Vec<_> = default.iter().copied().chain([default[0]]).collect();
+        let patches = &PixelModel::new(&params, &doubled, &camera).unwrap().patches;
+        assert_eq!(patches.second[0], patches.ranges[0].0);
+        for pins in [default, doubled] {
+            step_both_ways(&params, &camera, &pins);
+        }
+    }
+
+    fn step_both_ways(
+        params: &crate::sim::SimParams,
+        camera: &crate::sim::Camera,
+        pins: &[(f64, f64)],
+    ) {
+        use rand::{RngExt, SeedableRng};
+        use rand_chacha::ChaCha8Rng;
+        let mut fast = PixelModel::new(params, pins, camera).unwrap();
         let mut rng = ChaCha8Rng::seed_from_u64(9);
         let (duration, seed) = (0.5, 77);
         let mut noise = Vec::new();
-        fast.draw_noise(&camera, duration, &mut rng, &mut noise);
+        fast.draw_noise(camera, duration, &mut rng, &mut noise);
         for patch in 0..pins.len() {
             fast.init_patch(patch, seed);
         }
