@@ -185,11 +185,11 @@ impl Patches {
             let start = p.x.len();
             let mut pins = vec![pin];
             let (cx, cy) = pins_px[pin];
-            let alone = |&(_, &(_, _, other)): &(usize, &(u16, u16, u8))| other == NOISE_LABEL;
-            let ranked = || pixels.iter().enumerate();
-            let order = ranked().filter(alone).chain(ranked().filter(|q| !alone(q)));
-            p.second
-                .push(start + pixels.iter().filter(|q| q.2 == NOISE_LABEL).count());
+            // Lone pixels first; the stable sort keeps image order within each part.
+            let mut order: Vec<_> = pixels.iter().enumerate().collect();
+            order.sort_by_key(|&(_, &(_, _, other))| other != NOISE_LABEL);
+            let lone = pixels.iter().filter(|q| q.2 == NOISE_LABEL).count();
+            p.second.push(start + lone);
             for (rank, &(x, y, other)) in order {
                 p.seed_index.push((start + rank) as u32);
                 p.index_of[y as usize * width as usize + x as usize] = p.x.len() as u32;
