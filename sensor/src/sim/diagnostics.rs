@@ -105,7 +105,7 @@ pub fn edge_pass(params: &SimParams, camera_seed: u64) -> Result<EdgePass, Simul
     };
     let camera = Camera::new(&p, camera_seed);
     let pins = geometry.pin_positions_px();
-    let mut model = PixelModel::new(&p, &pins, &camera);
+    let mut model = PixelModel::new(&p, &pins, &camera)?;
     let sweep = Sweep {
         from_px: -8.0,
         span_px: 16.0,

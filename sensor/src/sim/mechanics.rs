@@ -191,27 +191,63 @@ impl TrialDraw {
 
 /// Base position (mm) and speed (mm/s) at time `t_s` of the trial.
 pub fn base_motion(params: &SimParams, t_s: f64) -> (f64, f64) {
-    let k = &params.kinematics;
-    let (v, a, d) = (k.speed_mm_s, k.acceleration_mm_s2, k.distance_mm);
-    let total = params.motion_duration_s();
-    let t = t_s - k.rest_before_s;
-    if t <= 0.0 || d <= 0.0 {
-        return (0.0, 0.0);
+    Trapezoid::new(params).at(t_s)
+}
+
+/// The base's trapezoidal speed profile with its constants worked out once (a slide samples
+/// it a hundred thousand times).
+#[derive(Debug, Clone, Copy)]
+struct Trapezoid {
+    rest_before_s: f64,
+    /// Motion duration (s).
+    total_s: f64,
+    /// Acceleration (mm/s²) and distance (mm).
+    a: f64,
+    d: f64,
+    /// Peak speed: v, or √(a·d) for a triangular profile (mm/s).
+    peak: f64,
+    /// Ramp and cruise durations (s).
+    ramp_s: f64,
+    cruise_s: f64,
+}
+
+impl Trapezoid {
+    fn new(params: &SimParams) -> Self {
+        let k = &params.kinematics;
+        let (v, a, d) = (k.speed_mm_s, k.acceleration_mm_s2, k.distance_mm);
+        let total_s = params.motion_duration_s();
+        let peak = v.min((a * d).sqrt());
+        let ramp_s = peak / a;
+        Self {
+            rest_before_s: k.rest_before_s,
+            total_s,
+            a,
+            d,
+            peak,
+            ramp_s,
+            cruise_s: total_s - 2.0 * ramp_s,
+        }
     }
-    if t >= total {
-        return (d, 0.0);
-    }
-    // Peak speed: v, or √(a·d) for a triangular profile.
-    let vp = v.min((a * d).sqrt());
-    let ta = vp / a;
-    let cruise = total - 2.0 * ta;
-    if t < ta {
-        (0.5 * a * t * t, a * t)
-    } else if t < ta + cruise {
-        (0.5 * a * ta * ta + vp * (t - ta), vp)
-    } else {
-        let r = total - t;
-        (d - 0.5 * a * r * r, a * r)
+
+    /// Base position (mm) and speed (mm/s) at `t_s`.
+    #[inline]
+    fn at(&self, t_s: f64) -> (f64, f64) {
+        let (a, d, ta) = (self.a, self.d, self.ramp_s);
+        let t = t_s - self.rest_before_s;
+        if t <= 0.0 || d <= 0.0 {
+            return (0.0, 0.0);
+        }
+        if t >= self.total_s {
+            return (d, 0.0);
+        }
+        if t < ta {
+            (0.5 * a * t * t, a * t)
+        } else if t < ta + self.cruise_s {
+            (0.5 * a * ta * ta + self.peak * (t - ta), self.peak)
+        } else {
+            let r = self.total_s - t;
+            (d - 0.5 * a * r * r, a * r)
+        }
     }
 }
 
@@ -275,24 +311,61 @@ impl PinTrajectories {
 
     /// The earliest time after `t_s` at which `pin` has travelled `distance_px` more, if before
     /// `limit_s`.
+    ///
+    /// The first sample after `t_s` that reaches the target distance, lies at or after
+    /// `limit_s`, or is past the end: a monotone predicate of the sample index (the path length
+    /// never decreases), found by a galloping search — a pin at rest is not scanned sample by
+    /// sample up to the limit.
     pub fn time_to_travel(&self, pin: usize, t_s: f64, distance_px: f32, limit_s: f64) -> f64 {
         let target = self.arc(pin, t_s) + distance_px;
         let series = &self.arc_px[pin * self.n_samples..(pin + 1) * self.n_samples];
-        let (mut k, _) = self.locate(t_s);
+        let (k0, _) = self.locate(t_s);
         let last = self.n_samples - 1;
-        loop {
-            k += 1;
-            if k > last {
-                return limit_s;
+        let stops = |k: usize| k > last || k as f64 * self.dt_s >= limit_s || series[k] >= target;
+        // Gallop: the predicate is false at `lo` (or lo = k0) and true at `hi`.
+        let (mut lo, mut hi, mut stride) = (k0, k0 + 1, 1);
+        while !stops(hi) {
+            lo = hi;
+            stride *= 2;
+            hi = (hi + stride).min(last + 1);
+        }
+        while hi - lo > 1 {
+            let mid = lo + (hi - lo) / 2;
+            if stops(mid) {
+                hi = mid;
+            } else {
+                lo = mid;
             }
-            let tk = k as f64 * self.dt_s;
-            if tk >= limit_s {
-                return limit_s;
+        }
+        let k = hi;
+        if k > last || k as f64 * self.dt_s >= limit_s {
+            return limit_s;
+        }
+        let (a0, a1) = (series[k - 1], series[k]);
+        let f = ((target - a0) / (a1 - a0)).clamp(0.0, 1.0) as f64;
+        ((k - 1) as f64 + f) * self.dt_s
+    }
+
+    /// Fills the cumulative path lengths from the displacements: the step lengths of each pin
+    /// first (independent, so they vectorise), then their running sum in sample order.
+    fn accumulate_arcs(&mut self) {
+        let n = self.n_samples;
+        if n == 0 {
+            return;
+        }
+        for ((arc, dx), dy) in self
+            .arc_px
+            .chunks_exact_mut(n)
+            .zip(self.dx_px.chunks_exact(n))
+            .zip(self.dy_px.chunks_exact(n))
+        {
+            arc[0] = 0.0;
+            for (a, (x, y)) in arc[1..].iter_mut().zip(dx.windows(2).zip(dy.windows(2))) {
+                let (ddx, ddy) = (x[1] - x[0], y[1] - y[0]);
+                *a = (ddx * ddx + ddy * ddy).sqrt();
             }
-            if series[k] >= target {
-                let (a0, a1) = (series[k - 1], series[k]);
-                let f = ((target - a0) / (a1 - a0)).clamp(0.0, 1.0) as f64;
-                return ((k - 1) as f64 + f) * self.dt_s;
+            for k in 1..n {
+                arc[k] += arc[k - 1];
             }
         }
     }
@@ -498,10 +571,11 @@ impl Mechanics {
         };
         let mut t = 0.0;
         let scale = self.scale_px_per_mm;
+        let base = Trapezoid::new(params);
         for n in 0..n_samples {
             if n > 0 {
                 for _ in 0..sub {
-                    let (_, vb) = base_motion(params, t + 0.5 * h - onset_delay);
+                    let (_, vb) = base.at(t + 0.5 * h - onset_delay);
                     let vb = shear_share * vb;
                     if stuck {
                         s += vb * h;
@@ -537,7 +611,7 @@ impl Mechanics {
             }
             self.pin_shear
                 .step(s, s_static, kinetic_ratio, stuck, relax);
-            let (xb, _) = base_motion(params, t - onset_delay);
+            let (xb, _) = base.at(t - onset_delay);
             let patch_x = xb - s + draw.start_phase_mm;
             out.shear_mm[n] = (s + micro) as f32;
             for (i, pin) in self.pin_constants.iter().enumerate() {
@@ -557,15 +631,9 @@ impl Mechanics {
                 let idx = i * n_samples + n;
                 out.dx_px[idx] = (scale * ux) as f32;
                 out.dy_px[idx] = (scale * uy) as f32;
-                if n > 0 {
-                    let (ddx, ddy) = (
-                        out.dx_px[idx] - out.dx_px[idx - 1],
-                        out.dy_px[idx] - out.dy_px[idx - 1],
-                    );
-                    out.arc_px[idx] = out.arc_px[idx - 1] + (ddx * ddx + ddy * ddy).sqrt();
-                }
             }
         }
+        out.accumulate_arcs();
     }
 }
 
@@ -612,6 +680,41 @@ mod tests {
         let mut rng = ChaCha8Rng::seed_from_u64(3);
         m.run(&p, &field, &surface, &draw, &mut rng, &mut out);
         out
+    }
+
+    #[test]
+    fn galloping_travel_search_equals_the_sample_by_sample_scan() {
+        // The scan it replaced: sample by sample from t_s up to the limit.
+        fn scan(tr: &PinTrajectories, pin: usize, t_s: f64, distance: f32, limit_s: f64) -> f64 {
+            let target = tr.arc(pin, t_s) + distance;
+            let series = &tr.arc_px[pin * tr.n_samples..(pin + 1) * tr.n_samples];
+            let (mut k, _) = tr.locate(t_s);
+            loop {
+                k += 1;
+                if k > tr.n_samples - 1 || k as f64 * tr.dt_s >= limit_s {
+                    return limit_s;
+                }
+                if series[k] >= target {
+                    let (a0, a1) = (series[k - 1], series[k]);
+                    let f = ((target - a0) / (a1 - a0)).clamp(0.0, 1.0) as f64;
+                    return ((k - 1) as f64 + f) * tr.dt_s;
+                }
+            }
+        }
+        let tr = slide(5.0, 1.0, None);
+        let end = tr.n_samples as f64 * tr.dt_s;
+        let mut rng = ChaCha8Rng::seed_from_u64(5);
+        for _ in 0..20_000 {
+            let pin = rng.random_range(0..tr.n_pins);
+            let t = rng.random_range(0.0..end);
+            let distance = 10f32.powf(rng.random_range(-4.0..1.0));
+            let limit = t + 10f64.powf(rng.random_range(-5.0..0.0));
+            let (a, b) = (
+                tr.time_to_travel(pin, t, distance, limit),
+                scan(&tr, pin, t, distance, limit),
+            );
+            assert_eq!(a.to_bits(), b.to_bits(), "pin {pin} at {t}: {a} vs {b}");
+        }
     }
 
     #[test]

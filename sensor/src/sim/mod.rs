@@ -232,7 +232,7 @@ impl Simulator {
         }
         let pins_px = geometry.pin_positions_px();
         Ok(Self {
-            pixels: PixelModel::new(&params, &pins_px, camera),
+            pixels: PixelModel::new(&params, &pins_px, camera)?,
             mechanics: Mechanics::new(
                 geometry.pin_positions_mm(),
                 geometry.dome_radius_mm,

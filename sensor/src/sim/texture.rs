@@ -247,6 +247,17 @@ pub const REFERENCE_SPEED_MM_S: f64 = 15.0;
 /// Cells per grid period (a power of two).
 const GRID_CELLS: usize = 64;
 
+/// `i` modulo `n` in `0..n` (Euclidean): a mask when `n` is a power of two (every field's
+/// grid is; the same value without a division), else `rem_euclid`.
+#[inline]
+fn wrap(i: i64, n: usize) -> usize {
+    if n.is_power_of_two() {
+        (i & (n as i64 - 1)) as usize
+    } else {
+        i.rem_euclid(n as i64) as usize
+    }
+}
+
 /// A periodic field of skin deflection and slopes (see the module docs), sampled bilinearly.
 #[derive(Debug, Clone)]
 pub struct TextureField {
@@ -329,9 +340,9 @@ impl TextureField {
         let (fx, fy) = (x_mm / self.dx_mm, y_mm / self.dy_mm);
         let (flx, fly) = (fx.floor(), fy.floor());
         let (tx, ty) = ((fx - flx) as f32, (fy - fly) as f32);
-        let ix = (flx as i64).rem_euclid(self.nx as i64) as usize;
-        let iy = (fly as i64).rem_euclid(self.ny as i64) as usize;
-        let (jx, jy) = ((ix + 1) % self.nx, (iy + 1) % self.ny);
+        let (ix, iy) = (wrap(flx as i64, self.nx), wrap(fly as i64, self.ny));
+        let next = |i: usize, n: usize| if i + 1 == n { 0 } else { i + 1 };
+        let (jx, jy) = (next(ix, self.nx), next(iy, self.ny));
         let at = |x: usize, y: usize| y * self.nx + x;
         ([at(ix, iy), at(jx, iy), at(ix, jy), at(jx, jy)], tx, ty)
     }

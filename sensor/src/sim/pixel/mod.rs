@@ -62,10 +62,11 @@ pub(crate) use event::RawEvent;
 pub use event::{EventLabel, NOISE_LABEL};
 
 use super::camera::Camera;
+use super::error::SimulationError;
 use super::params::SimParams;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
-use render::{Patches, Tables, render_pixel};
+use render::{PIN_SLOTS, Patches, PinSlots, Tables, render_pixel};
 
 /// Statistics of one run of the pixel model.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
@@ -105,9 +106,14 @@ pub struct PixelModel {
     // Scratch of the noise draw: (patch pixel, time, ON) and one pixel's events.
     pending_noise: Vec<(usize, f64, bool)>,
     pixel_noise: Vec<(f64, bool)>,
-    // Pin displacements at the end of the current step.
-    pin_dx: Vec<f32>,
-    pin_dy: Vec<f32>,
+    // Scratch of one patch step (sized for the largest patch): each pixel's L̃ at the step's
+    // start, its filter rate |L − L̃|/τ_p at the end, and whether it takes the slow path.
+    f_start: Vec<f32>,
+    filter_rate: Vec<f32>,
+    slow: Vec<bool>,
+    // Pin displacements at the end of the current step, one slot per `u8` pin index.
+    pin_dx: Box<PinSlots>,
+    pin_dy: Box<PinSlots>,
 }
 
 /// The pins' image displacements over time (px), as seen by the pixel model.
@@ -135,8 +141,18 @@ impl PinMotion for super::mechanics::PinTrajectories {
 
 impl PixelModel {
     /// Prepares patches around `pins_px` (rest positions, px), lookup tables and state for
-    /// `camera`. Allocates; each run reuses everything.
-    pub fn new(params: &SimParams, pins_px: &[(f64, f64)], camera: &Camera) -> Self {
+    /// `camera`. Allocates; each run reuses everything. At most 254 pins (a pin index is a
+    /// `u8` label, [`NOISE_LABEL`] excluded): more is [`SimulationError::Geometry`].
+    pub fn new(
+        params: &SimParams,
+        pins_px: &[(f64, f64)],
+        camera: &Camera,
+    ) -> Result<Self, SimulationError> {
+        if pins_px.len() >= NOISE_LABEL as usize {
+            return Err(SimulationError::Geometry {
+                pins: pins_px.len(),
+            });
+        }
         let patches = Patches::new(
             pins_px,
             params.optics.patch_radius_px,
@@ -144,6 +160,12 @@ impl PixelModel {
             camera.height,
         );
         let n = patches.x.len();
+        let largest = patches
+            .ranges
+            .iter()
+            .map(|&(s, e)| e - s)
+            .max()
+            .unwrap_or(0);
         let at = |v: &Vec<f32>| -> Vec<f32> {
             patches
                 .x
@@ -152,7 +174,7 @@ impl PixelModel {
                 .map(|(&x, &y)| v[y as usize * camera.width as usize + x as usize])
                 .collect()
         };
-        Self {
+        Ok(Self {
             params: *params,
             tables: Tables::new(params),
             c_on: at(&camera.threshold_on),
@@ -172,9 +194,12 @@ impl PixelModel {
             next_noise: vec![f64::INFINITY; n],
             pending_noise: Vec::new(),
             pixel_noise: Vec::new(),
-            pin_dx: vec![0.0; pins_px.len()],
-            pin_dy: vec![0.0; pins_px.len()],
-        }
+            f_start: vec![0.0; largest],
+            filter_rate: vec![0.0; largest],
+            slow: vec![false; largest],
+            pin_dx: Box::new([0.0; PIN_SLOTS]),
+            pin_dy: Box::new([0.0; PIN_SLOTS]),
+        })
     }
 
     /// Pixels simulated in patches.
@@ -244,7 +269,7 @@ impl PixelModel {
         render_pixel(
             &self.tables,
             &self.patches,
-            (&self.pin_dx, &self.pin_dy),
+            (&*self.pin_dx, &*self.pin_dy),
             j,
             own,
         )
@@ -256,5 +281,23 @@ impl PixelModel {
             self.pin_dx[pin] = dx;
             self.pin_dy[pin] = dy;
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn more_pins_than_labels_is_a_geometry_error() {
+        let params = SimParams::default();
+        let camera = Camera::new(&params, 1);
+        let pins: Vec<(f64, f64)> = (0..255).map(|i| (i as f64 % 240.0, 90.0)).collect();
+        let err = PixelModel::new(&params, &pins, &camera).unwrap_err();
+        assert!(
+            matches!(err, SimulationError::Geometry { pins: 255 }),
+            "{err}"
+        );
+        assert!(PixelModel::new(&params, &pins[..254], &camera).is_ok());
     }
 }

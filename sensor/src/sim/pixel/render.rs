@@ -8,15 +8,25 @@ use super::event::NOISE_LABEL;
 use crate::sim::params::SimParams;
 use neurotac_core::special::erfc;
 
+/// The integer value of a whole-numbered `x` with |x| < 2²², through the bits of
+/// `x + 1.5·2²³` (exact there, one unit per ulp): unlike `as`, which saturates and is
+/// converted one lane at a time, this stays in vector lanes.
+#[inline(always)]
+pub(super) fn integral_to_i32(x: f32) -> i32 {
+    const MAGIC: f32 = 12_582_912.0; // 1.5·2²³, bits 0x4B40_0000
+    (x + MAGIC).to_bits() as i32 - MAGIC.to_bits() as i32
+}
+
 /// Lookup tables of the rendering and the photoreceptor.
 #[derive(Debug, Clone)]
 pub(super) struct Tables {
-    /// S against ρ², step `rho2_step`.
-    pub(super) coverage: Vec<f32>,
+    /// S against ρ², step `rho2_step` (fixed size, so lookups need no bounds checks and the
+    /// pixel loop vectorises).
+    pub(super) coverage: Box<[f32; COVERAGE_ENTRIES]>,
     pub(super) rho2_inv_step: f32,
     /// L and 1/τ_p against total coverage S ∈ [0, 2].
-    pub(super) log_intensity: Vec<f32>,
-    pub(super) inv_tau: Vec<f32>,
+    pub(super) log_intensity: Box<[f32; LOG_ENTRIES]>,
+    pub(super) inv_tau: Box<[f32; LOG_ENTRIES]>,
     pub(super) s_inv_step: f32,
     /// Largest |dL/dρ| of one pin (per px).
     pub(super) max_slope: f32,
@@ -32,15 +42,13 @@ impl Tables {
         let rho_max = o.pin_radius_px + 7.0 * sigma;
         let rho2_step = rho_max * rho_max / (COVERAGE_ENTRIES - 2) as f64;
         let s = |rho: f64| 0.5 * erfc((rho - o.pin_radius_px) / (std::f64::consts::SQRT_2 * sigma));
-        let coverage: Vec<f32> = (0..COVERAGE_ENTRIES)
-            .map(|i| {
-                if i >= COVERAGE_ENTRIES - 2 {
-                    0.0
-                } else {
-                    s((i as f64 * rho2_step).sqrt()) as f32
-                }
-            })
-            .collect();
+        let coverage = Box::new(std::array::from_fn(|i| {
+            if i >= COVERAGE_ENTRIES - 2 {
+                0.0
+            } else {
+                s((i as f64 * rho2_step).sqrt()) as f32
+            }
+        }));
         let lin = |i: f64| {
             if i > o.linear_below_dn {
                 i.ln()
@@ -51,15 +59,13 @@ impl Tables {
         let intensity = |cov: f64| o.background_dn + (o.pin_dn - o.background_dn) * cov;
         let f_max = params.pixel.bandwidth_hz;
         let s_step = 2.0 / (LOG_ENTRIES - 1) as f64;
-        let log_intensity = (0..LOG_ENTRIES)
-            .map(|i| lin(intensity(i as f64 * s_step)) as f32)
-            .collect();
-        let inv_tau = (0..LOG_ENTRIES)
-            .map(|i| {
-                let rel = (intensity(i as f64 * s_step) / o.full_scale_dn).clamp(0.05, 1.0);
-                (std::f64::consts::TAU * f_max * rel) as f32
-            })
-            .collect();
+        let log_intensity = Box::new(std::array::from_fn(|i| {
+            lin(intensity(i as f64 * s_step)) as f32
+        }));
+        let inv_tau = Box::new(std::array::from_fn(|i| {
+            let rel = (intensity(i as f64 * s_step) / o.full_scale_dn).clamp(0.05, 1.0);
+            (std::f64::consts::TAU * f_max * rel) as f32
+        }));
         // Steepest slope of L along ρ for one pin.
         let mut max_slope = 0.0f64;
         let n = 2000;
@@ -84,8 +90,11 @@ impl Tables {
     #[inline(always)]
     pub(super) fn coverage(&self, rho2: f32) -> f32 {
         let x = (rho2 * self.rho2_inv_step).min((COVERAGE_ENTRIES - 2) as f32);
-        let i = x as usize;
-        let f = x - i as f32;
+        // x ≥ 0, so its floor is its truncation and the index clamp changes nothing; the
+        // clamp proves both lookups in range.
+        let floor = x.floor();
+        let i = integral_to_i32(floor).clamp(0, (COVERAGE_ENTRIES - 2) as i32) as usize;
+        let f = x - floor;
         let (a, b) = (self.coverage[i], self.coverage[i + 1]);
         a + f * (b - a)
     }
@@ -93,8 +102,9 @@ impl Tables {
     #[inline(always)]
     pub(super) fn log_and_rate(&self, cover: f32) -> (f32, f32) {
         let x = (cover * self.s_inv_step).min((LOG_ENTRIES - 2) as f32);
-        let i = x as usize;
-        let f = x - i as f32;
+        let floor = x.floor();
+        let i = integral_to_i32(floor).clamp(0, (LOG_ENTRIES - 2) as i32) as usize;
+        let f = x - floor;
         let (l0, l1) = (self.log_intensity[i], self.log_intensity[i + 1]);
         let (r0, r1) = (self.inv_tau[i], self.inv_tau[i + 1]);
         (l0 + f * (l1 - l0), r0 + f * (r1 - r0))
@@ -102,10 +112,19 @@ impl Tables {
 }
 
 /// Which pixels are simulated and which pins render into them (fixed by the geometry).
+///
+/// Within a patch, the pixels only their owner pin renders into come first, then those a
+/// second pin reaches too (`second[patch]` is where they start), so each part runs its own
+/// loop without per-pixel choices. A pixel's random draws are keyed by its `seed_index`: its
+/// rank in image order among all patch pixels (patch by patch), whatever its position.
 #[derive(Debug, Clone)]
 pub(super) struct Patches {
     /// Pixel index range of each patch (patch = its owner pin).
     pub(super) ranges: Vec<(usize, usize)>,
+    /// Per patch: the first pixel that a second pin renders into too.
+    pub(super) second: Vec<usize>,
+    /// Per pixel: the index its random draws are keyed by.
+    pub(super) seed_index: Vec<u32>,
     /// Pins rendering into each patch (owner first).
     pub(super) pins: Vec<Vec<usize>>,
     /// Per pixel: coordinates.
@@ -150,6 +169,8 @@ impl Patches {
         }
         let mut p = Patches {
             ranges: Vec::with_capacity(n_pins),
+            second: Vec::with_capacity(n_pins),
+            seed_index: Vec::new(),
             pins: Vec::with_capacity(n_pins),
             x: Vec::new(),
             y: Vec::new(),
@@ -164,7 +185,13 @@ impl Patches {
             let start = p.x.len();
             let mut pins = vec![pin];
             let (cx, cy) = pins_px[pin];
-            for &(x, y, other) in pixels {
+            // Lone pixels first; the stable sort keeps image order within each part.
+            let mut order: Vec<_> = pixels.iter().enumerate().collect();
+            order.sort_by_key(|&(_, &(_, _, other))| other != NOISE_LABEL);
+            let lone = pixels.iter().filter(|q| q.2 == NOISE_LABEL).count();
+            p.second.push(start + lone);
+            for (rank, &(x, y, other)) in order {
+                p.seed_index.push((start + rank) as u32);
                 p.index_of[y as usize * width as usize + x as usize] = p.x.len() as u32;
                 p.x.push(x);
                 p.y.push(y);
@@ -190,24 +217,45 @@ impl Patches {
     }
 }
 
+/// Pin slots of the per-pin displacement arrays the renderer reads: one per possible `u8` pin
+/// index, so a lookup needs no bounds check. Slot [`NOISE_LABEL`] (the "second pin" of a pixel
+/// that has none) always stays at rest; such a pixel's offset from it is far beyond the disc,
+/// so it adds exactly zero coverage.
+pub(super) const PIN_SLOTS: usize = 256;
+
+/// Per-pin image displacements (px), one slot per `u8` pin index ([`PIN_SLOTS`]).
+pub(super) type PinSlots = [f32; PIN_SLOTS];
+
+/// Log intensity and photoreceptor rate of a pixel at offset `own` (px) from its owner pin's
+/// current centre and `other` from its second pin's: the two pins' coverages summed, through
+/// the tables. A pixel without a second pin has `other` far away, whose coverage is exactly 0.
+#[inline(always)]
+pub(super) fn render_offsets(tables: &Tables, own: (f32, f32), other: (f32, f32)) -> (f32, f32) {
+    let cover = tables.coverage(own.0 * own.0 + own.1 * own.1)
+        + tables.coverage(other.0 * other.0 + other.1 * other.1);
+    tables.log_and_rate(cover)
+}
+
+/// [`render_offsets`] for a pixel that only its owner pin renders into.
+#[inline(always)]
+pub(super) fn render_offset(tables: &Tables, own: (f32, f32)) -> (f32, f32) {
+    tables.log_and_rate(tables.coverage(own.0 * own.0 + own.1 * own.1))
+}
+
 /// Log intensity and photoreceptor rate of patch pixel `j` of pin `own`'s patch, for pins
-/// displaced by (`pin_dx`, `pin_dy`) (px, per pin): the coverage of its owner pin plus that of
-/// its second pin, if any, through the tables.
+/// displaced by (`pin_dx`, `pin_dy`) (px, per pin slot) ([`render_offsets`]).
 #[inline(always)]
 pub(super) fn render_pixel(
     tables: &Tables,
     p: &Patches,
-    (pin_dx, pin_dy): (&[f32], &[f32]),
+    (pin_dx, pin_dy): (&PinSlots, &PinSlots),
     j: usize,
     own: usize,
 ) -> (f32, f32) {
-    let (ex, ey) = (p.own_dx[j] - pin_dx[own], p.own_dy[j] - pin_dy[own]);
-    let mut cover = tables.coverage(ex * ex + ey * ey);
-    let other = p.other[j];
-    if other != NOISE_LABEL {
-        let o = other as usize;
-        let (fx, fy) = (p.other_dx[j] - pin_dx[o], p.other_dy[j] - pin_dy[o]);
-        cover += tables.coverage(fx * fx + fy * fy);
-    }
-    tables.log_and_rate(cover)
+    let o = p.other[j] as usize;
+    render_offsets(
+        tables,
+        (p.own_dx[j] - pin_dx[own], p.own_dy[j] - pin_dy[own]),
+        (p.other_dx[j] - pin_dx[o], p.other_dy[j] - pin_dy[o]),
+    )
 }
