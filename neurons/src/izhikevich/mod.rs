@@ -323,11 +323,15 @@ fn step_chunk<F: Real, const INTERPOLATE: bool>(
     let mut count = 0u32;
     for j in 0..len {
         let (v_old, u_old) = (v[j], u[j]);
-        v_start[j] = v_old;
-        u_start[j] = u_old;
         let i = input(j);
         let (v_raw, u_raw) = update(v_old, u_old, i);
         let (v_next, u_next, u_new, spike) = clamp_and_reset(v_raw, u_raw, c, d, v_peak, v_floor);
+        // Only a spike's start state is read (`diverged_spikes`): a masked store where the
+        // target has one.
+        if spike {
+            v_start[j] = v_old;
+            u_start[j] = u_old;
+        }
         if INTERPOLATE {
             let f = (v_peak - v_old) / (v_raw - v_old);
             phi[j] = if spike { f } else { F::one() };
