@@ -89,8 +89,12 @@ use crate::real::Real;
 use neurotac_core::ModelError;
 #[cfg(doc)]
 use neurotac_core::NeuronModel;
+#[cfg(target_arch = "x86_64")]
+use std::any::Any;
 use std::marker::PhantomData;
 
+#[cfg(target_arch = "x86_64")]
+mod avx512;
 mod params;
 
 use params::MODEL;
@@ -617,6 +621,14 @@ impl<F: Real> BlockModel for IzhikevichModel<F> {
         s: &mut IzhikevichState<F>,
         d: Drive<'_>,
     ) -> BlockStep {
+        #[cfg(target_arch = "x86_64")]
+        if integrator == Integrator::Euler && !interpolate && crate::avx512::available() {
+            let (s, k): (&mut dyn Any, &dyn Any) = (s, k);
+            if let (Some(s), Some(k)) = (s.downcast_mut(), k.downcast_ref()) {
+                // SAFETY: `available()` checked the CPU.
+                return unsafe { avx512::step_block_euler(s, k, d) };
+            }
+        }
         let (k, h, u_decay) = (*k, k.h, k.u_decay);
         // One closure per integrator, so each gets its own vectorised loop.
         macro_rules! with {
