@@ -89,6 +89,13 @@ impl<'a, const N: usize> DecayingCurrents<'a, N> {
         x
     }
 
+    /// The currents `I_p` and their decay factors `d_p`, for a model's own vectorised loop,
+    /// which must do what [`take`](Self::take) does for every neuron: sum in projection
+    /// order, then decay and flush each current.
+    pub fn parts_mut(&mut self) -> (&mut [&'a mut [f64]; N], [f64; N]) {
+        (&mut self.currents, self.decays)
+    }
+
     /// Writes every neuron's input into `out` (`out[i] =` [`take`](Self::take)`(i)`).
     pub fn drain_into(&mut self, out: &mut [f64]) {
         let n = self.len().min(out.len());

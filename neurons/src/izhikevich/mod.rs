@@ -89,8 +89,12 @@ use crate::real::Real;
 use neurotac_core::ModelError;
 #[cfg(doc)]
 use neurotac_core::NeuronModel;
+#[cfg(target_arch = "x86_64")]
+use std::any::Any;
 use std::marker::PhantomData;
 
+#[cfg(target_arch = "x86_64")]
+mod avx512;
 mod params;
 
 use params::MODEL;
@@ -323,11 +327,15 @@ fn step_chunk<F: Real, const INTERPOLATE: bool>(
     let mut count = 0u32;
     for j in 0..len {
         let (v_old, u_old) = (v[j], u[j]);
-        v_start[j] = v_old;
-        u_start[j] = u_old;
         let i = input(j);
         let (v_raw, u_raw) = update(v_old, u_old, i);
         let (v_next, u_next, u_new, spike) = clamp_and_reset(v_raw, u_raw, c, d, v_peak, v_floor);
+        // Only a spike's start state is read (`diverged_spikes`): a masked store where the
+        // target has one.
+        if spike {
+            v_start[j] = v_old;
+            u_start[j] = u_old;
+        }
         if INTERPOLATE {
             let f = (v_peak - v_old) / (v_raw - v_old);
             phi[j] = if spike { f } else { F::one() };
@@ -613,6 +621,14 @@ impl<F: Real> BlockModel for IzhikevichModel<F> {
         s: &mut IzhikevichState<F>,
         d: Drive<'_>,
     ) -> BlockStep {
+        #[cfg(target_arch = "x86_64")]
+        if integrator == Integrator::Euler && !interpolate && crate::avx512::available() {
+            let (s, k): (&mut dyn Any, &dyn Any) = (s, k);
+            if let (Some(s), Some(k)) = (s.downcast_mut(), k.downcast_ref()) {
+                // SAFETY: `available()` checked the CPU.
+                return unsafe { avx512::step_block_euler(s, k, d) };
+            }
+        }
         let (k, h, u_decay) = (*k, k.h, k.u_decay);
         // One closure per integrator, so each gets its own vectorised loop.
         macro_rules! with {

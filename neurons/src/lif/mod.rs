@@ -74,8 +74,12 @@ use crate::real::Real;
 #[cfg(doc)]
 use neurotac_core::NeuronModel;
 use neurotac_core::{DecayingCurrents, ModelError, SynapticDrive};
+#[cfg(target_arch = "x86_64")]
+use std::any::Any;
 use std::marker::PhantomData;
 
+#[cfg(target_arch = "x86_64")]
+mod avx512;
 mod params;
 
 pub use params::LifParams;
@@ -642,6 +646,21 @@ impl<F: Real> BlockModel for LifModel<F> {
         s: &mut LifState<F>,
         drive: SynapticDrive<'_>,
     ) -> BlockStep {
+        #[cfg(target_arch = "x86_64")]
+        if matches!(integrator, Integrator::Exact | Integrator::ExponentialEuler)
+            && crate::avx512::available()
+        {
+            let (s, k): (&mut dyn Any, &dyn Any) = (s, k);
+            if let (Some(s), Some(k)) = (s.downcast_mut(), k.downcast_ref()) {
+                // SAFETY: `available()` checked the CPU.
+                return unsafe {
+                    match drive {
+                        SynapticDrive::One(c) => avx512::step_block_exact_synaptic(s, k, c),
+                        SynapticDrive::Two(c) => avx512::step_block_exact_synaptic(s, k, c),
+                    }
+                };
+            }
+        }
         let (h, decay) = (k.h, k.decay);
         macro_rules! with {
             ($integrator:expr, $exact:literal) => {{
