@@ -382,14 +382,17 @@ impl PreparedVanRossum {
         matches!(self.evaluation, Evaluation::Centred { .. })
     }
 
-    /// `(LL², SP²)` between prepared samples `i` and `j` (0 for `i == j`). Panics when an index is
-    /// out of range. Equal, bit for bit, to the entries of [`matrices`](Self::matrices), which
-    /// is much faster for many pairs (it tabulates each sample once; a single pair walks both
-    /// samples' trains instead).
+    /// `(LL², SP²)` between prepared samples `i` and `j` (0 for `i == j`; the same for `(j, i)`).
+    /// Panics when an index is out of range. Equal, bit for bit, to the entries of
+    /// [`matrices`](Self::matrices), which is much faster for many pairs (it tabulates each
+    /// sample once; a single pair walks both samples' trains instead).
     pub fn squared_parts(&self, i: usize, j: usize) -> (f64, f64) {
         if i == j {
             return (0.0, 0.0);
         }
+        // The matrices evaluate each pair as (smaller index, larger): coincident spikes are
+        // split between the two sums by that order, so the other order differs in the last bits.
+        let (i, j) = (i.min(j), i.max(j));
         match &self.evaluation {
             Evaluation::Centred { grid, samples, .. } => {
                 let (a, b) = (&samples[i], &samples[j]);
