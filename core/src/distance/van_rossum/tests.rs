@@ -102,6 +102,30 @@ fn matrices_are_symmetric_with_zero_diagonal_and_agree_with_pairs() {
 }
 
 #[test]
+fn squared_into_a_reused_matrix_of_any_shape_equals_squared() {
+    let samples = random_samples(9, 3, 8, 0.5, 3);
+    let m = VanRossum::new(0.02)
+        .unwrap()
+        .matrices(&samples, &crate::OneProcess)
+        .unwrap();
+    let mut out = Array2::from_elem((2, 5), f64::NAN);
+    for cos in [0.0, 0.37, 1.0] {
+        m.squared_into(cos, &mut out).unwrap();
+        assert_eq!(out, m.squared(cos).unwrap(), "cos θ = {cos}");
+    }
+    // Matrices in another memory order combine the same.
+    let transposed = VanRossumMatrices {
+        tau_s: m.tau_s,
+        ll2: m.ll2.t().as_standard_layout().into_owned().reversed_axes(),
+        sp2: m.sp2.clone(),
+    };
+    assert!(!transposed.ll2.is_standard_layout());
+    transposed.squared_into(0.37, &mut out).unwrap();
+    assert_eq!(out, m.squared(0.37).unwrap());
+    assert!(m.squared_into(1.5, &mut out).is_err());
+}
+
+#[test]
 fn one_spike_against_an_empty_train_is_one() {
     let vr = VanRossum::new(0.076).unwrap();
     let one = trains(vec![vec![2.0], vec![]]);
