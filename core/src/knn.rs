@@ -140,8 +140,17 @@ fn decide_among(
 
 /// Rejects the first NaN or negative entry (row-major order), naming its row and column.
 fn check_values(d: &ArrayView2<'_, f64>) -> Result<(), KnnError> {
-    match d.indexed_iter().find(|(_, v)| v.is_nan() || **v < 0.0) {
-        Some(((row, col), &value)) => Err(KnnError::InvalidDistance { row, col, value }),
+    let invalid = |v: &f64| v.is_nan() || *v < 0.0;
+    let first = match d.as_slice() {
+        // Row-major already: a flat scan, and the index gives row and column.
+        Some(flat) => flat.iter().position(invalid).map(|k| {
+            let cols = d.ncols();
+            ((k / cols, k % cols), flat[k])
+        }),
+        None => (d.indexed_iter()).find_map(|(at, v)| invalid(v).then_some((at, *v))),
+    };
+    match first {
+        Some(((row, col), value)) => Err(KnnError::InvalidDistance { row, col, value }),
         None => Ok(()),
     }
 }
@@ -555,6 +564,12 @@ mod tests {
         assert!(matches!(
             Knn::new(1).unwrap().leave_one_out(nan.view(), &[0, 1]),
             Err(KnnError::InvalidDistance { row: 0, col: 1, .. })
+        ));
+        // A view in another memory order is named in its own rows and columns.
+        let negative = array![[0.0, 1.0, 2.0], [-2.0, 0.0, 1.0], [3.0, -1.0, 0.0]];
+        assert!(matches!(
+            Knn::new(1).unwrap().leave_one_out(negative.t(), &[0, 1, 2]),
+            Err(KnnError::InvalidDistance { row: 0, col: 1, value }) if value == -2.0
         ));
         assert_eq!(
             Knn::new(1).unwrap().predict(d.view(), &[0, 1], &[0], &[2]),

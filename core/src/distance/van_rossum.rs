@@ -129,10 +129,39 @@ fn squared_from_products(self_u: f64, self_v: f64, cross: f64) -> f64 {
 impl VanRossumMatrices {
     /// `D²(c)` for every pair. Errors when `cos ∉ [0, 1]`.
     pub fn squared(&self, cos: f64) -> Result<Array2<f64>, DistanceError> {
-        check_cos(cos)?;
-        let mut out = self.ll2.clone();
-        out.zip_mut_with(&self.sp2, |l, &s| *l = combine_squared(*l, s, cos));
+        let mut out = Array2::zeros(self.ll2.raw_dim());
+        self.squared_into(cos, &mut out)?;
         Ok(out)
+    }
+
+    /// [`squared`](Self::squared) written into `out` (reshaped to the matrices' shape when it
+    /// has another), rows in parallel: the same values, without a new matrix for every cos θ
+    /// (a search evaluating many cos θ at one τ). Errors when `cos ∉ [0, 1]`.
+    pub fn squared_into(&self, cos: f64, out: &mut Array2<f64>) -> Result<(), DistanceError> {
+        check_cos(cos)?;
+        if out.dim() != self.ll2.dim() {
+            *out = Array2::zeros(self.ll2.raw_dim());
+        }
+        let width = self.ll2.ncols().max(1);
+        let combine = |o: &mut [f64], l: &[f64], s: &[f64]| {
+            for ((o, &l), &s) in o.iter_mut().zip(l).zip(s) {
+                *o = combine_squared(l, s, cos);
+            }
+        };
+        let rows = (out.as_slice_mut(), self.ll2.as_slice(), self.sp2.as_slice());
+        match rows {
+            (Some(out), Some(ll2), Some(sp2)) if self.sp2.dim() == self.ll2.dim() => {
+                (out.par_chunks_mut(width))
+                    .zip(ll2.par_chunks(width).zip(sp2.par_chunks(width)))
+                    .for_each(|(o, (l, s))| combine(o, l, s));
+            }
+            // Other memory orders (or shapes, which panic as a broadcast would).
+            _ => ndarray::Zip::from(out)
+                .and(&self.ll2)
+                .and(&self.sp2)
+                .for_each(|o, &l, &s| *o = combine_squared(l, s, cos)),
+        }
+        Ok(())
     }
 
     /// `D(c) = √D²(c)` for every pair (pymuvr's `square_distance_matrix`).
@@ -382,14 +411,17 @@ impl PreparedVanRossum {
         matches!(self.evaluation, Evaluation::Centred { .. })
     }
 
-    /// `(LL², SP²)` between prepared samples `i` and `j` (0 for `i == j`). Panics when an index is
-    /// out of range. Equal, bit for bit, to the entries of [`matrices`](Self::matrices), which
-    /// is much faster for many pairs (it tabulates each sample once; a single pair walks both
-    /// samples' trains instead).
+    /// `(LL², SP²)` between prepared samples `i` and `j` (0 for `i == j`; the same for `(j, i)`).
+    /// Panics when an index is out of range. Equal, bit for bit, to the entries of
+    /// [`matrices`](Self::matrices), which is much faster for many pairs (it tabulates each
+    /// sample once; a single pair walks both samples' trains instead).
     pub fn squared_parts(&self, i: usize, j: usize) -> (f64, f64) {
         if i == j {
             return (0.0, 0.0);
         }
+        // The matrices evaluate each pair as (smaller index, larger): coincident spikes are
+        // split between the two sums by that order, so the other order differs in the last bits.
+        let (i, j) = (i.min(j), i.max(j));
         match &self.evaluation {
             Evaluation::Centred { grid, samples, .. } => {
                 let (a, b) = (&samples[i], &samples[j]);

@@ -23,6 +23,7 @@
 use crate::error::ExperimentError;
 use crate::neuron_setup::Precision;
 use crate::protocols::Accuracy;
+use ndarray::Array2;
 use neurotac_core::coding::TraceRecord;
 use neurotac_core::distance::{VanRossum, VanRossumMatrices, trace_matrices};
 use neurotac_core::special::erfc;
@@ -407,6 +408,8 @@ pub struct VanRossumObjective<'a> {
     ranks: &'a dyn Ranks,
     /// `(tau index, matrices)`, most recently used last.
     cache: Vec<(usize, Arc<VanRossumMatrices>)>,
+    /// `D²(c)` of the last evaluation (reused, not reallocated, by the next).
+    squared: Array2<f64>,
     /// Matrices computed so far (cache misses).
     pub matrices_computed: usize,
 }
@@ -422,6 +425,7 @@ impl<'a> VanRossumObjective<'a> {
             capacity: capacity.max(1),
             ranks: &OneProcess,
             cache: Vec::new(),
+            squared: Array2::zeros((0, 0)),
             matrices_computed: 0,
         }
     }
@@ -461,8 +465,9 @@ impl<'a> VanRossumObjective<'a> {
         tau_s: f64,
         cos: f64,
     ) -> Result<f64, ExperimentError> {
-        let d2 = self.matrices(tau_index, tau_s)?.squared(cos)?;
-        let predicted = self.knn.leave_one_out(d2.view(), self.labels)?;
+        let matrices = self.matrices(tau_index, tau_s)?;
+        matrices.squared_into(cos, &mut self.squared)?;
+        let predicted = self.knn.leave_one_out(self.squared.view(), self.labels)?;
         Ok(Accuracy::of(&predicted, self.labels).mean)
     }
 }

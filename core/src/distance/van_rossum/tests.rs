@@ -1,4 +1,5 @@
 use super::*;
+use crate::ranks::ThreadRanks;
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -98,6 +99,30 @@ fn matrices_are_symmetric_with_zero_diagonal_and_agree_with_pairs() {
             assert!((d[[i, j]] - pair).abs() < 1e-7, "{i} {j}");
         }
     }
+}
+
+#[test]
+fn squared_into_a_reused_matrix_of_any_shape_equals_squared() {
+    let samples = random_samples(9, 3, 8, 0.5, 3);
+    let m = VanRossum::new(0.02)
+        .unwrap()
+        .matrices(&samples, &crate::OneProcess)
+        .unwrap();
+    let mut out = Array2::from_elem((2, 5), f64::NAN);
+    for cos in [0.0, 0.37, 1.0] {
+        m.squared_into(cos, &mut out).unwrap();
+        assert_eq!(out, m.squared(cos).unwrap(), "cos θ = {cos}");
+    }
+    // Matrices in another memory order combine the same.
+    let transposed = VanRossumMatrices {
+        tau_s: m.tau_s,
+        ll2: m.ll2.t().as_standard_layout().into_owned().reversed_axes(),
+        sp2: m.sp2.clone(),
+    };
+    assert!(!transposed.ll2.is_standard_layout());
+    transposed.squared_into(0.37, &mut out).unwrap();
+    assert_eq!(out, m.squared(0.37).unwrap());
+    assert!(m.squared_into(1.5, &mut out).is_err());
 }
 
 #[test]
@@ -391,6 +416,30 @@ fn centred_tables_equal_the_decayed_merges_to_1e_12() {
             assert_eq!((ll, sp), (fast.ll2[[i, j]], fast.sp2[[i, j]]), "({i},{j})");
         }
         assert!(fast.ll2[[25, 7]] <= 1e-10 && fast.sp2[[25, 7]] <= 1e-10);
+    }
+}
+
+#[test]
+fn pairs_alone_in_either_order_equal_the_matrix_entries_bit_for_bit() {
+    // Crowded cells (several spikes of one row in a cell), a last block of rows that is not
+    // full, and rows split over ranks at arbitrary boundaries: each entry is still the sums of
+    // its two samples alone, in their order, whichever of them is named first.
+    let samples = crowded_samples(12);
+    for (tau, allow_centred) in [(0.003, true), (0.04, true), (0.04, false)] {
+        let vr = VanRossum::new(tau).unwrap();
+        let prepared = vr.prepare_with(&samples, allow_centred).unwrap();
+        assert_eq!(prepared.is_centred(), allow_centred);
+        let one = prepared.matrices(&crate::OneProcess).unwrap();
+        for i in 0..samples.len() {
+            for j in 0..samples.len() {
+                let entry = (one.ll2[[i, j]], one.sp2[[i, j]]);
+                assert_eq!(prepared.squared_parts(i, j), entry, "τ={tau} ({i},{j})");
+            }
+        }
+        for ranks in [2, 3, 5] {
+            let split = ThreadRanks::run(ranks, |r| prepared.matrices(r).unwrap());
+            assert!(split.iter().all(|m| *m == one), "τ={tau}, {ranks} ranks");
+        }
     }
 }
 
