@@ -43,6 +43,7 @@
 //! come from the texture's [`Mounting`], plus the arm's repeatability; press depth and motion
 //! onset jitter per slide.
 
+use super::kinematics::Trapezoid;
 use super::params::SimParams;
 use super::random::gaussian;
 use super::slip_front::{ContactState, PinShear, SlipFront};
@@ -185,68 +186,6 @@ impl TrialDraw {
             mu_static: surface.mu_static * f,
             mu_kinetic: surface.mu_kinetic * f,
             onset_delay_s,
-        }
-    }
-}
-
-/// Base position (mm) and speed (mm/s) at time `t_s` of the trial.
-pub fn base_motion(params: &SimParams, t_s: f64) -> (f64, f64) {
-    Trapezoid::new(params).at(t_s)
-}
-
-/// The base's trapezoidal speed profile with its constants worked out once (a slide samples
-/// it a hundred thousand times).
-#[derive(Debug, Clone, Copy)]
-struct Trapezoid {
-    rest_before_s: f64,
-    /// Motion duration (s).
-    total_s: f64,
-    /// Acceleration (mm/s²) and distance (mm).
-    a: f64,
-    d: f64,
-    /// Peak speed: v, or √(a·d) for a triangular profile (mm/s).
-    peak: f64,
-    /// Ramp and cruise durations (s).
-    ramp_s: f64,
-    cruise_s: f64,
-}
-
-impl Trapezoid {
-    fn new(params: &SimParams) -> Self {
-        let k = &params.kinematics;
-        let (v, a, d) = (k.speed_mm_s, k.acceleration_mm_s2, k.distance_mm);
-        let total_s = params.motion_duration_s();
-        let peak = v.min((a * d).sqrt());
-        let ramp_s = peak / a;
-        Self {
-            rest_before_s: k.rest_before_s,
-            total_s,
-            a,
-            d,
-            peak,
-            ramp_s,
-            cruise_s: total_s - 2.0 * ramp_s,
-        }
-    }
-
-    /// Base position (mm) and speed (mm/s) at `t_s`.
-    #[inline]
-    fn at(&self, t_s: f64) -> (f64, f64) {
-        let (a, d, ta) = (self.a, self.d, self.ramp_s);
-        let t = t_s - self.rest_before_s;
-        if t <= 0.0 || d <= 0.0 {
-            return (0.0, 0.0);
-        }
-        if t >= self.total_s {
-            return (d, 0.0);
-        }
-        if t < ta {
-            (0.5 * a * t * t, a * t)
-        } else if t < ta + self.cruise_s {
-            (0.5 * a * ta * ta + self.peak * (t - ta), self.peak)
-        } else {
-            let r = self.total_s - t;
-            (d - 0.5 * a * r * r, a * r)
         }
     }
 }
@@ -643,20 +582,6 @@ mod tests {
     use crate::geometry::PinGeometry;
     use crate::sim::texture::Texture;
     use rand::SeedableRng;
-
-    #[test]
-    fn trapezoid_covers_the_distance_at_the_cruise_speed() {
-        let p = SimParams::default();
-        assert_eq!(base_motion(&p, 0.1), (0.0, 0.0));
-        let (x, v) = base_motion(&p, 2.0);
-        assert!((v - 15.0).abs() < 1e-12 && x > 20.0 && x < 30.0);
-        assert_eq!(base_motion(&p, p.duration_s()), (60.0, 0.0));
-        let (x_end, _) = base_motion(
-            &p,
-            p.kinematics.rest_before_s + p.motion_duration_s() - 1e-9,
-        );
-        assert!((x_end - 60.0).abs() < 1e-6);
-    }
 
     /// The trajectories of one slide over grid `size_mm` with the default geometry, at press
     /// depth 2 mm, phase `phase_mm` and friction `mu` (μ_s, μ_k; the texture's own for `None`).

@@ -10,7 +10,8 @@
 //! | textures, friction (§2.1, §2.4) | [`texture`] | [`Texture`], [`TextureField`], [`Surface`] |
 //! | natural textures as materials (§2.4) | [`natural`] | [`NATURAL_TEXTURES`], [`NaturalTexture`] |
 //! | a compliant texture in series with the dome | [`layer`] | [`layer::Layer`], [`layer::Press`] |
-//! | kinematics, stick-slip, pins, variability (§2.1–2.2) | [`mechanics`] | [`PinTrajectories`], [`Mounting`], [`TrialDraw`] |
+//! | the base's speed profile (§2.2 step 4) | [`kinematics`] | [`kinematics::base_motion`] |
+//! | stick-slip, pins, variability (§2.1–2.2) | [`mechanics`] | [`PinTrajectories`], [`Mounting`], [`TrialDraw`] |
 //! | partial-slip front of the onset (§9) | [`slip_front`] | [`slip_front::SlipFront`], [`slip_front::PinShear`] |
 //! | camera fixed-pattern noise (§3.2) | [`camera`] | [`Camera`] |
 //! | rendering, DVS pixels, noise (§3.1–3.2) | [`pixel`] | [`PixelModel`], [`EventLabel`] |
@@ -41,6 +42,7 @@ pub mod contact;
 pub mod diagnostics;
 pub mod error;
 mod fft;
+pub mod kinematics;
 pub mod layer;
 pub mod mechanics;
 pub mod natural;
