@@ -96,6 +96,8 @@ use std::marker::PhantomData;
 #[cfg(target_arch = "x86_64")]
 mod avx512;
 mod params;
+#[cfg(all(test, target_arch = "x86_64"))]
+mod tests;
 
 use params::MODEL;
 pub use params::{IzhikevichParams, REST_TOLERANCE_MV, resting_point};
@@ -355,6 +357,53 @@ fn step_chunk<F: Real, const INTERPOLATE: bool>(
         spikes: count as u64,
         diverged,
     }
+}
+
+/// One Euler step of the f64 block `s` by the AVX-512 loop (`avx512`), chunk by chunk with
+/// the divergence check of the portable loop: the same states, spikes and checks.
+///
+/// # Safety
+/// The CPU must have what [`crate::avx512::available`] checks.
+#[cfg(target_arch = "x86_64")]
+unsafe fn step_block_euler_avx512(
+    s: &mut IzhikevichState<f64>,
+    k: &IzhikevichConstants<f64>,
+    drive: Drive<'_>,
+) -> BlockStep {
+    let n = s.v.len();
+    let constants = avx512::EulerConstants {
+        a: k.a,
+        b: k.b,
+        c: k.c,
+        d: k.d,
+        h: k.h,
+        v_peak: k.v_peak,
+        v_floor: k.v_floor,
+    };
+    let update = |v, u, i| advance_state(Integrator::Euler, k, (v, u), i, k.h, k.u_decay);
+    let (mut v_start, mut u_start) = ([0.0; CHUNK], [0.0; CHUNK]);
+    let mut out = BlockStep::default();
+    for start in (0..n).step_by(CHUNK) {
+        let r = start..n.min(start + CHUNK);
+        let input = match drive {
+            Drive::Constant(c) => Drive::Constant(c),
+            Drive::PerNeuron(x) => Drive::PerNeuron(&x[r.clone()]),
+        };
+        let len = r.len();
+        let (v, u, spiked) = (&mut s.v[r.clone()], &mut s.u[r.clone()], &mut s.spiked[r]);
+        let start_state = (&mut v_start[..len], &mut u_start[..len]);
+        // SAFETY: the caller checked the CPU.
+        let spikes = unsafe { avx512::euler_chunk(v, u, spiked, start_state, &constants, input) };
+        let diverged = match spikes {
+            0 => 0,
+            _ => {
+                let (v_start, u_start) = (&v_start[..len], &u_start[..len]);
+                diverged_spikes(k, spiked, v_start, u_start, &update, |j| input.at(j))
+            }
+        };
+        out = out.add(BlockStep { spikes, diverged });
+    }
+    out
 }
 
 /// The spikes of a chunk's step that diverged (module docs, Divergence): each is redone from
@@ -626,7 +675,7 @@ impl<F: Real> BlockModel for IzhikevichModel<F> {
             let (s, k): (&mut dyn Any, &dyn Any) = (s, k);
             if let (Some(s), Some(k)) = (s.downcast_mut(), k.downcast_ref()) {
                 // SAFETY: `available()` checked the CPU.
-                return unsafe { avx512::step_block_euler(s, k, d) };
+                return unsafe { step_block_euler_avx512(s, k, d) };
             }
         }
         let (k, h, u_decay) = (*k, k.h, k.u_decay);

@@ -81,6 +81,8 @@ use std::marker::PhantomData;
 #[cfg(target_arch = "x86_64")]
 mod avx512;
 mod params;
+#[cfg(all(test, target_arch = "x86_64"))]
+mod tests;
 
 pub use params::LifParams;
 use params::MODEL;
@@ -327,6 +329,43 @@ fn step_block_synaptic<F: Real, const N: usize, const EXACT: bool>(
         (true, false) => step_block_with::<F, true, false, false, true>(s, k, update, v_inf),
         (false, true) => step_block_with::<F, false, false, false, false>(s, k, update, v_inf),
         (true, true) => step_block_with::<F, true, false, false, false>(s, k, update, v_inf),
+    }
+}
+
+/// One exact step of the f64 block `s` under `currents` by the AVX-512 loop (`avx512`): the
+/// same states, currents and spikes as the portable fused loop.
+///
+/// # Safety
+/// The CPU must have what [`crate::avx512::available`] checks.
+#[cfg(target_arch = "x86_64")]
+unsafe fn step_block_exact_synaptic_avx512<const N: usize>(
+    s: &mut LifState<f64>,
+    k: &LifConstants<f64>,
+    currents: DecayingCurrents<'_, N>,
+) -> BlockStep {
+    let checked = !floor_and_flush_are_no_ops(k, Integrator::Exact, currents.bound());
+    let refractory = k.refractory_steps > 0;
+    let constants = avx512::ExactConstants {
+        v_rest: k.v_rest,
+        decay: k.decay,
+        v_th: k.v_th,
+        v_reset: k.v_reset,
+        v_floor: k.v_floor,
+        refractory: k.refractory,
+    };
+    let (v, r, spiked, k) = (&mut s.v, &mut s.refractory_steps, &mut s.spiked, &constants);
+    // SAFETY (each arm): the caller checked the CPU.
+    let spikes = unsafe {
+        match (refractory, checked) {
+            (false, false) => avx512::exact_synaptic::<N, false, false>(v, r, spiked, k, currents),
+            (true, false) => avx512::exact_synaptic::<N, true, false>(v, r, spiked, k, currents),
+            (false, true) => avx512::exact_synaptic::<N, false, true>(v, r, spiked, k, currents),
+            (true, true) => avx512::exact_synaptic::<N, true, true>(v, r, spiked, k, currents),
+        }
+    };
+    BlockStep {
+        spikes,
+        diverged: 0,
     }
 }
 
@@ -655,8 +694,8 @@ impl<F: Real> BlockModel for LifModel<F> {
                 // SAFETY: `available()` checked the CPU.
                 return unsafe {
                     match drive {
-                        SynapticDrive::One(c) => avx512::step_block_exact_synaptic(s, k, c),
-                        SynapticDrive::Two(c) => avx512::step_block_exact_synaptic(s, k, c),
+                        SynapticDrive::One(c) => step_block_exact_synaptic_avx512(s, k, c),
+                        SynapticDrive::Two(c) => step_block_exact_synaptic_avx512(s, k, c),
                     }
                 };
             }
