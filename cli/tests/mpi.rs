@@ -479,7 +479,7 @@ fn a_rank_killed_mid_run_leaves_no_dataset_behind() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("killed");
     let marker = dir.path().to_str().unwrap().to_owned();
-    let mut child = mpirun_command(&mpirun, 2, &strs(&simulate_args(&out, 40, &[])))
+    let mut child = mpirun_command(&mpirun, dir.path(), 2, &strs(&simulate_args(&out, 40, &[])))
         .env("NEUROTAC_TEST_MARKER", &marker)
         .stdout(std::process::Stdio::null())
         .stderr(std::process::Stdio::null())

@@ -80,12 +80,25 @@ pub fn mpirun() -> Option<std::path::PathBuf> {
     found
 }
 
-/// The `mpirun -n RANKS --oversubscribe neurotac ARGS` command (allowed as root, as in CI).
-pub fn mpirun_command(mpirun: &Path, ranks: usize, args: &[&str]) -> Command {
+/// `mpirun` allowed to run as root (as in CI), keeping its session files in `session`.
+///
+/// Each launch gets its own session folder: Open MPI 4 launches started at the same moment
+/// race to create the shared `/tmp/ompi.HOST.UID` folder and one of them fails with
+/// "mkdir … File exists", so tests running in parallel must not share it.
+fn open_mpi(mpirun: &Path, session: &Path) -> Command {
     let mut c = Command::new(mpirun);
     c.env("OMPI_ALLOW_RUN_AS_ROOT", "1")
         .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
-        .args(["-n", &ranks.to_string(), "--oversubscribe"])
+        .env("TMPDIR", session)
+        .arg("--oversubscribe");
+    c
+}
+
+/// The `mpirun -n RANKS --oversubscribe neurotac ARGS` command, its Open MPI session files in
+/// `session` (a folder that outlives the launch).
+pub fn mpirun_command(mpirun: &Path, session: &Path, ranks: usize, args: &[&str]) -> Command {
+    let mut c = open_mpi(mpirun, session);
+    c.args(["-n", &ranks.to_string()])
         .arg(env!("CARGO_BIN_EXE_neurotac"))
         .args(args);
     c
@@ -93,7 +106,10 @@ pub fn mpirun_command(mpirun: &Path, ranks: usize, args: &[&str]) -> Command {
 
 /// `(success, stdout, stderr)` of `mpirun -n RANKS neurotac ARGS`.
 pub fn neurotac_on_ranks(mpirun: &Path, ranks: usize, args: &[&str]) -> (bool, String, String) {
-    let out = mpirun_command(mpirun, ranks, args).output().unwrap();
+    let session = tempfile::tempdir().unwrap();
+    let out = mpirun_command(mpirun, session.path(), ranks, args)
+        .output()
+        .unwrap();
     (
         out.status.success(),
         String::from_utf8_lossy(&out.stdout).into_owned(),
@@ -104,10 +120,8 @@ pub fn neurotac_on_ranks(mpirun: &Path, ranks: usize, args: &[&str]) -> (bool, S
 /// `(success, stdout, stderr)` of an MPMD launch, one rank per entry of `per_rank`:
 /// `mpirun -n 1 neurotac ARGS0 : -n 1 neurotac ARGS1 : …` (each rank its own command line).
 pub fn neurotac_per_rank(mpirun: &Path, per_rank: &[Vec<&str>]) -> (bool, String, String) {
-    let mut c = Command::new(mpirun);
-    c.env("OMPI_ALLOW_RUN_AS_ROOT", "1")
-        .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
-        .arg("--oversubscribe");
+    let session = tempfile::tempdir().unwrap();
+    let mut c = open_mpi(mpirun, session.path());
     for (rank, args) in per_rank.iter().enumerate() {
         if rank > 0 {
             c.arg(":");
