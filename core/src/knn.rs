@@ -66,6 +66,37 @@ impl<D: PartialOrd + Copy> TopK<D> {
         self.best.insert(at, (distance, index));
     }
 
+    /// Offers every entry of `distances`, entry `o` as candidate `first_index + o` (the same
+    /// list as [`offer`](Self::offer) on each in turn). Once `k` are kept, an entry farther
+    /// than the k-th is skipped with one comparison, so a long row costs little more than
+    /// reading it.
+    pub fn offer_all(&mut self, distances: &[D], first_index: usize) {
+        let mut rest = distances.iter().enumerate();
+        while self.best.len() < self.k {
+            match rest.next() {
+                Some((o, &d)) => self.offer(d, first_index + o),
+                None => return,
+            }
+        }
+        let Some(&(mut farthest, _)) = self.best.last() else {
+            return; // k = 0 keeps nothing
+        };
+        for (o, &d) in rest {
+            if d > farthest {
+                continue; // NaN is not farther: `offer` decides, as one by one
+            }
+            farthest = self.offer_when_full(d, first_index + o);
+        }
+    }
+
+    /// [`offer`](Self::offer) on a full list, returning the k-th distance after it (out of
+    /// line: [`offer_all`](Self::offer_all)'s loop stays a load and a compare).
+    #[inline(never)]
+    fn offer_when_full(&mut self, distance: D, index: usize) -> D {
+        self.offer(distance, index);
+        self.best[self.best.len() - 1].0
+    }
+
     /// The neighbours, nearest first, as `(distance, index)`.
     pub fn neighbours(&self) -> &[(D, usize)] {
         &self.best
@@ -117,17 +148,21 @@ impl Decision {
     }
 }
 
-/// The decision of one row of distances among the columns `candidates` (module tie rules).
-fn decide_among(
-    k: usize,
-    row: &[f64],
-    candidates: impl Iterator<Item = usize>,
-    labels: &[usize],
-) -> Decision {
+/// The `k` nearest columns of `row`, leaving out column `except` (leave-one-out's own sample).
+fn nearest_in_row(k: usize, row: &[f64], except: Option<usize>) -> TopK<f64> {
     let mut top = TopK::new(k);
-    for j in candidates {
-        top.offer(row[j], j);
+    match except {
+        Some(i) => {
+            top.offer_all(&row[..i], 0);
+            top.offer_all(&row[i + 1..], i + 1);
+        }
+        None => top.offer_all(row, 0),
     }
+    top
+}
+
+/// The decision of the neighbours in `top` (module tie rules).
+fn decide(top: &TopK<f64>, labels: &[usize]) -> Decision {
     let neighbours = top.neighbours();
     let (class, votes) =
         vote_count(neighbours.iter().map(|&(_, j)| labels[j])).expect("k ≥ 1 neighbours");
@@ -141,6 +176,13 @@ fn decide_among(
 /// Rejects the first NaN or negative entry (row-major order), naming its row and column.
 fn check_values(d: &ArrayView2<'_, f64>) -> Result<(), KnnError> {
     let invalid = |v: &f64| v.is_nan() || *v < 0.0;
+    // The common case, every value valid, as a branch-free scan (`!(v >= 0)` is NaN or
+    // negative); the first invalid one is located only when there is one.
+    let all_valid =
+        |flat: &[f64]| (flat.chunks(512)).all(|c| c.iter().fold(true, |ok, &v| ok & (v >= 0.0)));
+    if d.as_slice().is_some_and(all_valid) {
+        return Ok(());
+    }
     let first = match d.as_slice() {
         // Row-major already: a flat scan, and the index gives row and column.
         Some(flat) => flat.iter().position(invalid).map(|k| {
@@ -202,15 +244,6 @@ impl Knn {
         check_values(d)
     }
 
-    fn predict_row(
-        &self,
-        row: &[f64],
-        candidates: impl Iterator<Item = usize>,
-        labels: &[usize],
-    ) -> usize {
-        decide_among(self.k, row, candidates, labels).class
-    }
-
     /// A classifier for new samples against the training set with these `labels` (one class per
     /// training sample, in the order of the distance matrices' columns). Errors with
     /// [`KnnError::KTooLarge`] when there are fewer than `k` training samples (an empty
@@ -243,7 +276,7 @@ impl Knn {
             .into_par_iter()
             .map(|i| {
                 let row = &flat[i * n..(i + 1) * n];
-                self.predict_row(row, (0..n).filter(|&j| j != i), labels)
+                decide(&nearest_in_row(self.k, row, Some(i)), labels).class
             })
             .collect())
     }
@@ -268,7 +301,14 @@ impl Knn {
         let flat = d.as_slice().expect("standard layout is contiguous");
         Ok(test
             .par_iter()
-            .map(|&i| self.predict_row(&flat[i * n..(i + 1) * n], train.iter().copied(), labels))
+            .map(|&i| {
+                let row = &flat[i * n..(i + 1) * n];
+                let mut top = TopK::new(self.k);
+                for &j in train {
+                    top.offer(row[j], j);
+                }
+                decide(&top, labels).class
+            })
             .collect())
     }
 }
@@ -331,7 +371,7 @@ impl FittedKnn {
     /// (errors name row 0).
     pub fn decide(&self, row: &[f64]) -> Result<Decision, KnnError> {
         self.check_row(row)?;
-        Ok(decide_among(self.k, row, 0..row.len(), &self.labels))
+        Ok(decide(&nearest_in_row(self.k, row, None), &self.labels))
     }
 
     /// `true` when the neighbours of `row` are not determined by the data: more training
@@ -347,18 +387,9 @@ impl FittedKnn {
     /// once: the row checked and its neighbours found one time.
     pub fn decide_noting_distance_tie(&self, row: &[f64]) -> Result<(Decision, bool), KnnError> {
         self.check_row(row)?;
-        let mut top = TopK::new(self.k);
-        for (j, &d) in row.iter().enumerate() {
-            top.offer(d, j);
-        }
+        let top = nearest_in_row(self.k, row, None);
+        let decision = decide(&top, &self.labels);
         let neighbours = top.neighbours();
-        let (class, votes) =
-            vote_count(neighbours.iter().map(|&(_, j)| self.labels[j])).expect("k ≥ 1 neighbours");
-        let decision = Decision {
-            class,
-            votes,
-            k: neighbours.len(),
-        };
         let Some(&(kth, _)) = neighbours.last() else {
             return Ok((decision, false));
         };
@@ -386,7 +417,7 @@ impl FittedKnn {
         let flat = d.as_slice().expect("standard layout is contiguous");
         Ok(flat
             .par_chunks(n)
-            .map(|row| decide_among(self.k, row, 0..n, &self.labels))
+            .map(|row| decide(&nearest_in_row(self.k, row, None), &self.labels))
             .collect())
     }
 
@@ -423,7 +454,7 @@ impl FittedKnn {
         Ok(flat
             .par_chunks(n)
             .enumerate()
-            .map(|(i, row)| decide_among(self.k, row, (0..n).filter(|&j| j != i), &self.labels))
+            .map(|(i, row)| decide(&nearest_in_row(self.k, row, Some(i)), &self.labels))
             .collect())
     }
 
@@ -456,6 +487,38 @@ mod tests {
             rev.offer(d, i);
         }
         assert_eq!(rev.neighbours(), top.neighbours());
+    }
+
+    #[test]
+    fn offering_a_row_at_once_keeps_the_neighbours_of_offering_one_by_one() {
+        use rand::{RngExt, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(7);
+        for _ in 0..2000 {
+            let n = rng.random_range(0..40);
+            let k = rng.random_range(0..6);
+            // Few distinct values: many ties at the k-th place.
+            let row: Vec<f64> = (0..n)
+                .map(|_| f64::from(rng.random_range(0..4u8)))
+                .collect();
+            let mut one_by_one = TopK::new(k);
+            for (j, &d) in row.iter().enumerate() {
+                one_by_one.offer(d, j);
+            }
+            let split = rng.random_range(0..=n);
+            let mut at_once = TopK::new(k);
+            // Either half first: the kept list does not depend on the order.
+            if rng.random_range(0..2) == 0 {
+                at_once.offer_all(&row[..split], 0);
+                at_once.offer_all(&row[split..], split);
+            } else {
+                at_once.offer_all(&row[split..], split);
+                at_once.offer_all(&row[..split], 0);
+            }
+            assert_eq!(
+                at_once, one_by_one,
+                "row {row:?}, k = {k}, split at {split}"
+            );
+        }
     }
 
     #[test]
