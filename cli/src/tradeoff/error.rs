@@ -1,5 +1,5 @@
 //! [`TradeoffError`]: why a trade could not be measured or written, shared by every trade,
-//! the table writers ([`super::table`]) and [`super::run_all`].
+//! the table writers ([`super::table`]) and the study ([`super::study`]).
 
 use crate::bench::BenchError;
 use crate::report::png::PngError;

@@ -1,0 +1,648 @@
+//! The accuracy ↔ cost study (`neurotac tradeoff`): for every setting of a swept family, the
+//! leave-one-out accuracy of the four codings on a labelled texture set, with its Wilson 95 %
+//! interval and McNemar's exact test against the family's reference setting on the same
+//! samples, next to what the setting costs (wall and CPU time, the work the code counts) and
+//! the numerical error the setting makes.
+//!
+//! The reference setting of a family (its first, the exact or finest one) runs the paper's
+//! whole pipeline ([`run_encoded`]: the Δt sweep and the (τ, cos θ) optimisation), so its
+//! accuracy is `reproduce`'s for the same set, seed and trials. Every other setting is scored
+//! at the reference's chosen Δt, τ and cos θ, so the setting is the only thing that changes.
+//!
+//! | family | settings | reference | numerical error |
+//! |---|---|---|---|
+//! | [`Family::VanRossum`] | exact, or synaptic traces at a trace step × f64/f32 | exact | relative error of the spatiotemporal distance |
+//! | [`Family::Afferents`] | integrator × dt × precision, event- or clock-driven | the model's integrator, 0.1 ms, f64, event-driven (`reproduce --afferents`) | afferent spike-time error |
+//!
+//! [`recommend`] picks a family's operating point; [`report`] writes the files.
+
+pub mod report;
+
+use super::TradeoffError;
+use super::pareto::pareto_front;
+use neurotac_core::ndarray::Array2;
+use neurotac_core::{Knn, SpikeDataset};
+use neurotac_experiments::afferents::AfferentConfig;
+use neurotac_experiments::coding::{CodingName, CodingParameters};
+use neurotac_experiments::menu::Menu;
+use neurotac_experiments::neuron_setup::{NeuronKind, Precision};
+use neurotac_experiments::progress::Progress;
+use neurotac_experiments::protocols::{Accuracy, McNemar, Protocol, evaluate};
+use neurotac_experiments::readouts::{EncodedSet, VrFrom, encode_offline, encode_through_graph};
+use neurotac_experiments::reproduce::{PipelineConfig, SetResult, run_encoded};
+use neurotac_experiments::timing::timed;
+use serde::Serialize;
+
+/// The significance level of the recommendation: a setting whose McNemar p-value is below it
+/// (and whose accuracy is below the reference's) is significantly worse.
+pub const ALPHA: f64 = 0.05;
+
+/// A swept family of settings.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Family {
+    /// Where the spatiotemporal coding's Van Rossum distance comes from.
+    VanRossum,
+    /// The afferent layer of a model (`reproduce --afferents`).
+    Afferents(NeuronKind),
+}
+
+impl Family {
+    /// File stem and folder name: `vr`, `afferents-lif`.
+    pub fn stem(self) -> String {
+        match self {
+            Family::VanRossum => "vr".into(),
+            Family::Afferents(kind) => format!("afferents-{}", kind.key()),
+        }
+    }
+
+    /// Title in the report.
+    pub fn title(self) -> String {
+        match self {
+            Family::VanRossum => "Van Rossum distance: exact vs synaptic traces".into(),
+            Family::Afferents(kind) => format!("{} afferent layer", kind.label()),
+        }
+    }
+
+    /// What the numerical-error columns measure.
+    pub fn error_name(self) -> &'static str {
+        match self {
+            Family::VanRossum => "distance relative error",
+            Family::Afferents(_) => "spike-time error (ms)",
+        }
+    }
+
+    /// The settings swept, the reference (exact or finest) first; `quick` sweeps fewer.
+    pub fn settings(self, quick: bool) -> Vec<Setting> {
+        match self {
+            Family::VanRossum => {
+                let dts_ms: &[f64] = match quick {
+                    true => &[0.1, 1.0, 5.0, 20.0],
+                    false => &[0.1, 0.5, 1.0, 2.0, 5.0, 10.0, 20.0],
+                };
+                let mut out = vec![Setting::vr(VrFrom::Exact)];
+                for &dt_ms in dts_ms {
+                    for precision in [Precision::F64, Precision::F32] {
+                        out.push(Setting::vr(VrFrom::Traces {
+                            trace_dt_s: dt_ms * 1e-3,
+                            precision,
+                        }));
+                    }
+                }
+                out
+            }
+            Family::Afferents(kind) => {
+                let reference = AfferentConfig::of(kind);
+                let dts_ms: &[f64] = match quick {
+                    true => &[0.1, 1.0],
+                    false => &[0.1, 0.2, 0.5, 1.0, 2.0],
+                };
+                let mut out = Vec::new();
+                for &integrator in kind.integrators() {
+                    for &dt_ms in dts_ms {
+                        let precisions: &[Precision] = match quick && dt_ms != 0.1 {
+                            true => &[Precision::F64],
+                            false => &[Precision::F64, Precision::F32],
+                        };
+                        for &precision in precisions {
+                            out.push(Setting::afferents(AfferentConfig {
+                                integrator,
+                                dt_s: dt_ms * 1e-3,
+                                precision,
+                                ..reference
+                            }));
+                        }
+                    }
+                }
+                // Clock-driven at every step, with the reference's integrator and precision.
+                for &dt_ms in dts_ms {
+                    out.push(Setting::afferents(AfferentConfig {
+                        dt_s: dt_ms * 1e-3,
+                        event_driven: false,
+                        ..reference
+                    }));
+                }
+                out
+            }
+        }
+    }
+}
+
+/// One setting of a family: how the set is encoded before the codings read it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Setting {
+    /// The Van Rossum distance exact or from traces.
+    pub vr_from: VrFrom,
+    /// The afferent layer, if any.
+    pub afferents: Option<AfferentConfig>,
+}
+
+impl Setting {
+    fn vr(vr_from: VrFrom) -> Self {
+        Self {
+            vr_from,
+            afferents: None,
+        }
+    }
+
+    fn afferents(config: AfferentConfig) -> Self {
+        Self {
+            vr_from: VrFrom::Exact,
+            afferents: Some(config),
+        }
+    }
+
+    /// The setting as a table names it: `exact`, `traces 1 ms f32`,
+    /// `exact 0.1 ms f64 event`.
+    pub fn label(&self) -> String {
+        match (self.afferents, self.vr_from) {
+            (Some(a), _) => format!(
+                "{} {} ms {} {}",
+                a.integrator,
+                a.dt_s * 1e3,
+                a.precision.name(),
+                if a.event_driven { "event" } else { "clock" }
+            ),
+            (None, VrFrom::Exact) => "exact".into(),
+            (
+                None,
+                VrFrom::Traces {
+                    trace_dt_s,
+                    precision,
+                },
+            ) => format!("traces {} ms {}", trace_dt_s * 1e3, precision.name()),
+        }
+    }
+
+    /// Encodes `data` as this setting says: the offline encoders without afferents (what
+    /// `reproduce`'s pipeline reads), the readout network with them.
+    pub fn encode(&self, data: &SpikeDataset) -> Result<EncodedSet, TradeoffError> {
+        Ok(match self.afferents {
+            None => encode_offline(data, self.vr_from)?,
+            Some(a) => encode_through_graph(data, Some(a), self.vr_from, &|| {})?,
+        })
+    }
+}
+
+/// One coding at one setting.
+#[derive(Debug, Clone, Serialize)]
+pub struct CodingOutcome {
+    /// The coding.
+    pub coding: CodingName,
+    /// Leave-one-out accuracy with its Wilson 95 % interval.
+    pub loo: Accuracy,
+    /// McNemar's exact test against the reference setting on the same samples.
+    pub mcnemar: McNemar,
+}
+
+/// The numerical error a setting makes against the reference (what the error columns show).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize)]
+pub struct NumericalError {
+    /// Mean over the compared items (pairs of samples, or spikes).
+    pub mean: f64,
+    /// Largest.
+    pub max: f64,
+}
+
+/// One setting measured.
+#[derive(Debug, Clone, Serialize)]
+pub struct SettingResult {
+    /// [`Setting::label`].
+    pub label: String,
+    /// The reference setting (its accuracy is the full pipeline's).
+    pub reference: bool,
+    /// Wall time of the encoding and the four codings' distances and leave-one-out (s).
+    pub wall_s: f64,
+    /// Process CPU time of the same (s), when known.
+    pub cpu_s: Option<f64>,
+    /// Neuron updates of the afferent layer (event-driven: only afferents with input); `None`
+    /// without one.
+    pub neuron_updates: Option<u64>,
+    /// Synaptic events delivered to the afferents (one per taxel spike, one-to-one); `None`
+    /// without an afferent layer.
+    pub synaptic_events: Option<u64>,
+    /// Spikes the codings read (taxel or afferent spikes) over every sample.
+    pub output_spikes: u64,
+    /// The four codings, in the menu's order.
+    pub codings: Vec<CodingOutcome>,
+    /// Numerical error against the reference ([`Family::error_name`]).
+    pub error: NumericalError,
+    /// On the Pareto front of (wall time, mean accuracy of the codings).
+    pub front: bool,
+    /// The family's recommended operating point ([`recommend`]).
+    pub recommended: bool,
+}
+
+impl SettingResult {
+    /// Mean leave-one-out accuracy of the four codings.
+    pub fn mean_accuracy(&self) -> f64 {
+        let n = self.codings.len().max(1) as f64;
+        self.codings.iter().map(|c| c.loo.mean).sum::<f64>() / n
+    }
+}
+
+/// One family on one set.
+#[derive(Debug, Clone, Serialize)]
+pub struct FamilyStudy {
+    /// [`Family::stem`].
+    pub family: String,
+    /// [`Family::title`].
+    pub title: String,
+    /// [`Family::error_name`].
+    pub error_name: &'static str,
+    /// The reference's chosen parameters, used by every setting (`Δt = 159 ms; τ = 76 ms,
+    /// cos θ = 0.40`).
+    pub parameters: String,
+    /// Wall time of the reference's whole pipeline, searches included (s).
+    pub reference_pipeline_s: f64,
+    /// The settings, the reference first.
+    pub settings: Vec<SettingResult>,
+    /// Index of the recommended setting.
+    pub recommended: usize,
+}
+
+/// One set studied.
+#[derive(Debug, Clone, Serialize)]
+pub struct SetStudy {
+    /// Set name (`artificial`, `natural`, a recorded folder's name).
+    pub name: String,
+    /// Samples.
+    pub samples: usize,
+    /// Classes.
+    pub classes: usize,
+    /// The families in the order asked.
+    pub families: Vec<FamilyStudy>,
+}
+
+/// What a study runs on each set.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StudyConfig {
+    /// The pipeline of the reference settings (`reproduce`'s, paper or quick).
+    pub pipeline: PipelineConfig,
+    /// The families, in order.
+    pub families: Vec<Family>,
+    /// Fewer settings per family.
+    pub quick: bool,
+}
+
+/// The Δt, τ and cos θ the full pipeline chose.
+fn chosen_parameters(result: &SetResult) -> CodingParameters {
+    let bayes = result.bayes_search().map(|b| &b.result);
+    CodingParameters {
+        window_ms: result.dt_search().map(|s| s.sweep.best_window_ms),
+        duration_ms: None,
+        tau_s: bayes.map(|b| b.best_tau_s),
+        cos: bayes.map(|b| b.best_cos),
+    }
+}
+
+/// A coding's distance matrix and its leave-one-out predictions.
+type Scored = (CodingName, Array2<f64>, Vec<usize>);
+
+/// Every coding's distance matrix at `parameters`, and its leave-one-out predictions.
+fn score(
+    set: &EncodedSet,
+    parameters: &CodingParameters,
+    knn: Knn,
+) -> Result<Vec<Scored>, TradeoffError> {
+    CodingName::ALL
+        .iter()
+        .map(|&c| {
+            let d = c
+                .scheme()
+                .distances(set, parameters, &neurotac_core::OneProcess)?;
+            let e = evaluate(
+                d.view(),
+                &set.labels,
+                set.n_classes(),
+                knn,
+                Protocol::LeaveOneOut,
+            )?;
+            Ok((c, d, e.predicted))
+        })
+        .collect()
+}
+
+/// `|D_h − D| / D` over the pairs of distinct samples with `D > 0`.
+fn relative_error(reference: &Array2<f64>, other: &Array2<f64>) -> NumericalError {
+    let (mut sum, mut max, mut n) = (0.0, 0.0f64, 0usize);
+    for ((i, j), &d) in reference.indexed_iter() {
+        if i < j && d > 0.0 {
+            let e = (other[(i, j)] - d).abs() / d;
+            sum += e;
+            max = max.max(e);
+            n += 1;
+        }
+    }
+    NumericalError {
+        mean: if n == 0 { 0.0 } else { sum / n as f64 },
+        max,
+    }
+}
+
+/// For every spike of `other`, the distance to the nearest spike of the same channel and
+/// sample of `reference` (ms); a channel with no reference spike is skipped.
+fn spike_time_error(reference: &EncodedSet, other: &EncodedSet) -> NumericalError {
+    let (mut sum, mut max, mut n) = (0.0, 0.0f64, 0usize);
+    for (r, o) in reference.trains.iter().zip(&other.trains) {
+        for ch in 0..r.n_channels().min(o.n_channels()) {
+            let truth = r.channel(ch);
+            if truth.is_empty() {
+                continue;
+            }
+            for &t in o.channel(ch) {
+                let k = truth.partition_point(|&x| x < t);
+                let near = [k.checked_sub(1), Some(k)]
+                    .into_iter()
+                    .flatten()
+                    .filter_map(|i| truth.get(i))
+                    .map(|&x| (x - t).abs())
+                    .fold(f64::INFINITY, f64::min);
+                sum += near * 1e3;
+                max = max.max(near * 1e3);
+                n += 1;
+            }
+        }
+    }
+    NumericalError {
+        mean: if n == 0 { 0.0 } else { sum / n as f64 },
+        max,
+    }
+}
+
+/// Studies `family` on `data` (labelled): the reference through the whole pipeline, every
+/// setting at its parameters (module docs). `progress` gets one stage per setting.
+pub fn study_family(
+    name: &str,
+    data: &SpikeDataset,
+    family: Family,
+    config: &StudyConfig,
+    progress: &dyn Progress,
+) -> Result<FamilyStudy, TradeoffError> {
+    let settings = family.settings(config.quick);
+    let knn =
+        Knn::new(config.pipeline.k).map_err(neurotac_experiments::error::ExperimentError::from)?;
+    let labels = data.labels();
+    let taxel_spikes: u64 = data
+        .observations()
+        .iter()
+        .map(|o| o.total_spikes() as u64)
+        .sum();
+    let reference_set = settings[0].encode(data)?;
+    let full = run_encoded(
+        name,
+        &reference_set,
+        &config.pipeline,
+        progress,
+        &neurotac_core::OneProcess,
+    )?;
+    let parameters = chosen_parameters(&full);
+    let described = (full.codings.iter())
+        .map(|c| c.parameters.as_str())
+        .filter(|p| !p.is_empty())
+        .collect::<Vec<_>>()
+        .join("; ");
+    let reference_predictions: Vec<Vec<usize>> = full
+        .codings
+        .iter()
+        .map(|c| c.loo.predicted.clone())
+        .collect();
+    let mut reference_matrices: Vec<Array2<f64>> = Vec::new();
+    let mut rows = Vec::with_capacity(settings.len());
+    for (i, setting) in settings.iter().enumerate() {
+        progress.stage(
+            &format!("{name}: {} — {}", family.stem(), setting.label()),
+            0,
+        );
+        let (measured, timing) = timed(|| -> Result<_, TradeoffError> {
+            let set = setting.encode(data)?;
+            let scored = score(&set, &parameters, knn)?;
+            Ok((set, scored))
+        });
+        let (set, scored) = measured?;
+        progress.finish();
+        // Every row, the reference's too, is its own leave-one-out at the chosen parameters
+        // (the reference's equals the full pipeline's: same distances, same parameters).
+        let codings = (scored.iter().zip(&reference_predictions))
+            .map(
+                |((coding, _, predicted), reference_predicted)| CodingOutcome {
+                    coding: *coding,
+                    loo: Accuracy::of(predicted, labels),
+                    mcnemar: McNemar::of(reference_predicted, predicted, labels)
+                        .expect("every setting predicts every sample of the same set"),
+                },
+            )
+            .collect();
+        let error = match family {
+            Family::VanRossum => {
+                let st = CodingName::ALL.len() - 1;
+                if i == 0 {
+                    reference_matrices = scored.into_iter().map(|(_, d, _)| d).collect();
+                    NumericalError::default()
+                } else {
+                    relative_error(&reference_matrices[st], &scored[st].1)
+                }
+            }
+            Family::Afferents(_) => match i {
+                0 => NumericalError::default(),
+                _ => spike_time_error(&reference_set, &set),
+            },
+        };
+        rows.push(SettingResult {
+            label: setting.label(),
+            reference: i == 0,
+            wall_s: timing.wall_s,
+            cpu_s: timing.cpu_s,
+            neuron_updates: setting.afferents.map(|_| set.neuron_updates),
+            synaptic_events: setting.afferents.map(|_| taxel_spikes),
+            output_spikes: set.trains.iter().map(|t| t.total_spikes() as u64).sum(),
+            codings,
+            error,
+            front: false,
+            recommended: false,
+        });
+    }
+    let points: Vec<_> = (rows.iter())
+        .map(|r| Some((1.0 / r.wall_s.max(1e-9), 1.0 - r.mean_accuracy())))
+        .collect();
+    for (row, front) in rows.iter_mut().zip(pareto_front(&points)) {
+        row.front = front;
+    }
+    let recommended = recommend(&rows);
+    rows[recommended].recommended = true;
+    Ok(FamilyStudy {
+        family: family.stem(),
+        title: family.title(),
+        error_name: family.error_name(),
+        parameters: described,
+        reference_pipeline_s: full.time.wall_s,
+        settings: rows,
+        recommended,
+    })
+}
+
+/// `true` when every coding of `row` is acceptable against `reference`: not significantly
+/// below it (McNemar p ≥ [`ALPHA`], or accuracy at least the reference's) and its Wilson
+/// interval not entirely below the reference's.
+pub fn acceptable(row: &SettingResult, reference: &SettingResult) -> bool {
+    row.codings.iter().zip(&reference.codings).all(|(c, r)| {
+        let not_worse = c.mcnemar.p >= ALPHA || c.loo.mean >= r.loo.mean;
+        let overlaps = c.loo.wilson_high >= r.loo.wilson_low;
+        not_worse && overlaps
+    })
+}
+
+/// The recommended operating point of a family's `rows` (the reference first): the cheapest
+/// (least wall time) acceptable setting ([`acceptable`]); the reference when no other is.
+pub fn recommend(rows: &[SettingResult]) -> usize {
+    let Some(reference) = rows.first() else {
+        return 0;
+    };
+    (0..rows.len())
+        .filter(|&i| i == 0 || acceptable(&rows[i], reference))
+        .min_by(|&a, &b| rows[a].wall_s.total_cmp(&rows[b].wall_s))
+        .unwrap_or(0)
+}
+
+/// Studies every family of `config` on one labelled set.
+pub fn study_set(
+    name: &str,
+    data: &SpikeDataset,
+    config: &StudyConfig,
+    progress: &dyn Progress,
+) -> Result<SetStudy, TradeoffError> {
+    let families = (config.families.iter())
+        .map(|&f| study_family(name, data, f, config, progress))
+        .collect::<Result<_, _>>()?;
+    Ok(SetStudy {
+        name: name.to_owned(),
+        samples: data.len(),
+        classes: data.n_classes(),
+        families,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use neurotac_experiments::datasets::simulated::{TextureSet, load_or_simulate};
+    use neurotac_experiments::progress::NoProgress;
+    use neurotac_experiments::reproduce::{ReproduceConfig, run_set};
+    use neurotac_sensor::sim::SimParams;
+
+    fn small_pipeline() -> PipelineConfig {
+        let mut p = ReproduceConfig::quick(1, "unused".into()).pipeline;
+        p.bayes.epochs = 12;
+        p.bayes.tau_step_s = 0.02;
+        p
+    }
+
+    #[test]
+    fn the_exact_reference_scores_what_reproduce_scores_on_the_same_set() {
+        let cache = tempfile::tempdir().unwrap();
+        let data = load_or_simulate(
+            TextureSet::Artificial,
+            3,
+            1,
+            &SimParams::default(),
+            cache.path(),
+            &|| {},
+            &neurotac_core::OneProcess,
+        )
+        .unwrap();
+        let pipeline = small_pipeline();
+        let config = StudyConfig {
+            pipeline,
+            families: vec![Family::VanRossum],
+            quick: true,
+        };
+        let study = study_set("artificial", &data, &config, &NoProgress).unwrap();
+        let reproduce = run_set("artificial", &data, &pipeline, &NoProgress).unwrap();
+        let vr = &study.families[0];
+        let reference = &vr.settings[0];
+        assert!(reference.reference && reference.label == "exact");
+        assert_eq!(reference.codings.len(), reproduce.codings.len());
+        for (s, r) in reference.codings.iter().zip(&reproduce.codings) {
+            assert_eq!(s.coding, r.coding);
+            assert_eq!(s.loo, r.loo.accuracy, "{:?}", s.coding);
+            assert_eq!((s.mcnemar.b, s.mcnemar.c, s.mcnemar.p), (0, 0, 1.0));
+        }
+        // Every other setting is scored at the reference's parameters on the same samples: the
+        // codings the setting does not touch predict exactly as the reference does.
+        for row in &vr.settings[1..] {
+            for c in &row.codings[..3] {
+                assert_eq!(
+                    (c.mcnemar.b, c.mcnemar.c),
+                    (0, 0),
+                    "{} {:?}",
+                    row.label,
+                    c.coding
+                );
+            }
+            assert!(row.error.mean > 0.0, "{}", row.label);
+        }
+        let parameters = chosen_parameters(&reproduce);
+        assert!(parameters.window_ms.is_some() && parameters.tau_s.is_some());
+        assert!(vr.parameters.contains("Δt =") && vr.parameters.contains("cos θ ="));
+    }
+
+    fn row(wall_s: f64, accuracy: &[(usize, usize, usize)]) -> SettingResult {
+        // (hits, b, c) out of 100 samples, per coding.
+        let codings = (accuracy.iter().zip(CodingName::ALL))
+            .map(|(&(hits, b, c), &coding)| {
+                let predicted: Vec<usize> = (0..100).map(|i| usize::from(i >= hits)).collect();
+                let truth = vec![0; 100];
+                CodingOutcome {
+                    coding,
+                    loo: Accuracy::of(&predicted, &truth),
+                    mcnemar: McNemar {
+                        b,
+                        c,
+                        p: neurotac_experiments::protocols::mcnemar_exact_p(b, c),
+                    },
+                }
+            })
+            .collect();
+        SettingResult {
+            label: format!("{wall_s} s"),
+            reference: false,
+            wall_s,
+            cpu_s: None,
+            neuron_updates: None,
+            synaptic_events: None,
+            output_spikes: 0,
+            codings,
+            error: NumericalError::default(),
+            front: false,
+            recommended: false,
+        }
+    }
+
+    #[test]
+    fn the_recommended_point_is_the_cheapest_never_significantly_or_wholly_below_the_reference() {
+        let reference = row(10.0, &[(95, 0, 0); 4]);
+        // Cheapest, but 10 discordant pairs all against it on one coding: p = 0.002.
+        let significantly_worse = row(1.0, &[(95, 0, 0), (95, 0, 0), (85, 10, 0), (95, 0, 0)]);
+        // Not significant by the (here made-up) test, but its interval lies wholly below.
+        let interval_below = row(2.0, &[(95, 0, 0), (70, 1, 0), (95, 0, 0), (95, 0, 0)]);
+        // Slightly lower, not significantly, interval overlapping: acceptable.
+        let fine = row(3.0, &[(94, 2, 1), (95, 0, 0), (93, 3, 1), (96, 0, 1)]);
+        let slower_fine = row(4.0, &[(95, 0, 0); 4]);
+        let rows = vec![
+            reference,
+            significantly_worse,
+            interval_below,
+            slower_fine,
+            fine,
+        ];
+        assert!(rows[2].codings[1].loo.wilson_high < rows[0].codings[1].loo.wilson_low);
+        assert_eq!(recommend(&rows), 4);
+        for (i, r) in rows.iter().enumerate() {
+            assert_eq!(acceptable(r, &rows[0]), ![1, 2].contains(&i), "{i}");
+        }
+        // Nothing cheaper acceptable: the reference itself.
+        assert_eq!(recommend(&rows[..3]), 0);
+        let mut cheaper_reference = rows.clone();
+        cheaper_reference[0].wall_s = 0.5;
+        assert_eq!(recommend(&cheaper_reference), 0);
+    }
+}
