@@ -29,6 +29,12 @@ pub enum TradeoffError {
         /// What is allowed.
         expected: &'static str,
     },
+    /// A family that re-simulates the set was asked of a recorded set.
+    #[error("the {family} family re-simulates its set: it needs a simulated set, not --dataset")]
+    NeedsSimulation {
+        /// The family.
+        family: String,
+    },
     /// A figure could not be rasterised to PNG.
     #[error("cannot draw {path}")]
     Png {

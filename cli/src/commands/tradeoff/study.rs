@@ -12,7 +12,7 @@ use crate::commands::progress::Bars;
 use anyhow::Context;
 use clap::{Args, ValueEnum};
 use neurotac_cli::tradeoff::study::report::{study_files, write_study};
-use neurotac_cli::tradeoff::study::{Family, StudyConfig, study_set};
+use neurotac_cli::tradeoff::study::{Family, SimulatedSource, StudyConfig, study_set};
 use neurotac_core::io::{AtomicFileSet, Replace};
 use neurotac_experiments::datasets::simulated::default_cache_dir;
 use neurotac_experiments::neuron_setup::NeuronKind;
@@ -29,6 +29,9 @@ enum FamilyArg {
     Vr,
     /// The afferent layer (--afferents): integrator × dt × precision, event- vs clock-driven.
     Afferents,
+    /// The transduction's pooling and BA windows around the paper's (simulated sets only:
+    /// re-simulates the set once).
+    Transduction,
 }
 
 #[derive(Debug, Args)]
@@ -118,10 +121,16 @@ pub fn run(args: StudyArgs) -> anyhow::Result<()> {
         let family = match f {
             FamilyArg::Vr => Family::VanRossum,
             FamilyArg::Afferents => Family::Afferents(args.afferents),
+            FamilyArg::Transduction => Family::Transduction,
         };
         if !families.contains(&family) {
             families.push(family);
         }
+    }
+    if args.dataset.is_some() && families.contains(&Family::Transduction) {
+        anyhow::bail!(
+            "--families transduction re-simulates its set: it needs --set, not --dataset (choose --families vr,afferents)"
+        );
     }
     let study = StudyConfig {
         pipeline: config.pipeline,
@@ -140,7 +149,16 @@ pub fn run(args: StudyArgs) -> anyhow::Result<()> {
             let stems: Vec<String> = study.families.iter().map(|f| f.stem()).collect();
             let files = study_files(&args.out.out, std::slice::from_ref(&name), &stems);
             refuse_existing(files.iter().map(PathBuf::as_path), args.force.force)?;
-            sets.push(study_set(&name, &data, &study, &bars)?);
+            let simulated = match source {
+                Source::Simulated(set) => Some(SimulatedSource {
+                    set: *set,
+                    trials: config.trials.unwrap_or(set.paper_trials()),
+                    seed: config.seed,
+                    params: config.params,
+                }),
+                Source::Recorded(_) => None,
+            };
+            sets.push(study_set(&name, &data, simulated.as_ref(), &study, &bars)?);
         }
         Ok(sets)
     })??;

@@ -13,7 +13,12 @@
 //! |---|---|---|---|
 //! | [`Family::VanRossum`] | exact, or synaptic traces at a trace step × f64/f32 | exact | relative error of the spatiotemporal distance |
 //! | [`Family::Afferents`] | integrator × dt × precision, event- or clock-driven | the model's integrator, 0.1 ms, f64, event-driven (`reproduce --afferents`) | afferent spike-time error |
+//! | [`Family::Transduction`] | pooling window, BA window (one at a time) | the paper's: 20 ms, 5 ms | taxel spike-time error |
 //!
+//! The transduction family re-simulates the set once ([`transduction_sets`]: the simulator is
+//! seeded, so the paper's setting gives the cached set again) and transduces every trial's
+//! pixel events under every setting; its cost adds the transduction time (summed over trials)
+//! and leaves the shared simulation out.
 //! [`recommend`] picks a family's operating point; [`report`] writes the files.
 
 pub mod report;
@@ -21,9 +26,13 @@ pub mod report;
 use super::TradeoffError;
 use super::pareto::pareto_front;
 use neurotac_core::ndarray::Array2;
-use neurotac_core::{Knn, SpikeDataset};
+use neurotac_core::{Knn, MultiSpikeTrain, SpikeDataset};
 use neurotac_experiments::afferents::AfferentConfig;
 use neurotac_experiments::coding::{CodingName, CodingParameters};
+use neurotac_experiments::datasets::metadata::write_metadata;
+use neurotac_experiments::datasets::simulated::{
+    TextureSet, camera_seed, jobs_for, map_trials, prepare_textures, sample_duration_s,
+};
 use neurotac_experiments::menu::Menu;
 use neurotac_experiments::neuron_setup::{NeuronKind, Precision};
 use neurotac_experiments::progress::Progress;
@@ -31,6 +40,10 @@ use neurotac_experiments::protocols::{Accuracy, McNemar, Protocol, evaluate};
 use neurotac_experiments::readouts::{EncodedSet, VrFrom, encode_offline, encode_through_graph};
 use neurotac_experiments::reproduce::{PipelineConfig, SetResult, run_encoded};
 use neurotac_experiments::timing::timed;
+use neurotac_sensor::sim::{
+    Camera, SimParams, SimulationError, check_trials, paper_transduction, transduce_with,
+};
+use neurotac_sensor::taxel::TransductionConfig;
 use serde::Serialize;
 
 /// The significance level of the recommendation: a setting whose McNemar p-value is below it
@@ -44,6 +57,8 @@ pub enum Family {
     VanRossum,
     /// The afferent layer of a model (`reproduce --afferents`).
     Afferents(NeuronKind),
+    /// The transduction's pooling and background-activity windows (simulated sets only).
+    Transduction,
 }
 
 impl Family {
@@ -52,6 +67,7 @@ impl Family {
         match self {
             Family::VanRossum => "vr".into(),
             Family::Afferents(kind) => format!("afferents-{}", kind.key()),
+            Family::Transduction => "transduction".into(),
         }
     }
 
@@ -60,6 +76,7 @@ impl Family {
         match self {
             Family::VanRossum => "Van Rossum distance: exact vs synaptic traces".into(),
             Family::Afferents(kind) => format!("{} afferent layer", kind.label()),
+            Family::Transduction => "Transduction: pooling and BA windows".into(),
         }
     }
 
@@ -67,7 +84,7 @@ impl Family {
     pub fn error_name(self) -> &'static str {
         match self {
             Family::VanRossum => "distance relative error",
-            Family::Afferents(_) => "spike-time error (ms)",
+            Family::Afferents(_) | Family::Transduction => "spike-time error (ms)",
         }
     }
 
@@ -123,6 +140,27 @@ impl Family {
                 }
                 out
             }
+            Family::Transduction => {
+                let paper = paper_transduction();
+                let (pools_ms, bas_ms): (&[i64], &[Option<i64>]) = match quick {
+                    true => (&[10, 40], &[None, Some(2), Some(10)]),
+                    false => (&[5, 10, 40], &[None, Some(1), Some(2), Some(10), Some(20)]),
+                };
+                let mut out = vec![Setting::transduction(paper)];
+                for &pool_ms in pools_ms {
+                    out.push(Setting::transduction(TransductionConfig {
+                        pool_window_us: pool_ms * 1000,
+                        ..paper
+                    }));
+                }
+                for &ba_ms in bas_ms {
+                    out.push(Setting::transduction(TransductionConfig {
+                        ba_window_us: ba_ms.map(|ms| ms * 1000),
+                        ..paper
+                    }));
+                }
+                out
+            }
         }
     }
 }
@@ -134,6 +172,9 @@ pub struct Setting {
     pub vr_from: VrFrom,
     /// The afferent layer, if any.
     pub afferents: Option<AfferentConfig>,
+    /// The transduction of a re-simulated set ([`transduction_sets`]); `None`: the set as
+    /// given.
+    pub transduction: Option<TransductionConfig>,
 }
 
 impl Setting {
@@ -141,19 +182,33 @@ impl Setting {
         Self {
             vr_from,
             afferents: None,
+            transduction: None,
         }
     }
 
     fn afferents(config: AfferentConfig) -> Self {
         Self {
-            vr_from: VrFrom::Exact,
             afferents: Some(config),
+            ..Self::vr(VrFrom::Exact)
+        }
+    }
+
+    fn transduction(config: TransductionConfig) -> Self {
+        Self {
+            transduction: Some(config),
+            ..Self::vr(VrFrom::Exact)
         }
     }
 
     /// The setting as a table names it: `exact`, `traces 1 ms f32`,
-    /// `exact 0.1 ms f64 event`.
+    /// `exact 0.1 ms f64 event`, `pool 20 ms, BA 5 ms`.
     pub fn label(&self) -> String {
+        if let Some(t) = self.transduction {
+            let ba = t
+                .ba_window_us
+                .map_or_else(|| "off".to_owned(), |us| format!("{} ms", us as f64 / 1e3));
+            return format!("pool {} ms, BA {ba}", t.pool_window_us as f64 / 1e3);
+        }
         match (self.afferents, self.vr_from) {
             (Some(a), _) => format!(
                 "{} {} ms {} {}",
@@ -183,6 +238,75 @@ impl Setting {
     }
 }
 
+/// Where a simulated set comes from (what the transduction family re-simulates).
+#[derive(Debug, Clone, PartialEq)]
+pub struct SimulatedSource {
+    /// The texture set.
+    pub set: TextureSet,
+    /// Slides per texture.
+    pub trials: usize,
+    /// Seed of the simulation.
+    pub seed: u64,
+    /// Simulator parameters.
+    pub params: SimParams,
+}
+
+/// Simulates `source` once and transduces every trial under each of `configs`: one labelled
+/// dataset per configuration (in the cached set's order and with its duration), and the
+/// transduction time of each summed over the trials (s).
+pub fn transduction_sets(
+    source: &SimulatedSource,
+    configs: &[TransductionConfig],
+    progress: &dyn Progress,
+) -> Result<Vec<(SpikeDataset, f64)>, TradeoffError> {
+    let SimulatedSource {
+        set,
+        trials,
+        seed,
+        params,
+    } = source;
+    let simulation = |e: SimulationError| TradeoffError::Simulation(e.into());
+    check_trials(*trials, set.textures().len()).map_err(simulation)?;
+    params.validate().map_err(simulation)?;
+    let textures = prepare_textures(params, *set);
+    let camera = Camera::new(params, camera_seed(*seed));
+    let classes: Vec<usize> = (0..textures.len()).collect();
+    let jobs = jobs_for(*set, *seed, &classes, 0, *trials);
+    progress.stage(
+        &format!("{}: re-simulating for the transduction family", set.name()),
+        jobs.len() as u64,
+    );
+    let per_trial: Vec<Vec<(MultiSpikeTrain, f64)>> = map_trials(
+        params,
+        &camera,
+        &textures,
+        &jobs,
+        &|_, trial| {
+            (configs.iter())
+                .map(|&c| {
+                    let (spikes, time) = timed(|| transduce_with(&trial.events, c));
+                    Ok((spikes?.spikes, time.wall_s))
+                })
+                .collect()
+        },
+        &|| progress.advance(1),
+    )?;
+    progress.finish();
+    let labels: Vec<usize> = jobs.iter().map(|j| j.class).collect();
+    let duration_s = sample_duration_s(params);
+    (0..configs.len())
+        .map(|k| {
+            let observations = per_trial.iter().map(|t| t[k].0.clone()).collect();
+            let seconds = per_trial.iter().map(|t| t[k].1).sum();
+            let mut meta = serde_json::Map::new();
+            write_metadata(&mut meta, &configs[k], Some(duration_s));
+            let data = SpikeDataset::new(observations, labels.clone(), set.class_names(), meta)
+                .map_err(|e| TradeoffError::Simulation(e.into()))?;
+            Ok((data, seconds))
+        })
+        .collect()
+}
+
 /// One coding at one setting.
 #[derive(Debug, Clone, Serialize)]
 pub struct CodingOutcome {
@@ -210,7 +334,8 @@ pub struct SettingResult {
     pub label: String,
     /// The reference setting (its accuracy is the full pipeline's).
     pub reference: bool,
-    /// Wall time of the encoding and the four codings' distances and leave-one-out (s).
+    /// Wall time of the encoding and the four codings' distances and leave-one-out (s); for
+    /// the transduction family plus the transduction of every trial (summed over trials).
     pub wall_s: f64,
     /// Process CPU time of the same (s), when known.
     pub cpu_s: Option<f64>,
@@ -374,11 +499,26 @@ fn spike_time_error(reference: &EncodedSet, other: &EncodedSet) -> NumericalErro
 pub fn study_family(
     name: &str,
     data: &SpikeDataset,
+    source: Option<&SimulatedSource>,
     family: Family,
     config: &StudyConfig,
     progress: &dyn Progress,
 ) -> Result<FamilyStudy, TradeoffError> {
     let settings = family.settings(config.quick);
+    let transduced = match family {
+        Family::Transduction => {
+            let source = source.ok_or_else(|| TradeoffError::NeedsSimulation {
+                family: family.stem(),
+            })?;
+            let configs: Vec<_> = settings.iter().filter_map(|s| s.transduction).collect();
+            Some(transduction_sets(source, &configs, progress)?)
+        }
+        _ => None,
+    };
+    // The set each setting encodes, and the time it took to make it (transduction).
+    let input = |i: usize| transduced.as_ref().map_or(data, |t| &t[i].0);
+    let making_s = |i: usize| transduced.as_ref().map_or(0.0, |t| t[i].1);
+    let data = input(0);
     let knn =
         Knn::new(config.pipeline.k).map_err(neurotac_experiments::error::ExperimentError::from)?;
     let labels = data.labels();
@@ -414,7 +554,7 @@ pub fn study_family(
             0,
         );
         let (measured, timing) = timed(|| -> Result<_, TradeoffError> {
-            let set = setting.encode(data)?;
+            let set = setting.encode(input(i))?;
             let scored = score(&set, &parameters, knn)?;
             Ok((set, scored))
         });
@@ -442,7 +582,7 @@ pub fn study_family(
                     relative_error(&reference_matrices[st], &scored[st].1)
                 }
             }
-            Family::Afferents(_) => match i {
+            Family::Afferents(_) | Family::Transduction => match i {
                 0 => NumericalError::default(),
                 _ => spike_time_error(&reference_set, &set),
             },
@@ -450,8 +590,8 @@ pub fn study_family(
         rows.push(SettingResult {
             label: setting.label(),
             reference: i == 0,
-            wall_s: timing.wall_s,
-            cpu_s: timing.cpu_s,
+            wall_s: timing.wall_s + making_s(i),
+            cpu_s: timing.cpu_s.map(|c| c + making_s(i)),
             neuron_updates: setting.afferents.map(|_| set.neuron_updates),
             synaptic_events: setting.afferents.map(|_| taxel_spikes),
             output_spikes: set.trains.iter().map(|t| t.total_spikes() as u64).sum(),
@@ -503,15 +643,17 @@ pub fn recommend(rows: &[SettingResult]) -> usize {
         .unwrap_or(0)
 }
 
-/// Studies every family of `config` on one labelled set.
+/// Studies every family of `config` on one labelled set (`source`: how it was simulated, for
+/// the transduction family; `None` for a recorded set).
 pub fn study_set(
     name: &str,
     data: &SpikeDataset,
+    source: Option<&SimulatedSource>,
     config: &StudyConfig,
     progress: &dyn Progress,
 ) -> Result<SetStudy, TradeoffError> {
     let families = (config.families.iter())
-        .map(|&f| study_family(name, data, f, config, progress))
+        .map(|&f| study_family(name, data, source, f, config, progress))
         .collect::<Result<_, _>>()?;
     Ok(SetStudy {
         name: name.to_owned(),
@@ -555,7 +697,7 @@ mod tests {
             families: vec![Family::VanRossum],
             quick: true,
         };
-        let study = study_set("artificial", &data, &config, &NoProgress).unwrap();
+        let study = study_set("artificial", &data, None, &config, &NoProgress).unwrap();
         let reproduce = run_set("artificial", &data, &pipeline, &NoProgress).unwrap();
         let vr = &study.families[0];
         let reference = &vr.settings[0];
@@ -583,6 +725,41 @@ mod tests {
         let parameters = chosen_parameters(&reproduce);
         assert!(parameters.window_ms.is_some() && parameters.tau_s.is_some());
         assert!(vr.parameters.contains("Δt =") && vr.parameters.contains("cos θ ="));
+    }
+
+    #[test]
+    fn the_papers_transduction_of_a_re_simulated_set_is_the_cached_set() {
+        let cache = tempfile::tempdir().unwrap();
+        let params = SimParams::default();
+        let set = TextureSet::Artificial;
+        let cached = load_or_simulate(
+            set,
+            2,
+            1,
+            &params,
+            cache.path(),
+            &|| {},
+            &neurotac_core::OneProcess,
+        )
+        .unwrap();
+        let source = SimulatedSource {
+            set,
+            trials: 2,
+            seed: 1,
+            params,
+        };
+        let wider = TransductionConfig {
+            pool_window_us: 40_000,
+            ..paper_transduction()
+        };
+        let sets = transduction_sets(&source, &[paper_transduction(), wider], &NoProgress).unwrap();
+        let (paper, _) = &sets[0];
+        assert_eq!(paper.observations(), cached.observations());
+        assert_eq!(paper.labels(), cached.labels());
+        assert_eq!(paper.duration_s(), cached.duration_s());
+        // Another window is another set of the same samples.
+        assert_ne!(sets[1].0.observations(), cached.observations());
+        assert_eq!(sets[1].0.labels(), cached.labels());
     }
 
     fn row(wall_s: f64, accuracy: &[(usize, usize, usize)]) -> SettingResult {
