@@ -32,6 +32,9 @@ enum FamilyArg {
     /// The transduction's pooling and BA windows around the paper's (simulated sets only:
     /// re-simulates the set once).
     Transduction,
+    /// The simulator's pixel step tolerance, mechanics step and shear ODE step (simulated
+    /// sets only: re-simulates the set once per setting).
+    Simulator,
 }
 
 #[derive(Debug, Args)]
@@ -122,14 +125,17 @@ pub fn run(args: StudyArgs) -> anyhow::Result<()> {
             FamilyArg::Vr => Family::VanRossum,
             FamilyArg::Afferents => Family::Afferents(args.afferents),
             FamilyArg::Transduction => Family::Transduction,
+            FamilyArg::Simulator => Family::Simulator,
         };
         if !families.contains(&family) {
             families.push(family);
         }
     }
-    if args.dataset.is_some() && families.contains(&Family::Transduction) {
+    if args.dataset.is_some()
+        && (families.contains(&Family::Transduction) || families.contains(&Family::Simulator))
+    {
         anyhow::bail!(
-            "--families transduction re-simulates its set: it needs --set, not --dataset (choose --families vr,afferents)"
+            "the transduction and simulator families re-simulate their set: they need --set, not --dataset (choose --families vr,afferents)"
         );
     }
     let study = StudyConfig {

@@ -14,11 +14,13 @@
 //! | [`Family::VanRossum`] | exact, or synaptic traces at a trace step × f64/f32 | exact | relative error of the spatiotemporal distance |
 //! | [`Family::Afferents`] | integrator × dt × precision, event- or clock-driven | the model's integrator, 0.1 ms, f64, event-driven (`reproduce --afferents`) | afferent spike-time error |
 //! | [`Family::Transduction`] | pooling window, BA window (one at a time) | the paper's: 20 ms, 5 ms | taxel spike-time error |
+//! | [`Family::Simulator`] | pixel step tolerance, mechanics sampling step, shear ODE step (one at a time, and the defaults) | the finest of each: 0.02, 0.25 ms, 25 µs | taxel spike-time error |
 //!
-//! The transduction family re-simulates the set once ([`transduction_sets`]: the simulator is
+//! The transduction family re-simulates the set once ([`resimulate`]: the simulator is
 //! seeded, so the paper's setting gives the cached set again) and transduces every trial's
 //! pixel events under every setting; its cost adds the transduction time (summed over trials)
-//! and leaves the shared simulation out.
+//! and leaves the shared simulation out. The simulator family simulates the set once per
+//! setting (not from the cache, so that the simulation is timed); its cost adds that pass.
 //! [`recommend`] picks a family's operating point; [`report`] writes the files.
 
 pub mod report;
@@ -39,7 +41,8 @@ use neurotac_experiments::progress::Progress;
 use neurotac_experiments::protocols::{Accuracy, McNemar, Protocol, evaluate};
 use neurotac_experiments::readouts::{EncodedSet, VrFrom, encode_offline, encode_through_graph};
 use neurotac_experiments::reproduce::{PipelineConfig, SetResult, run_encoded};
-use neurotac_experiments::timing::timed;
+use neurotac_experiments::timing::{Timing, timed};
+use neurotac_sensor::sim::params::SolverParams;
 use neurotac_sensor::sim::{
     Camera, SimParams, SimulationError, check_trials, paper_transduction, transduce_with,
 };
@@ -59,6 +62,8 @@ pub enum Family {
     Afferents(NeuronKind),
     /// The transduction's pooling and background-activity windows (simulated sets only).
     Transduction,
+    /// The simulator's numerical settings (simulated sets only).
+    Simulator,
 }
 
 impl Family {
@@ -68,6 +73,7 @@ impl Family {
             Family::VanRossum => "vr".into(),
             Family::Afferents(kind) => format!("afferents-{}", kind.key()),
             Family::Transduction => "transduction".into(),
+            Family::Simulator => "simulator".into(),
         }
     }
 
@@ -77,6 +83,7 @@ impl Family {
             Family::VanRossum => "Van Rossum distance: exact vs synaptic traces".into(),
             Family::Afferents(kind) => format!("{} afferent layer", kind.label()),
             Family::Transduction => "Transduction: pooling and BA windows".into(),
+            Family::Simulator => "Simulator: solver tolerances".into(),
         }
     }
 
@@ -84,7 +91,9 @@ impl Family {
     pub fn error_name(self) -> &'static str {
         match self {
             Family::VanRossum => "distance relative error",
-            Family::Afferents(_) | Family::Transduction => "spike-time error (ms)",
+            Family::Afferents(_) | Family::Transduction | Family::Simulator => {
+                "spike-time error (ms)"
+            }
         }
     }
 
@@ -111,14 +120,15 @@ impl Family {
                 let reference = AfferentConfig::of(kind);
                 let dts_ms: &[f64] = match quick {
                     true => &[0.1, 1.0],
-                    false => &[0.1, 0.2, 0.5, 1.0, 2.0],
+                    false => &[0.1, 0.25, 0.5, 1.0, 2.0],
                 };
                 let mut out = Vec::new();
                 for &integrator in kind.integrators() {
                     for &dt_ms in dts_ms {
-                        let precisions: &[Precision] = match quick && dt_ms != 0.1 {
-                            true => &[Precision::F64],
-                            false => &[Precision::F64, Precision::F32],
+                        // f32 at the reference step only: its error is the rounding's.
+                        let precisions: &[Precision] = match dt_ms == 0.1 {
+                            true => &[Precision::F64, Precision::F32],
+                            false => &[Precision::F64],
                         };
                         for &precision in precisions {
                             out.push(Setting::afferents(AfferentConfig {
@@ -161,6 +171,43 @@ impl Family {
                 }
                 out
             }
+            Family::Simulator => {
+                // The finest of every setting first, then the defaults, then each setting
+                // coarsened alone from the finest.
+                let finest = SolverParams {
+                    step_tolerance: 0.02,
+                    mechanics_dt_s: 0.25e-3,
+                    shear_dt_s: 25e-6,
+                    ..SolverParams::default()
+                };
+                let (tolerances, mechanics_ms, shear_us): (&[f64], &[f64], &[f64]) = match quick {
+                    true => (&[0.3], &[2.0], &[200.0]),
+                    false => (&[0.067, 0.3], &[1.0, 2.0], &[100.0, 200.0]),
+                };
+                let mut out = vec![
+                    Setting::solver(finest),
+                    Setting::solver(SolverParams::default()),
+                ];
+                out.extend(tolerances.iter().map(|&step_tolerance| {
+                    Setting::solver(SolverParams {
+                        step_tolerance,
+                        ..finest
+                    })
+                }));
+                out.extend(mechanics_ms.iter().map(|&ms| {
+                    Setting::solver(SolverParams {
+                        mechanics_dt_s: ms * 1e-3,
+                        ..finest
+                    })
+                }));
+                out.extend(shear_us.iter().map(|&us| {
+                    Setting::solver(SolverParams {
+                        shear_dt_s: us * 1e-6,
+                        ..finest
+                    })
+                }));
+                out
+            }
         }
     }
 }
@@ -172,9 +219,10 @@ pub struct Setting {
     pub vr_from: VrFrom,
     /// The afferent layer, if any.
     pub afferents: Option<AfferentConfig>,
-    /// The transduction of a re-simulated set ([`transduction_sets`]); `None`: the set as
-    /// given.
+    /// The transduction of a re-simulated set ([`resimulate`]); `None`: the set as given.
     pub transduction: Option<TransductionConfig>,
+    /// The simulator's numerical settings of a re-simulated set; `None`: the set as given.
+    pub solver: Option<SolverParams>,
 }
 
 impl Setting {
@@ -183,6 +231,7 @@ impl Setting {
             vr_from,
             afferents: None,
             transduction: None,
+            solver: None,
         }
     }
 
@@ -200,9 +249,25 @@ impl Setting {
         }
     }
 
+    fn solver(solver: SolverParams) -> Self {
+        Self {
+            solver: Some(solver),
+            ..Self::vr(VrFrom::Exact)
+        }
+    }
+
     /// The setting as a table names it: `exact`, `traces 1 ms f32`,
-    /// `exact 0.1 ms f64 event`, `pool 20 ms, BA 5 ms`.
+    /// `exact 0.1 ms f64 event`, `pool 20 ms, BA 5 ms`,
+    /// `tolerance 0.067, mechanics 0.5 ms, shear 50 µs`.
     pub fn label(&self) -> String {
+        if let Some(p) = self.solver {
+            return format!(
+                "tolerance {}, mechanics {} ms, shear {} µs",
+                p.step_tolerance,
+                p.mechanics_dt_s * 1e3,
+                (p.shear_dt_s * 1e6).round()
+            );
+        }
         if let Some(t) = self.transduction {
             let ba = t
                 .ba_window_us
@@ -251,50 +316,50 @@ pub struct SimulatedSource {
     pub params: SimParams,
 }
 
-/// Simulates `source` once and transduces every trial under each of `configs`: one labelled
-/// dataset per configuration (in the cached set's order and with its duration), and the
-/// transduction time of each summed over the trials (s).
-pub fn transduction_sets(
+/// Simulates `source` once with `params` and transduces every trial under each of
+/// `configs`: one labelled dataset per configuration (in the cached set's order and with its
+/// duration) with the transduction time of each summed over the trials (s), and the time of
+/// the whole pass (simulation and every transduction).
+pub fn resimulate(
     source: &SimulatedSource,
+    params: &SimParams,
     configs: &[TransductionConfig],
     progress: &dyn Progress,
-) -> Result<Vec<(SpikeDataset, f64)>, TradeoffError> {
+) -> Result<(Vec<(SpikeDataset, f64)>, Timing), TradeoffError> {
     let SimulatedSource {
-        set,
-        trials,
-        seed,
-        params,
+        set, trials, seed, ..
     } = source;
     let simulation = |e: SimulationError| TradeoffError::Simulation(e.into());
     check_trials(*trials, set.textures().len()).map_err(simulation)?;
     params.validate().map_err(simulation)?;
-    let textures = prepare_textures(params, *set);
-    let camera = Camera::new(params, camera_seed(*seed));
-    let classes: Vec<usize> = (0..textures.len()).collect();
-    let jobs = jobs_for(*set, *seed, &classes, 0, *trials);
-    progress.stage(
-        &format!("{}: re-simulating for the transduction family", set.name()),
-        jobs.len() as u64,
-    );
-    let per_trial: Vec<Vec<(MultiSpikeTrain, f64)>> = map_trials(
-        params,
-        &camera,
-        &textures,
-        &jobs,
-        &|_, trial| {
-            (configs.iter())
-                .map(|&c| {
-                    let (spikes, time) = timed(|| transduce_with(&trial.events, c));
-                    Ok((spikes?.spikes, time.wall_s))
-                })
-                .collect()
-        },
-        &|| progress.advance(1),
-    )?;
-    progress.finish();
+    let (per_trial, pass) = timed(|| {
+        let textures = prepare_textures(params, *set);
+        let camera = Camera::new(params, camera_seed(*seed));
+        let classes: Vec<usize> = (0..textures.len()).collect();
+        let jobs = jobs_for(*set, *seed, &classes, 0, *trials);
+        progress.stage(&format!("{}: simulating", set.name()), jobs.len() as u64);
+        let per_trial: Result<Vec<Vec<(MultiSpikeTrain, f64)>>, _> = map_trials(
+            params,
+            &camera,
+            &textures,
+            &jobs,
+            &|_, trial| {
+                (configs.iter())
+                    .map(|&c| {
+                        let (spikes, time) = timed(|| transduce_with(&trial.events, c));
+                        Ok((spikes?.spikes, time.wall_s))
+                    })
+                    .collect()
+            },
+            &|| progress.advance(1),
+        );
+        progress.finish();
+        per_trial.map(|p| (p, jobs))
+    });
+    let (per_trial, jobs) = per_trial?;
     let labels: Vec<usize> = jobs.iter().map(|j| j.class).collect();
     let duration_s = sample_duration_s(params);
-    (0..configs.len())
+    let sets = (0..configs.len())
         .map(|k| {
             let observations = per_trial.iter().map(|t| t[k].0.clone()).collect();
             let seconds = per_trial.iter().map(|t| t[k].1).sum();
@@ -304,7 +369,8 @@ pub fn transduction_sets(
                 .map_err(|e| TradeoffError::Simulation(e.into()))?;
             Ok((data, seconds))
         })
-        .collect()
+        .collect::<Result<_, TradeoffError>>()?;
+    Ok((sets, pass))
 }
 
 /// One coding at one setting.
@@ -505,13 +571,32 @@ pub fn study_family(
     progress: &dyn Progress,
 ) -> Result<FamilyStudy, TradeoffError> {
     let settings = family.settings(config.quick);
+    let needs_source = || {
+        source.ok_or_else(|| TradeoffError::NeedsSimulation {
+            family: family.stem(),
+        })
+    };
     let transduced = match family {
+        // One simulation, every transduction of it, each costing its transduction time.
         Family::Transduction => {
-            let source = source.ok_or_else(|| TradeoffError::NeedsSimulation {
-                family: family.stem(),
-            })?;
+            let source = needs_source()?;
             let configs: Vec<_> = settings.iter().filter_map(|s| s.transduction).collect();
-            Some(transduction_sets(source, &configs, progress)?)
+            Some(resimulate(source, &source.params, &configs, progress)?.0)
+        }
+        // One simulation per setting, each costing the whole pass.
+        Family::Simulator => {
+            let source = needs_source()?;
+            let mut sets = Vec::with_capacity(settings.len());
+            for solver in settings.iter().filter_map(|s| s.solver) {
+                let params = SimParams {
+                    solver,
+                    ..source.params
+                };
+                let (mut set, pass) =
+                    resimulate(source, &params, &[paper_transduction()], progress)?;
+                sets.push((set.remove(0).0, pass.wall_s));
+            }
+            Some(sets)
         }
         _ => None,
     };
@@ -582,7 +667,7 @@ pub fn study_family(
                     relative_error(&reference_matrices[st], &scored[st].1)
                 }
             }
-            Family::Afferents(_) | Family::Transduction => match i {
+            Family::Afferents(_) | Family::Transduction | Family::Simulator => match i {
                 0 => NumericalError::default(),
                 _ => spike_time_error(&reference_set, &set),
             },
