@@ -48,6 +48,16 @@ fn bare_tradeoff_quick_measures_accuracy_against_cost_for_each_family() {
             "artificial/afferents-lif/afferents-lif",
             "| exact 0.1 ms f64 event (reference)",
         ),
+        (
+            "### Transduction",
+            "artificial/transduction/transduction",
+            "| pool 20 ms, BA 5 ms (reference)",
+        ),
+        (
+            "### Simulator",
+            "artificial/simulator/simulator",
+            "| tolerance 0.02, mechanics 0.25 ms, shear 25 µs (reference)",
+        ),
     ] {
         let rows = table_rows(&summary, heading);
         assert!(rows.len() > 2, "{heading}: {rows:?}");

@@ -67,7 +67,7 @@ pub struct StudyArgs {
         long,
         value_enum,
         value_delimiter = ',',
-        default_value = "vr,afferents"
+        default_value = "vr,afferents,transduction,simulator"
     )]
     families: Vec<FamilyArg>,
     /// The afferent model of the afferent family.
