@@ -112,3 +112,22 @@ fn subcommands_still_run_alone() {
     let (ok, _, _) = neurotac(&["tradeoff", "--quick", "neurons"]);
     assert!(!ok);
 }
+
+#[test]
+fn families_that_re_simulate_refuse_a_recorded_dataset() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("report");
+    let (ok, _, stderr) = neurotac(&[
+        "tradeoff",
+        "--dataset",
+        dir.path().join("recording").to_str().unwrap(),
+        "--families",
+        "vr,transduction",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(!ok);
+    assert!(stderr.contains("need --set, not --dataset"), "{stderr}");
+    assert_eq!(stderr.trim().lines().count(), 1, "{stderr}");
+    assert!(!out.exists());
+}

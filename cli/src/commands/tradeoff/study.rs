@@ -62,14 +62,10 @@ pub struct StudyArgs {
     /// Study a recorded dataset instead: one folder per texture class, one event file per slide.
     #[arg(long)]
     dataset: Option<PathBuf>,
-    /// The families to sweep, comma-separated.
-    #[arg(
-        long,
-        value_enum,
-        value_delimiter = ',',
-        default_value = "vr,afferents,transduction,simulator"
-    )]
-    families: Vec<FamilyArg>,
+    /// The families to sweep, comma-separated (default: all four with --set, vr,afferents with
+    /// --dataset).
+    #[arg(long, value_enum, value_delimiter = ',')]
+    families: Option<Vec<FamilyArg>>,
     /// The afferent model of the afferent family.
     #[arg(long, value_parser = args::menu::<NeuronKind>(), default_value = "lif")]
     afferents: NeuronKind,
@@ -120,7 +116,12 @@ pub fn run(args: StudyArgs) -> anyhow::Result<()> {
         None => args.set.sets().into_iter().map(Source::Simulated).collect(),
     };
     let mut families = Vec::new();
-    for f in &args.families {
+    let asked = match (&args.families, &args.dataset) {
+        (Some(f), _) => f.clone(),
+        (None, Some(_)) => vec![FamilyArg::Vr, FamilyArg::Afferents],
+        (None, None) => FamilyArg::value_variants().to_vec(),
+    };
+    for f in &asked {
         let family = match f {
             FamilyArg::Vr => Family::VanRossum,
             FamilyArg::Afferents => Family::Afferents(args.afferents),
