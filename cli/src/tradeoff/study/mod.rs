@@ -837,7 +837,13 @@ mod tests {
             pool_window_us: 40_000,
             ..paper_transduction()
         };
-        let sets = transduction_sets(&source, &[paper_transduction(), wider], &NoProgress).unwrap();
+        let (sets, _) = resimulate(
+            &source,
+            &source.params,
+            &[paper_transduction(), wider],
+            &NoProgress,
+        )
+        .unwrap();
         let (paper, _) = &sets[0];
         assert_eq!(paper.observations(), cached.observations());
         assert_eq!(paper.labels(), cached.labels());
