@@ -75,8 +75,9 @@ pub struct SettingResult {
     pub label: String,
     /// The reference setting (its accuracy is the full pipeline's).
     pub reference: bool,
-    /// Wall time of the encoding and the four codings' distances and leave-one-out (s); for
-    /// the transduction family plus the transduction of every trial (summed over trials).
+    /// Wall time of the encoding and the four codings' distances and leave-one-out (s); plus,
+    /// for the simulator family, its simulation pass, and for the transduction family, the
+    /// transduction of every trial (summed over trials, over the worker threads).
     pub wall_s: f64,
     /// Process CPU time of the same (s), when known.
     pub cpu_s: Option<f64>,
@@ -160,6 +161,9 @@ fn chosen_parameters(result: &SetResult) -> CodingParameters {
         cos: bayes.map(|b| b.best_cos),
     }
 }
+
+/// What making a setting's set cost: wall and CPU seconds.
+type Cost = (f64, Option<f64>);
 
 /// A coding's distance matrix and its leave-one-out predictions.
 type Scored = (CodingName, Array2<f64>, Vec<usize>);
@@ -251,12 +255,20 @@ pub fn study_family(
             family: family.stem(),
         })
     };
-    let transduced = match family {
-        // One simulation, every transduction of it, each costing its transduction time.
+    // Each setting's own set when the family makes one, with its cost (wall s, CPU s).
+    let made: Option<Vec<(SpikeDataset, Cost)>> = match family {
+        // One simulation, every transduction of it, each costing its transduction time: the
+        // per-trial times summed (CPU), and that over the worker threads (wall).
         Family::Transduction => {
             let source = needs_source()?;
             let configs: Vec<_> = settings.iter().filter_map(|s| s.transduction).collect();
-            Some(resimulate(source, &source.params, &configs, progress)?.0)
+            let threads = rayon::current_num_threads().max(1) as f64;
+            let (sets, _) = resimulate(source, &source.params, &configs, progress)?;
+            Some(
+                (sets.into_iter())
+                    .map(|(set, s)| (set, (s / threads, Some(s))))
+                    .collect(),
+            )
         }
         // One simulation per setting, each costing the whole pass.
         Family::Simulator => {
@@ -269,15 +281,14 @@ pub fn study_family(
                 };
                 let (mut set, pass) =
                     resimulate(source, &params, &[paper_transduction()], progress)?;
-                sets.push((set.remove(0).0, pass.wall_s));
+                sets.push((set.remove(0).0, (pass.wall_s, pass.cpu_s)));
             }
             Some(sets)
         }
         _ => None,
     };
-    // The set each setting encodes, and the time it took to make it (transduction).
-    let input = |i: usize| transduced.as_ref().map_or(data, |t| &t[i].0);
-    let making_s = |i: usize| transduced.as_ref().map_or(0.0, |t| t[i].1);
+    let input = |i: usize| made.as_ref().map_or(data, |t| &t[i].0);
+    let making = |i: usize| made.as_ref().map_or((0.0, Some(0.0)), |t| t[i].1);
     let data = input(0);
     let knn =
         Knn::new(config.pipeline.k).map_err(neurotac_experiments::error::ExperimentError::from)?;
@@ -350,8 +361,8 @@ pub fn study_family(
         rows.push(SettingResult {
             label: setting.label(),
             reference: i == 0,
-            wall_s: timing.wall_s + making_s(i),
-            cpu_s: timing.cpu_s.map(|c| c + making_s(i)),
+            wall_s: timing.wall_s + making(i).0,
+            cpu_s: timing.cpu_s.zip(making(i).1).map(|(a, b)| a + b),
             neuron_updates: setting.afferents.map(|_| set.neuron_updates),
             synaptic_events: setting.afferents.map(|_| taxel_spikes),
             output_spikes: set.trains.iter().map(|t| t.total_spikes() as u64).sum(),
