@@ -1,4 +1,4 @@
-//! `neurotac tradeoff` without a subcommand: every trade, one summary page.
+//! `neurotac tradeoff` without a subcommand: the accuracy ↔ cost study; with one, one trade.
 
 mod common;
 use common::neurotac;
@@ -17,52 +17,86 @@ fn table_rows<'a>(markdown: &'a str, heading: &str) -> Vec<&'a str> {
 }
 
 #[test]
-fn bare_tradeoff_quick_writes_one_summary_with_three_pareto_tables() {
+fn bare_tradeoff_quick_measures_accuracy_against_cost_for_each_family() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("report");
-    let (ok, stdout, stderr) = neurotac(&["tradeoff", "--quick", "--out", out.to_str().unwrap()]);
+    let cache = dir.path().join("cache");
+    let (ok, stdout, stderr) = neurotac(&[
+        "tradeoff",
+        "--quick",
+        "--trials",
+        "3",
+        "--epochs",
+        "10",
+        "--cache",
+        cache.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
     assert!(ok, "{stderr}");
     let summary = std::fs::read_to_string(out.join("tradeoff.md")).unwrap();
-    assert!(stdout.contains("# Speed ↔ accuracy trade-offs"), "{stdout}");
-    for (heading, files) in [
-        ("## Neuron simulation", "neurons/neurons"),
-        ("## Van Rossum distance", "vr/vr"),
-        ("## Simulator step tolerance", "simulator/simulator"),
+    assert!(stdout.contains("# Speed ↔ accuracy: classification accuracy against cost"));
+    assert!(summary.contains("--quick**: few samples per class, so the intervals are wide"));
+    for (heading, dir, reference) in [
+        (
+            "### Van Rossum distance",
+            "artificial/vr/vr",
+            "| exact (reference)",
+        ),
+        (
+            "### LIF afferent layer",
+            "artificial/afferents-lif/afferents-lif",
+            "| exact 0.1 ms f64 event (reference)",
+        ),
+        (
+            "### Transduction",
+            "artificial/transduction/transduction",
+            "| pool 20 ms, BA 5 ms (reference)",
+        ),
+        (
+            "### Simulator",
+            "artificial/simulator/simulator",
+            "| tolerance 0.02, mechanics 0.25 ms, shear 25 µs (reference)",
+        ),
     ] {
         let rows = table_rows(&summary, heading);
-        assert!(!rows.is_empty(), "empty Pareto table under {heading}");
-        for ext in ["csv", "md", "svg"] {
-            let link = format!("({files}.{ext})");
-            assert!(summary.contains(&link), "no link {link}");
-            assert!(
-                out.join(format!("{files}.{ext}")).is_file(),
-                "{files}.{ext}"
-            );
+        assert!(rows.len() > 2, "{heading}: {rows:?}");
+        // The reference first, one recommended row, and every row has four codings'
+        // accuracy with an interval.
+        assert!(
+            rows[0].starts_with(reference)
+                || rows[0].starts_with(&format!("| **{}", &reference[2..])),
+            "{rows:?}"
+        );
+        assert_eq!(
+            rows.iter().filter(|r| r.contains('★')).count(),
+            1,
+            "{rows:?}"
+        );
+        assert!(
+            rows.iter().all(|r| r.matches(" [").count() == 4),
+            "{rows:?}"
+        );
+        for ext in ["csv", "md", "json", "svg", "png"] {
+            assert!(out.join(format!("{dir}.{ext}")).is_file(), "{dir}.{ext}");
         }
+        let csv = std::fs::read_to_string(out.join(format!("{dir}.csv"))).unwrap();
+        assert!(csv.starts_with("setting,reference,wall_s,cpu_s,neuron_updates,"));
+        assert!(csv.contains("spatiotemporal_wilson_low,spatiotemporal_wilson_high,spatiotemporal_b,spatiotemporal_c,spatiotemporal_p"));
+        assert_eq!(csv.lines().count(), rows.len() + 1);
+        let svg = std::fs::read_to_string(out.join(format!("{dir}.svg"))).unwrap();
+        assert!(svg.contains("recommended") && svg.contains("Wilson"));
     }
-    assert_eq!(summary.matches("How to choose:").count(), 3);
-    // Both neuron models have a front; the Van Rossum front holds exact and/or trace rows.
-    let neurons = table_rows(&summary, "## Neuron simulation");
-    assert!(neurons.iter().any(|r| r.starts_with("| lif |")));
-    assert!(neurons.iter().any(|r| r.starts_with("| izhikevich |")));
-    let vr = table_rows(&summary, "## Van Rossum distance");
-    assert!(
-        vr.iter()
-            .all(|r| r.starts_with("| exact |") || r.starts_with("| traces |")),
-        "{vr:?}"
-    );
-    let csv = std::fs::read_to_string(out.join("vr/vr.csv")).unwrap();
-    assert!(csv.starts_with("method,trace_dt_s,precision,wall_s,cpu_s,loo_accuracy,"));
-    assert_eq!(csv.lines().count(), 1 + 1 + 2, "{csv}");
-    // Every simulator row shown is on the front, as the per-trade CSV says.
-    let simulator = table_rows(&summary, "## Simulator step tolerance");
-    assert!(
-        simulator.iter().all(|r| r.ends_with("| true |")),
-        "{simulator:?}"
-    );
-    let csv = std::fs::read_to_string(out.join("simulator/simulator.csv")).unwrap();
-    let on_front = csv.lines().filter(|l| l.ends_with(",true")).count();
-    assert_eq!(on_front, simulator.len());
+    // An existing report is refused without --force, before any work.
+    let (ok, _, stderr) = neurotac(&[
+        "tradeoff",
+        "--quick",
+        "--cache",
+        cache.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(!ok && stderr.contains("tradeoff.md"), "{stderr}");
 }
 
 #[test]
@@ -77,4 +111,23 @@ fn subcommands_still_run_alone() {
     // The bare command's options belong to it alone.
     let (ok, _, _) = neurotac(&["tradeoff", "--quick", "neurons"]);
     assert!(!ok);
+}
+
+#[test]
+fn families_that_re_simulate_refuse_a_recorded_dataset() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("report");
+    let (ok, _, stderr) = neurotac(&[
+        "tradeoff",
+        "--dataset",
+        dir.path().join("recording").to_str().unwrap(),
+        "--families",
+        "vr,transduction",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(!ok);
+    assert!(stderr.contains("need --set, not --dataset"), "{stderr}");
+    assert_eq!(stderr.trim().lines().count(), 1, "{stderr}");
+    assert!(!out.exists());
 }

@@ -26,12 +26,12 @@
 //! - dt = 0.1 ms: below a tenth of both time constants.
 
 use crate::error::ExperimentError;
-use crate::neuron_setup::NeuronKind;
+use crate::neuron_setup::{NeuronKind, Precision};
 use neurotac_core::{
     Connectivity, ExpSynapse, GraphError, InputId, MultiSpikeTrain, NetworkBuilder, NetworkConfig,
     PopulationId, ReadoutId, SpikeArrayInput, SpikeDataset, SpikeRecorder, SpikeSource,
 };
-use neurotac_neurons::{AfferentPreset, BlockPopulation, FamilyVisitor, ModelFamily};
+use neurotac_neurons::{AfferentPreset, BlockPopulation, FamilyVisitor, Integrator, ModelFamily};
 use rayon::prelude::*;
 
 /// How long an afferent network keeps running after a sample's duration (s), so the
@@ -55,6 +55,15 @@ pub struct AfferentConfig {
     pub tau_syn_s: f64,
     /// Time step (s). Default 0.1 ms.
     pub dt_s: f64,
+    /// Integrator. Default the model's ([`NeuronKind::default_integrator`]: exact for LIF,
+    /// Izhikevich's 2003 scheme for Izhikevich).
+    pub integrator: Integrator,
+    /// Arithmetic of the afferents' state. Default f64.
+    pub precision: Precision,
+    /// Step the afferents event-driven in the readout network
+    /// ([`NetworkBuilder::event_driven`]: only afferents with input are updated) rather than
+    /// every afferent every step. Default `true`.
+    pub event_driven: bool,
 }
 
 /// A family's afferent preset without its parameters.
@@ -92,6 +101,9 @@ impl AfferentConfig {
             weight: model.visit(ReadAfferent).weight,
             tau_syn_s: 5e-3,
             dt_s: 1e-4,
+            integrator: model.default_integrator(),
+            precision: Precision::F64,
+            event_driven: true,
         }
     }
 
@@ -128,7 +140,12 @@ pub fn afferent_population(
     n: usize,
     config: AfferentConfig,
 ) -> Result<PopulationId, GraphError> {
-    let afferents = config.model.visit(AddAfferents { builder, n })?;
+    let afferents = config.model.visit(AddAfferents {
+        builder,
+        n,
+        integrator: config.integrator,
+        precision: config.precision,
+    })?;
     builder.connect(
         input,
         afferents,
@@ -141,21 +158,33 @@ pub fn afferent_population(
 }
 
 /// Adds `n` afferents of a family to a network ([`afferent_population`]): its
-/// [`ModelFamily::afferent`] parameters and initial potential, default integrator, `f64`.
+/// [`ModelFamily::afferent`] parameters and initial potential, the configured integrator and
+/// precision.
 struct AddAfferents<'a> {
     builder: &'a mut NetworkBuilder,
     n: usize,
+    integrator: Integrator,
+    precision: Precision,
 }
 
 impl FamilyVisitor for AddAfferents<'_> {
     type Output = Result<PopulationId, GraphError>;
     fn visit<Fam: ModelFamily>(self) -> Self::Output {
         let preset = Fam::afferent();
-        self.builder.add_population(
-            "afferents",
-            BlockPopulation::<Fam::Model<f64>>::new(self.n, preset.params)
-                .with_initial_potential(preset.initial),
-        )
+        match self.precision {
+            Precision::F64 => self.builder.add_population(
+                "afferents",
+                BlockPopulation::<Fam::Model<f64>>::new(self.n, preset.params)
+                    .with_integrator(self.integrator)
+                    .with_initial_potential(preset.initial),
+            ),
+            Precision::F32 => self.builder.add_population(
+                "afferents",
+                BlockPopulation::<Fam::Model<f32>>::new(self.n, preset.params)
+                    .with_integrator(self.integrator)
+                    .with_initial_potential(preset.initial),
+            ),
+        }
     }
 }
 

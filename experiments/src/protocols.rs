@@ -65,6 +65,69 @@ pub fn wilson_interval(hits: usize, n: usize, z: f64) -> (f64, f64) {
     ((centre - half).max(0.0), (centre + half).min(1.0))
 }
 
+/// McNemar's exact test of two classifiers on the same samples: `b` samples the first got
+/// right and the second wrong, `c` the reverse, and the two-sided p-value of the exact
+/// binomial test of `b` against `Bin(b + c, ½)`: `min(1, 2 · P[X ≤ min(b, c)])`
+/// ([`mcnemar_exact_p`]).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct McNemar {
+    /// Samples the first classifier (the reference) got right and the second wrong.
+    pub b: usize,
+    /// Samples the second got right and the first wrong.
+    pub c: usize,
+    /// Two-sided exact p-value (1 when `b = c`).
+    pub p: f64,
+}
+
+impl McNemar {
+    /// The test of `predicted` against `reference`, both predictions of the samples whose
+    /// classes are `truth`, in the same order; `None` when the three lengths differ.
+    pub fn of(reference: &[usize], predicted: &[usize], truth: &[usize]) -> Option<Self> {
+        if reference.len() != truth.len() || predicted.len() != truth.len() {
+            return None;
+        }
+        let (mut b, mut c) = (0, 0);
+        for ((&r, &p), &t) in reference.iter().zip(predicted).zip(truth) {
+            match (r == t, p == t) {
+                (true, false) => b += 1,
+                (false, true) => c += 1,
+                _ => {}
+            }
+        }
+        Some(Self {
+            b,
+            c,
+            p: mcnemar_exact_p(b, c),
+        })
+    }
+}
+
+/// The two-sided exact McNemar p-value of `b` and `c` discordant pairs:
+/// `min(1, 2 · Σ_{i ≤ min(b, c)} C(b + c, i) / 2^(b + c))`, summed in log space so that any
+/// count is finite; 1 when `b + c = 0`.
+pub fn mcnemar_exact_p(b: usize, c: usize) -> f64 {
+    let n = b + c;
+    let k = b.min(c);
+    // C(n, i) / 2^n term by term, C(n, i + 1) = C(n, i) · (n − i) / (i + 1): from 2^−n itself
+    // (exact) while it is a normal f64, else in log space.
+    let step = |i: usize| (n - i) as f64 / (i + 1) as f64;
+    let mut tail = 0.0;
+    if n <= 1000 {
+        let mut term = 0.5f64.powi(n as i32);
+        for i in 0..=k {
+            tail += term;
+            term *= step(i);
+        }
+    } else {
+        let mut ln_term = n as f64 * 0.5f64.ln();
+        for i in 0..=k {
+            tail += ln_term.exp();
+            ln_term += step(i).ln();
+        }
+    }
+    (2.0 * tail).min(1.0)
+}
+
 impl Accuracy {
     /// The accuracy of `predicted` against `truth` (same length).
     pub fn of(predicted: &[usize], truth: &[usize]) -> Self {
@@ -302,6 +365,36 @@ pub fn evaluate(
 mod tests {
     use super::*;
     use ndarray::Array2;
+
+    #[test]
+    fn mcnemar_exact_p_values_match_the_binomial_tables() {
+        // 0 of 6 discordant pairs one way: 2 · (1/2)^6.
+        assert_eq!(mcnemar_exact_p(0, 6), 0.03125);
+        assert_eq!(mcnemar_exact_p(6, 0), 0.03125);
+        // Balanced discordance is no evidence at all.
+        for n in [0, 1, 5, 40] {
+            assert_eq!(mcnemar_exact_p(n, n), 1.0);
+        }
+        // b = 2, c = 10: 2 · (1 + 12 + 66) / 4096 = 0.03857…
+        assert!((mcnemar_exact_p(2, 10) - 158.0 / 4096.0).abs() < 1e-12);
+        // b = 1, c = 9: 2 · 11 / 1024.
+        assert!((mcnemar_exact_p(1, 9) - 22.0 / 1024.0).abs() < 1e-12);
+        // Large counts stay finite and tiny where the imbalance is large.
+        let p = mcnemar_exact_p(100, 2000);
+        assert!((0.0..1e-300).contains(&p));
+        assert!((mcnemar_exact_p(1000, 1001) - 1.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn mcnemar_counts_only_the_discordant_samples() {
+        let truth = [0, 1, 2, 0, 1, 2];
+        let reference = [0, 1, 2, 1, 1, 0]; // right on 0, 1, 2, 4
+        let other = [0, 2, 2, 0, 0, 2]; // right on 0, 2, 3, 5
+        let t = McNemar::of(&reference, &other, &truth).unwrap();
+        assert_eq!((t.b, t.c), (2, 2));
+        assert_eq!(t.p, 1.0);
+        assert!(McNemar::of(&reference, &other[..5], &truth).is_none());
+    }
 
     #[test]
     fn recall_rates_and_errors_are_read_from_the_rows() {

@@ -51,6 +51,7 @@ pub fn encode_offline(data: &SpikeDataset, vr_from: VrFrom) -> Result<EncodedSet
         readouts,
         path: "offline encoders (no network)".into(),
         vr_from,
+        neuron_updates: 0,
     })
 }
 
@@ -75,8 +76,9 @@ struct ReadoutNetwork {
     readers: Vec<SampleReader>,
 }
 
-/// One sample's output trains and each coding's readout of it (a set of one sample).
-type SampleReadouts = (MultiSpikeTrain, Vec<Box<dyn SetReadout>>);
+/// One sample's output trains, each coding's readout of it (a set of one sample) and the
+/// neuron updates its run took.
+type SampleReadouts = (MultiSpikeTrain, Vec<Box<dyn SetReadout>>, u64);
 
 impl ReadoutNetwork {
     fn build(
@@ -85,8 +87,9 @@ impl ReadoutNetwork {
     ) -> Result<Self, ExperimentError> {
         let n_channels = context.n_channels;
         let mut b = NetworkBuilder::new();
-        // Only afferents with input (or, Izhikevich, still settling to rest) are stepped.
-        b.event_driven(true);
+        // Only afferents with input (or, Izhikevich, still settling to rest) are stepped,
+        // unless the afferents ask to be clock-driven.
+        b.event_driven(afferents.is_none_or(|a| a.event_driven));
         let input = b.add_spike_input(
             "taxels",
             SpikeArrayInput::new(MultiSpikeTrain::empty(n_channels)),
@@ -122,7 +125,11 @@ impl ReadoutNetwork {
         let readouts = (self.readers.iter())
             .map(|read| read(n))
             .collect::<Result<_, _>>()?;
-        Ok((n.readout(self.trains)?.trains(), readouts))
+        Ok((
+            n.readout(self.trains)?.trains(),
+            readouts,
+            n.neuron_updates(),
+        ))
     }
 }
 
@@ -133,27 +140,26 @@ impl ReadoutNetwork {
 /// any thread count. `progress` is called once per sample.
 ///
 /// Without afferents each sample runs for its duration; with them for
-/// [`AFFERENT_TAIL_S`](crate::afferents::AFFERENT_TAIL_S) longer, and an afferent spike after
-/// the duration is an error ([`ExperimentError::DurationShorterThanData`]) as it is for any
-/// dataset.
+/// [`AFFERENT_TAIL_S`](crate::afferents::AFFERENT_TAIL_S) longer, and the encoded samples
+/// last that much longer too, so every coding reads the afferents' responses to the last taxel
+/// spikes.
 pub fn encode_through_graph(
     data: &SpikeDataset,
     afferents: Option<AfferentConfig>,
     vr_from: VrFrom,
     progress: &(dyn Fn() + Sync),
 ) -> Result<EncodedSet, ExperimentError> {
+    let tail_ms = match afferents {
+        Some(_) => (crate::afferents::AFFERENT_TAIL_S * 1e3).round() as u32,
+        None => 0,
+    };
     let context = ReadoutContext {
         n_channels: data.n_channels(),
-        duration_ms: sample_duration_ms(data, None)?,
+        duration_ms: sample_duration_ms(data, None)? + tail_ms,
         vr_from,
     };
     let duration_ms = context.duration_ms;
-    let run_s = duration_ms as f64 * 1e-3
-        + if afferents.is_some() {
-            crate::afferents::AFFERENT_TAIL_S
-        } else {
-            0.0
-        };
+    let run_s = duration_ms as f64 * 1e-3;
     let samples: Vec<SampleReadouts> = data
         .observations()
         .par_iter()
@@ -175,8 +181,10 @@ pub fn encode_through_graph(
     // Each coding's readouts of the whole set: its readout of the first sample, the others
     // appended in order (without samples, its offline readout of none).
     let mut readouts: Vec<Box<dyn SetReadout>> = Vec::new();
-    for (sample_trains, sample_readouts) in samples {
+    let mut neuron_updates = 0;
+    for (sample_trains, sample_readouts, updates) in samples {
         trains.push(sample_trains);
+        neuron_updates += updates;
         if readouts.is_empty() {
             readouts = sample_readouts;
             continue;
@@ -216,6 +224,7 @@ pub fn encode_through_graph(
             in_words(CodingName::ALL.len())
         ),
         vr_from,
+        neuron_updates,
     })
 }
 
@@ -295,11 +304,39 @@ mod tests {
         for config in NeuronKind::ALL.iter().map(|&k| AfferentConfig::of(k)) {
             let graph = encode_through_graph(&data, Some(config), VrFrom::Exact, &|| ()).unwrap();
             let run_s = data.duration_s().unwrap() + crate::afferents::AFFERENT_TAIL_S;
-            let recorded = afferent_dataset(&data, run_s, config, &|| ()).unwrap();
+            let mut recorded = afferent_dataset(&data, run_s, config, &|| ()).unwrap();
+            recorded.set_duration_s(run_s).unwrap();
             assert_same(&graph, &encode_offline(&recorded, VrFrom::Exact).unwrap());
             assert!(graph.path.contains("afferents"), "{}", graph.path);
             let means = graph.readout::<Vec<f64>>("intensive").unwrap();
             assert!(means.iter().map(|m| m[0]).sum::<f64>() > 0.0);
+        }
+    }
+
+    #[test]
+    fn afferent_responses_to_a_spike_at_the_end_of_a_sample_are_encoded() {
+        // A taxel spike in the last ms of the sample: its afferent spike comes after the
+        // sample's end, inside the tail the network runs for.
+        let sample = MultiSpikeTrain::from_channels(vec![vec![0.0995], vec![0.05]]).unwrap();
+        let mut data = SpikeDataset::new(
+            vec![sample.clone(), sample],
+            vec![0, 1],
+            vec!["a".into(), "b".into()],
+            Default::default(),
+        )
+        .unwrap();
+        data.set_duration_s(0.1).unwrap();
+        for config in NeuronKind::ALL.iter().map(|&k| AfferentConfig::of(k)) {
+            let set = encode_through_graph(&data, Some(config), VrFrom::Exact, &|| ()).unwrap();
+            let tail_ms = (crate::afferents::AFFERENT_TAIL_S * 1e3).round() as u32;
+            assert_eq!(set.duration_ms, 100 + tail_ms);
+            let late = set.trains[0].channel(0);
+            assert!(
+                late.iter().any(|&t| t > 0.1),
+                "{:?}: {late:?}",
+                config.model
+            );
+            assert!(set.neuron_updates > 0);
         }
     }
 

@@ -72,8 +72,8 @@ enum Command {
     Classify(classify::ClassifyArgs),
     /// Convert a spike dataset to numpy's .npz (flat arrays), JSON or binary, by extension.
     Export(export::ExportArgs),
-    /// Speed ↔ accuracy reports (tables and SVG plots); without a subcommand, all of them and
-    /// a summary (tradeoff.md).
+    /// Speed ↔ accuracy: without a subcommand, the classification accuracy of the four codings
+    /// against cost per swept family (tradeoff.md); subcommands: one trade's numerical error.
     Tradeoff(tradeoff::TradeoffArgs),
     /// Parameter searches (Δt brute force, Bayesian optimisation of τ and cos θ).
     #[command(subcommand)]

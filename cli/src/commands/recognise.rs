@@ -422,6 +422,7 @@ fn accuracy_chart(e: &OnlineEval) -> Chart {
                 marker: Marker::None,
                 filled: false,
                 line: true,
+                y_ranges: Vec::new(),
             })
             .collect(),
     }

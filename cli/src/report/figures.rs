@@ -28,6 +28,7 @@ pub fn raster_chart(trains: &MultiSpikeTrain, title: &str) -> Chart {
             marker: Marker::Tick,
             filled: true,
             line: false,
+            y_ranges: Vec::new(),
         }],
     }
 }
@@ -58,6 +59,7 @@ pub fn spatial_chart(trains: &MultiSpikeTrain, title: &str) -> Chart {
             marker: Marker::Square,
             filled: true,
             line: false,
+            y_ranges: Vec::new(),
         }],
     }
 }
@@ -100,6 +102,7 @@ pub fn temporal_chart(trains: &MultiSpikeTrain, window_s: f64, title: &str) -> C
             marker: Marker::None,
             filled: false,
             line: true,
+            y_ranges: Vec::new(),
         }],
     }
 }
@@ -288,6 +291,7 @@ pub fn dt_chart(set: &SetResult, dt: &DtSearch) -> Chart {
                 marker: Marker::None,
                 filled: false,
                 line: true,
+                y_ranges: Vec::new(),
             },
             Series {
                 label: format!("best: {} ms", sweep.best_window_ms),
@@ -296,6 +300,7 @@ pub fn dt_chart(set: &SetResult, dt: &DtSearch) -> Chart {
                 marker: Marker::Circle,
                 filled: true,
                 line: false,
+                y_ranges: Vec::new(),
             },
         ],
     }
@@ -314,6 +319,7 @@ pub fn bayes_charts(set: &SetResult, bayes: &BayesSearch) -> Vec<Chart> {
         marker: Marker::None,
         filled: false,
         line: true,
+        y_ranges: Vec::new(),
     };
     let evaluated =
         |label: &str, f: &dyn Fn(&neurotac_experiments::search::bayes::BayesStep) -> f64| Series {
@@ -323,6 +329,7 @@ pub fn bayes_charts(set: &SetResult, bayes: &BayesSearch) -> Vec<Chart> {
             marker: Marker::Circle,
             filled: true,
             line: false,
+            y_ranges: Vec::new(),
         };
     vec![
         Chart {

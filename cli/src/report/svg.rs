@@ -65,6 +65,8 @@ pub struct Series {
     pub filled: bool,
     /// Join the points with a line, in order.
     pub line: bool,
+    /// An error bar `(low, high)` on `y` for each point, in order (empty: none).
+    pub y_ranges: Vec<(f64, f64)>,
 }
 
 /// A palette of 10 distinguishable colours (Tableau 10).
@@ -287,6 +289,21 @@ impl Chart {
                     s.color
                 );
             }
+            for (&(x, _), &(low, high)) in s.points.iter().zip(&s.y_ranges) {
+                if !(usable(&self.x, x) && usable(&self.y, low) && usable(&self.y, high)) {
+                    continue;
+                }
+                let (x, y0, y1) = (px(x), py(low), py(high));
+                let _ = write!(
+                    g,
+                    r#"<path d="M{:.1},{y0:.1}H{:.1}M{x:.1},{y0:.1}V{y1:.1}M{:.1},{y1:.1}H{:.1}" stroke="{}" stroke-width="1" fill="none"/>"#,
+                    x - 3.0,
+                    x + 3.0,
+                    x - 3.0,
+                    x + 3.0,
+                    s.color
+                );
+            }
             for &(x, y) in &pts {
                 marker_svg(&mut g, s.marker, x, y, &s.color, s.filled);
             }
@@ -368,6 +385,7 @@ mod tests {
                 marker: Marker::Circle,
                 filled: true,
                 line: true,
+                y_ranges: Vec::new(),
             }],
         };
         let svg = chart.to_svg();

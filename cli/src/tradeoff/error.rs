@@ -1,5 +1,5 @@
 //! [`TradeoffError`]: why a trade could not be measured or written, shared by every trade,
-//! the table writers ([`super::table`]) and [`super::run_all`].
+//! the table writers ([`super::table`]) and the study ([`super::study`]).
 
 use crate::bench::BenchError;
 use crate::report::png::PngError;
@@ -28,6 +28,12 @@ pub enum TradeoffError {
         value: f64,
         /// What is allowed.
         expected: &'static str,
+    },
+    /// A family that re-simulates the set was asked of a recorded set.
+    #[error("the {family} family re-simulates its set: it needs a simulated set, not --dataset")]
+    NeedsSimulation {
+        /// The family.
+        family: String,
     },
     /// A figure could not be rasterised to PNG.
     #[error("cannot draw {path}")]

@@ -338,6 +338,7 @@ pub fn to_svg(rows: &[NeuronTradeoffRow]) -> String {
                             },
                             filled: precision == Precision::F64,
                             line: true,
+                            y_ranges: Vec::new(),
                         });
                     }
                 }

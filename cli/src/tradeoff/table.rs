@@ -199,6 +199,7 @@ pub fn error_series(label: &str, color: usize, marker: Marker, points: Vec<(f64,
         marker,
         filled: true,
         line: true,
+        y_ranges: Vec::new(),
     }
 }
 

@@ -8,12 +8,9 @@
 //! `|D_h − D| / D` over every pair of distinct samples with `D > 0` (mean and max). The Pareto
 //! front is taken on (matrix speed, LOO accuracy).
 
-use super::error::TradeoffError;
-use super::table::{Cell, Column, Table, error_series, mark_front, write_trade};
-use crate::report::svg::{Axis, Chart, Marker, panels};
+use super::table::{Cell, Column, Table, mark_front};
 use neurotac_core::coding::TraceRecord;
 use neurotac_core::distance::check_cos;
-use neurotac_core::io::AtomicFileSet;
 use neurotac_core::{CodingError, Knn, SpikeDataset};
 use neurotac_experiments::error::ExperimentError;
 use neurotac_experiments::neuron_setup::Precision;
@@ -21,7 +18,6 @@ use neurotac_experiments::protocols::Accuracy;
 use neurotac_experiments::search::bayes::VanRossumInput;
 use neurotac_experiments::timing::{Timing, timed};
 use rayon::prelude::*;
-use std::path::Path;
 
 /// What to measure.
 #[derive(Debug, Clone, PartialEq)]
@@ -179,32 +175,6 @@ pub fn measure(
     })
 }
 
-/// The quick settings: 60 samples, two trace steps, f64 only.
-pub fn quick(config: &mut VrTradeoffConfig) {
-    config.samples = Some(60);
-    config.trace_dts_s = vec![1e-3, 2e-2];
-    config.precisions = vec![Precision::F64];
-}
-
-/// [`measure`]s the trade and adds `vr.{csv,md,svg,png}` in `out` to `files`.
-pub fn report(
-    data: &SpikeDataset,
-    config: &VrTradeoffConfig,
-    out: &Path,
-    files: &mut AtomicFileSet,
-) -> Result<VrTradeoff, TradeoffError> {
-    let sweep = measure(data, config)?;
-    write_trade(
-        files,
-        out,
-        "vr",
-        &to_csv(&sweep),
-        &to_markdown(&sweep),
-        &to_svg(&sweep),
-    )?;
-    Ok(sweep)
-}
-
 /// The columns: the CSV has the wall and CPU times in seconds and the front mark, the Markdown
 /// table the matrix time as one text ([`Timing`]'s display), after the errors.
 const COLUMNS: [Column; 10] = [
@@ -287,44 +257,6 @@ pub fn to_markdown(sweep: &VrTradeoff) -> String {
     out.push_str("\nPareto front (matrix speed, LOO accuracy):\n\n");
     out.push_str(&pareto_table(sweep));
     out
-}
-
-/// LOO accuracy and mean relative error against matrix wall time, one point per method.
-pub fn to_svg(sweep: &VrTradeoff) -> String {
-    let points = |f: fn(&VrTradeoffRow) -> f64| -> Vec<(f64, f64)> {
-        sweep.rows.iter().map(|r| (r.timing.wall_s, f(r))).collect()
-    };
-    let accuracy = Chart {
-        title: format!(
-            "Van Rossum: exact vs traces ({} samples; LOO accuracy)",
-            sweep.samples
-        ),
-        x: Axis::log("wall time of the N × N matrix (s)"),
-        y: Axis::linear("leave-one-out accuracy"),
-        series: vec![error_series(
-            "methods",
-            0,
-            Marker::Circle,
-            points(|r| r.loo.mean),
-        )],
-    };
-    let error = Chart {
-        title: "relative error of the distance (traces vs exact)".into(),
-        x: Axis::log("wall time of the N × N matrix (s)"),
-        y: Axis::log("mean relative error"),
-        series: vec![error_series(
-            "mean",
-            1,
-            Marker::Square,
-            sweep
-                .rows
-                .iter()
-                .filter(|r| r.mean_relative_error > 0.0)
-                .map(|r| (r.timing.wall_s, r.mean_relative_error))
-                .collect(),
-        )],
-    };
-    panels(&[accuracy, error], 2)
 }
 
 #[cfg(test)]

@@ -105,6 +105,10 @@ pub struct EncodedSet {
     pub path: String,
     /// Van Rossum from traces or exact.
     pub vr_from: VrFrom,
+    /// Neuron updates the readout network did over every sample
+    /// ([`Network::neuron_updates`](neurotac_core::Network::neuron_updates)): 0 offline and
+    /// without an afferent layer. A count of work, not of what was read: equality ignores it.
+    pub neuron_updates: u64,
 }
 
 impl EncodedSet {
@@ -147,6 +151,7 @@ impl Clone for EncodedSet {
                 .collect(),
             path: self.path.clone(),
             vr_from: self.vr_from,
+            neuron_updates: self.neuron_updates,
         }
     }
 }

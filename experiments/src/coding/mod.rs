@@ -179,6 +179,7 @@ pub fn coding_distances(
         readouts: vec![(scheme.key(), scheme.encode(observations, &context)?)],
         path: "offline encoders (no network)".into(),
         vr_from: VrFrom::Exact,
+        neuron_updates: 0,
     };
     scheme.distances(&set, parameters, ranks)
 }

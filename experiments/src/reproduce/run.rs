@@ -220,8 +220,10 @@ pub fn run(
     })
 }
 
-/// The taxel spike dataset of `source`, its name, how it was made and its slide phases.
-fn load_source(
+/// The taxel spike dataset of `source` as [`run`] builds it (simulated sets from the cache
+/// or simulated, recorded folders transduced), its name, how it was made and its slide phases.
+/// Collective: every rank must call it.
+pub fn load_source(
     source: &Source,
     config: &ReproduceConfig,
     progress: &dyn Progress,

@@ -421,8 +421,15 @@ pub fn taxel_spikes(trial: &SimulatedTrial) -> Result<TaxelSpikes, SimulationErr
 /// Runs pixel events (from t = 0 µs) through [`Transducer`] with [`paper_transduction`], one
 /// pooling window at a time, tracking the receptive-field drift.
 pub fn transduce(events: &EventBuffer) -> Result<TaxelSpikes, SimulationError> {
+    transduce_with(events, paper_transduction())
+}
+
+/// [`transduce`] with other transduction settings (e.g. another pooling or BA window).
+pub fn transduce_with(
+    events: &EventBuffer,
+    config: TransductionConfig,
+) -> Result<TaxelSpikes, SimulationError> {
     let layout = TaxelLayout::neurotac_default();
-    let config = paper_transduction();
     let mut transducer = Transducer::new(&layout, config)?;
     let window = config.pool_window_us;
     let mut chunk = EventBuffer::new();

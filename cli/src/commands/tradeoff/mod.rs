@@ -1,7 +1,8 @@
-//! `neurotac tradeoff …`: speed ↔ accuracy reports, one subcommand per trade; without a
-//! subcommand, every trade and one summary page (`tradeoff.md`, see [`all`]). The trades
-//! themselves live in `neurotac_cli::tradeoff`; each handler maps its flags to the
-//! trade's config and prints.
+//! `neurotac tradeoff …`: without a subcommand, the accuracy ↔ cost study (classification
+//! accuracy of the four codings against cost, per swept family, summary `tradeoff.md`; see
+//! [`study`]); the subcommands measure the numerical error of one trade alone. The trades
+//! themselves live in `neurotac_cli::tradeoff`; each handler maps its flags to the trade's
+//! config and prints.
 //!
 //! To add a trade-off: the trade in `neurotac_cli::tradeoff`, then here a module with an
 //! `Args` struct (clap derive) and a `run(args) -> anyhow::Result<()>`, one variant in
@@ -9,9 +10,9 @@
 
 use clap::{Args, Subcommand};
 
-mod all;
 mod neurons;
 mod simulator;
+mod study;
 mod vr;
 
 /// `neurotac tradeoff [SUBCOMMAND]`.
@@ -21,7 +22,7 @@ pub struct TradeoffArgs {
     #[command(subcommand)]
     command: Option<TradeoffCommand>,
     #[command(flatten)]
-    all: all::AllArgs,
+    study: study::StudyArgs,
 }
 
 /// The trade-offs.
@@ -35,10 +36,10 @@ pub enum TradeoffCommand {
     Simulator(simulator::SimulatorArgs),
 }
 
-/// Runs one trade-off subcommand, or all of them without one.
+/// Runs one trade-off subcommand, or the study without one.
 pub fn run(args: TradeoffArgs) -> anyhow::Result<()> {
     match args.command {
-        None => all::run(args.all),
+        None => study::run(args.study),
         Some(TradeoffCommand::Neurons(args)) => neurons::run(args),
         Some(TradeoffCommand::Vr(args)) => vr::run(args),
         Some(TradeoffCommand::Simulator(args)) => simulator::run(args),
