@@ -60,15 +60,16 @@ pub use distance::VanRossum;
 pub use error::{
     CodingError, CoreError, DatasetError, DistanceError, ExistsError, FilePosition, GraphError,
     KnnError, ModelError, NestedError, Nesting, SameFileError, SpikeError, SpikeLocation,
-    error_chain,
+    SteppingFileError, error_chain,
 };
 pub use event::{Event, EventBuffer};
 pub use graph::{
-    Connectivity, CurrentId, CurrentInput, DecayingCurrents, ExpSynapse, InputId, Network,
-    NetworkBuilder, NetworkConfig, NodeId, PoissonInput, PopulationId, ProjectionId, Readout,
-    ReadoutContext, ReadoutId, ReadoutSource, RunSummary, SpikeArrayInput, SpikeRecorder,
-    SpikeSource, StateRecorder, StateSampler, StepView, Synapse, SynapticCurrentSampler,
-    SynapticDrive, SynapticTraceRecorder, TraceRecorder, TraceSampler, one_spike_weight,
+    Connectivity, Crossovers, CurrentId, CurrentInput, DecayingCurrents, ExpSynapse, InputId,
+    Network, NetworkBuilder, NetworkConfig, NodeId, PoissonInput, PopulationId, PopulationStepping,
+    ProjectionId, Readout, ReadoutContext, ReadoutId, ReadoutSource, RunSummary, SpikeArrayInput,
+    SpikeRecorder, SpikeSource, StateRecorder, StateSampler, StepView, Stepping, SteppingMode,
+    Synapse, SynapticCurrentSampler, SynapticDrive, SynapticTraceRecorder, TraceRecorder,
+    TraceSampler, one_spike_weight,
 };
 pub use io::{AtomicDir, AtomicFile, AtomicFileSet, Replace};
 pub use knn::{Decision, FittedKnn, Knn};

@@ -70,6 +70,7 @@ mod input;
 mod network;
 mod readout;
 mod running;
+mod stepping;
 mod synapse;
 mod weight;
 
@@ -84,6 +85,10 @@ pub use network::{DEFAULT_EPOCH_STEPS, Network, RunSummary};
 pub use readout::{
     Readout, ReadoutContext, SpikeRecorder, StateRecorder, StateSampler, StepView,
     SynapticCurrentSampler, SynapticTraceRecorder, TraceRecorder, TraceSampler,
+};
+pub use stepping::{
+    CLOCK_SAMPLE_STEPS, CROSSOVER_FILE_NAME, Crossovers, DECISION_WINDOW_STEPS, HYSTERESIS,
+    PopulationStepping, Stepping, SteppingMode,
 };
 pub use synapse::{Connectivity, ExpSynapse, Synapse};
 pub use weight::one_spike_weight;

@@ -5,6 +5,7 @@
 //! run-time index ([`RunningSource`]).
 
 use super::input::SpikeSource;
+use super::stepping::EventStepping;
 use crate::model::{NeuronModel, SpikeBuffer};
 use std::ops::Range;
 
@@ -30,9 +31,9 @@ pub(super) struct RunningNode {
     pub(super) incoming: Vec<usize>,
     /// Current sources injected into this node.
     pub(super) currents: Vec<usize>,
-    /// Event-driven populations: the neurons with synaptic input (see
-    /// [`NetworkBuilder::event_driven`](super::NetworkBuilder::event_driven)).
-    pub(super) active: Option<ActiveSet>,
+    /// Populations that can be stepped event-driven: their mode, active neurons and activity
+    /// (see [`NetworkBuilder::stepping`](super::NetworkBuilder::stepping)).
+    pub(super) active: Option<EventStepping>,
 }
 
 /// The neurons of an event-driven population whose synaptic current is nonzero, ascending.

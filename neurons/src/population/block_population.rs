@@ -319,6 +319,25 @@ impl<M: BlockModel> NeuronModel for BlockPopulation<M> {
         }
     }
 
+    /// Every neuron is current as of now (the clock-driven steps advanced them all), and the
+    /// neurons still settling are collected again.
+    fn resume_event_driven(&mut self) {
+        if self.current_to.len() != self.n {
+            return;
+        }
+        self.current_to.fill(self.steps);
+        self.restless.clear();
+        let (k, blocks) = (&self.k, &self.blocks);
+        self.restless.extend(
+            (0..self.n as u32)
+                .filter(|&i| !M::settled(k, &blocks[i as usize / BLOCK], i as usize % BLOCK)),
+        );
+    }
+
+    fn default_crossover(&self) -> f64 {
+        M::DEFAULT_CROSSOVER
+    }
+
     /// The neurons `range` as a population of their own, with the parameters, integrator,
     /// interpolation and initial potentials they have here (a seeded uniform draw gives each
     /// neuron the value it gets in the whole population), unprepared.
