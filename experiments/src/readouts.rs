@@ -23,7 +23,7 @@ use crate::menu::Menu;
 use neurotac_core::coding::{SpatiotemporalCoding, duration_ms_of};
 use neurotac_core::{
     InputId, MultiSpikeTrain, Network, NetworkBuilder, NetworkConfig, ReadoutId, ReadoutSource,
-    SpikeArrayInput, SpikeDataset,
+    SpikeArrayInput, SpikeDataset, Stepping,
 };
 use rayon::prelude::*;
 
@@ -85,8 +85,9 @@ impl ReadoutNetwork {
     ) -> Result<Self, ExperimentError> {
         let n_channels = context.n_channels;
         let mut b = NetworkBuilder::new();
-        // Only afferents with input (or, Izhikevich, still settling to rest) are stepped.
-        b.event_driven(true);
+        // Each afferent population picks clock- or event-driven stepping from its measured
+        // activity (the models' built-in crossovers).
+        b.stepping(Stepping::auto());
         let input = b.add_spike_input(
             "taxels",
             SpikeArrayInput::new(MultiSpikeTrain::empty(n_channels)),

@@ -15,7 +15,7 @@ const DT: f64 = 1e-4;
 const N: usize = 1000;
 /// The crossover the tests decide with (a fixed number, so the modes do not depend on the
 /// machine's measured crossover).
-const CROSSOVER: f64 = 0.05;
+const CROSSOVER: f64 = 0.04;
 
 /// `N` taxel channels; channel `c` fires as a Poisson train at 40 Hz (seeded) during those of
 /// the `phases` `(from_s, to_s, active)` whose `active` fraction of channels (evenly spaced)
@@ -72,8 +72,8 @@ fn run(
 
 fn auto() -> Stepping {
     let mut c = Crossovers::default();
-    c.set("LIF", CROSSOVER).unwrap();
-    c.set("Izhikevich", CROSSOVER).unwrap();
+    c.set(lif().model_name(), CROSSOVER).unwrap();
+    c.set(izhikevich().model_name(), CROSSOVER).unwrap();
     Stepping::Auto(c)
 }
 

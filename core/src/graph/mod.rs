@@ -87,8 +87,8 @@ pub use readout::{
     SynapticCurrentSampler, SynapticTraceRecorder, TraceRecorder, TraceSampler,
 };
 pub use stepping::{
-    CLOCK_SAMPLE_STEPS, CROSSOVER_FILE_NAME, Crossovers, DECISION_WINDOW_STEPS, HYSTERESIS,
-    PopulationStepping, Stepping, SteppingMode,
+    CLOCK_SAMPLE_STEPS, CROSSOVER_FILE_NAME, Crossovers, DECISION_WINDOW_STEPS, EVENT_CHECK_STEPS,
+    HYSTERESIS, PopulationStepping, Stepping, SteppingMode,
 };
 pub use synapse::{Connectivity, ExpSynapse, Synapse};
 pub use weight::one_spike_weight;

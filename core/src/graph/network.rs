@@ -158,11 +158,15 @@ impl Network {
     pub fn stepping_report(&self) -> Vec<PopulationStepping> {
         self.nodes
             .iter()
-            .filter(|n| matches!(n.kind, RunningKind::Population(_)))
-            .map(|n| {
+            .filter_map(|n| match &n.kind {
+                RunningKind::Population(m) => Some((n, m.model_name())),
+                RunningKind::Spikes(_) => None,
+            })
+            .map(|(n, model)| {
                 let a = n.active.as_ref();
                 PopulationStepping {
                     population: n.name.clone(),
+                    model,
                     mode: match a {
                         Some(a) if a.event => SteppingMode::Event,
                         _ => SteppingMode::Clock,
@@ -539,9 +543,15 @@ impl Network {
             }
             if let RunningKind::Population(m) = &mut n.kind {
                 if let Some(a) = n.active.as_mut().filter(|a| a.samples(k)) {
-                    let active =
-                        active_neurons(&self.projections, &n.incoming, n.input.len()).count();
-                    a.count(active, n.input.len());
+                    let len = n.input.len();
+                    let active = match n.incoming[..] {
+                        // One projection: a loop the compiler vectorises.
+                        [only] => (self.projections[only].current[..len].iter())
+                            .filter(|&&c| c != 0.0)
+                            .count(),
+                        _ => active_neurons(&self.projections, &n.incoming, len).count(),
+                    };
+                    a.count(active, len);
                 }
                 self.neuron_updates += n.input.len() as u64;
                 let slot = (k % n.history.len() as u64) as usize;

@@ -35,7 +35,7 @@ use neurotac_core::coding::SpatiotemporalCoding;
 use neurotac_core::knn::FittedKnn;
 use neurotac_core::{
     EventBuffer, InputId, MultiSpikeTrain, Network, NetworkBuilder, NetworkConfig, ReadoutId,
-    ReadoutSource, SpikeArrayInput, SpikeDataset,
+    ReadoutSource, SpikeArrayInput, SpikeDataset, Stepping,
 };
 use neurotac_sensor::davis::{DavisStream, Transport};
 use neurotac_sensor::format::EventReader;
@@ -471,7 +471,7 @@ fn live_network(
 ) -> Result<(Network, InputId, ReadoutId<SpatiotemporalCoding>), ExperimentError> {
     let n = training.n_channels();
     let mut b = NetworkBuilder::new();
-    b.event_driven(true);
+    b.stepping(Stepping::auto());
     let input = b.add_spike_input("taxels", SpikeArrayInput::new(MultiSpikeTrain::empty(n)))?;
     let source: ReadoutSource = match training.afferents {
         None => input.into(),
