@@ -8,9 +8,9 @@
 use crate::budget::{self, BudgetError};
 use neurotac_core::ranks::all_gather_f64;
 use neurotac_core::{
-    Connectivity, ExpSynapse, GraphError, ModelError, MultiSpikeTrain, Network, NetworkBuilder,
-    NetworkConfig, PopulationId, PopulationStepping, Ranks, RanksError, ReadoutId, SpikeArrayInput,
-    SpikeRecorder, Stepping,
+    Connectivity, Crossovers, ExpSynapse, GraphError, ModelError, MultiSpikeTrain, Network,
+    NetworkBuilder, NetworkConfig, PopulationId, PopulationStepping, Ranks, RanksError, ReadoutId,
+    SpikeArrayInput, SpikeRecorder, Stepping,
 };
 use neurotac_experiments::afferents::{AfferentConfig, afferent_population};
 use neurotac_experiments::neuron_setup::{NeuronKind, NeuronSetup, Precision};
@@ -230,23 +230,45 @@ pub fn afferent_network(
     ))
 }
 
-/// The afferent pipeline (`n` taxels → exponential synapses → `n` afferents of `config`, f64)
-/// with the fraction `active` of the taxels firing at `rate_hz` (seed `seed`), run for
-/// `duration_s` at `dt_s` clock-driven, event-driven and automatically
-/// ([`NetworkBuilder::stepping`], [`Stepping::Auto`] with `stepping`'s crossovers) on one
-/// thread, each the fastest of `repeats` interleaved runs; the spikes are compared.
-#[allow(clippy::too_many_arguments)]
+/// The settings of the afferent pipeline bench ([`afferent_activity`], [`afferent_crossover`]).
+#[derive(Debug, Clone)]
+pub struct ActivityBench {
+    /// The afferents.
+    pub config: AfferentConfig,
+    /// Taxels (= afferents).
+    pub n: usize,
+    /// Poisson rate of the firing taxels (Hz).
+    pub rate_hz: f64,
+    /// Simulated duration of each run (s).
+    pub duration_s: f64,
+    /// Time step (s).
+    pub dt_s: f64,
+    /// Seed of the taxel trains.
+    pub seed: u64,
+    /// Runs of each mode, interleaved; the fastest is kept.
+    pub repeats: usize,
+    /// The crossovers of the automatic runs ([`Stepping::Auto`]).
+    pub crossovers: Crossovers,
+}
+
+/// The afferent pipeline of `bench` (`n` taxels → exponential synapses → `n` afferents, f64)
+/// with the fraction `active` of the taxels firing, run clock-driven, event-driven and
+/// automatically ([`NetworkBuilder::stepping`]) on one thread, each the fastest of
+/// `bench.repeats` interleaved runs; the spikes are compared.
 pub fn afferent_activity(
-    config: AfferentConfig,
-    n: usize,
+    bench: &ActivityBench,
     active: f64,
-    rate_hz: f64,
-    duration_s: f64,
-    dt_s: f64,
-    seed: u64,
-    repeats: usize,
-    crossovers: &neurotac_core::Crossovers,
 ) -> Result<ActivityBenchResult, BenchError> {
+    let ActivityBench {
+        config,
+        n,
+        rate_hz,
+        duration_s,
+        dt_s,
+        seed,
+        repeats,
+        ref crossovers,
+    } = *bench;
     for (what, value, ok) in [
         ("activity", active, (0.0..=1.0).contains(&active)),
         ("rate_hz", rate_hz, rate_hz.is_finite() && rate_hz >= 0.0),
@@ -353,22 +375,10 @@ pub struct CrossoverBenchResult {
 /// Sweeps [`CROSSOVER_SWEEP`] with [`afferent_activity`] (stopping once event-driven stepping
 /// is 1.5× slower than clock-driven) and finds the measured activity at which the two modes
 /// cost the same.
-#[allow(clippy::too_many_arguments)]
-pub fn afferent_crossover(
-    config: AfferentConfig,
-    n: usize,
-    rate_hz: f64,
-    duration_s: f64,
-    dt_s: f64,
-    seed: u64,
-    repeats: usize,
-    crossovers: &neurotac_core::Crossovers,
-) -> Result<CrossoverBenchResult, BenchError> {
+pub fn afferent_crossover(bench: &ActivityBench) -> Result<CrossoverBenchResult, BenchError> {
     let mut points: Vec<ActivityBenchResult> = Vec::new();
     for active in CROSSOVER_SWEEP {
-        let p = afferent_activity(
-            config, n, active, rate_hz, duration_s, dt_s, seed, repeats, crossovers,
-        )?;
+        let p = afferent_activity(bench, active)?;
         let past = p.speedup < 1.0 / 1.5;
         points.push(p);
         if past {

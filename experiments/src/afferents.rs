@@ -27,12 +27,15 @@
 
 use crate::error::ExperimentError;
 use crate::neuron_setup::NeuronKind;
+use neurotac_core::graph::CROSSOVER_FILE_NAME;
 use neurotac_core::{
-    Connectivity, ExpSynapse, GraphError, InputId, MultiSpikeTrain, NetworkBuilder, NetworkConfig,
-    PopulationId, ReadoutId, SpikeArrayInput, SpikeDataset, SpikeRecorder, SpikeSource,
+    Connectivity, Crossovers, ExpSynapse, GraphError, InputId, MultiSpikeTrain, NetworkBuilder,
+    NetworkConfig, PopulationId, ReadoutId, SpikeArrayInput, SpikeDataset, SpikeRecorder,
+    SpikeSource, Stepping,
 };
 use neurotac_neurons::{AfferentPreset, BlockPopulation, FamilyVisitor, ModelFamily};
 use rayon::prelude::*;
+use std::sync::OnceLock;
 
 /// How long an afferent network keeps running after a sample's duration (s), so the
 /// responses to the last taxel spikes (synapse τ 5 ms plus the neuron's latency) are recorded.
@@ -159,8 +162,29 @@ impl FamilyVisitor for AddAfferents<'_> {
     }
 }
 
+/// How the readout networks of `reproduce` and `online` step their afferents: [`Stepping::Auto`] (each afferent population picks
+/// clock- or event-driven stepping from its measured activity) with the crossovers stored by
+/// `neurotac bench neurons --crossover` in the default cache folder
+/// ([`default_cache_dir`](crate::datasets::simulated::default_cache_dir)), else the models'
+/// built-in ones. Read once per process. The stepping never changes a result, only its speed,
+/// so a crossover file that cannot be used is reported in one line on stderr and the built-in
+/// crossovers are used.
+pub fn afferent_stepping() -> Stepping {
+    static STORED: OnceLock<Crossovers> = OnceLock::new();
+    let crossovers = STORED.get_or_init(|| {
+        let file = crate::datasets::simulated::default_cache_dir().join(CROSSOVER_FILE_NAME);
+        Crossovers::load(&file)
+            .unwrap_or_else(|e| {
+                eprintln!("warning: {e}; using the built-in crossovers");
+                None
+            })
+            .unwrap_or_default()
+    });
+    Stepping::Auto(crossovers.clone())
+}
+
 /// Builds `source` (one channel per taxel) → one-to-one exponential synapses → one afferent
-/// per taxel → spike recorder.
+/// per taxel → spike recorder, clock-driven.
 pub fn build_afferent_network(
     source: impl SpikeSource + 'static,
     config: AfferentConfig,

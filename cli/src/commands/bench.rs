@@ -4,8 +4,8 @@ use super::options::{SeedOption, ThreadsOption, help};
 use crate::commands::args;
 use clap::{Args, Subcommand};
 use neurotac_cli::bench::{
-    ActivityBenchResult, CubaConfig, afferent_activity, afferent_crossover, cuba, cuba_spikes,
-    neuron_throughput,
+    ActivityBench, ActivityBenchResult, CubaConfig, afferent_activity, afferent_crossover, cuba,
+    cuba_spikes, neuron_throughput,
 };
 use neurotac_cli::ceiling::{Ceiling, CeilingFractions};
 use neurotac_cli::peers::{PeerResult, brian2_method, brian2_precision, run_brian2};
@@ -448,23 +448,28 @@ fn activity_setup(a: &NeuronsArgs, flag: &str) -> anyhow::Result<PathBuf> {
     Ok(cache.join(CROSSOVER_FILE_NAME))
 }
 
+/// The pipeline bench's settings from the flags, with the crossovers stored in `file` (none
+/// when it does not exist; a file that cannot be used is an error naming it).
+fn activity_bench_settings(a: &NeuronsArgs, file: &Path) -> anyhow::Result<ActivityBench> {
+    Ok(ActivityBench {
+        config: AfferentConfig::of(a.model),
+        n: a.n,
+        rate_hz: a.rate,
+        duration_s: a.duration,
+        dt_s: a.dt,
+        seed: 1,
+        repeats: a.run.repeats,
+        crossovers: Crossovers::load(file)?.unwrap_or_default(),
+    })
+}
+
 /// `bench neurons --activity F`: the afferent pipeline clock-driven, event-driven and
 /// automatic.
 fn activity_bench(a: &NeuronsArgs, activity: f64) -> anyhow::Result<()> {
     let file = activity_setup(a, "--activity")?;
-    let crossovers = Crossovers::load(&file)?.unwrap_or_default();
-    let config = AfferentConfig::of(a.model);
-    let r = afferent_activity(
-        config,
-        a.n,
-        activity,
-        a.rate,
-        a.duration,
-        a.dt,
-        1,
-        a.run.repeats,
-        &crossovers,
-    )?;
+    let bench = activity_bench_settings(a, &file)?;
+    let (config, crossovers) = (bench.config, &bench.crossovers);
+    let r = afferent_activity(&bench, activity)?;
     if a.run.json {
         println!("{}", serde_json::to_string(&r)?);
         return Ok(());
@@ -543,18 +548,9 @@ fn activity_row(p: &ActivityBenchResult) -> String {
 /// `bench neurons --crossover`: sweeps the activity, finds the crossover, stores it.
 fn crossover_bench(a: &NeuronsArgs) -> anyhow::Result<()> {
     let file = activity_setup(a, "--crossover")?;
-    let mut crossovers = Crossovers::load(&file)?.unwrap_or_default();
-    let config = AfferentConfig::of(a.model);
-    let r = afferent_crossover(
-        config,
-        a.n,
-        a.rate,
-        a.duration,
-        a.dt,
-        1,
-        a.run.repeats,
-        &crossovers,
-    )?;
+    let bench = activity_bench_settings(a, &file)?;
+    let r = afferent_crossover(&bench)?;
+    let (config, mut crossovers) = (bench.config, bench.crossovers);
     crossovers.set(r.model, r.crossover)?;
     if let Some(dir) = file.parent() {
         std::fs::create_dir_all(dir).map_err(|e| {

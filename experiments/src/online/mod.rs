@@ -26,7 +26,7 @@
 
 pub mod eval;
 
-use crate::afferents::{AfferentConfig, afferent_population};
+use crate::afferents::{AfferentConfig, afferent_population, afferent_stepping};
 use crate::coding::Coding;
 use crate::coding::scheme::{LiveScorer, OnlineScorer};
 use crate::error::ExperimentError;
@@ -35,7 +35,7 @@ use neurotac_core::coding::SpatiotemporalCoding;
 use neurotac_core::knn::FittedKnn;
 use neurotac_core::{
     EventBuffer, InputId, MultiSpikeTrain, Network, NetworkBuilder, NetworkConfig, ReadoutId,
-    ReadoutSource, SpikeArrayInput, SpikeDataset, Stepping,
+    ReadoutSource, SpikeArrayInput, SpikeDataset,
 };
 use neurotac_sensor::davis::{DavisStream, Transport};
 use neurotac_sensor::format::EventReader;
@@ -471,7 +471,7 @@ fn live_network(
 ) -> Result<(Network, InputId, ReadoutId<SpatiotemporalCoding>), ExperimentError> {
     let n = training.n_channels();
     let mut b = NetworkBuilder::new();
-    b.stepping(Stepping::auto());
+    b.stepping(afferent_stepping());
     let input = b.add_spike_input("taxels", SpikeArrayInput::new(MultiSpikeTrain::empty(n)))?;
     let source: ReadoutSource = match training.afferents {
         None => input.into(),
