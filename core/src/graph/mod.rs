@@ -14,6 +14,9 @@
 //!
 //! # Phase order of one step
 //! Step `k` advances time from `t_k = k·dt` to `t_k + dt`:
+//! 0. **stepping**: a population stepped automatically ([`Stepping::Auto`]) whose measured
+//!    activity calls for it switches between clock- and event-driven stepping (see
+//!    [`Stepping`]);
 //! 1. **inputs**: every spike source emits the spikes that fall in `[t_k, t_k + dt)`;
 //! 2. **synapses**: every projection adds the weights of the presynaptic spikes emitted `delay`
 //!    steps ago (this step's, for delay 0 from an input) to its currents, giving `I(t_k)`;

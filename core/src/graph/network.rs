@@ -448,7 +448,7 @@ impl Network {
     fn advance(&mut self) {
         let k = self.step;
         let t_k = k as f64 * self.dt_s;
-        // 0. automatic populations switch mode at the end of a decision window
+        // 0. automatic populations switch mode when their activity calls for it
         for n in &mut self.nodes {
             if let (RunningKind::Population(m), Some(a)) = (&mut n.kind, &mut n.active)
                 && let Some(event) = a.decide(k)

@@ -149,7 +149,7 @@ impl Crossovers {
 
     /// Sets the crossover of `model`; refused unless it is in `(0, 1]` (an activity).
     pub fn set(&mut self, model: &str, crossover: f64) -> Result<(), SteppingFileError> {
-        check(model, crossover).map_err(|expected| SteppingFileError::Invalid {
+        check(crossover).map_err(|expected| SteppingFileError::Invalid {
             path: None,
             model: model.to_owned(),
             value: crossover,
@@ -184,7 +184,7 @@ impl Crossovers {
                 source,
             })?;
         for (model, c) in read.iter() {
-            check(model, c).map_err(|expected| SteppingFileError::Invalid {
+            check(c).map_err(|expected| SteppingFileError::Invalid {
                 path: Some(path.to_owned()),
                 model: model.to_owned(),
                 value: c,
@@ -210,7 +210,7 @@ impl Crossovers {
 }
 
 /// `Err(expected)` unless `crossover` is an activity in `(0, 1]`.
-fn check(_model: &str, crossover: f64) -> Result<(), &'static str> {
+fn check(crossover: f64) -> Result<(), &'static str> {
     if crossover > 0.0 && crossover <= 1.0 {
         Ok(())
     } else {
