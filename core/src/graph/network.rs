@@ -641,7 +641,7 @@ fn active_neurons<'a>(
 }
 
 /// Switches population `m` to event-driven stepping (`event`) or to clock-driven stepping, at
-/// the start of a step (see the [stepping docs](super::stepping)): leaving event-driven, every
+/// the start of a step (see [`Stepping`](super::Stepping)): leaving event-driven, every
 /// skipped neuron is brought up to date and the active list dropped; returning to it, every
 /// neuron is marked current and the active list rebuilt from the nonzero currents.
 fn switch_mode(

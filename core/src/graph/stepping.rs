@@ -1,44 +1,7 @@
 //! How a population is stepped ([`Stepping`]): every neuron every step (clock-driven), only
 //! the neurons with synaptic input (event-driven), or whichever of the two its measured
-//! activity makes cheaper ([`Stepping::Auto`]), re-decided as the run goes.
-//!
-//! # Activity and the automatic choice
-//! A population's *activity* in a step is the fraction of its (local) neurons whose synaptic
-//! current is nonzero when it is integrated: exactly the neurons an event-driven step updates
-//! (besides Izhikevich neurons still settling to rest). Event-driven stepping costs about
-//! `c_e · activity · N` per step, clock-driven stepping `c_c · N`; they cost the same at the
-//! model's *crossover* activity `c_c / c_e`, a number of the model and the machine
-//! ([`Crossovers`], measured by `neurotac bench neurons --crossover`).
-//!
-//! Event-driven, the activity is counted every step for free (the length of the active list).
-//! Clock-driven, it is sampled every [`CLOCK_SAMPLE_STEPS`] steps by counting the nonzero
-//! currents (one pass over the population's currents: about 1 % of the clock-driven stepping's
-//! time for LIF afferents, the cheapest model). The population compares the mean activity of
-//! its current window (the steps since its last switch or its last full window of
-//! [`DECISION_WINDOW_STEPS`]) with its crossover `c`:
-//! - event-driven, every [`EVENT_CHECK_STEPS`] steps: it turns clock-driven as soon as the
-//!   mean is above `c · `[`HYSTERESIS`] (an event-driven step at activity 1 costs ≈ 10 clock-driven
-//!   ones, so a burst is left within a few dozen steps);
-//! - clock-driven, at the end of a full window: it turns event-driven when the mean is below
-//!   `c / `[`HYSTERESIS`] (a clock-driven step costs at most one clock-driven step too many).
-//!
-//! Between the two thresholds it keeps its mode, so noise around the crossover does not make it
-//! flip, and it returns to event-driven stepping at most once per window. An automatic
-//! population starts event-driven (at time 0 no neuron has input) and keeps its mode over a
-//! [`Network::reset`](super::Network::reset) (the next sample is likely alike).
-//!
-//! # Switching
-//! A switch happens at the start of a step, before inputs are delivered. Event → clock: every
-//! neuron skipped so far is brought up to the current step ([`NeuronModel::settle`], the same
-//! closed form the event-driven path applies when input next reaches it) and the active list is
-//! dropped (the clock-driven step drains every current). Clock → event: every neuron is marked
-//! current as of now ([`NeuronModel::resume_event_driven`]) and the active list is rebuilt from
-//! the nonzero currents, ascending. So the state every step sees is the one the fixed modes
-//! compute, and spikes are the clock-driven ones exactly when the event-driven run's are (see
-//! [`NetworkBuilder::event_driven`](super::NetworkBuilder::event_driven)).
-//!
-//! [`NeuronModel::settle`]: crate::NeuronModel::settle
-//! [`NeuronModel::resume_event_driven`]: crate::NeuronModel::resume_event_driven
+//! activity makes cheaper ([`Stepping::Auto`]), re-decided as the run goes. See [`Stepping`]
+//! for the measure, the decision and the switch.
 
 use crate::error::SteppingFileError;
 use crate::io::{AtomicFile, Replace};
@@ -69,6 +32,57 @@ pub const CROSSOVER_FILE_NAME: &str = "stepping-crossovers.json";
 /// that can be stepped event-driven (see
 /// [`NetworkBuilder::event_driven`](super::NetworkBuilder::event_driven)); the others are always
 /// clock-driven. Default: [`Clock`](Self::Clock).
+///
+/// # Activity and the automatic choice
+/// A population's *activity* in a step is the fraction of its (local) neurons whose synaptic
+/// current is nonzero when it is integrated: exactly the neurons an event-driven step updates
+/// (besides Izhikevich neurons still settling to rest). Event-driven stepping costs about
+/// `c_e · activity · N` per step, clock-driven stepping `c_c · N`; they cost the same at the
+/// model's *crossover* activity `c_c / c_e`, a number of the model and the machine
+/// ([`Crossovers`], measured by `neurotac bench neurons --crossover`).
+///
+/// Event-driven, the activity is counted every step for free (the length of the active list).
+/// Clock-driven, it is sampled every [`CLOCK_SAMPLE_STEPS`] steps by counting the nonzero
+/// currents (one pass over the population's currents: about 1 % of the clock-driven stepping's
+/// time for LIF afferents, the cheapest model). The population compares the mean activity of
+/// its current window (the steps since its last switch or its last full window of
+/// [`DECISION_WINDOW_STEPS`]) with its crossover `c`:
+/// - event-driven, every [`EVENT_CHECK_STEPS`] steps: it turns clock-driven as soon as the
+///   mean is above `c · `[`HYSTERESIS`] (an event-driven step at activity 1 costs ≈ 10 clock-driven
+///   ones, so a burst is left within a few dozen steps);
+/// - clock-driven, at the end of a full window: it turns event-driven when the mean is below
+///   `c / `[`HYSTERESIS`] (a clock-driven step wastes at most itself, an event-driven one up to
+///   ten times as much).
+///
+/// Between the two thresholds it keeps its mode, so noise around the crossover does not make it
+/// flip, and it returns to event-driven stepping at most once per window. An automatic
+/// population starts event-driven (at time 0 no neuron has input) and keeps its mode over a
+/// [`Network::reset`](super::Network::reset) (the next sample is likely alike).
+///
+/// # Switching
+/// A switch happens at the start of a step, before inputs are delivered. Event → clock: every
+/// neuron skipped so far is brought up to the current step ([`NeuronModel::settle`], the same
+/// closed form the event-driven path applies when input next reaches it) and the active list is
+/// dropped (the clock-driven step drains every current). Clock → event: every neuron is marked
+/// current as of now ([`NeuronModel::resume_event_driven`]) and the active list is rebuilt from
+/// the nonzero currents, ascending. An idle stretch cut by a switch is advanced by the closed
+/// form up to the switch and by clock-driven steps after it, both equal to the clock-driven
+/// steps up to rounding, as the event-driven closed form alone is: the spikes are the
+/// clock-driven ones exactly when the event-driven run's are (see
+/// [`NetworkBuilder::event_driven`](super::NetworkBuilder::event_driven)).
+///
+/// ```
+/// use neurotac_core::{Crossovers, NetworkBuilder, Stepping};
+/// // LIF populations go event-driven below 8 % activity; other models use their own default.
+/// let mut crossovers = Crossovers::default();
+/// crossovers.set("lif", 0.08)?;
+/// let mut b = NetworkBuilder::new();
+/// b.stepping(Stepping::Auto(crossovers));
+/// # Ok::<(), neurotac_core::SteppingFileError>(())
+/// ```
+///
+/// [`NeuronModel::settle`]: crate::NeuronModel::settle
+/// [`NeuronModel::resume_event_driven`]: crate::NeuronModel::resume_event_driven
 #[derive(Debug, Clone, Default, PartialEq)]
 pub enum Stepping {
     /// Every neuron every step.
@@ -76,7 +90,7 @@ pub enum Stepping {
     Clock,
     /// Only the neurons with synaptic input (and those still settling to rest).
     Event,
-    /// Each population chooses from its measured activity (see the [module docs](self)), with
+    /// Each population chooses from its measured activity (see above), with
     /// these crossovers (a model without one uses its
     /// [`default_crossover`](crate::NeuronModel::default_crossover)).
     Auto(Crossovers),
@@ -269,7 +283,7 @@ impl EventStepping {
     }
 
     /// At the start of step `k`: the mode to switch to, if the window so far calls for one (see
-    /// the [module docs](self)). A switch or a full window starts a new window.
+    /// [`Stepping`]). A switch or a full window starts a new window.
     pub(super) fn decide(&mut self, k: u64) -> Option<bool> {
         let crossover = self.crossover?;
         let elapsed = k.saturating_sub(self.window_from);
