@@ -233,48 +233,6 @@ impl std::fmt::Display for SpikeLocation {
     }
 }
 
-/// A stored crossover file ([`Crossovers`](crate::graph::Crossovers)) that cannot be read,
-/// written or used.
-#[derive(Debug, Error)]
-pub enum SteppingFileError {
-    /// The file exists but cannot be read.
-    #[error("cannot read the crossover file {}", path.display())]
-    Read {
-        /// The file.
-        path: PathBuf,
-        /// The I/O error.
-        source: std::io::Error,
-    },
-    /// The file is not `{"crossovers": {"MODEL": activity, …}}`.
-    #[error("the crossover file {} is not {{\"crossovers\": {{\"MODEL\": activity}}}}", path.display())]
-    Parse {
-        /// The file.
-        path: PathBuf,
-        /// The JSON error (with its line and column).
-        source: serde_json::Error,
-    },
-    /// A crossover is not an activity.
-    #[error("{}crossover of {model} is {value}, expected {expected}", path.as_ref().map(|p| format!("the crossover file {}: ", p.display())).unwrap_or_default())]
-    Invalid {
-        /// The file, when read from one.
-        path: Option<PathBuf>,
-        /// The model it is for.
-        model: String,
-        /// The value found.
-        value: f64,
-        /// What it must be.
-        expected: &'static str,
-    },
-    /// The file cannot be written.
-    #[error("cannot write the crossover file {}", path.display())]
-    Write {
-        /// The file.
-        path: PathBuf,
-        /// The I/O error.
-        source: std::io::Error,
-    },
-}
-
 /// A place in a dataset file.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum FilePosition {

@@ -60,16 +60,16 @@ pub use distance::VanRossum;
 pub use error::{
     CodingError, CoreError, DatasetError, DistanceError, ExistsError, FilePosition, GraphError,
     KnnError, ModelError, NestedError, Nesting, SameFileError, SpikeError, SpikeLocation,
-    SteppingFileError, error_chain,
+    error_chain,
 };
 pub use event::{Event, EventBuffer};
 pub use graph::{
     Connectivity, Crossovers, CurrentId, CurrentInput, DecayingCurrents, ExpSynapse, InputId,
     Network, NetworkBuilder, NetworkConfig, NodeId, PoissonInput, PopulationId, PopulationStepping,
     ProjectionId, Readout, ReadoutContext, ReadoutId, ReadoutSource, RunSummary, SpikeArrayInput,
-    SpikeRecorder, SpikeSource, StateRecorder, StateSampler, StepView, Stepping, SteppingMode,
-    Synapse, SynapticCurrentSampler, SynapticDrive, SynapticTraceRecorder, TraceRecorder,
-    TraceSampler, one_spike_weight,
+    SpikeRecorder, SpikeSource, StateRecorder, StateSampler, StepView, Stepping, SteppingFileError,
+    SteppingMode, Synapse, SynapticCurrentSampler, SynapticDrive, SynapticTraceRecorder,
+    TraceRecorder, TraceSampler, one_spike_weight,
 };
 pub use io::{AtomicDir, AtomicFile, AtomicFileSet, Replace};
 pub use knn::{Decision, FittedKnn, Knn};

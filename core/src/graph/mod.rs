@@ -91,7 +91,7 @@ pub use readout::{
 };
 pub use stepping::{
     CLOCK_SAMPLE_STEPS, CROSSOVER_FILE_NAME, Crossovers, DECISION_WINDOW_STEPS, EVENT_CHECK_STEPS,
-    HYSTERESIS, PopulationStepping, Stepping, SteppingMode,
+    HYSTERESIS, PopulationStepping, Stepping, SteppingFileError, SteppingMode,
 };
 pub use synapse::{Connectivity, ExpSynapse, Synapse};
 pub use weight::one_spike_weight;

@@ -3,12 +3,12 @@
 //! activity makes cheaper ([`Stepping::Auto`]), re-decided as the run goes. See [`Stepping`]
 //! for the measure, the decision and the switch.
 
-use crate::error::SteppingFileError;
 use crate::io::{AtomicFile, Replace};
 use std::collections::BTreeMap;
 use std::fmt;
 use std::io::Write;
-use std::path::Path;
+use std::path::{Path, PathBuf};
+use thiserror::Error;
 
 /// The window (steps) an automatic population averages its activity over; a clock-driven one
 /// decides at its end.
@@ -223,6 +223,48 @@ impl Crossovers {
     }
 }
 
+/// A stored crossover file ([`Crossovers`]) that cannot be read,
+/// written or used.
+#[derive(Debug, Error)]
+pub enum SteppingFileError {
+    /// The file exists but cannot be read.
+    #[error("cannot read the crossover file {}", path.display())]
+    Read {
+        /// The file.
+        path: PathBuf,
+        /// The I/O error.
+        source: std::io::Error,
+    },
+    /// The file is not `{"crossovers": {"MODEL": activity, …}}`.
+    #[error("the crossover file {} is not {{\"crossovers\": {{\"MODEL\": activity}}}}", path.display())]
+    Parse {
+        /// The file.
+        path: PathBuf,
+        /// The JSON error (with its line and column).
+        source: serde_json::Error,
+    },
+    /// A crossover is not an activity.
+    #[error("{}crossover of {model} is {value}, expected {expected}", path.as_ref().map(|p| format!("the crossover file {}: ", p.display())).unwrap_or_default())]
+    Invalid {
+        /// The file, when read from one.
+        path: Option<PathBuf>,
+        /// The model it is for.
+        model: String,
+        /// The value found.
+        value: f64,
+        /// What it must be.
+        expected: &'static str,
+    },
+    /// The file cannot be written.
+    #[error("cannot write the crossover file {}", path.display())]
+    Write {
+        /// The file.
+        path: PathBuf,
+        /// The I/O error.
+        source: std::io::Error,
+    },
+}
+
 /// `Err(expected)` unless `crossover` is an activity in `(0, 1]`.
 fn check(crossover: f64) -> Result<(), &'static str> {
     if crossover > 0.0 && crossover <= 1.0 {
@@ -236,7 +278,7 @@ fn check(crossover: f64) -> Result<(), &'static str> {
 /// mode and its activity counts.
 pub(super) struct EventStepping {
     /// The neurons with synaptic current (only kept while event-driven).
-    pub(super) set: super::running::ActiveSet,
+    pub(super) set: ActiveSet,
     /// `true` while stepped event-driven.
     pub(super) event: bool,
     /// The crossover of an automatic population; `None` when fixed event-driven.
@@ -253,7 +295,7 @@ pub(super) struct EventStepping {
 impl EventStepping {
     pub(super) fn new(n: usize, crossover: Option<f64>) -> Self {
         Self {
-            set: super::running::ActiveSet::new(n),
+            set: ActiveSet::new(n),
             event: true,
             crossover,
             window: (0.0, 0),
@@ -312,6 +354,42 @@ impl EventStepping {
     /// The mean activity since build or reset.
     pub(super) fn activity(&self) -> Option<f64> {
         (self.total.1 > 0).then(|| self.total.0 / self.total.1 as f64)
+    }
+}
+
+/// The neurons of an event-driven population whose synaptic current is nonzero, ascending.
+pub(super) struct ActiveSet {
+    pub(super) list: Vec<u32>,
+    /// The neurons of `list` whose current is still nonzero after this step's decay.
+    pub(super) next: Vec<u32>,
+    pub(super) flag: Vec<bool>,
+    pub(super) sorted: bool,
+}
+
+impl ActiveSet {
+    pub(super) fn new(n: usize) -> Self {
+        Self {
+            list: Vec::new(),
+            next: Vec::new(),
+            flag: vec![false; n],
+            sorted: true,
+        }
+    }
+
+    #[inline]
+    pub(super) fn mark(&mut self, j: u32) {
+        if !std::mem::replace(&mut self.flag[j as usize], true) {
+            self.sorted &= self.list.last().is_none_or(|&l| l < j);
+            self.list.push(j);
+        }
+    }
+
+    pub(super) fn clear(&mut self) {
+        self.list
+            .iter()
+            .for_each(|&j| self.flag[j as usize] = false);
+        self.list.clear();
+        self.sorted = true;
     }
 }
 
