@@ -5,7 +5,7 @@
 //!
 //! `afferent_activity`: the afferent pipeline (10⁴ taxels → exponential synapses → each model's
 //! afferents: LIF exact, Izhikevich RS from rest; f64, one core) with 0.1 … 100 % of the taxels
-//! firing at 20 Hz, clock- and event-driven;
+//! firing at 20 Hz, clock-driven, event-driven and automatic;
 //! "elem/s" there is the *effective* throughput, N × steps per second, whatever was updated.
 //!
 //! `cargo bench --bench neuron_throughput`; criterion reports "elem/s" = neuron updates/s.
@@ -92,6 +92,7 @@ fn memory_bound_and_all_cores(c: &mut Criterion) {
 fn afferent_activity(c: &mut Criterion) {
     use neurotac::experiments::afferents::AfferentConfig;
     use neurotac_cli::bench::{activity_taxels, afferent_network};
+    use neurotac_core::Stepping;
     let (n, duration_s) = (10_000, 0.2);
     let mut g = c.benchmark_group("afferent_activity");
     g.sample_size(10)
@@ -104,19 +105,16 @@ fn afferent_activity(c: &mut Criterion) {
         .collect();
     for active in [0.001, 0.01, 0.1, 1.0] {
         let taxels = activity_taxels(n, active, 20.0, duration_s, 1);
-        for ((model, config), (mode, event_driven)) in models
-            .iter()
-            .copied()
-            .flat_map(|m| [(m, ("clock", false)), (m, ("event", true))])
-        {
-            let (mut net, _) = afferent_network(
-                &taxels,
-                config,
-                DT,
-                event_driven,
-                &neurotac_core::OneProcess,
-            )
-            .expect("valid network");
+        for ((model, config), (mode, stepping)) in models.iter().copied().flat_map(|m| {
+            [
+                (m, ("clock", Stepping::Clock)),
+                (m, ("event", Stepping::Event)),
+                (m, ("auto", Stepping::auto())),
+            ]
+        }) {
+            let (mut net, _) =
+                afferent_network(&taxels, config, DT, stepping, &neurotac_core::OneProcess)
+                    .expect("valid network");
             g.bench_function(BenchmarkId::new(format!("{model}_{mode}"), active), |b| {
                 b.iter(|| {
                     net.reset();

@@ -8,8 +8,9 @@
 use crate::budget::{self, BudgetError};
 use neurotac_core::ranks::all_gather_f64;
 use neurotac_core::{
-    Connectivity, ExpSynapse, GraphError, ModelError, MultiSpikeTrain, Network, NetworkBuilder,
-    NetworkConfig, PopulationId, Ranks, RanksError, ReadoutId, SpikeArrayInput, SpikeRecorder,
+    Connectivity, Crossovers, ExpSynapse, GraphError, ModelError, MultiSpikeTrain, Network,
+    NetworkBuilder, NetworkConfig, PopulationId, PopulationStepping, Ranks, RanksError, ReadoutId,
+    SpikeArrayInput, SpikeRecorder, Stepping,
 };
 use neurotac_experiments::afferents::{AfferentConfig, afferent_population};
 use neurotac_experiments::neuron_setup::{NeuronKind, NeuronSetup, Precision};
@@ -189,15 +190,25 @@ pub struct ActivityBenchResult {
     pub clock_driven: ActivityRun,
     /// Only neurons with synaptic input updated.
     pub event_driven: ActivityRun,
+    /// Each mode chosen from the measured activity ([`Stepping::Auto`]).
+    pub automatic: ActivityRun,
     /// `clock_driven.wall_s / event_driven.wall_s`.
     pub speedup: f64,
-    /// Both runs gave the same spikes (same neurons, same times).
+    /// `automatic.wall_s` over the faster fixed mode's wall time.
+    pub automatic_ratio: f64,
+    /// The afferents' stepping at the end of the automatic run: its mode, crossover, mean
+    /// activity and switches.
+    pub automatic_stepping: PopulationStepping,
+    /// The afferents' mean activity (fraction with synaptic current per step) counted in the
+    /// event-driven run, every step.
+    pub measured_activity: f64,
+    /// All three runs gave the same spikes (same neurons, same times).
     pub identical_spikes: bool,
 }
 
 /// The afferent pipeline's network: `taxels` → the afferents of `config` (exponential
 /// synapses, τ 5 ms and the model's weight; its default integrator, f64: [`AfferentConfig::of`])
-/// → spike recorder, clock- or event-driven, at step `dt_s`, built for `ranks`
+/// → spike recorder, stepped as `stepping`, at step `dt_s`, built for `ranks`
 /// ([`NetworkBuilder::build_partitioned`]: the taxels replicated, the afferents split into
 /// blocks; `&OneProcess` for one process); run it with [`Network::run`] on that group. Every
 /// rank's recorder ends with every afferent's spikes.
@@ -205,11 +216,11 @@ pub fn afferent_network(
     taxels: &MultiSpikeTrain,
     config: AfferentConfig,
     dt_s: f64,
-    event_driven: bool,
+    stepping: Stepping,
     ranks: &dyn Ranks,
 ) -> Result<(Network, ReadoutId<SpikeRecorder>), GraphError> {
     let mut b = NetworkBuilder::new();
-    b.event_driven(event_driven);
+    b.stepping(stepping);
     let input = b.add_spike_input("taxels", SpikeArrayInput::new(taxels.clone()))?;
     let afferents = afferent_population(&mut b, input, taxels.n_channels(), config)?;
     let spikes = b.record_spikes(afferents)?;
@@ -219,20 +230,45 @@ pub fn afferent_network(
     ))
 }
 
-/// The afferent pipeline (`n` taxels → exponential synapses → `n` afferents of `config`, f64)
-/// with the fraction `active` of the taxels firing at `rate_hz` (seed `seed`), run for
-/// `duration_s` at `dt_s` clock-driven and event-driven
-/// ([`NetworkBuilder::event_driven`]) on one thread, each the fastest of
-/// [`ACTIVITY_REPEATS`] interleaved runs; the spikes are compared.
+/// The settings of the afferent pipeline bench ([`afferent_activity`], [`afferent_crossover`]).
+#[derive(Debug, Clone)]
+pub struct ActivityBench {
+    /// The afferents.
+    pub config: AfferentConfig,
+    /// Taxels (= afferents).
+    pub n: usize,
+    /// Poisson rate of the firing taxels (Hz).
+    pub rate_hz: f64,
+    /// Simulated duration of each run (s).
+    pub duration_s: f64,
+    /// Time step (s).
+    pub dt_s: f64,
+    /// Seed of the taxel trains.
+    pub seed: u64,
+    /// Runs of each mode, interleaved; the fastest is kept.
+    pub repeats: usize,
+    /// The crossovers of the automatic runs ([`Stepping::Auto`]).
+    pub crossovers: Crossovers,
+}
+
+/// The afferent pipeline of `bench` (`n` taxels → exponential synapses → `n` afferents, f64)
+/// with the fraction `active` of the taxels firing, run clock-driven, event-driven and
+/// automatically ([`NetworkBuilder::stepping`]) on one thread, each the fastest of
+/// `bench.repeats` interleaved runs; the spikes are compared.
 pub fn afferent_activity(
-    config: AfferentConfig,
-    n: usize,
+    bench: &ActivityBench,
     active: f64,
-    rate_hz: f64,
-    duration_s: f64,
-    dt_s: f64,
-    seed: u64,
 ) -> Result<ActivityBenchResult, BenchError> {
+    let ActivityBench {
+        config,
+        n,
+        rate_hz,
+        duration_s,
+        dt_s,
+        seed,
+        repeats,
+        ref crossovers,
+    } = *bench;
     for (what, value, ok) in [
         ("activity", active, (0.0..=1.0).contains(&active)),
         ("rate_hz", rate_hz, rate_hz.is_finite() && rate_hz >= 0.0),
@@ -255,14 +291,10 @@ pub fn afferent_activity(
     let what = "expected input spikes (--n × --activity × --rate × --duration)";
     budget::at_most("--rate", rate_hz, what, spikes, budget::MAX_SPIKES)?;
     let taxels = activity_taxels(n, active, rate_hz, duration_s, seed);
-    let run = |event_driven: bool| -> Result<(ActivityRun, Vec<(u32, f64)>), BenchError> {
-        let (mut net, spikes) = afferent_network(
-            &taxels,
-            config,
-            dt_s,
-            event_driven,
-            &neurotac_core::OneProcess,
-        )?;
+    type Run = (ActivityRun, Vec<(u32, f64)>, PopulationStepping);
+    let run = |stepping: Stepping| -> Result<Run, BenchError> {
+        let (mut net, spikes) =
+            afferent_network(&taxels, config, dt_s, stepping, &neurotac_core::OneProcess)?;
         let (result, wall_s) = with_threads(1, || {
             let start = Instant::now();
             let result = net.run(duration_s, &neurotac_core::OneProcess);
@@ -271,6 +303,7 @@ pub fn afferent_activity(
         result?;
         let steps = net.steps_done();
         let out = net.readout(spikes)?.spikes().to_vec();
+        let report = net.stepping_report().swap_remove(0);
         Ok((
             ActivityRun {
                 wall_s,
@@ -279,19 +312,31 @@ pub fn afferent_activity(
                 spikes: out.len(),
             },
             out,
+            report,
         ))
     };
-    // The shortest of five interleaved runs of each mode: a shared machine's noise only ever
+    // The shortest of the interleaved runs of each mode: a shared machine's noise only ever
     // adds time.
-    let fastest = |a: (ActivityRun, Vec<(u32, f64)>), b: (ActivityRun, Vec<(u32, f64)>)| {
-        if b.0.wall_s < a.0.wall_s { b } else { a }
-    };
-    let (mut clock, mut event) = (run(false)?, run(true)?);
-    for _ in 1..ACTIVITY_REPEATS {
-        clock = fastest(clock, run(false)?);
-        event = fastest(event, run(true)?);
+    let fastest = |a: Run, b: Run| if b.0.wall_s < a.0.wall_s { b } else { a };
+    let modes = [
+        Stepping::Clock,
+        Stepping::Event,
+        Stepping::Auto(crossovers.clone()),
+    ];
+    let mut best: Vec<Run> = Vec::new();
+    for r in 0..repeats.max(1) {
+        for (m, stepping) in modes.iter().enumerate() {
+            let this = run(stepping.clone())?;
+            if r == 0 {
+                best.push(this);
+            } else {
+                let old = std::mem::replace(&mut best[m], this.clone());
+                best[m] = fastest(old, this);
+            }
+        }
     }
-    let ((clock_driven, clock_spikes), (event_driven, event_spikes)) = (clock, event);
+    let [clock, event, auto]: [Run; 3] = best.try_into().expect("three modes");
+    let faster = clock.0.wall_s.min(event.0.wall_s);
     Ok(ActivityBenchResult {
         model: config.model.name(),
         n,
@@ -299,11 +344,82 @@ pub fn afferent_activity(
         rate_hz,
         dt_s,
         steps: (duration_s / dt_s).round() as u64,
-        speedup: clock_driven.wall_s / event_driven.wall_s,
-        identical_spikes: clock_spikes == event_spikes,
-        clock_driven,
-        event_driven,
+        speedup: clock.0.wall_s / event.0.wall_s,
+        automatic_ratio: auto.0.wall_s / faster,
+        identical_spikes: clock.1 == event.1 && clock.1 == auto.1,
+        measured_activity: event.2.activity.unwrap_or(0.0),
+        automatic_stepping: auto.2,
+        clock_driven: clock.0,
+        event_driven: event.0,
+        automatic: auto.0,
     })
+}
+
+/// The taxel activities [`afferent_crossover`] sweeps (fraction of taxels firing), ascending.
+pub const CROSSOVER_SWEEP: [f64; 10] = [0.001, 0.002, 0.005, 0.01, 0.02, 0.05, 0.1, 0.2, 0.5, 1.0];
+
+/// What [`afferent_crossover`] measured: one [`afferent_activity`] per swept activity, and the
+/// crossover.
+#[derive(Debug, Clone, Serialize)]
+pub struct CrossoverBenchResult {
+    /// The afferent model's name as populations report it (the crossover file's key).
+    pub model: &'static str,
+    /// The sweep, up to the first activity clearly past the crossover.
+    pub points: Vec<ActivityBenchResult>,
+    /// The measured activity at which both modes cost the same (interpolated on log-log
+    /// axes between the two points around it); 1 when event-driven stepping is never slower,
+    /// the lowest measured activity when it is always slower.
+    pub crossover: f64,
+}
+
+/// Sweeps [`CROSSOVER_SWEEP`] with [`afferent_activity`] (stopping once event-driven stepping
+/// is 1.5× slower than clock-driven) and finds the measured activity at which the two modes
+/// cost the same.
+pub fn afferent_crossover(bench: &ActivityBench) -> Result<CrossoverBenchResult, BenchError> {
+    let mut points: Vec<ActivityBenchResult> = Vec::new();
+    for active in CROSSOVER_SWEEP {
+        let p = afferent_activity(bench, active)?;
+        let past = p.speedup < 1.0 / 1.5;
+        points.push(p);
+        if past {
+            break;
+        }
+    }
+    let model = points[0].automatic_stepping.model;
+    let crossover = crossover_of(
+        &points
+            .iter()
+            .map(|p| (p.measured_activity, p.speedup))
+            .collect::<Vec<_>>(),
+    );
+    Ok(CrossoverBenchResult {
+        model,
+        points,
+        crossover,
+    })
+}
+
+/// The activity at which `speedup` (clock wall / event wall) crosses 1, from `(activity,
+/// speedup)` points in sweep order: interpolated linearly in `ln activity` against
+/// `ln speedup` between the last point above 1 and the first at or below it.
+pub fn crossover_of(points: &[(f64, f64)]) -> f64 {
+    let usable: Vec<(f64, f64)> = points
+        .iter()
+        .copied()
+        .filter(|&(a, s)| a > 0.0 && s > 0.0 && a.is_finite() && s.is_finite())
+        .collect();
+    let Some(i) = usable.iter().position(|&(_, s)| s <= 1.0) else {
+        return 1.0;
+    };
+    if i == 0 {
+        return usable[0].0.min(1.0);
+    }
+    let ((a0, s0), (a1, s1)) = (usable[i - 1], usable[i]);
+    let (l0, l1) = (s0.ln(), s1.ln());
+    let t = if l0 == l1 { 0.0 } else { l0 / (l0 - l1) };
+    (a0.ln() + t * (a1.ln() - a0.ln()))
+        .exp()
+        .clamp(f64::MIN_POSITIVE, 1.0)
 }
 
 /// The CUBA benchmark network (Vogels & Abbott 2005 as in Brian2's example and benchmarks):

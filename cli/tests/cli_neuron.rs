@@ -283,6 +283,11 @@ fn bench_activity_compares_clock_and_event_driven_with_identical_spikes() {
         let event = r["event_driven"]["updates"].as_u64().unwrap();
         assert!(event > 0 && event * 10 < 2000 * 2000, "{r}");
         assert!(r["speedup"].as_f64().unwrap() > 0.0);
+        // The automatic run picks a mode and gives the same spikes.
+        assert_eq!(r["automatic"]["spikes"], r["clock_driven"]["spikes"], "{r}");
+        let mode = r["automatic_stepping"]["mode"].as_str().unwrap();
+        assert!(["clock", "event"].contains(&mode), "{r}");
+        assert!(r["measured_activity"].as_f64().unwrap() > 0.0, "{r}");
     }
     // The pipeline's integrators are its own.
     let (ok, _, stderr) = neurotac(&[
@@ -407,4 +412,43 @@ fn spike_times_and_absurd_steps_print_as_a_person_writes_them() {
     let (ok, _, stderr) = neurotac(&["neuron", "--current", "2", "--dt", "1e-300"]);
     assert!(!ok && stderr.contains("--dt 1e-300 "), "{stderr}");
     assert!(stderr.len() < 300, "{stderr}");
+}
+
+#[test]
+fn bench_crossover_stores_the_crossover_that_automatic_stepping_then_uses() {
+    let dir = tempfile::tempdir().unwrap();
+    let cache = dir.path().to_str().unwrap();
+    let small = ["--n", "500", "--duration", "0.05", "--repeats", "1"];
+    let bench = |extra: &[&str]| {
+        let mut args = vec!["bench", "neurons", "--cache", cache, "--json"];
+        args.extend_from_slice(&small);
+        args.extend_from_slice(extra);
+        neurotac(&args)
+    };
+    let (ok, stdout, stderr) = bench(&["--crossover"]);
+    assert!(ok, "{stderr}");
+    let r: serde_json::Value = serde_json::from_str(stdout.trim()).unwrap();
+    let crossover = r["crossover"].as_f64().unwrap();
+    assert!(crossover > 0.0 && crossover <= 1.0, "{r}");
+    let file = dir.path().join("stepping-crossovers.json");
+    let stored: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&file).unwrap()).unwrap();
+    assert_eq!(stored["crossovers"]["lif"].as_f64(), Some(crossover));
+    // The activity bench's automatic run decides with the stored crossover.
+    let (ok, stdout, stderr) = bench(&["--activity", "0.01"]);
+    assert!(ok, "{stderr}");
+    let r: serde_json::Value = serde_json::from_str(stdout.trim()).unwrap();
+    assert_eq!(
+        r["automatic_stepping"]["crossover"].as_f64(),
+        Some(crossover)
+    );
+    assert_eq!(r["identical_spikes"], true, "{r}");
+    // A corrupt file is refused in one line naming it.
+    std::fs::write(&file, "{\"crossovers\": {\"lif\": ").unwrap();
+    let (ok, _, stderr) = bench(&["--activity", "0.01"]);
+    assert!(!ok);
+    assert!(
+        stderr.contains(&file.display().to_string()) && stderr.trim().lines().count() == 1,
+        "{stderr}"
+    );
 }

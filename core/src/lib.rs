@@ -64,11 +64,12 @@ pub use error::{
 };
 pub use event::{Event, EventBuffer};
 pub use graph::{
-    Connectivity, CurrentId, CurrentInput, DecayingCurrents, ExpSynapse, InputId, Network,
-    NetworkBuilder, NetworkConfig, NodeId, PoissonInput, PopulationId, ProjectionId, Readout,
-    ReadoutContext, ReadoutId, ReadoutSource, RunSummary, SpikeArrayInput, SpikeRecorder,
-    SpikeSource, StateRecorder, StateSampler, StepView, Synapse, SynapticCurrentSampler,
-    SynapticDrive, SynapticTraceRecorder, TraceRecorder, TraceSampler, one_spike_weight,
+    Connectivity, Crossovers, CurrentId, CurrentInput, DecayingCurrents, ExpSynapse, InputId,
+    Network, NetworkBuilder, NetworkConfig, NodeId, PoissonInput, PopulationId, PopulationStepping,
+    ProjectionId, Readout, ReadoutContext, ReadoutId, ReadoutSource, RunSummary, SpikeArrayInput,
+    SpikeRecorder, SpikeSource, StateRecorder, StateSampler, StepView, Stepping, SteppingFileError,
+    SteppingMode, Synapse, SynapticCurrentSampler, SynapticDrive, SynapticTraceRecorder,
+    TraceRecorder, TraceSampler, one_spike_weight,
 };
 pub use io::{AtomicDir, AtomicFile, AtomicFileSet, Replace};
 pub use knn::{Decision, FittedKnn, Knn};

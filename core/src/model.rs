@@ -178,6 +178,22 @@ pub trait NeuronModel: Send {
     /// Default: nothing to do.
     fn settle(&mut self) {}
 
+    /// Marks every neuron current as of now, when the network returns the population to
+    /// event-driven stepping after clock-driven steps (see
+    /// [`Stepping::Auto`](crate::Stepping::Auto)): a model that tracks the step each neuron was
+    /// last brought up to, or the neurons still settling, refreshes that bookkeeping here.
+    /// (Leaving event-driven stepping calls [`settle`](Self::settle).) Default: nothing to do.
+    fn resume_event_driven(&mut self) {}
+
+    /// The activity (fraction of neurons with synaptic input per step) below which this
+    /// model's population is cheaper event-driven than clock-driven, used by
+    /// [`Stepping::Auto`](crate::Stepping::Auto) when no crossover is stored for the model.
+    /// Default 0.05; LIF and Izhikevich state theirs (measured with
+    /// `neurotac bench neurons --crossover`).
+    fn default_crossover(&self) -> f64 {
+        0.05
+    }
+
     /// This population cut down to its neurons `range` (indices of this population), for a
     /// network partitioned over ranks
     /// ([`NetworkBuilder::build_partitioned`](crate::NetworkBuilder::build_partitioned)):

@@ -27,12 +27,15 @@
 
 use crate::error::ExperimentError;
 use crate::neuron_setup::{NeuronKind, Precision};
+use neurotac_core::graph::CROSSOVER_FILE_NAME;
 use neurotac_core::{
-    Connectivity, ExpSynapse, GraphError, InputId, MultiSpikeTrain, NetworkBuilder, NetworkConfig,
-    PopulationId, ReadoutId, SpikeArrayInput, SpikeDataset, SpikeRecorder, SpikeSource,
+    Connectivity, Crossovers, ExpSynapse, GraphError, InputId, MultiSpikeTrain, NetworkBuilder,
+    NetworkConfig, PopulationId, ReadoutId, SpikeArrayInput, SpikeDataset, SpikeRecorder,
+    SpikeSource, Stepping,
 };
 use neurotac_neurons::{AfferentPreset, BlockPopulation, FamilyVisitor, Integrator, ModelFamily};
 use rayon::prelude::*;
+use std::sync::OnceLock;
 
 /// How long an afferent network keeps running after a sample's duration (s), so the
 /// responses to the last taxel spikes (synapse τ 5 ms plus the neuron's latency) are recorded.
@@ -60,10 +63,10 @@ pub struct AfferentConfig {
     pub integrator: Integrator,
     /// Arithmetic of the afferents' state. Default f64.
     pub precision: Precision,
-    /// Step the afferents event-driven in the readout network
-    /// ([`NetworkBuilder::event_driven`]: only afferents with input are updated) rather than
-    /// every afferent every step. Default `true`.
-    pub event_driven: bool,
+    /// Let the readout network pick the afferents' stepping from their activity
+    /// ([`afferent_stepping`]: event-driven, only afferents with input updated, while few
+    /// have input) rather than step every afferent every step (clock-driven). Default `true`.
+    pub automatic_stepping: bool,
 }
 
 /// A family's afferent preset without its parameters.
@@ -103,7 +106,7 @@ impl AfferentConfig {
             dt_s: 1e-4,
             integrator: model.default_integrator(),
             precision: Precision::F64,
-            event_driven: true,
+            automatic_stepping: true,
         }
     }
 
@@ -188,8 +191,29 @@ impl FamilyVisitor for AddAfferents<'_> {
     }
 }
 
+/// How the readout networks of `reproduce` and `online` step their afferents: [`Stepping::Auto`] (each afferent population picks
+/// clock- or event-driven stepping from its measured activity) with the crossovers stored by
+/// `neurotac bench neurons --crossover` in the default cache folder
+/// ([`default_cache_dir`](crate::datasets::simulated::default_cache_dir)), else the models'
+/// built-in ones. Read once per process. The stepping never changes a result, only its speed,
+/// so a crossover file that cannot be used is reported in one line on stderr and the built-in
+/// crossovers are used.
+pub fn afferent_stepping() -> Stepping {
+    static STORED: OnceLock<Crossovers> = OnceLock::new();
+    let crossovers = STORED.get_or_init(|| {
+        let file = crate::datasets::simulated::default_cache_dir().join(CROSSOVER_FILE_NAME);
+        Crossovers::load(&file)
+            .unwrap_or_else(|e| {
+                eprintln!("warning: {e}; using the built-in crossovers");
+                None
+            })
+            .unwrap_or_default()
+    });
+    Stepping::Auto(crossovers.clone())
+}
+
 /// Builds `source` (one channel per taxel) → one-to-one exponential synapses → one afferent
-/// per taxel → spike recorder.
+/// per taxel → spike recorder, clock-driven.
 pub fn build_afferent_network(
     source: impl SpikeSource + 'static,
     config: AfferentConfig,

@@ -15,7 +15,7 @@
 //! [`encode_offline`] computes the same [`EncodedSet`] with the codings' direct encoders (no
 //! network); the two are identical (tested), which is what lets `reproduce` report either.
 
-use crate::afferents::{AfferentConfig, afferent_population};
+use crate::afferents::{AfferentConfig, afferent_population, afferent_stepping};
 use crate::coding::scheme::SampleReader;
 use crate::coding::{CodingName, ReadoutContext, sample_duration_ms};
 use crate::error::ExperimentError;
@@ -23,7 +23,7 @@ use crate::menu::Menu;
 use neurotac_core::coding::{SpatiotemporalCoding, duration_ms_of};
 use neurotac_core::{
     InputId, MultiSpikeTrain, Network, NetworkBuilder, NetworkConfig, ReadoutId, ReadoutSource,
-    SpikeArrayInput, SpikeDataset,
+    SpikeArrayInput, SpikeDataset, Stepping,
 };
 use rayon::prelude::*;
 
@@ -87,9 +87,12 @@ impl ReadoutNetwork {
     ) -> Result<Self, ExperimentError> {
         let n_channels = context.n_channels;
         let mut b = NetworkBuilder::new();
-        // Only afferents with input (or, Izhikevich, still settling to rest) are stepped,
+        // Each afferent population picks clock- or event-driven stepping from its activity,
         // unless the afferents ask to be clock-driven.
-        b.event_driven(afferents.is_none_or(|a| a.event_driven));
+        b.stepping(match afferents.is_none_or(|a| a.automatic_stepping) {
+            true => afferent_stepping(),
+            false => Stepping::Clock,
+        });
         let input = b.add_spike_input(
             "taxels",
             SpikeArrayInput::new(MultiSpikeTrain::empty(n_channels)),

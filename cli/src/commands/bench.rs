@@ -3,11 +3,16 @@
 use super::options::{SeedOption, ThreadsOption, help};
 use crate::commands::args;
 use clap::{Args, Subcommand};
-use neurotac_cli::bench::{CubaConfig, afferent_activity, cuba, cuba_spikes, neuron_throughput};
+use neurotac_cli::bench::{
+    ActivityBench, ActivityBenchResult, CubaConfig, afferent_activity, afferent_crossover, cuba,
+    cuba_spikes, neuron_throughput,
+};
 use neurotac_cli::ceiling::{Ceiling, CeilingFractions};
 use neurotac_cli::peers::{PeerResult, brian2_method, brian2_precision, run_brian2};
-use neurotac_core::Ranks;
+use neurotac_core::graph::CROSSOVER_FILE_NAME;
+use neurotac_core::{Crossovers, Ranks};
 use neurotac_experiments::afferents::AfferentConfig;
+use neurotac_experiments::datasets::simulated::default_cache_dir;
 use neurotac_experiments::menu::Menu;
 use neurotac_experiments::neuron_setup::{NeuronKind, NeuronSetup, Precision};
 use neurotac_experiments::threads::with_threads;
@@ -51,10 +56,22 @@ struct NeuronsArgs {
     integrator: Option<Integrator>,
     /// Instead: the afferent pipeline (N taxels → exponential synapses → N afferents of
     /// --model: LIF exact, or Izhikevich RS from rest; f64, one thread) with this fraction of
-    /// the taxels firing (Poisson, --rate), clock-driven against event-driven: effective
-    /// throughput, speed-up, identical spikes (--precision and --integrator do not apply).
+    /// the taxels firing (Poisson, --rate), clock-driven, event-driven and automatic (each
+    /// population picks its mode from its measured activity and the crossover stored in the
+    /// cache, else its model's built-in one): wall times, ratios, the mode chosen, identical
+    /// spikes (--precision and --integrator do not apply).
     #[arg(value_parser = args::unit_interval, allow_negative_numbers = true, long)]
     activity: Option<f64>,
+    /// Instead: measures the crossover of --model's afferents, the measured activity at which
+    /// clock- and event-driven stepping cost the same (sweeps the taxel activity 0.001…1 as
+    /// --activity does), and stores it in the cache's stepping-crossovers.json, which
+    /// automatic stepping then uses.
+    #[arg(long, conflicts_with = "activity")]
+    crossover: bool,
+    /// Folder of the stored crossovers with --activity and --crossover (default:
+    /// $NEUROTAC_CACHE, else $XDG_CACHE_HOME/neurotac, else ~/.cache/neurotac).
+    #[arg(long, value_name = "DIR")]
+    cache: Option<PathBuf>,
     /// Firing rate of the active taxels with --activity (Hz).
     #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long, default_value_t = 20.0)]
     rate: f64,
@@ -195,6 +212,9 @@ pub fn run(args: BenchArgs, ranks: &dyn Ranks) -> anyhow::Result<()> {
 }
 
 fn neurons(a: NeuronsArgs) -> anyhow::Result<()> {
+    if a.crossover {
+        return crossover_bench(&a);
+    }
     if let Some(activity) = a.activity {
         return activity_bench(&a, activity);
     }
@@ -408,46 +428,90 @@ fn cuba_network(a: CubaArgs, ranks: &dyn Ranks) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// `bench neurons --activity F`: the afferent pipeline clock-driven against event-driven.
-fn activity_bench(a: &NeuronsArgs, activity: f64) -> anyhow::Result<()> {
+/// The refusals shared by `--activity` and `--crossover` (they run the afferent pipeline with
+/// its own integrators and have no Brian2 counterpart), and the crossover file they use.
+fn activity_setup(a: &NeuronsArgs, flag: &str) -> anyhow::Result<PathBuf> {
     if a.integrator.is_some() {
         let own: Vec<String> = NeuronKind::ALL
             .iter()
             .map(|k| format!("{} {}", k.label(), k.default_integrator()))
             .collect();
         anyhow::bail!(
-            "--activity runs the afferent pipeline with its own integrators ({}): drop --integrator",
+            "{flag} runs the afferent pipeline with its own integrators ({}): drop --integrator",
             own.join(", ")
         );
     }
     if a.run.brian2.is_some() {
-        anyhow::bail!("--activity has no Brian2 counterpart; drop --brian2");
+        anyhow::bail!("{flag} has no Brian2 counterpart; drop --brian2");
     }
-    let config = AfferentConfig::of(a.model);
-    let afferents = config.bench_description();
-    let r = afferent_activity(config, a.n, activity, a.rate, a.duration, a.dt, 1)?;
+    let cache = a.cache.clone().unwrap_or_else(default_cache_dir);
+    Ok(cache.join(CROSSOVER_FILE_NAME))
+}
+
+/// The pipeline bench's settings from the flags, with the crossovers stored in `file` (none
+/// when it does not exist; a file that cannot be used is an error naming it).
+fn activity_bench_settings(a: &NeuronsArgs, file: &Path) -> anyhow::Result<ActivityBench> {
+    Ok(ActivityBench {
+        config: AfferentConfig::of(a.model),
+        n: a.n,
+        rate_hz: a.rate,
+        duration_s: a.duration,
+        dt_s: a.dt,
+        seed: 1,
+        repeats: a.run.repeats,
+        crossovers: Crossovers::load(file)?.unwrap_or_default(),
+    })
+}
+
+/// `bench neurons --activity F`: the afferent pipeline clock-driven, event-driven and
+/// automatic.
+fn activity_bench(a: &NeuronsArgs, activity: f64) -> anyhow::Result<()> {
+    let file = activity_setup(a, "--activity")?;
+    let bench = activity_bench_settings(a, &file)?;
+    let (config, crossovers) = (bench.config, &bench.crossovers);
+    let r = afferent_activity(&bench, activity)?;
     if a.run.json {
         println!("{}", serde_json::to_string(&r)?);
         return Ok(());
     }
     println!(
-        "afferent pipeline: {} taxels ({:.1} % firing at {} Hz) → {} {afferents}, {} steps of {} s, one thread",
+        "afferent pipeline: {} taxels ({:.1} % firing at {} Hz) → {} {}, {} steps of {} s, one thread",
         r.n,
         100.0 * r.active_fraction,
         r.rate_hz,
         r.n,
+        config.bench_description(),
         r.steps,
         r.dt_s
     );
+    let faster = r.clock_driven.wall_s.min(r.event_driven.wall_s);
     for (name, run) in [
         ("clock-driven", r.clock_driven),
         ("event-driven", r.event_driven),
+        ("automatic", r.automatic),
     ] {
         println!(
-            "  {name:12}  {:8.4} s wall  {:>14} neuron updates  effective {:.3e} neuron-steps/s  {} spikes",
-            run.wall_s, run.updates, run.effective_updates_per_s, run.spikes
+            "  {name:12}  {:8.4} s wall ({:.2}× the faster fixed mode)  {:>14} neuron updates  effective {:.3e} neuron-steps/s  {} spikes",
+            run.wall_s,
+            run.wall_s / faster,
+            run.updates,
+            run.effective_updates_per_s,
+            run.spikes
         );
     }
+    let s = &r.automatic_stepping;
+    println!(
+        "automatic: ended {} after {} switches, activity {:.4} (crossover {:.4}{})",
+        s.mode,
+        s.switches,
+        s.activity.unwrap_or(0.0),
+        s.crossover.unwrap_or(f64::NAN),
+        if crossovers.get(s.model).is_some() {
+            format!(", stored in {}", file.display())
+        } else {
+            ", built-in".to_owned()
+        }
+    );
     println!(
         "event-driven is {:.1}× faster; spikes {}",
         r.speedup,
@@ -456,6 +520,69 @@ fn activity_bench(a: &NeuronsArgs, activity: f64) -> anyhow::Result<()> {
         } else {
             "DIFFER"
         }
+    );
+    Ok(())
+}
+
+/// One row of the activity table: taxel activity, measured activity, wall times, ratios, mode.
+fn activity_row(p: &ActivityBenchResult) -> String {
+    let faster = p.clock_driven.wall_s.min(p.event_driven.wall_s);
+    format!(
+        "  {:>8.3}  {:>9.4}  {:>9.4}  {:>9.4}  {:>9.4}  {:>7.2}  {:>6.2}  {:<13} {}",
+        p.active_fraction,
+        p.measured_activity,
+        p.clock_driven.wall_s,
+        p.event_driven.wall_s,
+        p.automatic.wall_s,
+        p.speedup,
+        p.automatic.wall_s / faster,
+        p.automatic_stepping.mode.to_string(),
+        if p.identical_spikes {
+            "identical"
+        } else {
+            "DIFFER"
+        }
+    )
+}
+
+/// `bench neurons --crossover`: sweeps the activity, finds the crossover, stores it.
+fn crossover_bench(a: &NeuronsArgs) -> anyhow::Result<()> {
+    let file = activity_setup(a, "--crossover")?;
+    let bench = activity_bench_settings(a, &file)?;
+    let r = afferent_crossover(&bench)?;
+    let (config, mut crossovers) = (bench.config, bench.crossovers);
+    crossovers.set(r.model, r.crossover)?;
+    if let Some(dir) = file.parent() {
+        std::fs::create_dir_all(dir).map_err(|e| {
+            anyhow::anyhow!("cannot create the cache folder {}: {e}", dir.display())
+        })?;
+    }
+    crossovers.save(&file)?;
+    if a.run.json {
+        println!("{}", serde_json::to_string(&r)?);
+        return Ok(());
+    }
+    println!(
+        "afferent pipeline: {} taxels at {} Hz → {} {}, {} s of {} s steps, one thread",
+        a.n,
+        a.rate,
+        a.n,
+        config.bench_description(),
+        a.duration,
+        a.dt
+    );
+    println!(
+        "  {:>8}  {:>9}  {:>9}  {:>9}  {:>9}  {:>7}  {:>6}  {:<13} spikes",
+        "taxels", "activity", "clock s", "event s", "auto s", "clk/evt", "auto/best", "auto mode"
+    );
+    for p in &r.points {
+        println!("{}", activity_row(p));
+    }
+    println!(
+        "crossover of {}: activity {:.4} (stored in {})",
+        r.model,
+        r.crossover,
+        file.display()
     );
     Ok(())
 }

@@ -8,7 +8,8 @@ use super::ids::{
 use super::input::{CurrentInput, SpikeSource};
 use super::network::{DEFAULT_EPOCH_STEPS, ExchangeStats, Network, Partition};
 use super::readout::{Readout, SpikeRecorder, StateRecorder, SynapticTraceRecorder};
-use super::running::{ActiveSet, RunningKind, RunningNode, RunningSource};
+use super::running::{RunningKind, RunningNode, RunningSource};
+use super::stepping::{EventStepping, Stepping};
 use super::synapse::{Connectivity, ExpSynapse, RunningProjection};
 use crate::error::GraphError;
 use crate::model::{NeuronModel, SpikeBuffer};
@@ -57,7 +58,7 @@ pub struct NetworkBuilder {
     /// `(current node, population)` injections.
     injections: Vec<(usize, usize)>,
     readouts: Vec<(ReadoutSource, Box<dyn Readout>)>,
-    event_driven: bool,
+    stepping: Stepping,
 }
 
 impl Default for NetworkBuilder {
@@ -75,7 +76,7 @@ impl NetworkBuilder {
             projections: Vec::new(),
             injections: Vec::new(),
             readouts: Vec::new(),
-            event_driven: false,
+            stepping: Stepping::Clock,
         }
     }
 
@@ -130,9 +131,20 @@ impl NetworkBuilder {
     /// injected current and no readout of their state; the others stay clock-driven. Spikes
     /// equal the clock-driven ones except where the closed-form decay and the step-by-step one
     /// round differently (LIF), or the held state's offset (Izhikevich, ≤ the tolerance)
-    /// decides, a threshold crossing. Default: off.
+    /// decides, a threshold crossing. Default: off. `event_driven(on)` is
+    /// [`stepping`](Self::stepping)`(if on { Stepping::Event } else { Stepping::Clock })`.
     pub fn event_driven(&mut self, on: bool) -> &mut Self {
-        self.event_driven = on;
+        self.stepping(if on { Stepping::Event } else { Stepping::Clock })
+    }
+
+    /// How the populations that can be stepped event-driven (see
+    /// [`event_driven`](Self::event_driven)) are stepped: always clock-driven, always
+    /// event-driven, or [`Stepping::Auto`]: each chooses from its measured activity and its
+    /// model's crossover, and re-decides as the run goes (see [`Stepping`] and
+    /// [`Network::stepping_report`](super::Network::stepping_report)). Default
+    /// [`Stepping::Clock`].
+    pub fn stepping(&mut self, stepping: Stepping) -> &mut Self {
+        self.stepping = stepping;
         self
     }
 
@@ -550,7 +562,7 @@ impl NetworkBuilder {
         // Event-driven populations: asked for, supported by the model with its settings, fed
         // by projections only (an injected current reaches every neuron) and read by no readout
         // that looks at their state (which would see skipped neurons before they are settled).
-        if self.event_driven {
+        if self.stepping != Stepping::Clock {
             for (i, node) in nodes.iter_mut().enumerate() {
                 let RunningKind::Population(m) = &node.kind else {
                     continue;
@@ -560,7 +572,14 @@ impl NetworkBuilder {
                         && r.reads_population_state()
                 });
                 if m.event_driven() && node.currents.is_empty() && !state_read {
-                    node.active = Some(ActiveSet::new(node.local.len()));
+                    let crossover = match &self.stepping {
+                        Stepping::Auto(c) => Some(
+                            c.get(m.model_name())
+                                .unwrap_or_else(|| m.default_crossover()),
+                        ),
+                        _ => None,
+                    };
+                    node.active = Some(EventStepping::new(node.local.len(), crossover));
                 }
             }
         }

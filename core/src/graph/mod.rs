@@ -14,6 +14,9 @@
 //!
 //! # Phase order of one step
 //! Step `k` advances time from `t_k = k·dt` to `t_k + dt`:
+//! 0. **stepping**: a population stepped automatically ([`Stepping::Auto`]) whose measured
+//!    activity calls for it switches between clock- and event-driven stepping (see
+//!    [`Stepping`]);
 //! 1. **inputs**: every spike source emits the spikes that fall in `[t_k, t_k + dt)`;
 //! 2. **synapses**: every projection adds the weights of the presynaptic spikes emitted `delay`
 //!    steps ago (this step's, for delay 0 from an input) to its currents, giving `I(t_k)`;
@@ -70,6 +73,7 @@ mod input;
 mod network;
 mod readout;
 mod running;
+mod stepping;
 mod synapse;
 mod weight;
 
@@ -84,6 +88,10 @@ pub use network::{DEFAULT_EPOCH_STEPS, Network, RunSummary};
 pub use readout::{
     Readout, ReadoutContext, SpikeRecorder, StateRecorder, StateSampler, StepView,
     SynapticCurrentSampler, SynapticTraceRecorder, TraceRecorder, TraceSampler,
+};
+pub use stepping::{
+    CLOCK_SAMPLE_STEPS, CROSSOVER_FILE_NAME, Crossovers, DECISION_WINDOW_STEPS, EVENT_CHECK_STEPS,
+    HYSTERESIS, PopulationStepping, Stepping, SteppingFileError, SteppingMode,
 };
 pub use synapse::{Connectivity, ExpSynapse, Synapse};
 pub use weight::one_spike_weight;

@@ -5,11 +5,12 @@ use super::exchange::{pack_epoch, unpack_epoch};
 use super::ids::{InputId, NodeId, ReadoutId, checked_index};
 use super::input::{CurrentInput, SpikeSource};
 use super::readout::{Readout, ReadoutContext, StepView};
-use super::running::{ActiveSet, RunningKind, RunningNode, RunningSource};
+use super::running::{RunningKind, RunningNode, RunningSource};
+use super::stepping::{ActiveSet, EventStepping, PopulationStepping, SteppingMode};
 use super::synapse::RunningProjection;
 use crate::currents::{DecayingCurrents, SynapticDrive, flush};
 use crate::error::GraphError;
-use crate::model::SpikeBuffer;
+use crate::model::{NeuronModel, SpikeBuffer};
 use crate::ranks::Ranks;
 use std::any::Any;
 use std::ops::ControlFlow;
@@ -139,12 +140,42 @@ impl Network {
         self.exchange.count
     }
 
-    /// Names of the populations stepped event-driven.
+    /// Names of the populations stepped event-driven now (with [`Stepping::Auto`], the mode
+    /// can change as the run goes: see [`stepping_report`](Self::stepping_report)).
+    ///
+    /// [`Stepping::Auto`]: super::Stepping::Auto
     pub fn event_driven_populations(&self) -> Vec<&str> {
         self.nodes
             .iter()
-            .filter(|n| n.active.is_some())
+            .filter(|n| n.active.as_ref().is_some_and(|a| a.event))
             .map(|n| n.name.as_str())
+            .collect()
+    }
+
+    /// Each population's stepping, in build order: its current mode, its crossover when it
+    /// chooses automatically, its measured activity and its switches (see
+    /// [`NetworkBuilder::stepping`](super::NetworkBuilder::stepping)).
+    pub fn stepping_report(&self) -> Vec<PopulationStepping> {
+        self.nodes
+            .iter()
+            .filter_map(|n| match &n.kind {
+                RunningKind::Population(m) => Some((n, m.model_name())),
+                RunningKind::Spikes(_) => None,
+            })
+            .map(|(n, model)| {
+                let a = n.active.as_ref();
+                PopulationStepping {
+                    population: n.name.clone(),
+                    model,
+                    mode: match a {
+                        Some(a) if a.event => SteppingMode::Event,
+                        _ => SteppingMode::Clock,
+                    },
+                    crossover: a.and_then(|a| a.crossover),
+                    activity: a.and_then(EventStepping::activity),
+                    switches: a.map_or(0, |a| a.switches),
+                }
+            })
             .collect()
     }
 
@@ -214,7 +245,8 @@ impl Network {
             }
             n.history.iter_mut().for_each(SpikeBuffer::clear);
             if let Some(a) = &mut n.active {
-                a.clear();
+                a.set.clear();
+                a.reset_counts();
             }
         }
         self.neuron_updates = 0;
@@ -254,7 +286,9 @@ impl Network {
     /// The end of every run: event-driven populations brought up to date, readouts finished.
     fn end_run(&mut self, steps: u64, stopped_early: bool) -> RunSummary {
         for n in &mut self.nodes {
-            if let (RunningKind::Population(m), Some(_)) = (&mut n.kind, &n.active) {
+            if let (RunningKind::Population(m), Some(a)) = (&mut n.kind, &n.active)
+                && a.event
+            {
                 m.settle();
             }
         }
@@ -414,6 +448,14 @@ impl Network {
     fn advance(&mut self) {
         let k = self.step;
         let t_k = k as f64 * self.dt_s;
+        // 0. automatic populations switch mode when their activity calls for it
+        for n in &mut self.nodes {
+            if let (RunningKind::Population(m), Some(a)) = (&mut n.kind, &mut n.active)
+                && let Some(event) = a.decide(k)
+            {
+                switch_mode(m.as_mut(), a, &self.projections, &n.incoming, event);
+            }
+        }
         // 1. inputs
         for n in &mut self.nodes {
             if let RunningKind::Spikes(s) = &mut n.kind {
@@ -428,17 +470,23 @@ impl Network {
                 let h = &self.nodes[p.pre].history;
                 let spikes = h[((k - p.delay as u64) % h.len() as u64) as usize].indices();
                 p.deliver(spikes);
-                if let Some(post) = p.post.filter(|&post| self.nodes[post].active.is_some()) {
+                let event =
+                    |post: &usize| self.nodes[*post].active.as_ref().is_some_and(|a| a.event);
+                if let Some(post) = p.post.filter(event) {
                     self.scratch.clear();
                     self.scratch.extend_from_slice(spikes);
-                    let active = self.nodes[post].active.as_mut().expect("checked");
+                    let active = &mut self.nodes[post].active.as_mut().expect("checked").set;
                     p.for_each_target(&self.scratch, |j| active.mark(j));
                 }
             }
         }
         // 3–4. integration, threshold and reset (synaptic decay fused into the input sum)
         for n in &mut self.nodes {
-            if let (RunningKind::Population(m), Some(active)) = (&mut n.kind, &mut n.active) {
+            if let (RunningKind::Population(m), Some(stepping)) = (&mut n.kind, &mut n.active)
+                && stepping.event
+            {
+                stepping.count(stepping.set.list.len(), n.local.len());
+                let active = &mut stepping.set;
                 // Event-driven: only the neurons with synaptic current, summed in the
                 // clock-driven order (so equal inputs give equal states), gathered in list order.
                 if !active.sorted {
@@ -494,6 +542,17 @@ impl Network {
                 continue;
             }
             if let RunningKind::Population(m) = &mut n.kind {
+                if let Some(a) = n.active.as_mut().filter(|a| a.samples(k)) {
+                    let len = n.input.len();
+                    let active = match n.incoming[..] {
+                        // One projection: a loop the compiler vectorises.
+                        [only] => (self.projections[only].current[..len].iter())
+                            .filter(|&&c| c != 0.0)
+                            .count(),
+                        _ => active_neurons(&self.projections, &n.incoming, len).count(),
+                    };
+                    a.count(active, len);
+                }
                 self.neuron_updates += n.input.len() as u64;
                 let slot = (k % n.history.len() as u64) as usize;
                 n.history[slot].clear();
@@ -565,6 +624,45 @@ impl Network {
         }
         stop
     }
+}
+
+/// The neurons `0..n` with a nonzero synaptic current in one of the projections `incoming`,
+/// ascending.
+fn active_neurons<'a>(
+    projections: &'a [RunningProjection],
+    incoming: &'a [usize],
+    n: usize,
+) -> impl Iterator<Item = u32> + 'a {
+    (0..n as u32).filter(move |&j| {
+        incoming
+            .iter()
+            .any(|&p| projections[p].current[j as usize] != 0.0)
+    })
+}
+
+/// Switches population `m` to event-driven stepping (`event`) or to clock-driven stepping, at
+/// the start of a step (see [`Stepping`](super::Stepping)): leaving event-driven, every
+/// skipped neuron is brought up to date and the active list dropped; returning to it, every
+/// neuron is marked current and the active list rebuilt from the nonzero currents.
+fn switch_mode(
+    m: &mut dyn NeuronModel,
+    stepping: &mut EventStepping,
+    projections: &[RunningProjection],
+    incoming: &[usize],
+    event: bool,
+) {
+    stepping.set.clear();
+    if event {
+        m.resume_event_driven();
+        let n = stepping.set.flag.len();
+        for j in active_neurons(projections, incoming, n) {
+            stepping.set.mark(j);
+        }
+    } else {
+        m.settle();
+    }
+    stepping.event = event;
+    stepping.switches += 1;
 }
 
 /// The drive of a population fed by the projections `incoming`, when there are one or two

@@ -1,10 +1,11 @@
 //! The run-time records of a built network's nodes, shared by the builder that makes them, the
 //! run loop ([`Network`](super::Network)) and the spike exchange between ranks: a kept node
 //! ([`RunningNode`]: its model or spike source, spike history ring and input buffer), the
-//! active neurons of an event-driven population ([`ActiveSet`]) and a readout's source by
-//! run-time index ([`RunningSource`]).
+//! stepping of a population that can be stepped event-driven (`EventStepping`) and a
+//! readout's source by run-time index ([`RunningSource`]).
 
 use super::input::SpikeSource;
+use super::stepping::EventStepping;
 use crate::model::{NeuronModel, SpikeBuffer};
 use std::ops::Range;
 
@@ -30,45 +31,9 @@ pub(super) struct RunningNode {
     pub(super) incoming: Vec<usize>,
     /// Current sources injected into this node.
     pub(super) currents: Vec<usize>,
-    /// Event-driven populations: the neurons with synaptic input (see
-    /// [`NetworkBuilder::event_driven`](super::NetworkBuilder::event_driven)).
-    pub(super) active: Option<ActiveSet>,
-}
-
-/// The neurons of an event-driven population whose synaptic current is nonzero, ascending.
-pub(super) struct ActiveSet {
-    pub(super) list: Vec<u32>,
-    /// The neurons of `list` whose current is still nonzero after this step's decay.
-    pub(super) next: Vec<u32>,
-    pub(super) flag: Vec<bool>,
-    pub(super) sorted: bool,
-}
-
-impl ActiveSet {
-    pub(super) fn new(n: usize) -> Self {
-        Self {
-            list: Vec::new(),
-            next: Vec::new(),
-            flag: vec![false; n],
-            sorted: true,
-        }
-    }
-
-    #[inline]
-    pub(super) fn mark(&mut self, j: u32) {
-        if !std::mem::replace(&mut self.flag[j as usize], true) {
-            self.sorted &= self.list.last().is_none_or(|&l| l < j);
-            self.list.push(j);
-        }
-    }
-
-    pub(super) fn clear(&mut self) {
-        self.list
-            .iter()
-            .for_each(|&j| self.flag[j as usize] = false);
-        self.list.clear();
-        self.sorted = true;
-    }
+    /// Populations that can be stepped event-driven: their mode, active neurons and activity
+    /// (see [`NetworkBuilder::stepping`](super::NetworkBuilder::stepping)).
+    pub(super) active: Option<EventStepping>,
 }
 
 /// What a readout watches, by run-time index: a node or a projection.

@@ -26,7 +26,7 @@
 
 pub mod eval;
 
-use crate::afferents::{AfferentConfig, afferent_population};
+use crate::afferents::{AfferentConfig, afferent_population, afferent_stepping};
 use crate::coding::Coding;
 use crate::coding::scheme::{LiveScorer, OnlineScorer};
 use crate::error::ExperimentError;
@@ -471,7 +471,7 @@ fn live_network(
 ) -> Result<(Network, InputId, ReadoutId<SpatiotemporalCoding>), ExperimentError> {
     let n = training.n_channels();
     let mut b = NetworkBuilder::new();
-    b.event_driven(true);
+    b.stepping(afferent_stepping());
     let input = b.add_spike_input("taxels", SpikeArrayInput::new(MultiSpikeTrain::empty(n)))?;
     let source: ReadoutSource = match training.afferents {
         None => input.into(),

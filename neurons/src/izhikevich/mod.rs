@@ -611,6 +611,7 @@ impl<F: Real> BlockModel for IzhikevichModel<F> {
     const SUPPORTED: &'static str = SUPPORTED;
     const DEFAULT_INTEGRATOR: Integrator = Integrator::Izhikevich2003;
     const DIVERGENCE: &'static str = "the membrane jumped from at or below the reset to the peak in one step, faster than dv/dt allows for that input, or left the finite range";
+    const DEFAULT_CROSSOVER: f64 = 0.14; // 0.143: `bench neurons --crossover` on the 2-core VM
 
     fn supports(integrator: Integrator) -> bool {
         integrator != Integrator::Exact

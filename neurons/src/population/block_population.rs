@@ -141,6 +141,16 @@ impl<M: BlockModel> BlockPopulation<M> {
         M::variable(&self.blocks[i / BLOCK], var, i % BLOCK)
     }
 
+    /// Event-driven stepping: the neurons not settled now become the restless ones.
+    fn collect_restless(&mut self) {
+        let (k, blocks) = (&self.k, &self.blocks);
+        self.restless.clear();
+        self.restless.extend(
+            (0..self.n as u32)
+                .filter(|&i| !M::settled(k, &blocks[i as usize / BLOCK], i as usize % BLOCK)),
+        );
+    }
+
     fn advance_blocks(&mut self, drive: Drive<'_>) -> u64 {
         let (n, k, integrator, interpolate) = (self.n, self.k, self.integrator, self.interpolate);
         let step = for_blocks(&mut self.blocks, n, |b, s| {
@@ -243,12 +253,7 @@ impl<M: BlockModel> NeuronModel for BlockPopulation<M> {
         self.restless.clear();
         if M::skips_idle(&self.params, &self.k, self.integrator, self.interpolate) {
             self.current_to.resize(self.n, 0);
-            let k = &self.k;
-            let blocks = &self.blocks;
-            self.restless.extend(
-                (0..self.n as u32)
-                    .filter(|&i| !M::settled(k, &blocks[i as usize / BLOCK], i as usize % BLOCK)),
-            );
+            self.collect_restless();
         }
         Ok(())
     }
@@ -317,6 +322,20 @@ impl<M: BlockModel> NeuronModel for BlockPopulation<M> {
                 *to = now;
             }
         }
+    }
+
+    /// Every neuron is current as of now (the clock-driven steps advanced them all), and the
+    /// neurons still settling are collected again.
+    fn resume_event_driven(&mut self) {
+        if self.current_to.len() != self.n {
+            return;
+        }
+        self.current_to.fill(self.steps);
+        self.collect_restless();
+    }
+
+    fn default_crossover(&self) -> f64 {
+        M::DEFAULT_CROSSOVER
     }
 
     /// The neurons `range` as a population of their own, with the parameters, integrator,

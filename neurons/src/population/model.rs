@@ -41,6 +41,9 @@ pub trait BlockModel: Send + Sync + 'static {
     const DEFAULT_INTEGRATOR: Integrator;
     /// What the model's divergence criterion detects (for the error message).
     const DIVERGENCE: &'static str;
+    /// The activity below which a population of this model is cheaper event-driven
+    /// ([`NeuronModel::default_crossover`], used when no crossover is stored). Default 0.05.
+    const DEFAULT_CROSSOVER: f64 = 0.05;
 
     /// `true` when the model implements `integrator`.
     fn supports(integrator: Integrator) -> bool;

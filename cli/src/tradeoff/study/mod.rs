@@ -12,7 +12,7 @@
 //! | family | settings | reference | numerical error |
 //! |---|---|---|---|
 //! | [`Family::VanRossum`] | exact, or synaptic traces at a trace step × f64/f32 | exact | relative error of the spatiotemporal distance |
-//! | [`Family::Afferents`] | integrator × dt × precision, event- or clock-driven | the model's integrator, 0.1 ms, f64, event-driven (`reproduce --afferents`) | afferent spike-time error |
+//! | [`Family::Afferents`] | integrator × dt × precision, automatic or clock-driven stepping | the model's integrator, 0.1 ms, f64, automatic stepping (`reproduce --afferents`) | afferent spike-time error |
 //! | [`Family::Transduction`] | pooling window, BA window (one at a time) | the paper's: 20 ms, 5 ms | taxel spike-time error |
 //! | [`Family::Simulator`] | pixel step tolerance, mechanics sampling step, shear ODE step (one at a time, and the defaults) | the finest of each: 0.02, 0.25 ms, 25 µs | taxel spike-time error |
 //!
@@ -81,7 +81,7 @@ pub struct SettingResult {
     pub wall_s: f64,
     /// Process CPU time of the same (s), when known.
     pub cpu_s: Option<f64>,
-    /// Neuron updates of the afferent layer (event-driven: only afferents with input); `None`
+    /// Neuron updates of the afferent layer (event-driven steps update only afferents with input); `None`
     /// without one.
     pub neuron_updates: Option<u64>,
     /// Synaptic events delivered to the afferents (one per taxel spike, one-to-one); `None`

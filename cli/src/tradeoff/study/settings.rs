@@ -102,7 +102,7 @@ impl Family {
                 for &dt_ms in dts_ms {
                     out.push(Setting::afferents(AfferentConfig {
                         dt_s: dt_ms * 1e-3,
-                        event_driven: false,
+                        automatic_stepping: false,
                         ..reference
                     }));
                 }
@@ -239,7 +239,11 @@ impl Setting {
                 a.integrator,
                 a.dt_s * 1e3,
                 a.precision.name(),
-                if a.event_driven { "event" } else { "clock" }
+                if a.automatic_stepping {
+                    "auto"
+                } else {
+                    "clock"
+                }
             ),
             (None, VrFrom::Exact) => "exact".into(),
             (
