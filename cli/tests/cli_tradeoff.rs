@@ -46,7 +46,7 @@ fn bare_tradeoff_quick_measures_accuracy_against_cost_for_each_family() {
         (
             "### LIF afferent layer",
             "artificial/afferents-lif/afferents-lif",
-            "| exact 0.1 ms f64 event (reference)",
+            "| exact 0.1 ms f64 auto (reference)",
         ),
         (
             "### Transduction",

@@ -216,7 +216,7 @@ impl Setting {
     }
 
     /// The setting as a table names it: `exact`, `traces 1 ms f32`,
-    /// `exact 0.1 ms f64 event`, `pool 20 ms, BA 5 ms`,
+    /// `exact 0.1 ms f64 auto`, `pool 20 ms, BA 5 ms`,
     /// `tolerance 0.067, mechanics 0.5 ms, shear 50 µs`.
     pub fn label(&self) -> String {
         if let Some(p) = self.solver {
