@@ -39,6 +39,22 @@ pub fn exists_as_refusal(e: anyhow::Error) -> anyhow::Error {
     }
 }
 
+/// Fails when the report folder `out` of a pipeline run is, holds or lies inside one of its
+/// inputs: the recorded dataset, the simulator parameters and the dataset cache (`reproduce`,
+/// `tradeoff`).
+pub fn refuse_report_over_inputs(
+    out: &Path,
+    dataset: Option<&Path>,
+    params: Option<&Path>,
+    cache: &Path,
+) -> anyhow::Result<()> {
+    let inputs: Vec<&Path> = [dataset, params, Some(cache)]
+        .into_iter()
+        .flatten()
+        .collect();
+    refuse_nested([out], &inputs)
+}
+
 /// Fails when one of `outputs` is, holds or lies inside one of `inputs` (see
 /// [`check_not_nested`]): `reproduce --dataset ds --out ds --force` would delete the recordings.
 pub fn refuse_nested<'a>(

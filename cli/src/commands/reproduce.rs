@@ -3,7 +3,7 @@
 //! report folder with its figures (see `neurotac_experiments::reproduce`).
 
 use super::options::{ForceOption, SeedOption, SetsOption, ThreadsOption, help};
-use super::outputs::refuse_nested;
+use super::outputs::refuse_report_over_inputs;
 use super::progress::Bars;
 use crate::commands::args;
 use clap::{Args, ValueEnum};
@@ -24,7 +24,7 @@ use neurotac_experiments::reproduce::{self, ReproduceConfig, SetReport, Source};
 use neurotac_experiments::threads::with_threads;
 use neurotac_experiments::timing::timed;
 use neurotac_sensor::sim::SimParams;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 enum VrFromArg {
@@ -102,13 +102,12 @@ pub struct ReproduceArgs {
 pub fn run(args: ReproduceArgs, ranks: &dyn Ranks) -> anyhow::Result<()> {
     let cache = args.cache.clone().unwrap_or_else(default_cache_dir);
     // The report folder replaces whatever is at --out: never a folder an input is in.
-    let inputs: Vec<&Path> = [&args.dataset, &args.params]
-        .into_iter()
-        .flatten()
-        .chain([&cache])
-        .map(PathBuf::as_path)
-        .collect();
-    refuse_nested([args.out.as_path()], &inputs)?;
+    refuse_report_over_inputs(
+        &args.out,
+        args.dataset.as_deref(),
+        args.params.as_deref(),
+        &cache,
+    )?;
     check_destination(&args.out, args.force.force)?;
     let mut config = match args.quick {
         true => ReproduceConfig::quick(args.seed.seed, cache),

@@ -7,7 +7,7 @@ use crate::commands::args;
 use crate::commands::options::{
     ForceOption, SeedOption, SetArg, ThreadsOption, TradeoffOutOption, help,
 };
-use crate::commands::outputs::{refuse_existing, refuse_nested};
+use crate::commands::outputs::{refuse_existing, refuse_report_over_inputs};
 use crate::commands::progress::Bars;
 use anyhow::Context;
 use clap::{Args, ValueEnum};
@@ -20,7 +20,7 @@ use neurotac_experiments::progress::Progress;
 use neurotac_experiments::reproduce::{ReproduceConfig, Source, load_source};
 use neurotac_experiments::threads::with_threads;
 use neurotac_sensor::sim::SimParams;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 /// A family of settings to sweep.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -89,13 +89,12 @@ pub struct StudyArgs {
 
 pub fn run(args: StudyArgs) -> anyhow::Result<()> {
     let cache = args.cache.clone().unwrap_or_else(default_cache_dir);
-    let inputs: Vec<&Path> = [&args.dataset, &args.params]
-        .into_iter()
-        .flatten()
-        .chain([&cache])
-        .map(PathBuf::as_path)
-        .collect();
-    refuse_nested([args.out.out.as_path()], &inputs)?;
+    refuse_report_over_inputs(
+        &args.out.out,
+        args.dataset.as_deref(),
+        args.params.as_deref(),
+        &cache,
+    )?;
     // The summary is always written: refused before any work (every file once the sets'
     // names are known).
     let summary_path = args.out.out.join("tradeoff.md");
