@@ -115,8 +115,18 @@ fn a_small_run_prints_the_tables_and_writes_the_whole_report() {
 fn the_afferent_variant_reports_accuracy_and_time_next_to_the_direct_pipeline() {
     let dir = scratch("afferents");
     let (out, cache) = (dir.join("report"), dir.join("cache"));
+    // The afferents step automatically with the crossovers stored in --cache: an unusable
+    // file there is named in a warning, and the run goes on with the built-in ones.
+    std::fs::create_dir_all(&cache).unwrap();
+    let crossovers = cache.join("stepping-crossovers.json");
+    std::fs::write(&crossovers, r#"{"crossovers": {"LIF": 0.0}}"#).unwrap();
     let (ok, stdout, stderr) = small_reproduce(&out, &cache, &["--afferents", "lif"]);
     assert!(ok, "{stderr}");
+    let warning = format!("{}", crossovers.display());
+    assert!(
+        stderr.contains(&warning) && stderr.contains("using the built-in crossovers"),
+        "{stderr}"
+    );
     assert!(
         stdout.contains("| lif afferents: LOO (%) |") && stdout.contains("| direct: time (s) |"),
         "{stdout}"

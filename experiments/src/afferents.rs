@@ -35,6 +35,7 @@ use neurotac_core::{
 };
 use neurotac_neurons::{AfferentPreset, BlockPopulation, FamilyVisitor, Integrator, ModelFamily};
 use rayon::prelude::*;
+use std::path::Path;
 use std::sync::OnceLock;
 
 /// How long an afferent network keeps running after a sample's duration (s), so the
@@ -191,24 +192,37 @@ impl FamilyVisitor for AddAfferents<'_> {
     }
 }
 
-/// How the readout networks of `reproduce` and `online` step their afferents: [`Stepping::Auto`] (each afferent population picks
-/// clock- or event-driven stepping from its measured activity) with the crossovers stored by
-/// `neurotac bench neurons --crossover` in the default cache folder
-/// ([`default_cache_dir`](crate::datasets::simulated::default_cache_dir)), else the models'
-/// built-in ones. Read once per process. The stepping never changes a result, only its speed,
-/// so a crossover file that cannot be used is reported in one line on stderr and the built-in
-/// crossovers are used.
+/// The crossovers of [`afferent_stepping`], read once per process.
+static CROSSOVERS: OnceLock<Crossovers> = OnceLock::new();
+
+/// Makes [`afferent_stepping`] use the crossovers stored by `neurotac bench neurons
+/// --crossover` in `cache_dir` (a command's `--cache`). Call it before the first readout
+/// network is built: the crossovers are read once per process, so a later call changes
+/// nothing. The stepping never changes a result, only its speed, so a crossover file that
+/// cannot be used is reported in one line on stderr and the built-in crossovers are used.
+pub fn use_crossovers_in(cache_dir: &Path) {
+    CROSSOVERS.get_or_init(|| stored_crossovers(cache_dir));
+}
+
+/// The crossovers stored in `cache_dir`, else the built-in ones (with a warning when the file
+/// exists but cannot be used).
+fn stored_crossovers(cache_dir: &Path) -> Crossovers {
+    Crossovers::load(&cache_dir.join(CROSSOVER_FILE_NAME))
+        .unwrap_or_else(|e| {
+            eprintln!("warning: {e}; using the built-in crossovers");
+            None
+        })
+        .unwrap_or_default()
+}
+
+/// How the readout networks of `reproduce` and `online` step their afferents:
+/// [`Stepping::Auto`] (each afferent population picks clock- or event-driven stepping from its
+/// measured activity) with the crossovers of [`use_crossovers_in`], else those stored in the
+/// default cache folder ([`default_cache_dir`](crate::datasets::simulated::default_cache_dir)),
+/// else the models' built-in ones.
 pub fn afferent_stepping() -> Stepping {
-    static STORED: OnceLock<Crossovers> = OnceLock::new();
-    let crossovers = STORED.get_or_init(|| {
-        let file = crate::datasets::simulated::default_cache_dir().join(CROSSOVER_FILE_NAME);
-        Crossovers::load(&file)
-            .unwrap_or_else(|e| {
-                eprintln!("warning: {e}; using the built-in crossovers");
-                None
-            })
-            .unwrap_or_default()
-    });
+    let crossovers = CROSSOVERS
+        .get_or_init(|| stored_crossovers(&crate::datasets::simulated::default_cache_dir()));
     Stepping::Auto(crossovers.clone())
 }
 

@@ -85,15 +85,9 @@ fn lif() -> Lif<f64> {
     Lif::<f64>::new(N, params).with_integrator(Integrator::Exact)
 }
 
-/// Izhikevich RS afferents from rest, held at rest once within 1e-9 mV of it: event-driven
-/// stepping (and so automatic stepping) gives the clock-driven spikes as long as the held
-/// offset decides no threshold crossing, which the default 1e-3 mV does in the four-phase run
-/// (with fixed event-driven stepping as well).
+/// Izhikevich RS afferents from rest, with the default exact hold at rest.
 fn izhikevich() -> Izhikevich<f64> {
-    let params = IzhikevichParams {
-        rest_tolerance: 1e-9,
-        ..IzhikevichParams::rs()
-    };
+    let params = IzhikevichParams::rs();
     let rest = params.resting_potential().unwrap();
     Izhikevich::<f64>::new(N, params).with_initial_potential(InitialPotential::Constant(rest))
 }

@@ -6,7 +6,7 @@ use neurotac_core::{
     ReadoutId, SpikeArrayInput, SpikeBuffer, SpikeRecorder,
 };
 use neurotac_neurons::{
-    InitialPotential, Integrator, Izhikevich, IzhikevichParams, Lif, LifParams,
+    InitialPotential, Integrator, Izhikevich, IzhikevichParams, Lif, LifParams, Real,
 };
 use rand::{RngExt, SeedableRng};
 
@@ -142,8 +142,9 @@ fn izhikevich_afferents(
 #[test]
 fn event_driven_izhikevich_holds_neurons_at_rest_and_spikes_as_clock_driven() {
     let input = taxels(1000, 10, 40.0, 0.9, 2);
-    let (clock, clock_spikes) = izhikevich_afferents(&input, 1e-3, false);
-    let (event, event_spikes) = izhikevich_afferents(&input, 1e-3, true);
+    let tolerance = IzhikevichParams::rs().rest_tolerance;
+    let (clock, clock_spikes) = izhikevich_afferents(&input, tolerance, false);
+    let (event, event_spikes) = izhikevich_afferents(&input, tolerance, true);
     assert!(clock.event_driven_populations().is_empty());
     assert_eq!(event.event_driven_populations(), ["pop"]);
     assert!(clock_spikes.len() > 20, "{}", clock_spikes.len());
@@ -162,49 +163,111 @@ fn event_driven_izhikevich_holds_neurons_at_rest_and_spikes_as_clock_driven() {
     );
 }
 
+/// One RS neuron from rest, driven at 20 for 5 ms from 50 ms (it spikes), then left without
+/// input for the rest of `steps` steps of 0.1 ms, clock- and event-driven with `integrator`:
+/// the two neurons after `settle`, their spike counts and the event-driven updates.
+fn izhikevich_pulse<F: Real>(
+    params: IzhikevichParams,
+    integrator: Integrator,
+    steps: usize,
+) -> [((f64, f64), usize, u64); 2] {
+    let rest = params.resting_potential().unwrap();
+    let mut clock = Izhikevich::<F>::new(1, params)
+        .with_integrator(integrator)
+        .with_initial_potential(InitialPotential::Constant(rest));
+    let mut event = clock.clone();
+    clock.prepare(DT).unwrap();
+    event.prepare(DT).unwrap();
+    assert!(event.event_driven());
+    let mut spikes = SpikeBuffer::default();
+    let (mut clock_spikes, mut event_spikes, mut updates) = (0, 0, 0);
+    for k in 0..steps {
+        let input = if (500..550).contains(&k) { 20.0 } else { 0.0 };
+        spikes.clear();
+        clock.step(&[input], &mut spikes);
+        clock_spikes += spikes.len();
+        spikes.clear();
+        updates += if input != 0.0 {
+            event.step_active(&[0], &[input], &mut spikes)
+        } else {
+            event.step_active(&[], &[], &mut spikes)
+        };
+        event_spikes += spikes.len();
+    }
+    event.settle();
+    [
+        (clock.state_of(0), clock_spikes, steps as u64),
+        (event.state_of(0), event_spikes, updates),
+    ]
+}
+
+#[test]
+fn izhikevich_held_by_default_only_where_the_clock_driven_step_stays() {
+    // The default holds a neuron once a step at input 0 no longer moves it, so after any
+    // quiet stretch its state is the clock-driven one bit for bit, at any length of the run.
+    let integrators = [
+        Integrator::Izhikevich2003,
+        Integrator::Euler,
+        Integrator::ExponentialEuler,
+        Integrator::Rk2,
+        Integrator::Rk4,
+    ];
+    for integrator in integrators {
+        for steps in [3_000, 10_000, 20_000, 40_000] {
+            let runs = [
+                (
+                    "f64",
+                    izhikevich_pulse::<f64>(IzhikevichParams::rs(), integrator, steps),
+                ),
+                (
+                    "f32",
+                    izhikevich_pulse::<f32>(IzhikevichParams::rs(), integrator, steps),
+                ),
+            ];
+            for (precision, [(clock, clock_spikes, _), (event, event_spikes, updates)]) in runs {
+                let at = format!("{integrator:?} {precision} after {steps} steps");
+                assert!(clock_spikes > 0, "{at}");
+                assert_eq!(event_spikes, clock_spikes, "{at}");
+                assert_eq!(event.0.to_bits(), clock.0.to_bits(), "v, {at}");
+                assert_eq!(event.1.to_bits(), clock.1.to_bits(), "u, {at}");
+                if steps >= 20_000 {
+                    // Held from some point on: not stepped for the whole run.
+                    assert!(updates < steps as u64 - 2_000, "{at}: {updates}");
+                }
+            }
+        }
+    }
+}
+
 #[test]
 fn izhikevich_state_held_at_rest_stays_within_the_tolerance() {
-    // One neuron driven for 5 ms (it spikes), then left alone for the rest of 1 s: once back
-    // within the tolerance it is held, and its state after `settle` is within the tolerance of
-    // the clock-driven one (which keeps converging to the resting point).
-    let params = IzhikevichParams::rs();
+    // With a positive tolerance a neuron is held once back within it of rest: its state after
+    // `settle` is within the tolerance of the clock-driven one (which keeps converging to the
+    // resting point), after fewer updates than the exact default.
     let (v_rest, u_rest) = (-70.0, -14.0);
-    assert!((params.resting_potential().unwrap() - v_rest).abs() < 1e-12);
+    assert!((IzhikevichParams::rs().resting_potential().unwrap() - v_rest).abs() < 1e-12);
+    let [_, (_, _, exact_updates)] =
+        izhikevich_pulse::<f64>(IzhikevichParams::rs(), Integrator::Izhikevich2003, 10_000);
     for tolerance in [1e-1, 1e-3] {
         let params = IzhikevichParams {
             rest_tolerance: tolerance,
-            ..params
+            ..IzhikevichParams::rs()
         };
-        let mut clock = Izhikevich::<f64>::new(1, params)
-            .with_initial_potential(InitialPotential::Constant(v_rest));
-        let mut event = clock.clone();
-        clock.prepare(DT).unwrap();
-        event.prepare(DT).unwrap();
-        assert!(event.event_driven());
-        let (mut spikes, mut clock_spikes, mut event_spikes) = (SpikeBuffer::default(), 0, 0);
-        let mut updates = 0;
-        for k in 0..10_000 {
-            let input = if (500..550).contains(&k) { 20.0 } else { 0.0 };
-            spikes.clear();
-            clock.step(&[input], &mut spikes);
-            clock_spikes += spikes.len();
-            spikes.clear();
-            updates += if input != 0.0 {
-                event.step_active(&[0], &[input], &mut spikes)
-            } else {
-                event.step_active(&[], &[], &mut spikes)
-            };
-            event_spikes += spikes.len();
-        }
-        event.settle();
+        let [
+            ((v_c, u_c), clock_spikes, _),
+            ((v_e, u_e), event_spikes, updates),
+        ] = izhikevich_pulse::<f64>(params, Integrator::Izhikevich2003, 10_000);
         assert!(clock_spikes > 0);
         assert_eq!(event_spikes, clock_spikes);
-        let ((v_c, u_c), (v_e, u_e)) = (clock.state_of(0), event.state_of(0));
         assert!((v_e - v_rest).abs() <= tolerance && (u_e - u_rest).abs() <= tolerance);
         assert!((v_e - v_c).abs() <= 2.0 * tolerance, "{v_e} vs {v_c}");
         assert!((u_e - u_c).abs() <= 2.0 * tolerance, "{u_e} vs {u_c}");
         // Stepped from the input until back within the tolerance, not for the whole second.
         assert!(updates > 100 && updates < 9_000, "{tolerance}: {updates}");
+        assert!(
+            updates < exact_updates,
+            "{tolerance}: {updates} vs {exact_updates}"
+        );
     }
 }
 
@@ -225,13 +288,14 @@ fn izhikevich_updates_scale_with_the_input_events() {
 
 #[test]
 fn izhikevich_away_from_rest_is_stepped_until_it_settles() {
-    // From the default −65 mV every neuron is stepped, without input, until it reaches rest.
+    // From the default −65 mV every neuron is stepped, without input, until it reaches the
+    // step's fixed point at rest (≈ 1.1 s in f64 at 0.1 ms), then held.
     let input = MultiSpikeTrain::from_channels(vec![Vec::new(); 10]).unwrap();
     let model = Izhikevich::<f64>::new(10, IzhikevichParams::rs());
     let (mut clock, _) = pipeline(&input, model.clone(), false, false);
     let (mut event, _) = pipeline(&input, model, true, false);
-    clock.run(1.0, &neurotac_core::OneProcess).unwrap();
-    event.run(1.0, &neurotac_core::OneProcess).unwrap();
+    clock.run(2.0, &neurotac_core::OneProcess).unwrap();
+    event.run(2.0, &neurotac_core::OneProcess).unwrap();
     let updates = event.neuron_updates();
     assert!(
         updates > 10 * 1_000 && updates < clock.neuron_updates(),
@@ -261,13 +325,13 @@ fn populations_that_cannot_skip_stay_clock_driven() {
     }
     assert!(event_driven(lif(false), false));
     assert!(event_driven(izhikevich(1e-3, false), false));
-    // A state readout, interpolated spike times, Izhikevich without a tolerance, Izhikevich
-    // without decay (a = 0: no stable resting point):
-    // clock-driven.
+    assert!(event_driven(izhikevich(0.0, false), false));
+    // A state readout, interpolated spike times, Izhikevich without decay (a = 0: no stable
+    // resting point): clock-driven.
     assert!(!event_driven(lif(false), true));
     assert!(!event_driven(lif(true), false));
     assert!(!event_driven(izhikevich(1e-3, true), false));
-    assert!(!event_driven(izhikevich(0.0, false), false));
+    assert!(!event_driven(izhikevich(0.0, true), false));
     let no_decay = IzhikevichParams {
         a: 0.0,
         ..IzhikevichParams::rs()

@@ -307,6 +307,7 @@ fn decision_json(d: &Decision, names: &[String]) -> serde_json::Value {
 fn run_eval(a: &RecogniseArgs) -> anyhow::Result<()> {
     let out = a.out.out.as_ref().expect("clap requires --out");
     let cache = a.cache.clone().unwrap_or_else(default_cache_dir);
+    neurotac_experiments::afferents::use_crossovers_in(&cache);
     refuse_nested([out.as_path()], &[cache.as_path()])?;
     refuse_existing([out.as_path()], a.force.force)?;
     let set = match a.set.set.expect("clap requires --set") {

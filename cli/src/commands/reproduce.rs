@@ -87,8 +87,9 @@ pub struct ReproduceArgs {
     /// Arithmetic of --vr-from traces.
     #[arg(long, value_parser = args::menu::<Precision>(), default_value = "f64")]
     trace_precision: Precision,
-    /// Cache of simulated datasets, shared with `neurotac simulate` (default: $NEUROTAC_CACHE,
-    /// else $XDG_CACHE_HOME/neurotac, else ~/.cache/neurotac; delete the folder to clear it).
+    /// Cache of simulated datasets, shared with `neurotac simulate`, and of the stepping
+    /// crossovers `neurotac bench neurons --crossover` stores (default: $NEUROTAC_CACHE, else
+    /// $XDG_CACHE_HOME/neurotac, else ~/.cache/neurotac; delete the folder to clear it).
     #[arg(long)]
     cache: Option<PathBuf>,
     /// Simulator parameters (JSON, see `neurotac simulate params`); default: the calibrated ones.
@@ -101,6 +102,7 @@ pub struct ReproduceArgs {
 /// prints and writes the report.
 pub fn run(args: ReproduceArgs, ranks: &dyn Ranks) -> anyhow::Result<()> {
     let cache = args.cache.clone().unwrap_or_else(default_cache_dir);
+    neurotac_experiments::afferents::use_crossovers_in(&cache);
     // The report folder replaces whatever is at --out: never a folder an input is in.
     refuse_report_over_inputs(
         &args.out,

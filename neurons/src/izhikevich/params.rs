@@ -24,14 +24,16 @@ pub struct IzhikevichParams {
     pub v_peak: f64,
     /// Lowest potential kept (mV); default −∞, i.e. only the finite range is enforced.
     pub v_min: f64,
-    /// Event-driven stepping (module docs): a neuron without input is held once `v` and `u`
-    /// are both within this distance (mV) of the resting point. Default
-    /// [`REST_TOLERANCE_MV`]; 0 keeps the population clock-driven.
+    /// Event-driven stepping (module docs): a neuron without input is held once a step leaves
+    /// it unchanged (exact) or, when this is positive, once `v` and `u` are both within this
+    /// distance (mV) of the resting point (faster, spikes within the tolerance of the
+    /// clock-driven run's). Default [`REST_TOLERANCE_MV`]: 0, exact.
     pub rest_tolerance: f64,
 }
 
-/// The default [`IzhikevichParams::rest_tolerance`]: 10⁻³ mV.
-pub const REST_TOLERANCE_MV: f64 = 1e-3;
+/// The default [`IzhikevichParams::rest_tolerance`]: 0 mV, event-driven stepping exactly as
+/// clock-driven.
+pub const REST_TOLERANCE_MV: f64 = 0.0;
 
 impl Default for IzhikevichParams {
     /// Regular spiking ([`rs`](Self::rs)).

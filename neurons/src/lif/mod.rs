@@ -508,7 +508,7 @@ impl<F: Real> BlockModel for LifModel<F> {
     const SUPPORTED: &'static str = SUPPORTED;
     const DEFAULT_INTEGRATOR: Integrator = Integrator::Exact;
     const DIVERGENCE: &'static str = "the membrane reached threshold under an input whose steady state v∞ lies below it, or left the finite range";
-    const DEFAULT_CROSSOVER: f64 = 0.08; // 0.080: `bench neurons --crossover` on the 2-core VM
+    const DEFAULT_CROSSOVER: f64 = 0.08; // 0.080: `bench neurons --crossover --n 10000` on the 2-core VM
 
     fn supports(integrator: Integrator) -> bool {
         integrator != Integrator::Izhikevich2003

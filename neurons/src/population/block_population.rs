@@ -143,12 +143,16 @@ impl<M: BlockModel> BlockPopulation<M> {
 
     /// Event-driven stepping: the neurons not settled now become the restless ones.
     fn collect_restless(&mut self) {
-        let (k, blocks) = (&self.k, &self.blocks);
+        let (k, integrator, blocks) = (&self.k, self.integrator, &self.blocks);
         self.restless.clear();
-        self.restless.extend(
-            (0..self.n as u32)
-                .filter(|&i| !M::settled(k, &blocks[i as usize / BLOCK], i as usize % BLOCK)),
-        );
+        self.restless.extend((0..self.n as u32).filter(|&i| {
+            !M::settled(
+                k,
+                integrator,
+                &blocks[i as usize / BLOCK],
+                i as usize % BLOCK,
+            )
+        }));
     }
 
     fn advance_blocks(&mut self, drive: Drive<'_>) -> u64 {

@@ -127,11 +127,11 @@ pub trait BlockModel: Send + Sync + 'static {
     }
 
     /// `true` when neuron `j` of the block, left without input from now on, is followed by
-    /// [`advance_idle`](Self::advance_idle) (exactly, or within the model's stated tolerance).
-    /// A neuron that is not settled is stepped clock-driven at input 0 until it is. Default
-    /// `true` (a closed form exists from any state).
-    fn settled(k: &Self::Constants, state: &Self::State, j: usize) -> bool {
-        let _ = (k, state, j);
+    /// [`advance_idle`](Self::advance_idle) (exactly, or within the model's stated tolerance)
+    /// when stepped with `integrator`. A neuron that is not settled is stepped clock-driven at
+    /// input 0 until it is. Default `true` (a closed form exists from any state).
+    fn settled(k: &Self::Constants, integrator: Integrator, state: &Self::State, j: usize) -> bool {
+        let _ = (k, integrator, state, j);
         true
     }
 
@@ -169,7 +169,7 @@ pub trait BlockModel: Send + Sync + 'static {
         active.run(
             |s, j, idle| Self::advance_idle(k, s, j, idle),
             |s, j, input| Self::step_neuron(k, integrator, s, j, input),
-            |s, j| Self::settled(k, s, j),
+            |s, j| Self::settled(k, integrator, s, j),
         )
     }
 }

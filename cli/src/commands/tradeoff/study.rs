@@ -89,6 +89,7 @@ pub struct StudyArgs {
 
 pub fn run(args: StudyArgs) -> anyhow::Result<()> {
     let cache = args.cache.clone().unwrap_or_else(default_cache_dir);
+    neurotac_experiments::afferents::use_crossovers_in(&cache);
     refuse_report_over_inputs(
         &args.out.out,
         args.dataset.as_deref(),
