@@ -85,7 +85,7 @@
 //! `--current 0 --dt 1e-2`, are such runs).
 
 use crate::family::{AfferentPreset, Benchmark, ModelFamily, UpdateCost};
-use crate::integrate::{self, Integrator};
+use crate::integrate::Integrator;
 use crate::population::{
     BlockModel, BlockPopulation, BlockStep, Drive, InitialPotential, for_each_spike, unit_fraction,
 };
@@ -100,51 +100,16 @@ use std::marker::PhantomData;
 #[cfg(target_arch = "x86_64")]
 mod avx512;
 mod params;
+mod state;
 #[cfg(all(test, target_arch = "x86_64"))]
 mod tests;
 
 use params::MODEL;
 pub use params::{IzhikevichParams, REST_TOLERANCE_MV, resting_point};
+pub use state::{IzhikevichConstants, IzhikevichState};
+use state::{advance_state, clamp_and_reset};
 
 const SUPPORTED: &str = "izhikevich2003, euler, exp-euler, rk2, rk4";
-
-/// The state of one block of up to [`BLOCK`](crate::population::BLOCK) Izhikevich neurons, structure of arrays.
-#[derive(Debug, Clone, Default)]
-pub struct IzhikevichState<F> {
-    /// Membrane potentials (mV).
-    pub v: Vec<F>,
-    /// Recovery variables.
-    pub u: Vec<F>,
-    /// In-step spike fractions of the last step (empty unless interpolating).
-    phi: Vec<F>,
-    /// `u` at the interpolated crossing (empty unless interpolating).
-    u_at_spike: Vec<F>,
-    /// 1 where the neuron spiked in the last step.
-    spiked: Vec<u8>,
-}
-
-/// Per-step constants, computed once by `prepare` in the population's precision.
-#[derive(Debug, Clone, Copy, Default)]
-pub struct IzhikevichConstants<F> {
-    a: F,
-    b: F,
-    c: F,
-    d: F,
-    v_peak: F,
-    v_floor: F,
-    h: F,
-    u_decay: F,
-    /// `0.04·(v_peak − m)²`: `g(v_peak) − q` of the divergence criterion.
-    peak_rate: F,
-    /// The resting point `(v*, u*)` without input, and the tolerance within which a neuron
-    /// counts as at rest (module docs, Event-driven stepping).
-    v_rest: F,
-    u_rest: F,
-    rest_tolerance: F,
-    /// `true` when the resting point exists, is stable and the step resolves its fastest decay
-    /// (`h·|λ| < 1`).
-    holds_at_rest: bool,
-}
 
 /// How close to the resting point (mV, in `v` and `u`) a neuron must be before
 /// [`BlockModel::settled`] tries whether a step at input 0 leaves it unchanged: the fixed
@@ -156,79 +121,6 @@ const NEAR_REST_MV: f64 = 1.0;
 const V_NULLCLINE_MIN: f64 = -62.5;
 /// `140 − 0.04·m²`: `g(m) = q = I − u + this` (mV/ms).
 const G_AT_MIN_OFFSET: f64 = -16.25;
-
-/// `(dv/dt, du/dt)` at `(v, u)` for input `i`.
-#[inline(always)]
-fn derivative<F: Real>(k: &IzhikevichConstants<F>, x: [F; 2], i: F) -> [F; 2] {
-    let v = x[0];
-    [
-        F::of(0.04) * v * v + F::of(5.0) * v + F::of(140.0) - x[1] + i,
-        k.a * (k.b * v - x[1]),
-    ]
-}
-
-/// One step of length `h` (ms) with `integrator`; `u_decay = e^(−a·h)` (used by exp-euler).
-#[inline(always)]
-fn advance_state<F: Real>(
-    integrator: Integrator,
-    k: &IzhikevichConstants<F>,
-    (v, u): (F, F),
-    i: F,
-    h: F,
-    u_decay: F,
-) -> (F, F) {
-    let pair = |x: [F; 2]| (x[0], x[1]);
-    match integrator {
-        Integrator::Izhikevich2003 => {
-            let half = h * F::of(0.5);
-            let v1 = v + half * derivative(k, [v, u], i)[0];
-            let v2 = v1 + half * derivative(k, [v1, u], i)[0];
-            (v2, u + h * k.a * (k.b * v2 - u))
-        }
-        Integrator::ExponentialEuler => {
-            let u_inf = k.b * v;
-            (
-                v + h * derivative(k, [v, u], i)[0],
-                u_inf + (u - u_inf) * u_decay,
-            )
-        }
-        Integrator::Euler => pair(integrate::euler([v, u], h, |x| derivative(k, x, i))),
-        Integrator::Rk2 => pair(integrate::rk2([v, u], h, |x| derivative(k, x, i))),
-        Integrator::Rk4 => pair(integrate::rk4([v, u], h, |x| derivative(k, x, i))),
-        Integrator::Exact => unreachable!("rejected by prepare"),
-    }
-}
-
-/// The clamps, threshold and reset of one neuron after its integrator's raw update
-/// `(v_raw, u_raw)`: `(v, u)` after the step, `u` before the reset, and the spike. One compare +
-/// select each: anything not below the peak (NaN and +∞ included) becomes the peak, and so a
-/// spike; `u` outside the finite range (NaN included) becomes a bound. The constants come as
-/// values, not through `k` (selects between values, not between addresses, which LLVM would
-/// turn into gathers).
-#[inline(always)]
-fn clamp_and_reset<F: Real>(
-    v_raw: F,
-    u_raw: F,
-    c: F,
-    d: F,
-    v_peak: F,
-    v_floor: F,
-) -> (F, F, F, bool) {
-    let (u_max, u_min) = (F::max_value(), F::min_value());
-    let v_new = if v_raw < v_peak { v_raw } else { v_peak };
-    let v_new = if v_new > v_floor { v_new } else { v_floor };
-    let u_new = if u_raw < u_max { u_raw } else { u_max };
-    let u_new = if u_new > u_min { u_new } else { u_min };
-    let spike = v_new >= v_peak;
-    let u_reset = u_new + d;
-    let u_reset = if u_reset < u_max { u_reset } else { u_max };
-    (
-        if spike { c } else { v_new },
-        if spike { u_reset } else { u_new },
-        u_new,
-        spike,
-    )
-}
 
 /// Advances one block by one step: fused update, clamp, threshold and reset, writing the
 /// spike mask; returns the number of spikes and of flagged updates (module docs, Divergence).
