@@ -49,8 +49,8 @@ const ROTATION_DEG: f64 = 22.5;
 pub(crate) struct LatticeFit {
     /// Pin centres (px), in [`PinGeometry::pin_positions_mm`] order.
     pub centres: Vec<(f64, f64)>,
-    /// Pins whose box sum is clearly above the background (see module doc).
-    pub active: usize,
+    /// Per pin: is its box sum clearly above the background (see module doc)?
+    pub active: Vec<bool>,
     /// `max(0, 2·confirmed − active) / pins`, in [0, 1] (see module doc).
     pub confidence: f64,
 }
@@ -171,9 +171,11 @@ pub(crate) fn fit(events: &EventBuffer, geometry: &PinGeometry) -> Option<Lattic
     let pose = fine_search(&d, &mm, best);
     let pose = refine(&d, &mm, pose);
     let centres = pose.place(&mm);
-    let (active, confirmed) = quality(&d, &centres);
+    let active = activity(&d, &centres);
+    let n_active = active.iter().filter(|&&a| a).count();
+    let confirmed = confirmed(&d, &centres, &active);
     Some(LatticeFit {
-        confidence: (2 * confirmed).saturating_sub(active) as f64 / mm.len() as f64,
+        confidence: (2 * confirmed).saturating_sub(n_active) as f64 / mm.len() as f64,
         active,
         centres,
     })
@@ -390,18 +392,16 @@ fn isolated(d: &Density, p: (f64, f64)) -> bool {
     inner / n_inner >= SPOT_CONTRAST * outer / n_outer
 }
 
-/// Active pins, and how many of them are confirmed: their events' centroid within
-/// [`CONFIRM_PX`] of the lattice pin and forming a spot ([`isolated`]).
-fn quality(d: &Density, centres: &[(f64, f64)]) -> (usize, usize) {
-    let active = activity(d, centres);
-    let confirmed = centres
+/// How many active pins are confirmed: their events' centroid within [`CONFIRM_PX`] of the
+/// lattice pin and forming a spot ([`isolated`]).
+fn confirmed(d: &Density, centres: &[(f64, f64)], active: &[bool]) -> usize {
+    centres
         .iter()
-        .zip(&active)
+        .zip(active)
         .filter(|(_, a)| **a)
         .filter(|&(&p, _)| {
             centroid(d, p).is_some_and(|c| (c.0 - p.0).hypot(c.1 - p.1) <= CONFIRM_PX)
                 && isolated(d, p)
         })
-        .count();
-    (active.iter().filter(|&&a| a).count(), confirmed)
+        .count()
 }

@@ -137,7 +137,9 @@ pub(crate) fn dist(a: (f64, f64), b: (f64, f64)) -> f64 {
 /// [`PinGeometry::default`] — image position, scale within ±20 % and rotation within ±22.5° —
 /// to the events. On a sliding recording every pin moves, so the densest spots are its edges,
 /// two per pin, and a search for separate density peaks finds edges instead of pins; the ring
-/// lattice does not. The centres come in the default layout's order.
+/// lattice does not. The centres come in the default layout's order. With fewer than 3 pins
+/// active (events clearly above the background) the lattice is not placed: only the active
+/// pins are reported, and `found` counts them.
 ///
 /// Any other count: count events per pixel; sum the counts over a disc of the receptive-field
 /// radius around every pixel; take local maxima, strongest first, at least `2·radius` apart and
@@ -166,6 +168,10 @@ pub struct LayoutDetection {
     pub captured_fraction: f64,
 }
 
+/// The fewest active pins that place the 49-pin lattice: fewer do not fix its position, scale
+/// and rotation.
+const MIN_ACTIVE_PINS: usize = 3;
+
 impl LayoutDetection {
     /// Confidence at and above which a detected 49-pin layout can be used without checking.
     /// Calibrated by the test `layout_accuracy` on 150 simulated slides (50 across textures ×
@@ -188,7 +194,21 @@ fn detect(events: &EventBuffer, expected: usize, radius_px: f64) -> LayoutDetect
     let geometry = PinGeometry::default();
     let (centres, found, active, confidence) = if expected == geometry.n_pins() {
         match lattice::fit(events, &geometry) {
-            Some(fit) => (fit.centres, expected, fit.active, fit.confidence),
+            Some(fit) => {
+                let active = fit.active.iter().filter(|&&a| a).count();
+                if active >= MIN_ACTIVE_PINS {
+                    (fit.centres, expected, active, fit.confidence)
+                } else {
+                    // Too few pins to place the lattice: report only the active ones.
+                    let centres: Vec<(f64, f64)> = fit
+                        .centres
+                        .into_iter()
+                        .zip(&fit.active)
+                        .filter_map(|(c, &a)| a.then_some(c))
+                        .collect();
+                    (centres, active, active, 0.0)
+                }
+            }
             None => (Vec::new(), 0, 0, 0.0),
         }
     } else {
