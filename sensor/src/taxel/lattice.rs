@@ -405,3 +405,53 @@ fn confirmed(d: &Density, centres: &[(f64, f64)], active: &[bool]) -> usize {
         })
         .count()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use neurotac_core::{Event, Timestamp};
+
+    /// Every pin of `pose` flickers: a 5 × 5 px spot, 20 times.
+    fn spots(pose: Pose) -> (EventBuffer, Vec<(f64, f64)>) {
+        let pins = pose.place(&PinGeometry::default().pin_positions_mm());
+        let mut events = EventBuffer::new();
+        for round in 0..20i64 {
+            for &(x, y) in &pins {
+                for (dx, dy) in (-2..=2).flat_map(|dy| (-2..=2).map(move |dx| (dx, dy))) {
+                    events.push(Event {
+                        t: Timestamp(round),
+                        x: (x.round() as i32 + dx) as u16,
+                        y: (y.round() as i32 + dy) as u16,
+                        polarity: true,
+                    });
+                }
+            }
+        }
+        (events, pins)
+    }
+
+    #[test]
+    fn a_shifted_rescaled_rotated_lattice_is_found_in_pin_order() {
+        let pose = Pose {
+            cx: 127.0,
+            cy: 84.0,
+            scale: 4.1,
+            angle: 12f64.to_radians(),
+        };
+        let (events, truth) = spots(pose);
+        let fit = fit(&events, &PinGeometry::default()).unwrap();
+        for (found, true_pin) in fit.centres.iter().zip(&truth) {
+            let err = (found.0 - true_pin.0).hypot(found.1 - true_pin.1);
+            assert!(err < 0.75, "{found:?} vs {true_pin:?}");
+        }
+        assert!(fit.active.iter().all(|&a| a));
+        assert!(fit.confidence > 0.9, "{}", fit.confidence);
+        // The same events again: the same fit, bit for bit.
+        assert_eq!(super::fit(&events, &PinGeometry::default()).unwrap(), fit);
+    }
+
+    #[test]
+    fn no_events_no_fit() {
+        assert!(fit(&EventBuffer::new(), &PinGeometry::default()).is_none());
+    }
+}
