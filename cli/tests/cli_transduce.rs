@@ -181,7 +181,7 @@ fn an_unreliable_automatic_layout_is_refused_unless_accepted() {
                 t: Timestamp(i * 10),
                 x: (r % 240) as u16,
                 y: ((r / 240) % 180) as u16,
-                polarity: r % 2 == 0,
+                polarity: r.is_multiple_of(2),
             }
         })
         .collect();
