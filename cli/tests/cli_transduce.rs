@@ -167,24 +167,24 @@ fn layout_finds_the_pins_of_a_sliding_slide() {
 
 #[test]
 fn an_unreliable_automatic_layout_is_refused_unless_accepted() {
-    // Events scattered over the whole image: no pins to find.
+    // Pins on a 7 × 7 square grid, 16 px apart (the spec's alternative to the rings), each
+    // flickering as a 5 × 5 px spot: pins, but not the NeuroTac's.
     let dir = tempfile::tempdir().unwrap();
-    let input = dir.path().join("scene.csv");
-    let mut state = 12345u64;
-    let events: EventBuffer = (0..40_000i64)
-        .map(|i| {
-            state = state
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            let r = (state >> 33) as u32;
-            Event {
-                t: Timestamp(i * 10),
-                x: (r % 240) as u16,
-                y: ((r / 240) % 180) as u16,
-                polarity: r.is_multiple_of(2),
+    let input = dir.path().join("grid.csv");
+    let mut events = Vec::new();
+    for round in 0..20i64 {
+        for (i, j) in (0..7).flat_map(|j| (0..7).map(move |i| (i, j))) {
+            for (dx, dy) in (-2..=2).flat_map(|dy| (-2..=2).map(move |dx| (dx, dy))) {
+                events.push(Event {
+                    t: Timestamp(round * 10_000),
+                    x: (72 + 16 * i + dx) as u16,
+                    y: (42 + 16 * j + dy) as u16,
+                    polarity: round % 2 == 0,
+                });
             }
-        })
-        .collect();
+        }
+    }
+    let events: EventBuffer = events.into_iter().collect();
     write_file(&input, &events, DAVIS240_SIZE).unwrap();
     let out = dir.path().join("s.json");
     let transduce = |extra: &[&str]| {
