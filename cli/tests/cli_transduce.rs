@@ -118,6 +118,113 @@ fn layout_finds_the_pins_and_transduce_accepts_it() {
     }
 }
 
+/// The first 600 ms of a simulated slide (rest, onset, sliding) over a 2.5 mm grid, with the
+/// pins' true image positions.
+fn simulated_slide() -> (EventBuffer, Vec<(f64, f64)>) {
+    use neurotac_sensor::sim::{Camera, SimParams, Simulator, Texture};
+    let mut params = SimParams::default();
+    params.kinematics.distance_mm = 8.0;
+    let mut sim = Simulator::new(params, &Camera::new(&params, 5)).unwrap();
+    let texture = sim.prepare(Texture::grid(2.5).unwrap());
+    let trial = sim.simulate(&texture, 9);
+    let events = trial
+        .events
+        .iter()
+        .take_while(|e| e.t.0 < 600_000)
+        .collect();
+    (events, sim.pins_px().to_vec())
+}
+
+#[test]
+fn layout_finds_the_pins_of_a_sliding_slide() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("slide.aedat4");
+    let (events, truth) = simulated_slide();
+    write_file(&input, &events, DAVIS240_SIZE).unwrap();
+    let layout = dir.path().join("layout.json");
+    let (ok, _, stderr) = neurotac(&[
+        "layout",
+        input.to_str().unwrap(),
+        "--out",
+        layout.to_str().unwrap(),
+    ]);
+    assert!(ok && !stderr.contains("warning"), "{stderr}");
+    let found = TaxelLayout::from_json_file(&layout).unwrap();
+    for (a, b) in found.centres().iter().zip(&truth) {
+        assert!((a.0 - b.0).hypot(a.1 - b.1) <= 3.0, "{a:?} vs {b:?}");
+    }
+    let out = dir.path().join("s.json");
+    let (ok, _, stderr) = neurotac(&[
+        "transduce",
+        input.to_str().unwrap(),
+        "--layout",
+        "auto",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(ok, "{stderr}");
+}
+
+#[test]
+fn an_unreliable_automatic_layout_is_refused_unless_accepted() {
+    // Pins on a 7 × 7 square grid, 16 px apart (the spec's alternative to the rings), each
+    // flickering as a 5 × 5 px spot: pins, but not the NeuroTac's.
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("grid.csv");
+    let mut events = Vec::new();
+    for round in 0..20i64 {
+        for (i, j) in (0..7).flat_map(|j| (0..7).map(move |i| (i, j))) {
+            for (dx, dy) in (-2..=2).flat_map(|dy| (-2..=2).map(move |dx| (dx, dy))) {
+                events.push(Event {
+                    t: Timestamp(round * 10_000),
+                    x: (72 + 16 * i + dx) as u16,
+                    y: (42 + 16 * j + dy) as u16,
+                    polarity: round % 2 == 0,
+                });
+            }
+        }
+    }
+    let events: EventBuffer = events.into_iter().collect();
+    write_file(&input, &events, DAVIS240_SIZE).unwrap();
+    let out = dir.path().join("s.json");
+    let transduce = |extra: &[&str]| {
+        let mut args = vec![
+            "transduce",
+            input.to_str().unwrap(),
+            "--layout",
+            "auto",
+            "--out",
+            out.to_str().unwrap(),
+        ];
+        args.extend_from_slice(extra);
+        neurotac(&args)
+    };
+    let (ok, _, stderr) = transduce(&[]);
+    let error: Vec<&str> = stderr.lines().filter(|l| l.starts_with("error")).collect();
+    assert!(!ok && error.len() == 1, "{stderr}");
+    for part in [
+        "is unreliable (confidence",
+        "--layout default",
+        "--accept-uncertain-layout",
+    ] {
+        assert!(error[0].contains(part), "{stderr}");
+    }
+    assert!(!out.exists());
+    let (ok, _, stderr) = transduce(&["--accept-uncertain-layout"]);
+    assert!(
+        ok && stderr.contains("warning: the layout found in"),
+        "{stderr}"
+    );
+    assert_eq!(SpikeDataset::load(&out).unwrap().n_channels(), 49);
+    // `layout` prints it, with the warning.
+    let (ok, stdout, stderr) = neurotac(&["layout", input.to_str().unwrap()]);
+    assert!(ok && stdout.starts_with("[["), "{stdout}");
+    assert!(
+        stderr.contains("warning: the layout found in") && stderr.contains("--layout default"),
+        "{stderr}"
+    );
+}
+
 #[test]
 fn filter_writes_exactly_the_events_the_ba_filter_keeps() {
     let dir = tempfile::tempdir().unwrap();

@@ -214,15 +214,43 @@ fn layout_detection_finds_the_pins_of_a_calibration_recording() {
         .iter()
         .zip(TaxelLayout::neurotac_default().centres())
     {
-        let err = ((found.0 - truth.0).powi(2) + (found.1 - truth.1).powi(2)).sqrt();
-        assert!(err < 1.0, "{found:?} vs {truth:?}");
+        assert!(dist(*found, *truth) < 1.0, "{found:?} vs {truth:?}");
     }
     d.layout.validate(6.0, Some(49), 240, 180).unwrap();
-    // Only 10 active pins: 10 found, no confidence.
+    assert!(d.is_reliable() && d.active == 49, "{d:?}");
+    // Only the pins left of x = 110 active: they fix the ring lattice, so every pin is still
+    // placed within a pixel, with less confidence.
     let few: EventBuffer = events.iter().filter(|e| e.x < 110).collect();
-    let d = TaxelLayout::detect(&few, 49, 6.0);
-    assert!(d.found < 49 && d.confidence == 0.0, "{} found", d.found);
-    assert_eq!(TaxelLayout::detect(&EventBuffer::new(), 49, 6.0).found, 0);
+    let partial = TaxelLayout::detect(&few, 49, 6.0);
+    assert!(partial.active < 30, "{} active", partial.active);
+    assert!(partial.confidence < d.confidence, "{}", partial.confidence);
+    for (found, truth) in partial
+        .layout
+        .centres()
+        .iter()
+        .zip(TaxelLayout::neurotac_default().centres())
+    {
+        assert!(dist(*found, *truth) < 1.0, "{found:?} vs {truth:?}");
+    }
+    // Nothing recorded: nothing found, no confidence.
+    let none = TaxelLayout::detect(&EventBuffer::new(), 49, 6.0);
+    assert_eq!((none.found, none.confidence), (0, 0.0));
+    // A scene without pins (uniform noise) is never reliable.
+    let noise: EventBuffer = events
+        .iter()
+        .enumerate()
+        .map(|(i, mut e)| {
+            e.x = ((i * 7919) % 240) as u16;
+            e.y = ((i * 104_729 / 240) % 180) as u16;
+            e
+        })
+        .collect();
+    let d = TaxelLayout::detect(&noise, 49, 6.0);
+    assert!(!d.is_reliable(), "confidence {}", d.confidence);
+}
+
+fn dist(a: (f64, f64), b: (f64, f64)) -> f64 {
+    (a.0 - b.0).hypot(a.1 - b.1)
 }
 
 fn transduce(events: &EventBuffer, chunk: usize, config: TransductionConfig) -> Transducer {

@@ -12,27 +12,60 @@ use neurotac_core::io::{AtomicFileSet, Replace, check_distinct};
 use neurotac_experiments::export::{DATASET_FORMATS, OutputFormat, dataset_bytes};
 use neurotac_experiments::transduce::{LayoutSpec, filter_file, resolve_layout, transduce_file};
 use neurotac_sensor::filter::MapStart;
-use neurotac_sensor::taxel::{TaxelLayout, TransductionConfig};
+use neurotac_sensor::taxel::{LayoutDetection, TaxelLayout, TransductionConfig};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-/// The layout of `--layout` for `input`, printing how an automatic one was found.
+/// What to do with an automatic layout below [`LayoutDetection::RELIABLE_CONFIDENCE`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Uncertain {
+    /// `neurotac layout`: print it, with a warning.
+    Warn,
+    /// `neurotac transduce --layout auto`: stop, naming the alternatives.
+    Refuse,
+    /// `--accept-uncertain-layout`: use it, with a warning.
+    Accept,
+}
+
+/// The layout of `--layout` for `input`, printing how an automatic one was found and what an
+/// unreliable one means.
 fn layout_from(
     spec: &str,
     input: &Path,
     calibration_ms: f64,
     radius_px: f64,
+    uncertain: Uncertain,
 ) -> anyhow::Result<TaxelLayout> {
     let spec = LayoutSpec::parse(spec, calibration_ms);
     let (layout, detection) = resolve_layout(&spec, input, radius_px)?;
     if let Some(d) = detection {
         eprintln!(
-            "layout: found {} of {} taxels in the first {calibration_ms} ms (confidence {:.2}, {:.0} % of events inside the fields)",
+            "layout: found {} of {} taxels in the first {calibration_ms} ms (confidence {:.2}, {} pins active, {:.0} % of events inside the fields)",
             d.found,
             d.expected,
             d.confidence,
+            d.active,
             100.0 * d.captured_fraction
         );
+        if !d.is_reliable() {
+            let why = format!(
+                "the layout found in {} is unreliable (confidence {:.2} < {:.2}: the events do not show the NeuroTac's pin rings)",
+                input.display(),
+                d.confidence,
+                LayoutDetection::RELIABLE_CONFIDENCE
+            );
+            match uncertain {
+                Uncertain::Refuse => bail!(
+                    "{why}; pass a layout file (--layout FILE) or the default layout (--layout default), or --accept-uncertain-layout to use it anyway"
+                ),
+                Uncertain::Warn => eprintln!(
+                    "warning: {why}; check it before use, or transduce with --layout default"
+                ),
+                Uncertain::Accept => {
+                    eprintln!("warning: {why}; used anyway (--accept-uncertain-layout)")
+                }
+            }
+        }
     }
     Ok(layout)
 }
@@ -53,7 +86,8 @@ pub struct TransduceArgs {
     /// Event file (AEDAT 2/3.1/4, ECD text, CSV; detected from its first bytes).
     input: PathBuf,
     /// Taxel layout: `default` (49 pins, rings 1+8+16+24), a JSON file of [x, y] centres, or
-    /// `auto` (detected from the first --calibration-ms of the recording).
+    /// `auto` (detected from the first --calibration-ms of the recording; refused when its
+    /// confidence is below the calibrated threshold, see --accept-uncertain-layout).
     #[arg(long, default_value = "default")]
     layout: String,
     /// Background-activity window (µs); 0 disables the filter.
@@ -74,6 +108,10 @@ pub struct TransduceArgs {
     /// Calibration time for --layout auto (ms).
     #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long, default_value_t = 500.0)]
     calibration_ms: f64,
+    /// Use a --layout auto layout even when its confidence is below the calibrated threshold
+    /// (by default `transduce` then stops).
+    #[arg(long)]
+    accept_uncertain_layout: bool,
     /// Class label name stored in the dataset.
     #[arg(long)]
     label: Option<String>,
@@ -119,7 +157,17 @@ pub fn run_transduce(a: TransduceArgs) -> anyhow::Result<()> {
             .file(p)
             .with_context(|| format!("creating {}", p.display()))?;
     }
-    let layout = layout_from(&a.layout, &a.input, a.calibration_ms, a.rf_radius_px)?;
+    let uncertain = match a.accept_uncertain_layout {
+        true => Uncertain::Accept,
+        false => Uncertain::Refuse,
+    };
+    let layout = layout_from(
+        &a.layout,
+        &a.input,
+        a.calibration_ms,
+        a.rf_radius_px,
+        uncertain,
+    )?;
     if !(a.pool_ms.is_finite() && a.pool_ms > 0.0) {
         bail!("--pool-ms {} must be finite and > 0", a.pool_ms);
     }
@@ -247,7 +295,13 @@ pub fn run_layout(a: LayoutArgs) -> anyhow::Result<()> {
         check_distinct(&a.input, path)?;
     }
     refuse_existing(out, a.force.force)?;
-    let layout = layout_from("auto", &a.input, a.calibration_ms, a.rf_radius_px)?;
+    let layout = layout_from(
+        "auto",
+        &a.input,
+        a.calibration_ms,
+        a.rf_radius_px,
+        Uncertain::Warn,
+    )?;
     if let Some(path) = out {
         neurotac_core::io::write(path, layout.to_json(), Replace::when(a.force.force))
             .with_context(|| format!("writing {}", path.display()))?;

@@ -4,6 +4,7 @@
 //! [`TaxelLayout`]).
 
 mod fields;
+mod lattice;
 mod layout;
 mod pooling;
 mod transducer;
