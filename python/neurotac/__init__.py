@@ -104,7 +104,9 @@ def transduce(source, layout=None, **settings):
     centres. Keyword settings, with the CLI's defaults: ``label=None``, ``ba_window_us=5000``
     (0 disables the background-activity filter), ``ba_empty_start=False``,
     ``rf_radius_px=3.0``, ``pool_ms=20.0``, ``gain=0.5`` (re-centring) and, for files,
-    ``calibration_ms=500.0`` (``layout="auto"``).
+    ``calibration_ms=500.0`` and ``accept_uncertain_layout=False`` (``layout="auto"``: a
+    layout whose confidence is below the calibrated threshold raises ``NeurotacValueError``
+    unless accepted).
     """
     if isinstance(source, (str, bytes, _os.PathLike)):
         return _native.transduce_path(source, layout, **settings)

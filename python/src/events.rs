@@ -12,7 +12,7 @@ use neurotac_experiments::transduce::{
 };
 use neurotac_sensor::filter::MapStart;
 use neurotac_sensor::format::{DAVIS240_SIZE, ReadStats, read_file, write_file};
-use neurotac_sensor::taxel::{Transducer, TransductionConfig};
+use neurotac_sensor::taxel::{LayoutDetection, Transducer, TransductionConfig};
 use numpy::{IntoPyArray, PyArray1};
 use pyo3::exceptions::PyUserWarning;
 use pyo3::prelude::*;
@@ -160,7 +160,10 @@ fn layout_spec(layout: Option<&Path>, calibration_ms: f64) -> (LayoutSpec, Strin
 /// re-centring with `gain`. `label` names the class (then `labels == [0]`); `meta` records the
 /// source, layout, settings, time origin and stage counts.
 #[pyfunction]
-#[pyo3(signature = (path, layout=None, *, label=None, ba_window_us=5000, ba_empty_start=false, rf_radius_px=3.0, pool_ms=20.0, gain=0.5, calibration_ms=500.0))]
+/// An automatic layout whose confidence is below [`LayoutDetection::RELIABLE_CONFIDENCE`] is
+/// refused (`NeurotacValueError`) unless `accept_uncertain_layout`, as the CLI's `transduce
+/// --layout auto` does.
+#[pyo3(signature = (path, layout=None, *, label=None, ba_window_us=5000, ba_empty_start=false, rf_radius_px=3.0, pool_ms=20.0, gain=0.5, calibration_ms=500.0, accept_uncertain_layout=false))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn transduce_path(
     py: Python<'_>,
@@ -173,14 +176,23 @@ pub(crate) fn transduce_path(
     pool_ms: f64,
     gain: f64,
     calibration_ms: f64,
+    accept_uncertain_layout: bool,
 ) -> PyResult<Bound<'_, PyDict>> {
     let config = transduction_config(ba_window_us, ba_empty_start, rf_radius_px, pool_ms, gain)?;
     let (spec, layout_name) = layout_spec(layout.as_deref(), calibration_ms);
+    let (layout, detection) = py
+        .detach(|| resolve_layout(&spec, &path, rf_radius_px))
+        .or_raise()?;
+    if let Some(d) = detection.filter(|d| !d.is_reliable() && !accept_uncertain_layout) {
+        return Err(invalid(format!(
+            "the layout found in {} is unreliable (confidence {:.2} < {:.2}: the events do not show the NeuroTac's pin rings); give layout=\"default\" or a layout file, or accept_uncertain_layout=True to use it anyway",
+            path.display(),
+            d.confidence,
+            LayoutDetection::RELIABLE_CONFIDENCE
+        )));
+    }
     let t = py
-        .detach(|| {
-            let (layout, _) = resolve_layout(&spec, &path, rf_radius_px)?;
-            transduce_file(&path, &layout, &layout_name, config, label.as_deref())
-        })
+        .detach(|| transduce_file(&path, &layout, &layout_name, config, label.as_deref()))
         .or_raise()?;
     warn_read(py, &t.read, &path)?;
     dataset_to_py(py, &t.dataset)

@@ -78,6 +78,15 @@ def davis240():
     return expected
 
 
+def test_an_unreliable_automatic_layout_is_refused_unless_accepted(davis240):
+    # The shared recording is a hand picking parts, not a NeuroTac: no pin rings to find.
+    path = DAVIS240 / "pick.aedat"
+    with pytest.raises(neurotac.NeurotacValueError, match="unreliable .*accept_uncertain_layout=True"):
+        neurotac.transduce(path, layout="auto")
+    accepted = neurotac.transduce(path, layout="auto", accept_uncertain_layout=True)
+    assert accepted["meta"]["layout"] == "auto"
+
+
 @pytest.mark.parametrize(
     "name",
     ["pick.aedat", "pick_none.aedat4", "pick_lz4.aedat4", "pick_zstd.aedat4", "pick_events.csv", "pick_events.txt"],
