@@ -74,6 +74,15 @@ impl<'a> Output<'a> {
     pub fn files(flag: &'a str, files: &'a [PathBuf]) -> impl Iterator<Item = Self> + 'a {
         files.iter().map(move |p| Self::file(flag, p))
     }
+
+    /// The folder `folder` named by `flag` and the `files` the command writes into it.
+    pub fn folder_with_files(
+        flag: &'a str,
+        folder: &'a Path,
+        files: &'a [PathBuf],
+    ) -> impl Iterator<Item = Self> + 'a {
+        std::iter::once(Self::into_folder(flag, folder)).chain(Self::files(flag, files))
+    }
 }
 
 /// Fails on the first of `outputs` of the wrong kind, existing (unless `force`) or not
@@ -111,7 +120,7 @@ fn check_kind(o: &Output) -> anyhow::Result<()> {
         }
         _ => {}
     }
-    let folder = nearest_existing(o.path);
+    let folder = nearest_existing(parent(o.path));
     if !folder.is_dir() {
         anyhow::bail!(
             "{flag} {path}: cannot create it under {}, which is a file, not a folder",
@@ -126,8 +135,13 @@ fn check_kind(o: &Output) -> anyhow::Result<()> {
 fn creation_folder(path: &Path, kind: Kind) -> PathBuf {
     match kind == Kind::Into && path.is_dir() {
         true => path.to_owned(),
-        false => nearest_existing(path.parent().unwrap_or(Path::new(""))),
+        false => nearest_existing(parent(path)),
     }
+}
+
+/// The folder `path` names an entry of (`""` for a bare name or a root).
+fn parent(path: &Path) -> &Path {
+    path.parent().unwrap_or(Path::new(""))
 }
 
 /// `path` or its nearest ancestor that exists (`.` for a relative path none of whose parts do).
@@ -287,9 +301,10 @@ mod tests {
         let out = dir.path().join("m.json");
         std::fs::write(&out, "{}").unwrap();
         let e = check_outputs([Output::file("--out", &out)], false).unwrap_err();
+        let text = e.to_string();
         assert!(
-            e.to_string()
-                .ends_with("already exists (use --force to replace it)")
+            text.ends_with("already exists (use --force to replace it)"),
+            "{text}"
         );
         check_outputs([Output::file("--out", &out)], true).unwrap();
     }

@@ -98,7 +98,11 @@ pub struct ReproduceArgs {
 /// ([`reproduce::run`]); every rank checks the report folder first, rank 0 alone shows progress,
 /// prints and writes the report.
 pub fn run(args: ReproduceArgs, ranks: &dyn Ranks) -> anyhow::Result<()> {
-    let cache = cache_folder(args.cache.as_deref(), ranks.is_root());
+    // The cache holds simulated sets: a recorded dataset does not need it.
+    let cache = cache_folder(
+        args.cache.as_deref(),
+        ranks.is_root() && args.dataset.is_none(),
+    );
     // The report folder replaces whatever is at --out: never a folder an input is in.
     refuse_report_over_inputs(
         &args.out,

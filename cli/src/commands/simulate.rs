@@ -220,8 +220,7 @@ fn generate(a: GenerateArgs, ranks: &dyn Ranks) -> anyhow::Result<()> {
         .collect();
     refuse_nested(outputs.iter().chain(&events).map(|p| p.as_path()), &inputs)?;
     check_outputs(
-        std::iter::once(Output::into_folder("--out", &out))
-            .chain(Output::files("--out", &outputs))
+        Output::folder_with_files("--out", &out, &outputs)
             .chain(events.iter().map(|e| Output::folder("--pixel-events", e))),
         a.force.force,
     )?;
@@ -295,8 +294,7 @@ fn check(a: CheckArgs) -> anyhow::Result<()> {
     if let Some(out) = &a.out.out {
         let outputs = [out.join("check.md"), out.join("check.json")];
         check_outputs(
-            std::iter::once(Output::into_folder("--out", out))
-                .chain(Output::files("--out", &outputs)),
+            Output::folder_with_files("--out", out, &outputs),
             a.force.force,
         )?;
     }

@@ -34,8 +34,7 @@ pub fn run(args: NeuronsArgs) -> anyhow::Result<()> {
     }
     let outputs = trade_files(&args.out.out, "neurons");
     check_outputs(
-        std::iter::once(Output::into_folder("--out", &args.out.out))
-            .chain(Output::files("--out", &outputs)),
+        Output::folder_with_files("--out", &args.out.out, &outputs),
         args.force.force,
     )?;
     let mut files = AtomicFileSet::new(Replace::when(args.force.force));

@@ -33,8 +33,7 @@ pub struct SimulatorArgs {
 pub fn run(args: SimulatorArgs) -> anyhow::Result<()> {
     let outputs = trade_files(&args.out.out, "simulator");
     check_outputs(
-        std::iter::once(Output::into_folder("--out", &args.out.out))
-            .chain(Output::files("--out", &outputs)),
+        Output::folder_with_files("--out", &args.out.out, &outputs),
         args.force.force,
     )?;
     let mut config = SimulatorTradeoffConfig {

@@ -87,7 +87,8 @@ pub struct StudyArgs {
 }
 
 pub fn run(args: StudyArgs) -> anyhow::Result<()> {
-    let cache = cache_folder(args.cache.as_deref(), true);
+    // The cache holds simulated sets: a recorded dataset does not need it.
+    let cache = cache_folder(args.cache.as_deref(), args.dataset.is_none());
     refuse_report_over_inputs(
         &args.out.out,
         args.dataset.as_deref(),
