@@ -120,7 +120,7 @@ fn a_missing_dataset_error_keeps_the_system_cause() {
     let message = classify_error(&path);
     assert!(
         message.starts_with(&format!(
-            "error: reading the spike dataset: cannot read or write {}: ",
+            "error: reading the spike dataset: cannot read {}: ",
             path.display()
         )),
         "{message}"

@@ -240,6 +240,7 @@ impl SpikeDataset {
         let path = path.as_ref();
         let bytes = std::fs::read(path).map_err(|source| DatasetError::Io {
             path: path.to_owned(),
+            action: crate::error::IoAction::Read,
             source,
         })?;
         Self::from_bytes(&bytes, path)
@@ -414,6 +415,7 @@ fn put_u64(out: &mut Vec<u8>, v: usize) {
 fn write_file(path: &Path, bytes: &[u8]) -> Result<(), DatasetError> {
     crate::io::write(path, bytes, crate::io::Replace::Yes).map_err(|source| DatasetError::Io {
         path: path.to_owned(),
+        action: crate::error::IoAction::Write,
         source,
     })
 }

@@ -70,14 +70,37 @@ pub enum SpikeError {
     },
 }
 
+/// What was being done to a file when an I/O error happened: the verb of an I/O error's message
+/// (`cannot read x.json`, `cannot write y.bin`), so the message says what failed and its
+/// `source` why.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum IoAction {
+    /// Opening or reading an input.
+    Read,
+    /// Creating, writing or committing an output.
+    Write,
+}
+
+impl std::fmt::Display for IoAction {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            IoAction::Read => "read",
+            IoAction::Write => "write",
+        })
+    }
+}
+
 /// A spike dataset that cannot be read, written or is inconsistent.
 #[derive(Debug, Error)]
 pub enum DatasetError {
-    /// The file could not be opened, read or written.
-    #[error("cannot read or write {path}")]
+    /// The file could not be opened, read or written; the message says which, and the cause
+    /// (`source`) the system's reason (`No such file or directory (os error 2)`).
+    #[error("cannot {action} {path}")]
     Io {
         /// The file.
         path: PathBuf,
+        /// What was being done to it.
+        action: IoAction,
         /// The I/O error.
         source: std::io::Error,
     },

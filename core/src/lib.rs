@@ -59,7 +59,7 @@ pub use dataset::SpikeDataset;
 pub use distance::VanRossum;
 pub use error::{
     CodingError, CoreError, DatasetError, DistanceError, ExistsError, FilePosition, GraphError,
-    KnnError, ModelError, NestedError, Nesting, SameFileError, SpikeError, SpikeLocation,
+    IoAction, KnnError, ModelError, NestedError, Nesting, SameFileError, SpikeError, SpikeLocation,
     error_chain,
 };
 pub use event::{Event, EventBuffer};

@@ -48,7 +48,7 @@ def test_a_missing_file_is_an_os_error_naming_it(tmp_path):
     with pytest.raises(OSError) as e:
         neurotac.read_events(missing)
     assert isinstance(e.value, neurotac.NeurotacError)
-    assert str(e.value).startswith(f"cannot read or write {missing}: ")
+    assert str(e.value).startswith(f"cannot read {missing}: ")
     assert "No such file or directory" in str(e.value)
     with pytest.raises(neurotac.NeurotacOSError, match="no-such-recording"):
         neurotac.transduce(missing)

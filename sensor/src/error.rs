@@ -13,11 +13,14 @@ use thiserror::Error;
 /// An event file or byte stream that cannot be read or written.
 #[derive(Debug, Error)]
 pub enum FormatError {
-    /// The input could not be opened, read or written.
-    #[error("cannot read or write {path}")]
+    /// The input could not be opened or read, or the output created or written; the message
+    /// says which, and the cause (`source`) the system's reason.
+    #[error("cannot {action} {path}")]
     Io {
         /// The file (or input label).
         path: PathBuf,
+        /// What was being done to it.
+        action: neurotac_core::IoAction,
         /// The I/O error.
         source: std::io::Error,
     },

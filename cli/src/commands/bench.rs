@@ -1,6 +1,7 @@
 //! `neurotac bench neurons|cuba`: throughput on the cases Brian2 is measured on.
 
 use super::options::{SeedOption, ThreadsOption, help};
+use super::outputs::{Output, check_outputs};
 use crate::commands::args;
 use clap::{Args, Subcommand};
 use neurotac_cli::bench::{
@@ -548,6 +549,8 @@ fn activity_row(p: &ActivityBenchResult) -> String {
 /// `bench neurons --crossover`: sweeps the activity, finds the crossover, stores it.
 fn crossover_bench(a: &NeuronsArgs) -> anyhow::Result<()> {
     let file = activity_setup(a, "--crossover")?;
+    // The crossovers are stored in the cache (replacing the file): checked before the sweep.
+    check_outputs([Output::file("--cache", &file)], true)?;
     let bench = activity_bench_settings(a, &file)?;
     let r = afferent_crossover(&bench)?;
     let (config, mut crossovers) = (bench.config, bench.crossovers);

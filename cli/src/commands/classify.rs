@@ -3,7 +3,7 @@
 use super::coding_parameters::coding_parameters;
 use super::inputs::load_labelled;
 use super::options::{ForceOption, SeedOption, help};
-use super::outputs::refuse_existing;
+use super::outputs::{Output, check_outputs};
 use crate::commands::args;
 use clap::{Args, ValueEnum};
 use neurotac_core::{Knn, Ranks};
@@ -78,7 +78,7 @@ pub fn run(args: ClassifyArgs, ranks: &dyn Ranks) -> anyhow::Result<()> {
     if let Some(path) = &args.matrix {
         neurotac_core::io::check_distinct(&args.input, path)?;
         OutputFormat::from_path(path, &MATRIX_FORMATS)?;
-        refuse_existing([path.as_path()], args.force.force)?;
+        check_outputs([Output::file("--matrix", path)], args.force.force)?;
     }
     let data = load_labelled(&args.input)?;
     let knn = Knn::new(args.k)?;

@@ -11,7 +11,7 @@
 
 use super::args;
 use super::options::ForceOption;
-use super::outputs::refuse_existing;
+use super::outputs::{Output, check_outputs};
 use anyhow::Context;
 use clap::{Args, ValueEnum};
 use neurotac_core::EventBuffer;
@@ -45,7 +45,7 @@ pub struct ConvertArgs {
 
 pub fn run(args: ConvertArgs) -> anyhow::Result<()> {
     neurotac_core::io::check_distinct(&args.input, &args.output)?;
-    refuse_existing([args.output.as_path()], args.force.force)?;
+    check_outputs([Output::file("OUTPUT", &args.output)], args.force.force)?;
     let out_format = match Format::from_extension(&args.output)? {
         Format::Aedat4(_) => Format::Aedat4(match args.compression {
             Codec::None => Compression::None,

@@ -4,7 +4,7 @@
 use super::coding_parameters::coding_parameters;
 use super::inputs::load_dataset;
 use super::options::ForceOption;
-use super::outputs::refuse_existing;
+use super::outputs::{Output, check_outputs};
 use crate::commands::args;
 use anyhow::bail;
 use clap::{Args, ValueEnum};
@@ -59,7 +59,7 @@ pub struct DistancesArgs {
 pub fn run(args: DistancesArgs, ranks: &dyn Ranks) -> anyhow::Result<()> {
     neurotac_core::io::check_distinct(&args.input, &args.output)?;
     OutputFormat::from_path(&args.output, &MATRIX_FORMATS)?;
-    refuse_existing([args.output.as_path()], args.force.force)?;
+    check_outputs([Output::file("--output", &args.output)], args.force.force)?;
     let data = load_dataset(&args.input)?;
     let coding = match (args.metric, args.coding) {
         (Metric::VanRossum, _) => CodingName::Spatiotemporal,

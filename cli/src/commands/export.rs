@@ -4,7 +4,7 @@
 
 use super::inputs::load_dataset;
 use super::options::{ForceOption, help};
-use super::outputs::refuse_existing;
+use super::outputs::{Output, check_outputs};
 use clap::Args;
 use neurotac_experiments::export::{DATASET_FORMATS, OutputFormat, Replace, write_dataset};
 use std::path::PathBuf;
@@ -24,7 +24,7 @@ pub struct ExportArgs {
 pub fn run(args: ExportArgs) -> anyhow::Result<()> {
     neurotac_core::io::check_distinct(&args.dataset, &args.out)?;
     OutputFormat::from_path(&args.out, &DATASET_FORMATS)?;
-    refuse_existing([args.out.as_path()], args.force.force)?;
+    check_outputs([Output::file("OUT", &args.out)], args.force.force)?;
     let data = load_dataset(&args.dataset)?;
     write_dataset(&data, &args.out, Replace::when(args.force.force))?;
     let spikes: usize = data.observations().iter().map(|o| o.total_spikes()).sum();

@@ -50,7 +50,7 @@ pub fn required(id: &'static str) -> impl FnMut(Arg) -> Arg {
 }
 
 /// `--force`: replace existing outputs (the overwrite rule of
-/// [`refuse_existing`](super::outputs::refuse_existing)).
+/// [`check_outputs`](super::outputs::check_outputs)).
 #[derive(Debug, Clone, Copy, Args)]
 pub struct ForceOption {
     /// Replace existing output files (without it, an existing output is refused).

@@ -4,7 +4,7 @@
 
 use super::inputs::load_labelled;
 use super::options::{ForceOption, OutOption, SeedOption, SetArg, SetOption, ThreadsOption, help};
-use super::outputs::{refuse_existing, refuse_nested};
+use super::outputs::{Output, cache_folder, check_outputs, refuse_nested};
 use crate::commands::args;
 use anyhow::{Context, bail};
 use clap::{Args, ValueEnum};
@@ -14,7 +14,7 @@ use neurotac_cli::report::svg::{Axis, Chart, Marker, PALETTE, Series};
 use neurotac_experiments::afferents::AfferentConfig;
 use neurotac_experiments::coding::{Coding, CodingName, CodingParameters};
 use neurotac_experiments::datasets::metadata::transduction_of;
-use neurotac_experiments::datasets::simulated::{TextureSet, default_cache_dir};
+use neurotac_experiments::datasets::simulated::TextureSet;
 use neurotac_experiments::menu::Menu;
 use neurotac_experiments::neuron_setup::NeuronKind;
 use neurotac_experiments::online::eval::{OnlineEval, OnlineEvalConfig, evaluate_online};
@@ -306,10 +306,10 @@ fn decision_json(d: &Decision, names: &[String]) -> serde_json::Value {
 
 fn run_eval(a: &RecogniseArgs) -> anyhow::Result<()> {
     let out = a.out.out.as_ref().expect("clap requires --out");
-    let cache = a.cache.clone().unwrap_or_else(default_cache_dir);
+    let cache = cache_folder(a.cache.as_deref(), true);
     neurotac_experiments::afferents::use_crossovers_in(&cache);
     refuse_nested([out.as_path()], &[cache.as_path()])?;
-    refuse_existing([out.as_path()], a.force.force)?;
+    check_outputs([Output::folder("--out", out)], a.force.force)?;
     let set = match a.set.set.expect("clap requires --set") {
         SetArg::Artificial => TextureSet::Artificial,
         SetArg::Natural => TextureSet::Natural,

@@ -7,7 +7,7 @@
 //! the command fails with the disconnection.
 
 use super::options::{ForceOption, OutPathOption, help};
-use super::outputs::refuse_existing;
+use super::outputs::{Output, check_outputs};
 use crate::commands::args;
 use anyhow::Context;
 use clap::Args;
@@ -38,7 +38,7 @@ pub fn run(args: RecordArgs) -> anyhow::Result<()> {
         args.seconds
     );
     let out = &args.out.out;
-    refuse_existing([out.as_path()], args.force.force)?;
+    check_outputs([Output::file("--out", out)], args.force.force)?;
     let format = format::Format::from_extension(out)?;
     let (transport, usb) = RusbTransport::open_first()?;
     let davis = Davis::open(transport, usb).context("opening the DAVIS camera")?;

@@ -3,19 +3,17 @@
 //! report folder with its figures (see `neurotac_experiments::reproduce`).
 
 use super::options::{ForceOption, SeedOption, SetsOption, ThreadsOption, help};
-use super::outputs::refuse_report_over_inputs;
+use super::outputs::{Output, cache_folder, check_outputs, refuse_report_over_inputs};
 use super::progress::Bars;
 use crate::commands::args;
 use clap::{Args, ValueEnum};
 use neurotac_cli::report::class_tables::{paper_confusion_table, phase_table, recall_table};
-use neurotac_cli::report::folder::check_destination;
 use neurotac_cli::report::tables::{
     accuracy_table, afferent_table, intensive_table, parameter_table,
 };
 use neurotac_cli::report::write_report;
 use neurotac_core::Ranks;
 use neurotac_experiments::afferents::AfferentConfig;
-use neurotac_experiments::datasets::simulated::default_cache_dir;
 use neurotac_experiments::neuron_setup::NeuronKind;
 use neurotac_experiments::neuron_setup::Precision;
 use neurotac_experiments::progress::{NoProgress, Progress};
@@ -101,7 +99,11 @@ pub struct ReproduceArgs {
 /// ([`reproduce::run`]); every rank checks the report folder first, rank 0 alone shows progress,
 /// prints and writes the report.
 pub fn run(args: ReproduceArgs, ranks: &dyn Ranks) -> anyhow::Result<()> {
-    let cache = args.cache.clone().unwrap_or_else(default_cache_dir);
+    // The cache holds simulated sets: a recorded dataset does not need it.
+    let cache = cache_folder(
+        args.cache.as_deref(),
+        ranks.is_root() && args.dataset.is_none(),
+    );
     neurotac_experiments::afferents::use_crossovers_in(&cache);
     // The report folder replaces whatever is at --out: never a folder an input is in.
     refuse_report_over_inputs(
@@ -110,7 +112,7 @@ pub fn run(args: ReproduceArgs, ranks: &dyn Ranks) -> anyhow::Result<()> {
         args.params.as_deref(),
         &cache,
     )?;
-    check_destination(&args.out, args.force.force)?;
+    check_outputs([Output::folder("--out", &args.out)], args.force.force)?;
     let mut config = match args.quick {
         true => ReproduceConfig::quick(args.seed.seed, cache),
         false => ReproduceConfig::paper(args.seed.seed, cache),

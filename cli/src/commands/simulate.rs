@@ -4,7 +4,7 @@
 use super::options::{
     ForceOption, OutOption, SeedOption, SetOption, ThreadsOption, help, required,
 };
-use super::outputs::{refuse_existing, refuse_nested};
+use super::outputs::{Output, cache_folder, check_outputs, refuse_nested};
 use super::progress::{Bars, bar};
 use crate::commands::args;
 use anyhow::Context;
@@ -15,9 +15,7 @@ use neurotac_cli::simulator_check::{
 use neurotac_core::Ranks;
 use neurotac_core::io::{AtomicFileSet, Replace};
 use neurotac_experiments::datasets::TextureSet;
-use neurotac_experiments::datasets::simulated::{
-    GenerateConfig, Generated, PixelEventFiles, default_cache_dir,
-};
+use neurotac_experiments::datasets::simulated::{GenerateConfig, Generated, PixelEventFiles};
 use neurotac_experiments::export::OutputFormat;
 use neurotac_experiments::threads::with_threads;
 use neurotac_sensor::sim::SimParams;
@@ -161,7 +159,7 @@ fn load_params(path: Option<&Path>) -> anyhow::Result<SimParams> {
     })
 }
 
-fn progress_bar(total: usize, what: &str) -> indicatif::ProgressBar {
+fn progress_bar(total: usize, what: &str) -> super::progress::Meter {
     bar(what, total as u64, "trials ")
 }
 
@@ -212,18 +210,20 @@ fn generate(a: GenerateArgs, ranks: &dyn Ranks) -> anyhow::Result<()> {
             outputs.push(out.join(format!("{}.{ext}", set.name())));
         }
     }
-    if a.pixel_events {
-        outputs.push(out.join("events"));
-    }
-    let cache = a.cache.clone().unwrap_or_else(default_cache_dir);
+    let events = a.pixel_events.then(|| out.join("events"));
+    let cache = cache_folder(a.cache.as_deref(), ranks.is_root());
     let inputs: Vec<&Path> = a
         .params
         .iter()
         .chain([&cache])
         .map(|p| p.as_path())
         .collect();
-    refuse_nested(outputs.iter().map(|p| p.as_path()), &inputs)?;
-    refuse_existing(outputs.iter().map(|p| p.as_path()), a.force.force)?;
+    refuse_nested(outputs.iter().chain(&events).map(|p| p.as_path()), &inputs)?;
+    check_outputs(
+        Output::folder_with_files("--out", &out, &outputs)
+            .chain(events.iter().map(|e| Output::folder("--pixel-events", e))),
+        a.force.force,
+    )?;
     // Every set's files and the events folder are committed together at the end: an error or
     // an interrupted run leaves none of them (the events folder appears only complete).
     let mut files = AtomicFileSet::new(Replace::when(a.force.force));
@@ -293,7 +293,10 @@ fn print_generated(set: TextureSet, trials: usize, made: &Generated, wall: f64, 
 fn check(a: CheckArgs) -> anyhow::Result<()> {
     if let Some(out) = &a.out.out {
         let outputs = [out.join("check.md"), out.join("check.json")];
-        refuse_existing(outputs.iter().map(|p| p.as_path()), a.force.force)?;
+        check_outputs(
+            Output::folder_with_files("--out", out, &outputs),
+            a.force.force,
+        )?;
     }
     let config = CheckConfig {
         trials: a.trials.max(2),
@@ -361,7 +364,7 @@ fn check(a: CheckArgs) -> anyhow::Result<()> {
 
 fn calibrate_command(a: CalibrateArgs) -> anyhow::Result<()> {
     if let Some(out) = &a.out.out {
-        refuse_existing([out.as_path()], a.force.force)?;
+        check_outputs([Output::file("--out", out)], a.force.force)?;
     }
     let params = load_params(a.params.as_deref())?;
     let bar = super::progress::bar("calibrating", 0, "slides");

@@ -1,7 +1,7 @@
 //! `neurotac synth`: writes a seeded synthetic NeuroTac-like texture dataset.
 
 use super::options::{ForceOption, SeedOption};
-use super::outputs::refuse_existing;
+use super::outputs::{Output, check_outputs};
 use crate::commands::args;
 use clap::Args;
 use neurotac_experiments::datasets::synthetic::{SyntheticConfig, synthetic_dataset};
@@ -39,7 +39,7 @@ pub fn run(args: SynthArgs) -> anyhow::Result<()> {
         &args.output,
         &neurotac_experiments::export::DATASET_FORMATS,
     )?;
-    refuse_existing([args.output.as_path()], args.force.force)?;
+    check_outputs([Output::file("--output", &args.output)], args.force.force)?;
     let config = SyntheticConfig {
         samples: args.samples,
         classes: args.classes,

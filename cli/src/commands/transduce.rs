@@ -2,7 +2,7 @@
 //! (BA filter → receptive fields → pooling → re-centring) on any event file.
 
 use super::options::{ForceOption, OutOption, OutPathOption, help};
-use super::outputs::refuse_existing;
+use super::outputs::{Output, check_outputs};
 use crate::commands::args;
 use anyhow::{Context, bail};
 use clap::Args;
@@ -150,7 +150,9 @@ pub fn run_transduce(a: TransduceArgs) -> anyhow::Result<()> {
     for p in &raster {
         check_distinct(&a.input, p)?;
     }
-    refuse_existing(outputs.iter().copied(), a.force.force)?;
+    let checked =
+        std::iter::once(Output::file("--out", out)).chain(Output::files("--raster", &raster));
+    check_outputs(checked, a.force.force)?;
     let mut files = AtomicFileSet::new(Replace::when(a.force.force));
     for p in &outputs {
         files
@@ -246,7 +248,7 @@ pub struct FilterArgs {
 
 pub fn run_filter(a: FilterArgs) -> anyhow::Result<()> {
     check_distinct(&a.input, &a.output)?;
-    refuse_existing([a.output.as_path()], a.force.force)?;
+    check_outputs([Output::file("OUTPUT", &a.output)], a.force.force)?;
     let start = Instant::now();
     let start_mode = ba_start(a.ba_empty_start);
     let c = filter_file(
@@ -294,7 +296,7 @@ pub fn run_layout(a: LayoutArgs) -> anyhow::Result<()> {
     if let Some(path) = out {
         check_distinct(&a.input, path)?;
     }
-    refuse_existing(out, a.force.force)?;
+    check_outputs(out.map(|p| Output::file("--out", p)), a.force.force)?;
     let layout = layout_from(
         "auto",
         &a.input,

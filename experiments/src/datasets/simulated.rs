@@ -22,7 +22,7 @@ mod trials;
 
 pub use super::error::DatasetsError;
 pub use super::texture_set::TextureSet;
-pub use cache::{cache_path, default_cache_dir, load_or_simulate, store};
+pub use cache::{cache_path, default_cache_dir, load_or_simulate, store, warn_about_cache_once};
 pub use generate::{GenerateConfig, Generated, PixelEventFiles, generate, write_events_csv};
 pub use trials::{
     TrialJob, TrialOutcome, camera_seed, jobs_for, map_trials, prepare_textures, run_trials,

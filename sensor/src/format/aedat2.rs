@@ -30,7 +30,7 @@
 use super::camera::{CAMERA_SIZES, Camera, camera_named, camera_of_size};
 use super::contract::{
     EventReader, EventWriter, READ_BLOCK, ReadStats, ReaderEnd, ReaderSensor, check_inside,
-    io_error, unsupported_size,
+    unsupported_size, write_error,
 };
 use super::header::{HeaderSpec, read_header};
 use super::input::Input;
@@ -270,7 +270,7 @@ impl<W: Write> Aedat2Writer<W> {
         let camera = camera_of_size(sensor)
             .ok_or_else(|| unsupported_size(&path, "AEDAT 2.0", sensor, CAMERA_SIZES))?;
         out.write_all(header(camera).as_bytes())
-            .map_err(io_error(&path))?;
+            .map_err(write_error(&path))?;
         Ok(Self {
             out,
             path,
@@ -318,13 +318,13 @@ impl<W: Write> EventWriter for Aedat2Writer<W> {
             }
             self.out
                 .write_all(&self.block)
-                .map_err(io_error(&self.path))?;
+                .map_err(write_error(&self.path))?;
         }
         self.written += events.len() as u64;
         Ok(())
     }
 
     fn finish(&mut self) -> Result<(), FormatError> {
-        self.out.flush().map_err(io_error(&self.path))
+        self.out.flush().map_err(write_error(&self.path))
     }
 }

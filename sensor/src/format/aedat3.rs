@@ -17,7 +17,7 @@
 use super::camera::{CAMERA_SIZES, camera_named, camera_of_size};
 use super::contract::{
     EventReader, EventWriter, READ_BLOCK, ReadStats, ReaderEnd, ReaderSensor, check_inside,
-    io_error, unsupported_size,
+    unsupported_size, write_error,
 };
 use super::header::{HeaderSpec, read_header};
 use super::input::Input;
@@ -302,7 +302,8 @@ impl<W: Write> Aedat3Writer<W> {
             "#!AER-DAT3.1\r\n#Format: RAW\r\n#Source 1: {}\r\n#!END-HEADER\r\n",
             camera.name
         );
-        out.write_all(header.as_bytes()).map_err(io_error(&path))?;
+        out.write_all(header.as_bytes())
+            .map_err(write_error(&path))?;
         Ok(Self {
             out,
             path,
@@ -326,10 +327,10 @@ impl<W: Write> Aedat3Writer<W> {
         for (k, v) in fields.iter().enumerate() {
             h[4 + 4 * k..8 + 4 * k].copy_from_slice(&v.to_le_bytes());
         }
-        self.out.write_all(&h).map_err(io_error(&self.path))?;
+        self.out.write_all(&h).map_err(write_error(&self.path))?;
         self.out
             .write_all(&self.packet)
-            .map_err(io_error(&self.path))?;
+            .map_err(write_error(&self.path))?;
         self.packet.clear();
         self.count = 0;
         Ok(())
@@ -365,6 +366,6 @@ impl<W: Write> EventWriter for Aedat3Writer<W> {
 
     fn finish(&mut self) -> Result<(), FormatError> {
         self.flush_packet()?;
-        self.out.flush().map_err(io_error(&self.path))
+        self.out.flush().map_err(write_error(&self.path))
     }
 }

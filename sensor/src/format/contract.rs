@@ -126,10 +126,23 @@ impl ReaderEnd {
     }
 }
 
-/// Maps an I/O error of the file at `path` into a [`FormatError::Io`].
-pub(crate) fn io_error(path: &Path) -> impl Fn(std::io::Error) -> FormatError + '_ {
+/// Maps an I/O error creating or writing the output at `path` into a [`FormatError::Io`].
+pub(crate) fn write_error(path: &Path) -> impl Fn(std::io::Error) -> FormatError + '_ {
+    io_error(path, neurotac_core::IoAction::Write)
+}
+
+/// Maps an I/O error opening or reading the input at `path` into a [`FormatError::Io`].
+pub(crate) fn read_error(path: &Path) -> impl Fn(std::io::Error) -> FormatError + '_ {
+    io_error(path, neurotac_core::IoAction::Read)
+}
+
+fn io_error(
+    path: &Path,
+    action: neurotac_core::IoAction,
+) -> impl Fn(std::io::Error) -> FormatError + '_ {
     move |source| FormatError::Io {
         path: path.to_path_buf(),
+        action,
         source,
     }
 }

@@ -32,6 +32,7 @@ impl<R: Read> Input<R> {
     pub(crate) fn io(&self, source: io::Error) -> FormatError {
         FormatError::Io {
             path: self.path.clone(),
+            action: neurotac_core::IoAction::Read,
             source,
         }
     }

@@ -61,7 +61,7 @@ pub use text::{CsvReader, CsvWriter, EcdTextReader, EcdTextWriter};
 
 use crate::error::FormatError;
 use camera::parse_sensor_line;
-use contract::{READ_BLOCK, io_error};
+use contract::{READ_BLOCK, read_error, write_error};
 use escape::escape;
 use neurotac_core::EventBuffer;
 use neurotac_core::io::AtomicFile;
@@ -201,10 +201,10 @@ pub fn open_reader_assuming(
     path: &Path,
     sensor: (u16, u16),
 ) -> Result<Box<dyn EventReader>, FormatError> {
-    let file = File::open(path).map_err(io_error(path))?;
+    let file = File::open(path).map_err(read_error(path))?;
     let len = file.metadata().ok().map(|m| m.len());
     let mut buffered = BufReader::with_capacity(READ_BLOCK, file);
-    let head = buffered.fill_buf().map_err(io_error(path))?;
+    let head = buffered.fill_buf().map_err(read_error(path))?;
     let format = match Format::from_extension(path) {
         // An empty ECD text file is a recording of no events (the text formats have no header
         // to detect; an empty CSV lacks its header and stays an error).
@@ -317,8 +317,8 @@ pub fn create_writer_as(
     sensor: (u16, u16),
     replace: Replace,
 ) -> Result<Box<dyn EventWriter>, FormatError> {
-    let file = AtomicFile::create(path, replace).map_err(io_error(path))?;
-    let handle = file.try_clone_file().map_err(io_error(path))?;
+    let file = AtomicFile::create(path, replace).map_err(write_error(path))?;
+    let handle = file.try_clone_file().map_err(write_error(path))?;
     let inner = writer_to(
         BufWriter::with_capacity(READ_BLOCK, handle),
         format,
@@ -349,7 +349,7 @@ impl EventWriter for AtomicEventWriter {
         match self.file.take() {
             Some(file) => {
                 let path = file.target().to_path_buf();
-                file.commit().map_err(io_error(&path))
+                file.commit().map_err(write_error(&path))
             }
             None => Ok(()),
         }

@@ -20,7 +20,7 @@
 use super::camera::{parse_sensor_line, sensor_line};
 use super::contract::{
     DAVIS240_SIZE, EventReader, EventWriter, READ_BLOCK, ReadStats, ReaderEnd, ReaderSensor,
-    check_inside, io_error, unsupported_size,
+    check_inside, unsupported_size, write_error,
 };
 use super::escape::escape_text;
 use super::input::Input;
@@ -389,7 +389,7 @@ impl<W: Write> TextWriter<W> {
         if dialect == Dialect::Csv {
             head.push_str("t,x,y,on\n");
         }
-        out.write_all(head.as_bytes()).map_err(io_error(&path))?;
+        out.write_all(head.as_bytes()).map_err(write_error(&path))?;
         Ok(Self {
             out,
             path,
@@ -433,13 +433,13 @@ impl<W: Write> TextWriter<W> {
     fn flush_line(&mut self) -> Result<(), FormatError> {
         self.out
             .write_all(&self.line)
-            .map_err(io_error(&self.path))?;
+            .map_err(write_error(&self.path))?;
         self.line.clear();
         Ok(())
     }
 
     fn finish(&mut self) -> Result<(), FormatError> {
-        self.out.flush().map_err(io_error(&self.path))
+        self.out.flush().map_err(write_error(&self.path))
     }
 }
 

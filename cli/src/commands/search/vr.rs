@@ -3,7 +3,7 @@
 use crate::commands::args;
 use crate::commands::inputs::load_labelled;
 use crate::commands::options::{ForceOption, SeedOption, help};
-use crate::commands::outputs::refuse_existing;
+use crate::commands::outputs::{Output, check_outputs};
 use anyhow::Context;
 use clap::Args;
 use neurotac_core::{Knn, Ranks};
@@ -61,7 +61,7 @@ pub struct VrArgs {
 pub fn run(args: VrArgs, ranks: &dyn Ranks) -> anyhow::Result<()> {
     if let Some(trace) = &args.trace {
         neurotac_core::io::check_distinct(&args.input, trace)?;
-        refuse_existing([trace.as_path()], args.force.force)?;
+        check_outputs([Output::file("--trace", trace)], args.force.force)?;
     }
     let data = load_labelled(&args.input)?;
     let config = BayesConfig {

@@ -2,13 +2,12 @@
 
 use crate::commands::args;
 use crate::commands::options::{ForceOption, TradeoffOutOption};
-use crate::commands::outputs::refuse_existing;
+use crate::commands::outputs::{Output, check_outputs};
 use anyhow::Context;
 use clap::Args;
 use neurotac_cli::tradeoff::neurons::{NeuronTradeoffConfig, quick, report, to_markdown};
 use neurotac_cli::tradeoff::trade_files;
 use neurotac_core::io::{AtomicFileSet, Replace};
-use std::path::PathBuf;
 
 #[derive(Debug, Args)]
 pub struct NeuronsArgs {
@@ -34,7 +33,10 @@ pub fn run(args: NeuronsArgs) -> anyhow::Result<()> {
         quick(&mut config);
     }
     let outputs = trade_files(&args.out.out, "neurons");
-    refuse_existing(outputs.iter().map(PathBuf::as_path), args.force.force)?;
+    check_outputs(
+        Output::folder_with_files("--out", &args.out.out, &outputs),
+        args.force.force,
+    )?;
     let mut files = AtomicFileSet::new(Replace::when(args.force.force));
     let rows = report(&config, &args.out.out, &mut files)?;
     files.commit().context("writing the trade's files")?;

@@ -2,7 +2,7 @@
 
 use crate::commands::args;
 use crate::commands::options::{ForceOption, SeedOption, TradeoffOutOption};
-use crate::commands::outputs::refuse_existing;
+use crate::commands::outputs::{Output, check_outputs};
 use anyhow::Context;
 use clap::Args;
 use neurotac_cli::tradeoff::simulator::{SimulatorTradeoffConfig, quick, report, to_markdown};
@@ -32,7 +32,10 @@ pub struct SimulatorArgs {
 
 pub fn run(args: SimulatorArgs) -> anyhow::Result<()> {
     let outputs = trade_files(&args.out.out, "simulator");
-    refuse_existing(outputs.iter().map(PathBuf::as_path), args.force.force)?;
+    check_outputs(
+        Output::folder_with_files("--out", &args.out.out, &outputs),
+        args.force.force,
+    )?;
     let mut config = SimulatorTradeoffConfig {
         trials: args.trials,
         seed: args.seed.seed,

@@ -7,14 +7,13 @@ use crate::commands::args;
 use crate::commands::options::{
     ForceOption, SeedOption, SetArg, ThreadsOption, TradeoffOutOption, help,
 };
-use crate::commands::outputs::{refuse_existing, refuse_report_over_inputs};
+use crate::commands::outputs::{Output, cache_folder, check_outputs, refuse_report_over_inputs};
 use crate::commands::progress::Bars;
 use anyhow::Context;
 use clap::{Args, ValueEnum};
 use neurotac_cli::tradeoff::study::report::{study_files, write_study};
 use neurotac_cli::tradeoff::study::{Family, SimulatedSource, StudyConfig, study_set};
 use neurotac_core::io::{AtomicFileSet, Replace};
-use neurotac_experiments::datasets::simulated::default_cache_dir;
 use neurotac_experiments::neuron_setup::NeuronKind;
 use neurotac_experiments::progress::Progress;
 use neurotac_experiments::reproduce::{ReproduceConfig, Source, load_source};
@@ -88,7 +87,8 @@ pub struct StudyArgs {
 }
 
 pub fn run(args: StudyArgs) -> anyhow::Result<()> {
-    let cache = args.cache.clone().unwrap_or_else(default_cache_dir);
+    // The cache holds simulated sets: a recorded dataset does not need it.
+    let cache = cache_folder(args.cache.as_deref(), args.dataset.is_none());
     neurotac_experiments::afferents::use_crossovers_in(&cache);
     refuse_report_over_inputs(
         &args.out.out,
@@ -99,7 +99,13 @@ pub fn run(args: StudyArgs) -> anyhow::Result<()> {
     // The summary is always written: refused before any work (every file once the sets'
     // names are known).
     let summary_path = args.out.out.join("tradeoff.md");
-    refuse_existing([summary_path.as_path()], args.force.force)?;
+    check_outputs(
+        [
+            Output::into_folder("--out", &args.out.out),
+            Output::file("--out", &summary_path),
+        ],
+        args.force.force,
+    )?;
     let mut config = match args.quick {
         true => ReproduceConfig::quick(args.seed.seed, cache),
         false => ReproduceConfig::paper(args.seed.seed, cache),
@@ -155,7 +161,7 @@ pub fn run(args: StudyArgs) -> anyhow::Result<()> {
             // The set's outputs are checked before its study.
             let stems: Vec<String> = study.families.iter().map(|f| f.stem()).collect();
             let files = study_files(&args.out.out, std::slice::from_ref(&name), &stems);
-            refuse_existing(files.iter().map(PathBuf::as_path), args.force.force)?;
+            check_outputs(Output::files("--out", &files), args.force.force)?;
             let simulated = match source {
                 Source::Simulated(set) => Some(SimulatedSource {
                     set: *set,

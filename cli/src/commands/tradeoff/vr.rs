@@ -4,9 +4,10 @@
 
 use crate::commands::args;
 use crate::commands::inputs::load_labelled;
+use crate::commands::outputs::cache_folder;
 use clap::Args;
 use neurotac_cli::tradeoff::vr::{VrTradeoffConfig, measure, to_markdown};
-use neurotac_experiments::datasets::simulated::{TextureSet, default_cache_dir, load_or_simulate};
+use neurotac_experiments::datasets::simulated::{TextureSet, load_or_simulate};
 use neurotac_experiments::neuron_setup::Precision;
 use neurotac_sensor::sim::SimParams;
 use std::path::PathBuf;
@@ -70,7 +71,7 @@ pub fn run(args: VrArgs) -> anyhow::Result<()> {
                 set.paper_trials(),
                 1,
                 &SimParams::default(),
-                &default_cache_dir(),
+                &cache_folder(None, true),
                 &|| {},
                 &neurotac_core::OneProcess,
             )?

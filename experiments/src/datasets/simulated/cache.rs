@@ -91,9 +91,12 @@ pub(super) fn load_or_simulate_cached(
     let cache_usable = ranks.is_root() && {
         let usable = usable_cache_dir(cache_dir);
         if let Err(e) = &usable {
-            eprintln!(
-                "warning: the cache folder {} is unusable ({e}); simulating without caching",
-                cache_dir.display()
+            warn_about_cache_once(
+                cache_dir,
+                &format!(
+                    "warning: the cache folder {} is unusable ({e}); simulating without caching",
+                    cache_dir.display()
+                ),
             );
         }
         usable.is_ok()
@@ -104,6 +107,18 @@ pub(super) fn load_or_simulate_cached(
         eprintln!("warning: the dataset could not be cached ({e}); going on without the cache");
     }
     Ok((simulated.dataset, false))
+}
+
+/// Prints `warning` on stderr, unless a warning about the cache folder `dir` was printed
+/// before in this process: a command that checked its cache before any work has said it (with
+/// the fix), and each set simulated later does not say it again.
+pub fn warn_about_cache_once(dir: &Path, warning: &str) {
+    static SAID: std::sync::Mutex<Vec<PathBuf>> = std::sync::Mutex::new(Vec::new());
+    let mut said = SAID.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
+    if !said.iter().any(|d| d == dir) {
+        said.push(dir.to_owned());
+        eprintln!("{warning}");
+    }
 }
 
 /// Whether `dir` can take a cache file: created if missing, then a probe file created in it

@@ -1,7 +1,7 @@
 //! `neurotac simulate`: a simulated set and its files ([`generate`]), optionally every trial's
 //! pixel events ([`PixelEventFiles`], [`write_events_csv`]).
 
-use super::cache::{cache_path, load_or_simulate_cached, store};
+use super::cache::{cache_path, load_or_simulate_cached, store, warn_about_cache_once};
 use super::{DatasetsError, TextureSet, TrialJob, simulate_set};
 use crate::coding::class_means;
 use crate::export::{OutputFormat, dataset_bytes};
@@ -124,9 +124,15 @@ pub fn generate(
                 }
             };
             let simulated = simulate_set(set, trials, seed, params, &each, &advance, ranks)?;
-            // Cache it too, so experiments find it.
-            if ranks.is_root() {
-                store(&simulated.dataset, cache, &cache_file)?;
+            // Cache it too, so experiments find it; a cache that cannot take it (said before
+            // the work by the command) does not lose the simulation.
+            if ranks.is_root()
+                && let Err(e) = store(&simulated.dataset, cache, &cache_file)
+            {
+                let e = neurotac_core::error_chain(&e);
+                let warning =
+                    format!("warning: the dataset could not be cached ({e}); going on without it");
+                warn_about_cache_once(cache, &warning);
             }
             (simulated.dataset, false)
         }

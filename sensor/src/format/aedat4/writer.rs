@@ -5,7 +5,7 @@ use super::framing::lz4_frame_encode;
 use super::{Compression, EVENT_BYTES, MAGIC, PACKET_EVENTS};
 use crate::error::FormatError;
 use crate::format::camera::camera_of_size;
-use crate::format::contract::{EventWriter, check_inside, io_error, unsupported_size};
+use crate::format::contract::{EventWriter, check_inside, unsupported_size, write_error};
 use neurotac_core::EventBuffer;
 use std::io::{Seek, SeekFrom, Write};
 use std::path::PathBuf;
@@ -122,7 +122,7 @@ impl<W: Write + Seek> Aedat4Writer<W> {
     }
 
     fn put(&mut self, bytes: &[u8]) -> Result<(), FormatError> {
-        self.out.write_all(bytes).map_err(io_error(&self.path))?;
+        self.out.write_all(bytes).map_err(write_error(&self.path))?;
         self.offset += bytes.len() as u64;
         Ok(())
     }
@@ -133,20 +133,20 @@ impl<W: Write + Seek> Aedat4Writer<W> {
         match self.compression {
             Compression::None => self.compressed.extend_from_slice(&self.plain),
             Compression::Lz4 => lz4_frame_encode(&self.plain, &mut self.compressed)
-                .map_err(|e| io_error(&self.path)(std::io::Error::other(e.to_string())))?,
+                .map_err(|e| write_error(&self.path)(std::io::Error::other(e.to_string())))?,
             Compression::Zstd => {
                 let compressor = match &mut self.zstd {
                     Some(c) => c,
                     None => self.zstd.insert(
                         zstd::bulk::Compressor::new(zstd::DEFAULT_COMPRESSION_LEVEL)
-                            .map_err(io_error(&self.path))?,
+                            .map_err(write_error(&self.path))?,
                     ),
                 };
                 self.compressed
                     .reserve(zstd::compress_bound(self.plain.len()));
                 compressor
                     .compress_to_buffer(&self.plain, &mut self.compressed)
-                    .map_err(io_error(&self.path))?;
+                    .map_err(write_error(&self.path))?;
             }
         }
         Ok(())
@@ -280,7 +280,7 @@ impl<W: Write + Seek> EventWriter for Aedat4Writer<W> {
             .and_then(|_| self.out.write_all(&(position as i64).to_le_bytes()))
             .and_then(|_| self.out.seek(SeekFrom::End(0)))
             .and_then(|_| self.out.flush())
-            .map_err(io_error(&self.path))?;
+            .map_err(write_error(&self.path))?;
         self.finished = true;
         Ok(())
     }
