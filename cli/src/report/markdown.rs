@@ -26,7 +26,9 @@ pub fn report_markdown(report: &Report) -> String {
 /// The head of `report.md`: how the run was made and what the numbers mean.
 fn markdown_intro(report: &Report) -> String {
     format!(
-        "# NeuroTac reproduction\n\n`{}` (neurotac {}, seed {}): {:.1} s wall{}.\n\n\
+        "# NeuroTac reproduction\n\n`{}` (neurotac {}, seed {}): {:.1} s wall{} for the \
+         datasets and pipelines, everything but writing this report (the terminal's `total` \
+         adds the writing).\n\n\
          Pipeline (the paper's Methods): pixel events → background-activity filter (5 ms) → 49 \
          receptive fields → 20 ms pooling with re-centring → taxel spikes → four codings → KNN \
          (k = 4). Accuracies: leave-one-out (the paper's Tables 1 and 2), ± the standard \
