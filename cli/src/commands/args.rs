@@ -110,13 +110,14 @@ impl std::fmt::Display for Time {
     }
 }
 
-/// The unit suffixes a time accepts, and their size in seconds (longest suffix first, so `ms`
-/// is not read as `m` + `s`).
+/// The unit suffixes a time accepts, and how many of each make a second (longest suffix
+/// first, so `ms` is not read as `m` + `s`; a division by a power of ten rounds correctly, so
+/// `25us` is exactly the double nearest 25 µs).
 const TIME_UNITS: [(&str, f64); 5] = [
-    ("ms", 1e-3),
-    ("us", 1e-6),
-    ("µs", 1e-6),
-    ("μs", 1e-6),
+    ("ms", 1e3),
+    ("us", 1e6),
+    ("µs", 1e6),
+    ("μs", 1e6),
     ("s", 1.0),
 ];
 
@@ -125,16 +126,16 @@ const TIME_UNITS: [(&str, f64); 5] = [
 /// bare numbers meant seconds for some flags before they all meant milliseconds.
 fn time_in(s: &str, min: Time, max: Time) -> Result<Time, String> {
     let s = s.trim();
-    let (number, unit_s) = TIME_UNITS
+    let (number, per_s) = TIME_UNITS
         .iter()
-        .find_map(|(suffix, size)| s.strip_suffix(suffix).map(|n| (n.trim_end(), Some(*size))))
+        .find_map(|(suffix, per_s)| s.strip_suffix(suffix).map(|n| (n.trim_end(), Some(*per_s))))
         .unwrap_or((s, None));
     let x = match number.parse::<f64>() {
         Ok(x) if x.is_finite() => x,
         Ok(_) => return Err("must be a finite time".into()),
         Err(_) => return Err("not a time (expected e.g. 20, 20ms, 0.02s or 25us)".into()),
     };
-    let t = Time(x * unit_s.unwrap_or(1e-3));
+    let t = Time(x / per_s.unwrap_or(1e3));
     if t.0 <= 0.0 {
         return Err("must be greater than 0".into());
     }
@@ -145,7 +146,7 @@ fn time_in(s: &str, min: Time, max: Time) -> Result<Time, String> {
         true => format!("below the smallest, {min}"),
         false => format!("above the largest, {max}"),
     };
-    let hint = match unit_s.is_none() && (min..=max).contains(&Time(x)) {
+    let hint = match per_s.is_none() && (min..=max).contains(&Time(x)) {
         true => format!("; a bare number means milliseconds, write {x}s for seconds"),
         false => String::new(),
     };

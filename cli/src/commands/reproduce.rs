@@ -10,7 +10,7 @@ use clap::{Args, ValueEnum};
 use neurotac_cli::report::class_tables::{paper_confusion_table, phase_table, recall_table};
 use neurotac_cli::report::folder::check_destination;
 use neurotac_cli::report::tables::{
-    accuracy_table, afferent_table, intensive_table, parameter_table,
+    accuracy_table, afferent_table, fitted_grids_mm, intensive_table, parameter_table,
 };
 use neurotac_cli::report::write_report;
 use neurotac_core::Ranks;
@@ -158,7 +158,9 @@ pub fn run(args: ReproduceArgs, ranks: &dyn Ranks) -> anyhow::Result<()> {
         if !ranks.is_root() {
             return Ok(None);
         }
-        report.sets.iter().for_each(print_set);
+        for set in &report.sets {
+            print_set(set, &fitted_grids_mm(&report, set));
+        }
         bars.stage("writing the report (SVG, PNG, CSV, JSON, Markdown)", 0);
         let written = write_report(&args.out, &report, args.force.force);
         bars.finish();
@@ -182,7 +184,7 @@ pub fn run(args: ReproduceArgs, ranks: &dyn Ranks) -> anyhow::Result<()> {
     Ok(())
 }
 
-fn print_set(set: &SetReport) {
+fn print_set(set: &SetReport, fitted_grids_mm: &[f64]) {
     let d = &set.direct;
     let samples: usize = d.samples_per_class.iter().sum();
     println!(
@@ -196,7 +198,7 @@ fn print_set(set: &SetReport) {
     );
     println!("{}", accuracy_table(set));
     println!("{}", parameter_table(d));
-    println!("{}", intensive_table(d));
+    println!("{}", intensive_table(d, fitted_grids_mm));
     println!("{}", phase_table(set));
     println!("{}", recall_table(set));
     let confusions = paper_confusion_table(set);
