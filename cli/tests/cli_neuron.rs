@@ -50,7 +50,7 @@ fn izhikevich_blow_up_is_an_error_naming_the_step() {
             "--current",
             "0",
             "--dt",
-            "10us",
+            "10ms",
         ],
     ] {
         let (ok, stdout, stderr) = neurotac(args);

@@ -147,7 +147,7 @@ fn time_in(s: &str, min: Time, max: Time) -> Result<Time, String> {
         false => format!("above the largest, {max}"),
     };
     let hint = match per_s.is_none() && (min..=max).contains(&Time(x)) {
-        true => format!("; a bare number means milliseconds, write {x}s for seconds"),
+        true => format!("; a bare number means milliseconds, write {number}s for seconds"),
         false => String::new(),
     };
     Err(format!("{t} is {side}{hint}"))
