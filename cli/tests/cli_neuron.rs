@@ -96,9 +96,34 @@ fn values_beyond_the_precision_are_refused() {
     );
     // Times never reach f32's limit: their flags refuse anything past a sane range first.
     for args in [
-        &["neuron", "--precision", "f32", "--current", "1", "--dt", "1e39"][..],
-        &["bench", "neurons", "--precision", "f32", "--n", "10", "--dt", "1e39"],
-        &["bench", "neurons", "--precision", "f32", "--n", "10", "--duration=1e39"],
+        &[
+            "neuron",
+            "--precision",
+            "f32",
+            "--current",
+            "1",
+            "--dt",
+            "1e39",
+        ][..],
+        &[
+            "bench",
+            "neurons",
+            "--precision",
+            "f32",
+            "--n",
+            "10",
+            "--dt",
+            "1e39",
+        ],
+        &[
+            "bench",
+            "neurons",
+            "--precision",
+            "f32",
+            "--n",
+            "10",
+            "--duration=1e39",
+        ],
     ] {
         let (ok, _, stderr) = neurotac(args);
         assert!(!ok && stderr.contains("above the largest"), "{stderr}");
@@ -157,7 +182,15 @@ fn step_count_is_bounded_and_the_bound_can_be_raised() {
             "--duration",
             "86400s",
         ][..],
-        &["neuron", "--current", "2", "--dt", "1us", "--duration", "1000s"],
+        &[
+            "neuron",
+            "--current",
+            "2",
+            "--dt",
+            "1us",
+            "--duration",
+            "1000s",
+        ],
     ] {
         let (ok, stdout, stderr) = neurotac(args);
         assert!(!ok && stdout.is_empty(), "{args:?}");

@@ -204,7 +204,10 @@ fn recognise_eval_writes_accuracy_against_time_for_every_coding() {
     assert_eq!(files.len(), 5);
     for f in &files {
         assert!(out.join(f).is_file(), "{f}");
-        assert!(stdout.contains(&format!("`{f}`")), "{f} not listed:\n{stdout}");
+        assert!(
+            stdout.contains(&format!("`{f}`")),
+            "{f} not listed:\n{stdout}"
+        );
     }
     assert!(stdout.contains("k = 4"), "{stdout}");
     // An existing report is refused without --force.

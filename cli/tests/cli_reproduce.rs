@@ -74,10 +74,7 @@ fn a_small_run_prints_the_tables_and_writes_the_whole_report() {
         .and_then(|(_, rest)| rest.split_once(" s wall"))
         .map(|(s, _)| s)
         .expect("report.md states its time");
-    assert!(
-        md.contains("everything but writing this report"),
-        "{md}"
-    );
+    assert!(md.contains("everything but writing this report"), "{md}");
     assert!(
         stdout.contains(&format!(
             "({report_s} s datasets and pipelines, as report.md states, + "
@@ -329,9 +326,23 @@ fn searches_and_synthetic_sets_over_their_budget_are_refused_before_any_work() {
     );
     let (ok, _, stderr) = neurotac(&["synth", "--output", &s(&synth), "--samples", "10"]);
     assert!(ok, "{stderr}");
-    let (ok, _, stderr) = neurotac(&["search", "vr", "--input", &s(&synth), "--cos-step", "1e-300"]);
+    let (ok, _, stderr) = neurotac(&[
+        "search",
+        "vr",
+        "--input",
+        &s(&synth),
+        "--cos-step",
+        "1e-300",
+    ]);
     assert!(!ok && stderr.contains("= 1e-300: at most 10⁴"), "{stderr}");
     // A τ grid that fine cannot even be asked for: its flag's range refuses it.
-    let (ok, _, stderr) = neurotac(&["search", "vr", "--input", &s(&synth), "--tau-step", "1e-300"]);
+    let (ok, _, stderr) = neurotac(&[
+        "search",
+        "vr",
+        "--input",
+        &s(&synth),
+        "--tau-step",
+        "1e-300",
+    ]);
     assert!(!ok && stderr.contains("below the smallest"), "{stderr}");
 }

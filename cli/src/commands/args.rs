@@ -248,7 +248,10 @@ mod tests {
         assert_eq!(time_tau("0.076s").map(Time::ms), Ok(76.0));
         // With a unit the value is what the user meant: no hint.
         let e = time_tau("20s").unwrap_err();
-        assert!(e.contains("above the largest, 10s") && !e.contains("bare"), "{e}");
+        assert!(
+            e.contains("above the largest, 10s") && !e.contains("bare"),
+            "{e}"
+        );
         assert!(time_tau_step("0.005").unwrap_err().contains("write 0.005s"));
         assert!(time_duration("4.5").unwrap_err().contains("write 4.5s"));
     }

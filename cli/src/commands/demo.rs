@@ -59,7 +59,12 @@ pub fn run(args: DemoArgs) -> anyhow::Result<()> {
     } else {
         println!(
             "{} taxels at {} Hz → {} {:?} afferents, {} s simulated in {:.3} s",
-            args.taxels, args.rate_hz, args.taxels, args.model, args.duration.s(), wall_s
+            args.taxels,
+            args.rate_hz,
+            args.taxels,
+            args.model,
+            args.duration.s(),
+            wall_s
         );
         println!("  neuron   taxel spikes → afferent spikes");
         for (i, (a, b)) in inputs.iter().zip(&counts).enumerate() {

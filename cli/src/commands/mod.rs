@@ -159,15 +159,18 @@ mod tests {
     #[test]
     fn no_time_flag_takes_a_bare_unit_of_its_own() {
         fn walk(cmd: &clap::Command, path: &str, bad: &mut Vec<String>, timed: &mut usize) {
-            for arg in cmd.get_arguments().filter(|a| a.get_action().takes_values()) {
+            for arg in cmd
+                .get_arguments()
+                .filter(|a| a.get_action().takes_values())
+            {
                 let id = arg.get_id().as_str();
                 let help = arg
                     .get_long_help()
                     .or(arg.get_help())
                     .map(|h| h.to_string())
                     .unwrap_or_default();
-                let unit_named = ["_ms", "_us", "_s"].iter().any(|u| id.ends_with(u))
-                    || id == "seconds";
+                let unit_named =
+                    ["_ms", "_us", "_s"].iter().any(|u| id.ends_with(u)) || id == "seconds";
                 const HOW: &str = "(ms, or with a unit: 20ms, 0.02s";
                 let rest = help.replace(HOW, "");
                 let bare_unit = [" (s)", " (s,", " (s;", " (ms)", " (ms,", " (µs)", " (µs,"]
@@ -185,6 +188,9 @@ mod tests {
         let (mut bad, mut timed) = (Vec::new(), 0);
         walk(&Cli::command(), "neurotac", &mut bad, &mut timed);
         assert!(bad.is_empty(), "{bad:#?}");
-        assert!(timed >= 30, "only {timed} time flags say how they read a value");
+        assert!(
+            timed >= 30,
+            "only {timed} time flags say how they read a value"
+        );
     }
 }

@@ -267,7 +267,12 @@ pub fn chosen_parameters(set: &SetResult) -> Vec<ChosenParameter> {
             "Van Rossum cos θ",
             cos,
             paper::COS_THETA,
-            undetermined(format!("{cos:.2}"), band(|s| s.cos), evaluations, (1.0, 2, "")),
+            undetermined(
+                format!("{cos:.2}"),
+                band(|s| s.cos),
+                evaluations,
+                (1.0, 2, ""),
+            ),
             cos_note,
         ));
     }
@@ -320,7 +325,11 @@ pub fn parameter_table(set: &SetResult) -> String {
 /// calibration's anchors when the set is simulated, none for a recorded set.
 pub fn fitted_grids_mm(report: &Report, set: &SetReport) -> Vec<f64> {
     match set.source.starts_with("simulated") {
-        true => report.calibration.iter().map(|c| c.anchor_grid_mm).collect(),
+        true => report
+            .calibration
+            .iter()
+            .map(|c| c.anchor_grid_mm)
+            .collect(),
         false => Vec::new(),
     }
 }
@@ -627,7 +636,10 @@ pub(crate) mod tests {
             }
         }
         let chosen = chosen_parameters(&set);
-        assert_eq!((chosen[0].printed.as_str(), &chosen[0].noise_note), ("3", &None));
+        assert_eq!(
+            (chosen[0].printed.as_str(), &chosen[0].noise_note),
+            ("3", &None)
+        );
         // 79 % on 1000 samples is within the Wilson interval of 80 %: τ 20–50 ms, cos 0.5–0.9.
         assert_eq!(chosen[1].printed, "20, not determined: 20–50 ms");
         assert_eq!(chosen[2].printed, "0.50, not determined: 0.50–0.90");
@@ -650,7 +662,9 @@ pub(crate) mod tests {
             "{table}"
         );
         let mut report = report_of(set_result("artificial"), "simulated, 3 slides per texture");
-        report.calibration = neurotac_sensor::sim::SimParams::default().calibrated_parameters().to_vec();
+        report.calibration = neurotac_sensor::sim::SimParams::default()
+            .calibrated_parameters()
+            .to_vec();
         assert_eq!(fitted_grids_mm(&report, &report.sets[0]), [0.0, 2.5, 5.0]);
         report.sets[0].source = "recorded: textures/".into();
         assert!(fitted_grids_mm(&report, &report.sets[0]).is_empty());

@@ -6,8 +6,7 @@
 //! and the decision latency.
 
 use super::{
-    Decision, LatencyPercentiles, OnlineClassifier, OnlineTraining, Recogniser,
-    latency_percentiles,
+    Decision, LatencyPercentiles, OnlineClassifier, OnlineTraining, Recogniser, latency_percentiles,
 };
 use crate::coding::Coding;
 use crate::datasets::simulated::{

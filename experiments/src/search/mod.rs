@@ -36,7 +36,10 @@ impl NoiseBand {
 /// "not determined"), never towards claiming a value the data do not single out. `None`
 /// without candidates.
 pub fn noise_band(candidates: &[(f64, f64)], n: usize) -> Option<NoiseBand> {
-    let best = candidates.iter().map(|c| c.1).fold(f64::NEG_INFINITY, f64::max);
+    let best = candidates
+        .iter()
+        .map(|c| c.1)
+        .fold(f64::NEG_INFINITY, f64::max);
     if !best.is_finite() {
         return None;
     }
@@ -62,10 +65,15 @@ mod tests {
     #[test]
     fn a_flat_surface_is_not_determined_and_a_sharp_peak_is() {
         // 1100 samples: the Wilson 95 % interval of 90 % is about ±1.8 points.
-        let flat: Vec<(f64, f64)> = (1..=10).map(|w| (w as f64, 0.89 + 0.001 * w as f64)).collect();
+        let flat: Vec<(f64, f64)> = (1..=10)
+            .map(|w| (w as f64, 0.89 + 0.001 * w as f64))
+            .collect();
         let band = noise_band(&flat, 1100).unwrap();
         assert!(!band.determined());
-        assert_eq!((band.low, band.high, band.count, band.of), (1.0, 10.0, 10, 10));
+        assert_eq!(
+            (band.low, band.high, band.count, band.of),
+            (1.0, 10.0, 10, 10)
+        );
         let sharp = [(1.0, 0.5), (2.0, 0.6), (3.0, 0.9), (4.0, 0.7)];
         let band = noise_band(&sharp, 1100).unwrap();
         assert!(band.determined());
