@@ -90,6 +90,16 @@ impl Time {
         self.0 * 1e3
     }
 
+    /// The time as a whole number of milliseconds (what the temporal coding's windows and
+    /// sample durations are counted in), or an error naming `flag` and the value as given.
+    pub fn whole_ms(self, flag: &str) -> anyhow::Result<u32> {
+        let ms = self.ms();
+        match (ms - ms.round()).abs() <= 1e-6 && ms.round() <= f64::from(u32::MAX) {
+            true => Ok(ms.round() as u32),
+            false => anyhow::bail!("{flag} {self} is not a whole number of milliseconds"),
+        }
+    }
+
     /// The time in whole microseconds (rounded), the unit of event timestamps.
     pub fn us(self) -> i64 {
         (self.0 * 1e6).round() as i64
@@ -242,6 +252,15 @@ mod tests {
 
     #[test]
     fn a_bare_value_in_seconds_is_refused_with_a_hint() {
+        assert_eq!(
+            time_window("0.159s").unwrap().whole_ms("--dt").unwrap(),
+            159
+        );
+        let e = time_window("20.5").unwrap().whole_ms("--dt").unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "--dt 20.5ms is not a whole number of milliseconds"
+        );
         let e = time_tau("0.076").unwrap_err();
         assert!(e.contains("76µs is below the smallest, 1ms"), "{e}");
         assert!(e.contains("write 0.076s for seconds"), "{e}");

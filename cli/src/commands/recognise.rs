@@ -120,7 +120,7 @@ impl RecogniseArgs {
     /// `name` with the parameters of the flags (each coding reads only its own).
     fn coding(&self, name: CodingName) -> anyhow::Result<Coding> {
         let parameters = CodingParameters {
-            window_ms: Some(neurotac_core::coding::whole_ms(self.dt.s(), "--dt")?),
+            window_ms: Some(self.dt.whole_ms("--dt")?),
             duration_ms: None,
             tau_s: Some(self.tau.s()),
             cos: Some(self.cos),

@@ -1,9 +1,9 @@
 //! `neurotac search dt`: the temporal coding's Δt brute force.
 
 use crate::commands::args::{self, Time};
+use crate::commands::coding_parameters::whole_duration_s;
 use crate::commands::inputs::load_labelled;
 use clap::Args;
-use neurotac_core::coding::whole_ms;
 use neurotac_core::{Knn, Ranks};
 use neurotac_experiments::coding::sample_duration_ms;
 use neurotac_experiments::search::dt_sweep::dt_sweep;
@@ -39,8 +39,8 @@ pub struct DtArgs {
 /// prints.
 pub fn run(args: DtArgs, ranks: &dyn Ranks) -> anyhow::Result<()> {
     let data = load_labelled(&args.input)?;
-    let max_window_ms = whole_ms(args.max_window.s(), "--max-window")?;
-    let t = sample_duration_ms(&data, args.duration.map(Time::s))?;
+    let max_window_ms = args.max_window.whole_ms("--max-window")?;
+    let t = sample_duration_ms(&data, whole_duration_s(args.duration)?)?;
     let knn = Knn::new(args.k)?;
     let (sweep, timing) = timed(|| {
         dt_sweep(
