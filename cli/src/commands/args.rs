@@ -251,7 +251,7 @@ mod tests {
     }
 
     #[test]
-    fn a_bare_value_in_seconds_is_refused_with_a_hint() {
+    fn a_window_in_whole_ms_is_refused_otherwise_with_the_value_as_given() {
         assert_eq!(
             time_window("0.159s").unwrap().whole_ms("--dt").unwrap(),
             159
@@ -261,6 +261,10 @@ mod tests {
             e.to_string(),
             "--dt 20.5ms is not a whole number of milliseconds"
         );
+    }
+
+    #[test]
+    fn a_bare_value_in_seconds_is_refused_with_a_hint() {
         let e = time_tau("0.076").unwrap_err();
         assert!(e.contains("76µs is below the smallest, 1ms"), "{e}");
         assert!(e.contains("write 0.076s for seconds"), "{e}");
