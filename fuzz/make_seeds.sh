@@ -82,7 +82,7 @@ one_obs() { u64 2; u64 2; u64 0; printf "$t025$t05"; } # 2 channels: [0.25, 0.5]
 { v1 1 0 '{}' '\x01'; u64 0; one_obs; } > "$d/labelled_v1.bin"
 v1 0 0 '{}' '\x00' > "$d/empty_v1.bin"
 { printf 'NTSPIKES\x01\x00\x00\x00'; u64 1; u64 1; u64 1; printf 'a'; u64 18; printf '{"duration_s":0.5}\x01'; u64 0; one_obs; } > "$d/named_v1.bin"
-"$bin" synth --output "$tmp/synth.json" --samples 4 --classes 2 --channels 3 --spikes-per-unit 2 --duration 0.5 > /dev/null
+"$bin" synth --output "$tmp/synth.json" --samples 4 --classes 2 --channels 3 --spikes-per-unit 2 --duration 0.5s > /dev/null
 cp "$tmp/synth.json" "$d/synth.json"
 "$bin" export "$d/synth.json" "$d/synth.bin" --force > /dev/null
 # `to_v1 NAME`: NAME.bin as version 1 (NAME_v1.bin): the checksum dropped, the version set to 1.

@@ -75,6 +75,109 @@ fn numeric_flags_are_refused_before_any_work_with_the_flag_named() {
     }
 }
 
+/// Bare numbers are milliseconds for every time-valued flag; a value written in seconds, as
+/// some flags took before, is refused with the reading in seconds to write instead.
+#[test]
+fn time_flags_read_bare_milliseconds_and_refuse_old_seconds_with_a_hint() {
+    for (args, flag, hint) in [
+        (
+            &[
+                "recognise",
+                "--train",
+                "t.json",
+                "--input",
+                "x",
+                "--dt",
+                "0.159",
+            ][..],
+            "--dt",
+            "write 0.159s for seconds",
+        ),
+        (
+            &[
+                "recognise",
+                "--train",
+                "t.json",
+                "--input",
+                "x",
+                "--tau",
+                "0.076",
+            ][..],
+            "--tau",
+            "write 0.076s for seconds",
+        ),
+        (
+            &["reproduce", "--quick", "--tau-step", "0.005"][..],
+            "--tau-step",
+            "write 0.005s for seconds",
+        ),
+        (
+            &[
+                "classify", "--input", "x", "--coding", "temporal", "--dt", "0.05",
+            ][..],
+            "--dt",
+            "write 0.05s for seconds",
+        ),
+        (
+            &["synth", "--output", "x.json", "--duration", "4.5"][..],
+            "--duration",
+            "write 4.5s for seconds",
+        ),
+        (
+            &["neuron", "--current", "2", "--dt", "1e-4"][..],
+            "--dt",
+            "write 1e-4s",
+        ),
+        (
+            &["filter", "a.csv", "b.csv", "--ba-window", "5000"][..],
+            "--ba-window",
+            "5s is above the largest, 100ms",
+        ),
+    ] {
+        let (ok, _, stderr) = neurotac(args);
+        assert!(!ok, "{args:?}");
+        let first = stderr.lines().next().unwrap_or_default();
+        assert!(
+            first.contains(flag) && first.contains(hint),
+            "{args:?}: {stderr}"
+        );
+    }
+    // The same window however it is written: 20, 20ms, 0.02s, 20000us, 20000µs.
+    let dir = tempfile::tempdir().unwrap();
+    let data = dir.path().join("d.json");
+    let (ok, _, stderr) = neurotac(&[
+        "synth",
+        "--output",
+        s(&data),
+        "--samples",
+        "12",
+        "--classes",
+        "3",
+        "--duration",
+        "200ms",
+    ]);
+    assert!(ok, "{stderr}");
+    let outputs: Vec<String> = ["20", "20ms", "0.02s", "20000us", "20000µs"]
+        .iter()
+        .map(|dt| {
+            let (ok, stdout, stderr) = neurotac(&[
+                "classify",
+                "--input",
+                s(&data),
+                "--coding",
+                "temporal",
+                "--dt",
+                dt,
+                "--json",
+            ]);
+            assert!(ok, "{dt}: {stderr}");
+            let v: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+            v["accuracy"].to_string()
+        })
+        .collect();
+    assert!(outputs.iter().all(|o| *o == outputs[0]), "{outputs:?}");
+}
+
 #[test]
 fn writing_commands_refuse_an_existing_output_without_force() {
     let dir = tempfile::tempdir().unwrap();

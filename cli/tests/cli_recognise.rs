@@ -138,6 +138,18 @@ fn recognise_replays_an_event_file_and_reports_every_window_and_bad_input_in_one
     assert!(stderr.contains("earlier than the previous"), "{stderr}");
 }
 
+/// Without a source the error names every one: `--input`, `--device` and `--eval`.
+#[test]
+fn recognise_without_a_source_names_every_source() {
+    let (ok, _, stderr) = neurotac(&["recognise", "--train", "t.json"]);
+    assert!(!ok, "{stderr}");
+    for flag in ["--input", "--device", "--eval"] {
+        assert!(stderr.contains(flag), "{flag}: {stderr}");
+    }
+    let (ok, _, stderr) = neurotac(&["recognise", "--train", "t.json", "--input", "x", "--device"]);
+    assert!(!ok && stderr.contains("cannot be used with"), "{stderr}");
+}
+
 #[test]
 fn recognise_eval_writes_accuracy_against_time_for_every_coding() {
     let dir = tempfile::tempdir().unwrap();
@@ -175,6 +187,29 @@ fn recognise_eval_writes_accuracy_against_time_for_every_coding() {
     let summary: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
     assert_eq!(summary["n_test"], 11);
+    // Self-describing: named latency fields, the k used, every file written.
+    assert_eq!(summary["k"], 4);
+    for coding in summary["codings"].as_array().unwrap() {
+        let latency = &coding["latency"];
+        for field in ["p50_ms", "p99_ms", "max_ms"] {
+            assert!(latency[field].as_f64().unwrap() >= 0.0, "{coding}");
+        }
+    }
+    let files: Vec<&str> = summary["files"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|f| f.as_str().unwrap())
+        .collect();
+    assert_eq!(files.len(), 5);
+    for f in &files {
+        assert!(out.join(f).is_file(), "{f}");
+        assert!(
+            stdout.contains(&format!("`{f}`")),
+            "{f} not listed:\n{stdout}"
+        );
+    }
+    assert!(stdout.contains("k = 4"), "{stdout}");
     // An existing report is refused without --force.
     let (ok, _, stderr) = neurotac(&[
         "recognise",

@@ -68,6 +68,19 @@ fn a_small_run_prints_the_tables_and_writes_the_whole_report() {
     assert_eq!(csv.lines().count(), 1 + codings.len(), "{csv}");
     let md = std::fs::read_to_string(out.join("report.md")).unwrap();
     assert!(md.contains("![spike trains](spike_trains_artificial.svg)"));
+    // One total: the report's time is the terminal's, and each says what it covers.
+    let report_s = md
+        .split_once("): ")
+        .and_then(|(_, rest)| rest.split_once(" s wall"))
+        .map(|(s, _)| s)
+        .expect("report.md states its time");
+    assert!(md.contains("everything but writing this report"), "{md}");
+    assert!(
+        stdout.contains(&format!(
+            "({report_s} s datasets and pipelines, as report.md states, + "
+        )),
+        "report.md says {report_s} s; terminal:\n{stdout}"
+    );
     // Nothing partial is left beside the report.
     let leftovers: Vec<_> = std::fs::read_dir(&dir)
         .unwrap()
@@ -195,7 +208,7 @@ fn reproduce_recorded(data: &Path, out: &Path) -> (bool, String, String) {
         "--epochs",
         "8",
         "--tau-step",
-        "0.03",
+        "30ms",
         "--out",
         out.to_str().unwrap(),
     ])
@@ -302,7 +315,7 @@ fn searches_and_synthetic_sets_over_their_budget_are_refused_before_any_work() {
         &s(&cache),
     ]);
     assert!(
-        !ok && stderr.contains("tau_step_s = 1e-300: at most 10⁴ τ values"),
+        !ok && stderr.contains("is below the smallest, 100µs"),
         "{stderr}"
     );
     assert!(
@@ -323,11 +336,23 @@ fn searches_and_synthetic_sets_over_their_budget_are_refused_before_any_work() {
     );
     let (ok, _, stderr) = neurotac(&["synth", "--output", &s(&synth), "--samples", "10"]);
     assert!(ok, "{stderr}");
-    for flag in ["--tau-step", "--cos-step"] {
-        let (ok, _, stderr) = neurotac(&["search", "vr", "--input", &s(&synth), flag, "1e-300"]);
-        assert!(
-            !ok && stderr.contains("= 1e-300: at most 10⁴"),
-            "{flag}: {stderr}"
-        );
-    }
+    let (ok, _, stderr) = neurotac(&[
+        "search",
+        "vr",
+        "--input",
+        &s(&synth),
+        "--cos-step",
+        "1e-300",
+    ]);
+    assert!(!ok && stderr.contains("= 1e-300: at most 10⁴"), "{stderr}");
+    // A τ grid that fine cannot even be asked for: its flag's range refuses it.
+    let (ok, _, stderr) = neurotac(&[
+        "search",
+        "vr",
+        "--input",
+        &s(&synth),
+        "--tau-step",
+        "1e-300",
+    ]);
+    assert!(!ok && stderr.contains("below the smallest"), "{stderr}");
 }

@@ -16,12 +16,12 @@ fn devices_lists_none_without_a_camera() {
 fn record_without_a_camera_fails_with_a_clear_message() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("r.aedat4");
-    let (ok, _, stderr) = neurotac(&["record", "--out", out.to_str().unwrap(), "--seconds", "1"]);
+    let (ok, _, stderr) = neurotac(&["record", "--out", out.to_str().unwrap(), "--duration", "1s"]);
     assert!(!ok);
     assert!(stderr.contains("no DAVIS camera found"), "{stderr}");
     assert!(!out.exists(), "no file is created without a camera");
-    let (ok, _, stderr) = neurotac(&["record", "--out", "x.aedat4", "--seconds", "-1"]);
-    assert!(!ok && stderr.contains("--seconds"), "{stderr}");
+    let (ok, _, stderr) = neurotac(&["record", "--out", "x.aedat4", "--duration", "-1"]);
+    assert!(!ok && stderr.contains("--duration"), "{stderr}");
 }
 
 #[test]

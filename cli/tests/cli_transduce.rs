@@ -235,8 +235,8 @@ fn filter_writes_exactly_the_events_the_ba_filter_keeps() {
         "filter",
         input.to_str().unwrap(),
         output.to_str().unwrap(),
-        "--ba-window-us",
-        "5000",
+        "--ba-window",
+        "5ms",
     ]);
     assert!(ok, "{stderr}");
     assert!(stdout.starts_with("kept "), "{stdout}");

@@ -39,7 +39,7 @@ pub enum TransduceError {
     Layout(TransductionError),
     /// Layout detection found too few taxels.
     #[error(
-        "found {found} of {expected} taxels in the first {calibration_ms} ms of {path}: record longer (--calibration-ms) or give a layout file"
+        "found {found} of {expected} taxels in the first {calibration_ms} ms of {path}: record longer (--calibration) or give a layout file"
     )]
     LayoutNotFound {
         /// The recording.

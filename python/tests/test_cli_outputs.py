@@ -49,11 +49,11 @@ def test_export_npz_holds_the_dataset_the_bindings_read(dataset, tmp_path):
 
 def test_distance_matrices_equal_the_cli_npy_and_npz(dataset, tmp_path):
     data = neurotac.load_dataset(dataset)
-    cli("distances", "--input", dataset, "--metric", "van-rossum", "--tau", "0.05", "--cos", "0.4",
+    cli("distances", "--input", dataset, "--metric", "van-rossum", "--tau", "0.05s", "--cos", "0.4",
         "--output", tmp_path / "vr.npy")
     ours = neurotac.coding.distances(data, "spatiotemporal", tau=0.05, cos=0.4)
     assert np.array_equal(np.load(tmp_path / "vr.npy"), ours)
-    cli("distances", "--input", dataset, "--metric", "euclidean", "--coding", "temporal", "--dt", "0.1",
+    cli("distances", "--input", dataset, "--metric", "euclidean", "--coding", "temporal", "--dt", "0.1s",
         "--output", tmp_path / "t.npz")
     ours = neurotac.coding.distances(data, "temporal", dt=0.1)
     assert np.array_equal(np.load(tmp_path / "t.npz")["matrix"], ours)
@@ -61,7 +61,7 @@ def test_distance_matrices_equal_the_cli_npy_and_npz(dataset, tmp_path):
 
 def test_an_unknown_output_extension_is_refused(dataset, tmp_path):
     done = subprocess.run([str(BIN), "distances", "--input", str(dataset), "--metric", "van-rossum",
-                           "--tau", "0.05", "--cos", "0.4", "--output", str(tmp_path / "vr.txt")],
+                           "--tau", "50ms", "--cos", "0.4", "--output", str(tmp_path / "vr.txt")],
                           capture_output=True, text=True)
     assert done.returncode != 0
     assert "unknown output extension" in done.stderr and not (tmp_path / "vr.txt").exists()

@@ -2,8 +2,16 @@
 //! the command could not use, with a message in the user's terms (clap prefixes it with the
 //! flag: `invalid value '0' for '--epochs <EPOCHS>': must be at least 1`).
 //!
-//! Flags that use [`positive_f64`] or [`finite_f64`] also set `allow_negative_numbers = true`,
-//! so that `--duration -1` reaches the parser instead of being taken for an unknown flag.
+//! Flags that use [`positive_f64`], [`finite_f64`] or a time parser also set
+//! `allow_negative_numbers = true`, so that `--duration -1` reaches the parser instead of being
+//! taken for an unknown flag.
+//!
+//! Every time-valued flag of every command reads a [`Time`]: a number with a unit (`20ms`,
+//! `0.02s`, `25us`, `25µs`) or a bare number of milliseconds (the paper's unit for Δt and τ).
+//! Each quantity has one parser ([`time_step`], [`time_window`], [`time_tau`], [`time_tau_step`],
+//! [`time_duration`], [`time_event_window`]) that refuses a value outside its sane range, so a
+//! bare value written in seconds before bare numbers meant milliseconds (`--tau 0.076`) is
+//! refused with a hint instead of being misread.
 
 use neurotac_experiments::menu::Menu;
 
@@ -23,21 +31,6 @@ pub fn count(s: &str) -> Result<usize, String> {
         Ok(_) => Err("must be 0 or more".into()),
         Err(_) => Err("not a whole number (expected 0, 1, 2, …)".into()),
     }
-}
-
-/// A positive whole number of microseconds, milliseconds, … (`--ba-window-us`).
-pub fn positive_i64(s: &str) -> Result<i64, String> {
-    match s.trim().parse::<i64>() {
-        Ok(n) if n >= 1 => Ok(n),
-        Ok(_) => Err("must be at least 1".into()),
-        Err(_) => Err("not a whole number (expected 1, 2, 3, …)".into()),
-    }
-}
-
-/// A positive whole number of milliseconds (`search dt --max-window-ms`).
-pub fn positive_u32(s: &str) -> Result<u32, String> {
-    let n = positive_count(s)?;
-    u32::try_from(n).map_err(|_| "too large".to_owned())
 }
 
 /// A sensor size `WIDTHxHEIGHT`, both at least 1 (`convert --sensor 346x260`).
@@ -82,6 +75,125 @@ pub fn open_fraction(s: &str) -> Result<f64, String> {
     }
 }
 
+/// A span of time from the command line, held in seconds (the library's unit for spike times).
+#[derive(Clone, Copy, Debug, PartialEq, PartialOrd)]
+pub struct Time(f64);
+
+impl Time {
+    /// The time in seconds.
+    pub const fn s(self) -> f64 {
+        self.0
+    }
+
+    /// The time in milliseconds.
+    pub const fn ms(self) -> f64 {
+        self.0 * 1e3
+    }
+
+    /// The time as a whole number of milliseconds (what the temporal coding's windows and
+    /// sample durations are counted in), or an error naming `flag` and the value as given.
+    pub fn whole_ms(self, flag: &str) -> anyhow::Result<u32> {
+        let ms = self.ms();
+        match (ms - ms.round()).abs() <= 1e-6 && ms.round() <= f64::from(u32::MAX) {
+            true => Ok(ms.round() as u32),
+            false => anyhow::bail!("{flag} {self} is not a whole number of milliseconds"),
+        }
+    }
+
+    /// The time in whole microseconds (rounded), the unit of event timestamps.
+    pub fn us(self) -> i64 {
+        (self.0 * 1e6).round() as i64
+    }
+}
+
+impl std::fmt::Display for Time {
+    /// The largest unit in which the value is at least 1: `1.5s`, `20ms`, `25µs`.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let s = self.0;
+        let (value, unit) = match s.abs() {
+            a if a >= 1.0 => (s, "s"),
+            a if a >= 1e-3 => (s * 1e3, "ms"),
+            _ => (s * 1e6, "µs"),
+        };
+        // Round away the binary noise of the unit change (0.1 ms is 0.09999… in seconds).
+        write!(f, "{}{unit}", (value * 1e9).round() / 1e9)
+    }
+}
+
+/// The unit suffixes a time accepts, and how many of each make a second (longest suffix
+/// first, so `ms` is not read as `m` + `s`; a division by a power of ten rounds correctly, so
+/// `25us` is exactly the double nearest 25 µs).
+const TIME_UNITS: [(&str, f64); 5] = [
+    ("ms", 1e3),
+    ("us", 1e6),
+    ("µs", 1e6),
+    ("μs", 1e6),
+    ("s", 1.0),
+];
+
+/// Parses a time in `[min, max]`: a number with a unit of [`TIME_UNITS`], or a bare number of
+/// milliseconds. A bare value out of range whose reading in seconds would fit gets a hint, since
+/// bare numbers meant seconds for some flags before they all meant milliseconds.
+fn time_in(s: &str, min: Time, max: Time) -> Result<Time, String> {
+    let s = s.trim();
+    let (number, per_s) = TIME_UNITS
+        .iter()
+        .find_map(|(suffix, per_s)| s.strip_suffix(suffix).map(|n| (n.trim_end(), Some(*per_s))))
+        .unwrap_or((s, None));
+    let x = match number.parse::<f64>() {
+        Ok(x) if x.is_finite() => x,
+        Ok(_) => return Err("must be a finite time".into()),
+        Err(_) => return Err("not a time (expected e.g. 20, 20ms, 0.02s or 25us)".into()),
+    };
+    let t = Time(x / per_s.unwrap_or(1e3));
+    if t.0 <= 0.0 {
+        return Err("must be greater than 0".into());
+    }
+    if min <= t && t <= max {
+        return Ok(t);
+    }
+    let side = match t < min {
+        true => format!("below the smallest, {min}"),
+        false => format!("above the largest, {max}"),
+    };
+    let hint = match per_s.is_none() && (min..=max).contains(&Time(x)) {
+        true => format!("; a bare number means milliseconds, write {number}s for seconds"),
+        false => String::new(),
+    };
+    Err(format!("{t} is {side}{hint}"))
+}
+
+/// A simulation time step (`neuron --dt`, `bench --dt`, `--trace-dt`): 1 µs … 100 ms.
+pub fn time_step(s: &str) -> Result<Time, String> {
+    time_in(s, Time(1e-6), Time(0.1))
+}
+
+/// A coding or pooling window Δt (`--dt` of the codings, `transduce --pool`): 1 ms … 10 s.
+pub fn time_window(s: &str) -> Result<Time, String> {
+    time_in(s, Time(1e-3), Time(10.0))
+}
+
+/// A Van Rossum kernel time constant τ (`--tau`, `--tau-min`, `--tau-max`): 1 ms … 10 s.
+pub fn time_tau(s: &str) -> Result<Time, String> {
+    time_in(s, Time(1e-3), Time(10.0))
+}
+
+/// The step of a τ grid (`--tau-step`): 0.1 ms … 1 s.
+pub fn time_tau_step(s: &str) -> Result<Time, String> {
+    time_in(s, Time(1e-4), Time(1.0))
+}
+
+/// A simulated, sampled or recorded duration (`--duration`, `layout --calibration`): 10 ms …
+/// one day. Shorter runs would hold less than one τ of the paper's neurons.
+pub fn time_duration(s: &str) -> Result<Time, String> {
+    time_in(s, Time(1e-2), Time(86_400.0))
+}
+
+/// A per-event window of the sensor filters (`--ba-window`, `--refractory`): 1 µs … 100 ms.
+pub fn time_event_window(s: &str) -> Result<Time, String> {
+    time_in(s, Time(1e-6), Time(0.1))
+}
+
 /// The value parser of a library menu ([`Menu`]: codings, neuron models, precisions): its keys
 /// are the possible values `--help` lists and clap suggests from, each parsed with the menu's
 /// own `FromStr`, so the list is declared once, in the library.
@@ -120,5 +232,50 @@ mod tests {
         assert!(unit_interval("1.2").is_err());
         assert_eq!(unit_interval("1"), Ok(1.0));
         assert!(open_fraction("1").is_err());
+    }
+
+    #[test]
+    fn times_take_a_unit_and_bare_numbers_are_milliseconds() {
+        let ms = |s| time_window(s).map(Time::ms);
+        assert_eq!(ms("20"), Ok(20.0));
+        assert_eq!(ms("20ms"), Ok(20.0));
+        assert_eq!(ms("0.02s"), Ok(20.0));
+        assert_eq!(ms(" 20 ms "), Ok(20.0));
+        assert_eq!(time_step("25us").map(Time::s), Ok(25e-6));
+        assert_eq!(time_step("25µs").map(Time::s), Ok(25e-6));
+        assert_eq!(time_step("25μs").map(Time::s), Ok(25e-6));
+        assert!(time_window("twenty").unwrap_err().contains("not a time"));
+        assert!(time_window("20m").unwrap_err().contains("not a time"));
+        assert!(time_window("-20ms").unwrap_err().contains("greater than 0"));
+        assert!(time_window("nan").unwrap_err().contains("finite"));
+    }
+
+    #[test]
+    fn a_window_in_whole_ms_is_refused_otherwise_with_the_value_as_given() {
+        assert_eq!(
+            time_window("0.159s").unwrap().whole_ms("--dt").unwrap(),
+            159
+        );
+        let e = time_window("20.5").unwrap().whole_ms("--dt").unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "--dt 20.5ms is not a whole number of milliseconds"
+        );
+    }
+
+    #[test]
+    fn a_bare_value_in_seconds_is_refused_with_a_hint() {
+        let e = time_tau("0.076").unwrap_err();
+        assert!(e.contains("76µs is below the smallest, 1ms"), "{e}");
+        assert!(e.contains("write 0.076s for seconds"), "{e}");
+        assert_eq!(time_tau("0.076s").map(Time::ms), Ok(76.0));
+        // With a unit the value is what the user meant: no hint.
+        let e = time_tau("20s").unwrap_err();
+        assert!(
+            e.contains("above the largest, 10s") && !e.contains("bare"),
+            "{e}"
+        );
+        assert!(time_tau_step("0.005").unwrap_err().contains("write 0.005s"));
+        assert!(time_duration("4.5").unwrap_err().contains("write 4.5s"));
     }
 }

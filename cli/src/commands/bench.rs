@@ -2,7 +2,7 @@
 
 use super::options::{SeedOption, ThreadsOption, help};
 use super::outputs::{Output, check_outputs};
-use crate::commands::args;
+use crate::commands::args::{self, Time};
 use clap::{Args, Subcommand};
 use neurotac_cli::bench::{
     ActivityBench, ActivityBenchResult, CubaConfig, afferent_activity, afferent_crossover, cuba,
@@ -43,12 +43,12 @@ struct NeuronsArgs {
     /// Number of neurons.
     #[arg(value_parser = args::positive_count, allow_negative_numbers = true, long, default_value_t = 100_000)]
     n: usize,
-    /// Simulated duration (s).
-    #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long, default_value_t = 1.0)]
-    duration: f64,
-    /// Time step (s).
-    #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long, default_value_t = 1e-4)]
-    dt: f64,
+    /// Simulated duration (ms, or with a unit: 20ms, 0.02s).
+    #[arg(value_parser = args::time_duration, allow_negative_numbers = true, long, default_value = "1s")]
+    duration: Time,
+    /// Time step (ms, or with a unit: 20ms, 0.02s).
+    #[arg(value_parser = args::time_step, allow_negative_numbers = true, long, default_value = "0.1ms")]
+    dt: Time,
     /// Floating-point precision.
     #[arg(long, value_parser = args::menu::<Precision>(), default_value = "f32")]
     precision: Precision,
@@ -102,12 +102,12 @@ struct RunOptions {
 #[derive(Debug, Args)]
 #[command(mut_args(help("seed", "Seed of the connectivity and initial potentials")))]
 struct CubaArgs {
-    /// Simulated duration (s).
-    #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long, default_value_t = 1.0)]
-    duration: f64,
-    /// Time step (s).
-    #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long, default_value_t = 1e-4)]
-    dt: f64,
+    /// Simulated duration (ms, or with a unit: 20ms, 0.02s).
+    #[arg(value_parser = args::time_duration, allow_negative_numbers = true, long, default_value = "1s")]
+    duration: Time,
+    /// Time step (ms, or with a unit: 20ms, 0.02s).
+    #[arg(value_parser = args::time_step, allow_negative_numbers = true, long, default_value = "0.1ms")]
+    dt: Time,
     #[command(flatten)]
     seed: SeedOption,
     /// Neurons (80 % excitatory, 20 % inhibitory; Brian2's benchmark: 4000).
@@ -219,9 +219,6 @@ fn neurons(a: NeuronsArgs) -> anyhow::Result<()> {
     if let Some(activity) = a.activity {
         return activity_bench(&a, activity);
     }
-    for (flag, value) in [("duration", a.duration), ("dt", a.dt)] {
-        super::neuron::check_precision(flag, value, a.precision)?;
-    }
     let integrator = a.integrator.unwrap_or(a.model.default_integrator());
     // Like for like or not at all: refused before anything runs.
     let method = match &a.run.brian2 {
@@ -240,8 +237,8 @@ fn neurons(a: NeuronsArgs) -> anyhow::Result<()> {
                 "neurons".into(),
                 a.model.name().into(),
                 a.n.to_string(),
-                a.duration.to_string(),
-                a.dt.to_string(),
+                a.duration.s().to_string(),
+                a.dt.s().to_string(),
                 threads.to_string(),
                 brian2_precision(a.precision).into(),
                 method.into(),
@@ -263,8 +260,8 @@ fn neurons(a: NeuronsArgs) -> anyhow::Result<()> {
         let r = neuron_throughput(
             a.model,
             a.n,
-            a.duration,
-            a.dt,
+            a.duration.s(),
+            a.dt.s(),
             a.precision,
             Some(integrator),
             threads,
@@ -348,8 +345,8 @@ fn cuba_network(a: CubaArgs, ranks: &dyn Ranks) -> anyhow::Result<()> {
     }
     let n_exc = a.neurons * 4 / 5;
     let config = CubaConfig {
-        duration_s: a.duration,
-        dt_s: a.dt,
+        duration_s: a.duration.s(),
+        dt_s: a.dt.s(),
         seed: a.seed.seed,
         n_exc,
         n_inh: a.neurons - n_exc,
@@ -363,8 +360,8 @@ fn cuba_network(a: CubaArgs, ranks: &dyn Ranks) -> anyhow::Result<()> {
         python,
         args: vec![
             "cuba".into(),
-            a.duration.to_string(),
-            a.dt.to_string(),
+            a.duration.s().to_string(),
+            a.dt.s().to_string(),
             threads.to_string(),
             precision.into(),
             method.into(),
@@ -421,7 +418,7 @@ fn cuba_network(a: CubaArgs, ranks: &dyn Ranks) -> anyhow::Result<()> {
             r.exchange_s,
             100.0 * r.exchange_s / r.run_s,
             r.exchanges,
-            (r.duration_s / r.exchanges.max(1) as f64 / a.dt).round(),
+            (r.duration_s / r.exchanges.max(1) as f64 / a.dt.s()).round(),
             spikes.checksum()
         );
     }
@@ -456,8 +453,8 @@ fn activity_bench_settings(a: &NeuronsArgs, file: &Path) -> anyhow::Result<Activ
         config: AfferentConfig::of(a.model),
         n: a.n,
         rate_hz: a.rate,
-        duration_s: a.duration,
-        dt_s: a.dt,
+        duration_s: a.duration.s(),
+        dt_s: a.dt.s(),
         seed: 1,
         repeats: a.run.repeats,
         crossovers: Crossovers::load(file)?.unwrap_or_default(),
@@ -571,8 +568,8 @@ fn crossover_bench(a: &NeuronsArgs) -> anyhow::Result<()> {
         a.rate,
         a.n,
         config.bench_description(),
-        a.duration,
-        a.dt
+        a.duration.s(),
+        a.dt.s()
     );
     println!(
         "  {:>8}  {:>9}  {:>9}  {:>9}  {:>9}  {:>7}  {:>6}  {:<13} spikes",

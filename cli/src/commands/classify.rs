@@ -4,7 +4,7 @@ use super::coding_parameters::coding_parameters;
 use super::inputs::load_labelled;
 use super::options::{ForceOption, SeedOption, help};
 use super::outputs::{Output, check_outputs};
-use crate::commands::args;
+use crate::commands::args::{self, Time};
 use clap::{Args, ValueEnum};
 use neurotac_core::{Knn, Ranks};
 use neurotac_experiments::coding::{CodingName, coding_distances};
@@ -35,12 +35,12 @@ pub struct ClassifyArgs {
     /// Coding.
     #[arg(long, value_parser = args::menu::<CodingName>())]
     coding: CodingName,
-    /// Temporal-coding window Δt (s, whole ms).
-    #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long)]
-    dt: Option<f64>,
-    /// Van Rossum kernel time constant τ (s).
-    #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long)]
-    tau: Option<f64>,
+    /// Temporal-coding window Δt, a whole number of ms (ms, or with a unit: 20ms, 0.02s).
+    #[arg(value_parser = args::time_window, allow_negative_numbers = true, long)]
+    dt: Option<Time>,
+    /// Van Rossum kernel time constant τ (ms, or with a unit: 20ms, 0.02s).
+    #[arg(value_parser = args::time_tau, allow_negative_numbers = true, long)]
+    tau: Option<Time>,
     /// Van Rossum cos θ in [0, 1].
     #[arg(value_parser = args::unit_interval, allow_negative_numbers = true, long)]
     cos: Option<f64>,
@@ -58,9 +58,10 @@ pub struct ClassifyArgs {
     folds: usize,
     #[command(flatten)]
     seed: SeedOption,
-    /// Sample duration (s, whole ms); default: meta.duration_s, else one ms past the latest spike.
-    #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long)]
-    duration: Option<f64>,
+    /// Sample duration, a whole number of ms (ms, or with a unit: 20ms, 0.02s); default:
+    /// meta.duration_s, else one ms past the latest spike.
+    #[arg(value_parser = args::time_duration, allow_negative_numbers = true, long)]
+    duration: Option<Time>,
     /// Print one JSON object instead of text.
     #[arg(long)]
     json: bool,

@@ -1,7 +1,7 @@
 //! `neurotac demo`: 49 taxels (Poisson spike trains) → exponential synapses → 49 afferents.
 
 use super::options::{SeedOption, help};
-use crate::commands::args;
+use crate::commands::args::{self, Time};
 use anyhow::Context;
 use clap::Args;
 use neurotac_core::PoissonInput;
@@ -20,9 +20,9 @@ pub struct DemoArgs {
     /// Firing rate of each taxel's Poisson spike train (Hz).
     #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long, default_value_t = 20.0)]
     rate_hz: f64,
-    /// Simulated duration (s).
-    #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long, default_value_t = 1.0)]
-    duration: f64,
+    /// Simulated duration (ms, or with a unit: 20ms, 0.02s).
+    #[arg(value_parser = args::time_duration, allow_negative_numbers = true, long, default_value = "1s")]
+    duration: Time,
     #[command(flatten)]
     seed: SeedOption,
     /// Print one JSON object instead of a table.
@@ -37,7 +37,7 @@ pub fn run(args: DemoArgs) -> anyhow::Result<()> {
         build_afferent_network(source, config).context("building the afferent network")?;
     let start = std::time::Instant::now();
     net.network
-        .run(args.duration, &neurotac_core::OneProcess)
+        .run(args.duration.s(), &neurotac_core::OneProcess)
         .context("running the afferent network")?;
     let wall_s = start.elapsed().as_secs_f64();
     let inputs = net.network.readout(net.taxel_spikes)?.counts();
@@ -47,7 +47,7 @@ pub fn run(args: DemoArgs) -> anyhow::Result<()> {
         let out = serde_json::json!({
             "model": format!("{:?}", args.model).to_lowercase(),
             "taxels": args.taxels,
-            "duration_s": args.duration,
+            "duration_s": args.duration.s(),
             "taxel_spike_counts": inputs,
             "afferent_spike_counts": counts,
             "total_taxel_spikes": total_in,
@@ -59,7 +59,12 @@ pub fn run(args: DemoArgs) -> anyhow::Result<()> {
     } else {
         println!(
             "{} taxels at {} Hz → {} {:?} afferents, {} s simulated in {:.3} s",
-            args.taxels, args.rate_hz, args.taxels, args.model, args.duration, wall_s
+            args.taxels,
+            args.rate_hz,
+            args.taxels,
+            args.model,
+            args.duration.s(),
+            wall_s
         );
         println!("  neuron   taxel spikes → afferent spikes");
         for (i, (a, b)) in inputs.iter().zip(&counts).enumerate() {

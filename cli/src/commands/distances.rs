@@ -5,7 +5,7 @@ use super::coding_parameters::coding_parameters;
 use super::inputs::load_dataset;
 use super::options::ForceOption;
 use super::outputs::{Output, check_outputs};
-use crate::commands::args;
+use crate::commands::args::{self, Time};
 use anyhow::bail;
 use clap::{Args, ValueEnum};
 use neurotac_core::Ranks;
@@ -31,21 +31,22 @@ pub struct DistancesArgs {
     /// Distance.
     #[arg(long, value_enum)]
     metric: Metric,
-    /// Van Rossum kernel time constant τ (s).
-    #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long)]
-    tau: Option<f64>,
+    /// Van Rossum kernel time constant τ (ms, or with a unit: 20ms, 0.02s).
+    #[arg(value_parser = args::time_tau, allow_negative_numbers = true, long)]
+    tau: Option<Time>,
     /// Van Rossum cos θ in [0, 1] (0 labelled line, 1 summed population).
     #[arg(value_parser = args::unit_interval, allow_negative_numbers = true, long)]
     cos: Option<f64>,
     /// Coding whose features the Euclidean distance compares.
     #[arg(long, value_parser = args::menu::<CodingName>())]
     coding: Option<CodingName>,
-    /// Temporal-coding window Δt (s, whole ms).
-    #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long)]
-    dt: Option<f64>,
-    /// Sample duration (s, whole ms); default: meta.duration_s, else one ms past the latest spike.
-    #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long)]
-    duration: Option<f64>,
+    /// Temporal-coding window Δt, a whole number of ms (ms, or with a unit: 20ms, 0.02s).
+    #[arg(value_parser = args::time_window, allow_negative_numbers = true, long)]
+    dt: Option<Time>,
+    /// Sample duration, a whole number of ms (ms, or with a unit: 20ms, 0.02s); default:
+    /// meta.duration_s, else one ms past the latest spike.
+    #[arg(value_parser = args::time_duration, allow_negative_numbers = true, long)]
+    duration: Option<Time>,
     /// Output file, format by extension: `.json` ({"matrix": [[…]]}), `.npy` (float64 N×N)
     /// or `.npz` (member `matrix`).
     #[arg(long)]

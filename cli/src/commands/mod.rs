@@ -153,4 +153,44 @@ mod tests {
     fn every_command_passes_clap_checks() {
         Cli::command().debug_assert();
     }
+
+    /// One unit per quantity: no flag of any command is named after a time unit or documented
+    /// as taking bare seconds or microseconds; the time flags say how they read a value.
+    #[test]
+    fn no_time_flag_takes_a_bare_unit_of_its_own() {
+        fn walk(cmd: &clap::Command, path: &str, bad: &mut Vec<String>, timed: &mut usize) {
+            for arg in cmd
+                .get_arguments()
+                .filter(|a| a.get_action().takes_values())
+            {
+                let id = arg.get_id().as_str();
+                let help = arg
+                    .get_long_help()
+                    .or(arg.get_help())
+                    .map(|h| h.to_string())
+                    .unwrap_or_default();
+                let unit_named =
+                    ["_ms", "_us", "_s"].iter().any(|u| id.ends_with(u)) || id == "seconds";
+                const HOW: &str = "(ms, or with a unit: 20ms, 0.02s";
+                let rest = help.replace(HOW, "");
+                let bare_unit = [" (s)", " (s,", " (s;", " (ms)", " (ms,", " (µs)", " (µs,"]
+                    .iter()
+                    .any(|u| rest.contains(u));
+                if unit_named || bare_unit {
+                    bad.push(format!("{path} --{id}: {help}"));
+                }
+                *timed += help.contains(HOW) as usize;
+            }
+            for sub in cmd.get_subcommands() {
+                walk(sub, &format!("{path} {}", sub.get_name()), bad, timed);
+            }
+        }
+        let (mut bad, mut timed) = (Vec::new(), 0);
+        walk(&Cli::command(), "neurotac", &mut bad, &mut timed);
+        assert!(bad.is_empty(), "{bad:#?}");
+        assert!(
+            timed >= 30,
+            "only {timed} time flags say how they read a value"
+        );
+    }
 }

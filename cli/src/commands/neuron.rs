@@ -1,7 +1,9 @@
 //! `neurotac neuron`: one neuron under a constant current; prints its spike times as they are
-//! found (streamed, so memory does not grow with the run).
+//! found (streamed, so memory does not grow with the run). With `--json` the times are kept
+//! and the object is printed whole once the run has succeeded, so a refused or diverged run
+//! prints nothing on stdout rather than half an object.
 
-use crate::commands::args;
+use crate::commands::args::{self, Time};
 use anyhow::{Context, bail};
 use clap::Args;
 use neurotac_core::Compact;
@@ -21,13 +23,13 @@ pub struct NeuronArgs {
     /// Constant input current (LIF: potential units; Izhikevich: mV/ms).
     #[arg(value_parser = args::finite_f64, allow_negative_numbers = true, long)]
     current: f64,
-    /// Simulated duration (s). Only whole steps are run: a partial last step is refused, so no
-    /// spike is ever stamped after the duration.
-    #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long, default_value_t = 1.0)]
-    duration: f64,
-    /// Time step (s).
-    #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long, default_value_t = 1e-4)]
-    dt: f64,
+    /// Simulated duration (ms, or with a unit: 20ms, 0.02s). Only whole steps are run: a
+    /// partial last step is refused, so no spike is ever stamped after the duration.
+    #[arg(value_parser = args::time_duration, allow_negative_numbers = true, long, default_value = "1s")]
+    duration: Time,
+    /// Time step (ms, or with a unit: 20ms, 0.02s).
+    #[arg(value_parser = args::time_step, allow_negative_numbers = true, long, default_value = "0.1ms")]
+    dt: Time,
     /// Refuse runs of more steps than this.
     #[arg(long, default_value_t = DEFAULT_MAX_STEPS)]
     max_steps: u64,
@@ -69,27 +71,20 @@ fn to_the_picosecond(t_s: f64) -> f64 {
 
 pub fn run(args: NeuronArgs) -> anyhow::Result<()> {
     let preset: PresetName = args.preset.parse()?;
-    for (flag, value) in [
-        ("current", args.current),
-        ("duration", args.duration),
-        ("dt", args.dt),
-    ] {
-        check_precision(flag, value, args.precision)?;
-    }
-    let steps = whole_steps(args.duration, args.dt, args.max_steps).with_context(|| {
+    check_precision("current", args.current, args.precision)?;
+    let (duration_s, dt_s) = (args.duration.s(), args.dt.s());
+    let steps = whole_steps(duration_s, dt_s, args.max_steps).with_context(|| {
         format!(
             "--duration {} --dt {} --max-steps {}",
-            Compact(args.duration),
-            Compact(args.dt),
-            args.max_steps
+            args.duration, args.dt, args.max_steps
         )
     })?;
-    if (steps as f64 * args.dt - args.duration).abs() > 1e-9 * args.duration {
+    if (steps as f64 * dt_s - duration_s).abs() > 1e-9 * duration_s {
         eprintln!(
-            "note: {steps} whole steps of {} s fit in {} s; simulating {} s",
+            "note: {steps} whole steps of {} fit in {}; simulating {} s",
             args.dt,
             args.duration,
-            steps as f64 * args.dt
+            Compact(steps as f64 * dt_s)
         );
     }
     let setup = NeuronSetup {
@@ -101,30 +96,25 @@ pub fn run(args: NeuronArgs) -> anyhow::Result<()> {
     let mut pop = setup.population(1);
     let mut out = std::io::BufWriter::new(std::io::stdout().lock());
     let mut written: std::io::Result<()> = Ok(());
-    let mut first = true;
-    if args.json {
-        out.write_all(b"{\"spike_times_s\":[")?;
-    }
-    stream_spike_times(pop.as_mut(), args.current, args.dt, steps, &mut |_, t| {
+    let mut times = Vec::new();
+    stream_spike_times(pop.as_mut(), args.current, dt_s, steps, &mut |_, t| {
         let t = to_the_picosecond(t);
-        written = if args.json {
-            let sep = if first { "" } else { "," };
-            serde_json::to_string(&t)
-                .map_err(std::io::Error::other)
-                .and_then(|t| write!(out, "{sep}{t}"))
-        } else {
-            writeln!(out, "{t}")
+        written = match args.json {
+            true => {
+                times.push(t);
+                Ok(())
+            }
+            false => writeln!(out, "{t}"),
         };
-        first = false;
-        if written.is_ok() {
-            ControlFlow::Continue(())
-        } else {
-            ControlFlow::Break(())
+        match written.is_ok() {
+            true => ControlFlow::Continue(()),
+            false => ControlFlow::Break(()),
         }
     })?;
     written?;
     if args.json {
-        out.write_all(b"]}\n")?;
+        let object = serde_json::json!({ "spike_times_s": times });
+        writeln!(out, "{object}")?;
     }
     out.flush()?;
     Ok(())

@@ -5,9 +5,9 @@
 use super::inputs::load_labelled;
 use super::options::{ForceOption, OutOption, SeedOption, SetArg, SetOption, ThreadsOption, help};
 use super::outputs::{Output, cache_folder, check_outputs, refuse_nested};
-use crate::commands::args;
+use crate::commands::args::{self, Time};
 use anyhow::{Context, bail};
-use clap::{Args, ValueEnum};
+use clap::{ArgGroup, Args, ValueEnum};
 use neurotac_cli::report::folder::{write, write_figure, write_folder_atomically};
 use neurotac_cli::report::png::PngRenderer;
 use neurotac_cli::report::svg::{Axis, Chart, Marker, PALETTE, Series};
@@ -46,6 +46,8 @@ enum SpeedArg {
         "With --eval: the report folder (summary.md, summary.json, accuracy_vs_time.csv/.svg/.png)"
     )),
     mut_args(help("force", "Replace an existing --out folder")),
+    // One source: clap's error for none names all three (`<--input <INPUT>|--device|--eval>`).
+    group(ArgGroup::new("source").args(["input", "device", "eval"]).required(true)),
     mut_args(help(
         "threads",
         "With --eval: worker threads over the held-out slides (0 = one per core); each slide's decisions run on one thread"
@@ -60,10 +62,10 @@ pub struct RecogniseArgs {
     #[arg(long, value_parser = args::menu::<CodingName>())]
     coding: Option<CodingName>,
     /// Event file to replay (AEDAT 2/3.1/4, ECD text, CSV).
-    #[arg(long, conflicts_with_all = ["device", "eval"], required_unless_present_any = ["device", "eval"])]
+    #[arg(long)]
     input: Option<PathBuf>,
     /// Recognise from the first DAVIS240 attached over USB.
-    #[arg(long, conflicts_with = "eval")]
+    #[arg(long)]
     device: bool,
     /// Replay speed of --input.
     #[arg(long, value_enum, default_value = "max")]
@@ -75,13 +77,14 @@ pub struct RecogniseArgs {
     /// Print every window's decision as a JSON line, then the final decision.
     #[arg(long)]
     json: bool,
-    /// Temporal-coding window Δt (s, whole ms). Default 0.159, the paper's choice for the
-    /// artificial textures (not fitted here).
-    #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long, default_value_t = 0.159)]
-    dt: f64,
-    /// Van Rossum τ (s). Default 0.076, the paper's choice for the artificial textures.
-    #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long, default_value_t = 0.076)]
-    tau: f64,
+    /// Temporal-coding window Δt, a whole number of ms (ms, or with a unit: 20ms, 0.02s).
+    /// Default 159 ms, the paper's choice for the artificial textures (not fitted here).
+    #[arg(value_parser = args::time_window, allow_negative_numbers = true, long, default_value = "159ms")]
+    dt: Time,
+    /// Van Rossum τ (ms, or with a unit: 20ms, 0.02s). Default 76 ms, the paper's choice for
+    /// the artificial textures.
+    #[arg(value_parser = args::time_tau, allow_negative_numbers = true, long, default_value = "76ms")]
+    tau: Time,
     /// Van Rossum cos θ. Default 0.4, the paper's choice for the artificial textures.
     #[arg(value_parser = args::unit_interval, allow_negative_numbers = true, long, default_value_t = 0.4)]
     cos: f64,
@@ -117,9 +120,9 @@ impl RecogniseArgs {
     /// `name` with the parameters of the flags (each coding reads only its own).
     fn coding(&self, name: CodingName) -> anyhow::Result<Coding> {
         let parameters = CodingParameters {
-            window_ms: Some(neurotac_core::coding::whole_ms(self.dt, "--dt")?),
+            window_ms: Some(self.dt.whole_ms("--dt")?),
             duration_ms: None,
-            tau_s: Some(self.tau),
+            tau_s: Some(self.tau.s()),
             cos: Some(self.cos),
         };
         Ok(Coding { name, parameters })
@@ -253,15 +256,15 @@ pub fn run(a: RecogniseArgs) -> anyhow::Result<()> {
         );
         return Ok(());
     }
-    let (p50, p99, max) = latency_percentiles(decisions).unwrap_or((0.0, 0.0, 0.0));
+    let latency = latency_percentiles(decisions).unwrap_or_default();
     println!(
         "final: {} (vote {:.0} %) after {} windows; decision latency p50 {:.3} ms, p99 {:.3} ms, max {:.3} ms{}",
         said(&last),
         100.0 * last.vote_share,
         decisions.len(),
-        p50 * 1e3,
-        p99 * 1e3,
-        max * 1e3,
+        latency.p50_ms,
+        latency.p99_ms,
+        latency.max_ms,
         match recogniser.events_dropped() {
             0 => String::new(),
             n => format!(
@@ -342,12 +345,14 @@ fn run_eval(a: &RecogniseArgs) -> anyhow::Result<()> {
     })??;
     bar.finish_and_clear();
     let summary = summary_md(&eval);
+    let mut json = serde_json::to_value(&eval)?;
+    json["files"] = serde_json::json!(EVAL_FILES);
     write_folder_atomically(out, a.force.force, |dir| {
         write(dir, "summary.md", &summary)?;
         write(
             dir,
             "summary.json",
-            &serde_json::to_string_pretty(&eval).expect("serialisable"),
+            &serde_json::to_string_pretty(&json).expect("serialisable"),
         )?;
         write(dir, "accuracy_vs_time.csv", &accuracy_csv(&eval))?;
         write_figure(
@@ -362,13 +367,21 @@ fn run_eval(a: &RecogniseArgs) -> anyhow::Result<()> {
     Ok(())
 }
 
+/// Every file `recognise --eval` writes into its report folder, as the summaries list them.
+const EVAL_FILES: [&str; 5] = [
+    "summary.md",
+    "summary.json",
+    "accuracy_vs_time.csv",
+    "accuracy_vs_time.svg",
+    "accuracy_vs_time.png",
+];
+
 fn summary_md(e: &OnlineEval) -> String {
     let mut s = format!(
-        "# Online recognition, {} set\n\nTrained on {} slides, {} held-out slides replayed as pixel events through the online path (transducer → taxel input → readout → KNN, k as given); a decision after every 20 ms window.\n\n| coding | parameters | final accuracy | reaches 90 % of it at | decision latency p50 / p99 / max | replay speed |\n|---|---|---|---|---|---|\n",
-        e.set, e.n_train, e.n_test
+        "# Online recognition, {} set\n\nTrained on {} slides, {} held-out slides replayed as pixel events through the online path (transducer → taxel input → readout → KNN, k = {}); a decision after every 20 ms window.\n\n| coding | parameters | final accuracy | reaches 90 % of it at | decision latency p50 / p99 / max | replay speed |\n|---|---|---|---|---|---|\n",
+        e.set, e.n_train, e.n_test, e.k
     );
     for c in &e.codings {
-        let (p50, p99, max) = c.latency_s;
         let _ = writeln!(
             s,
             "| {} | {} | {:.1} % | {} | {:.3} / {:.3} / {:.3} ms | {:.0}× real time |",
@@ -376,13 +389,15 @@ fn summary_md(e: &OnlineEval) -> String {
             c.parameters,
             100.0 * c.final_accuracy,
             c.t90_s.map_or("never".into(), |t| format!("{:.2} s", t)),
-            p50 * 1e3,
-            p99 * 1e3,
-            max * 1e3,
+            c.latency.p50_ms,
+            c.latency.p99_ms,
+            c.latency.max_ms,
             c.replay_speed
         );
     }
-    s.push_str("\nAccuracy against the time since the slide start: `accuracy_vs_time.csv`, `accuracy_vs_time.svg`.\n");
+    s.push_str("\nAccuracy against the time since the slide start: `accuracy_vs_time.csv`, `accuracy_vs_time.svg`, `accuracy_vs_time.png`.\n\nFiles written: ");
+    s.push_str(&EVAL_FILES.map(|f| format!("`{f}`")).join(", "));
+    s.push_str(".\n");
     s
 }
 

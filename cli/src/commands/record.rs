@@ -1,4 +1,4 @@
-//! `neurotac record --out FILE --seconds S`: records the first DAVIS240 attached to an event file
+//! `neurotac record --out FILE --duration T`: records the first DAVIS240 attached to an event file
 //! (format from the extension; `.aedat4` writes AEDAT 4.0 with LZ4) that states the camera's
 //! DVS size.
 //!
@@ -8,7 +8,7 @@
 
 use super::options::{ForceOption, OutPathOption, help};
 use super::outputs::{Output, check_outputs};
-use crate::commands::args;
+use crate::commands::args::{self, Time};
 use anyhow::Context;
 use clap::Args;
 use neurotac_sensor::davis::{Davis, RusbTransport, StartOptions, record};
@@ -22,9 +22,9 @@ pub struct RecordArgs {
     out: OutPathOption,
     #[command(flatten)]
     force: ForceOption,
-    /// Recording duration (s).
-    #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long)]
-    seconds: f64,
+    /// Recording duration (ms, or with a unit: 20ms, 0.02s).
+    #[arg(value_parser = args::time_duration, allow_negative_numbers = true, long)]
+    duration: Time,
     /// Add the host's Unix time at start (µs) to the device timestamps, as DV recordings hold
     /// (AEDAT 4.0 only: the 32-bit AEDAT 2.0 timestamps cannot hold it).
     #[arg(long)]
@@ -32,22 +32,17 @@ pub struct RecordArgs {
 }
 
 pub fn run(args: RecordArgs) -> anyhow::Result<()> {
-    anyhow::ensure!(
-        args.seconds.is_finite() && args.seconds > 0.0,
-        "--seconds must be a positive number of seconds, got {}",
-        args.seconds
-    );
     let out = &args.out.out;
     check_outputs([Output::file("--out", out)], args.force.force)?;
     let format = format::Format::from_extension(out)?;
     let (transport, usb) = RusbTransport::open_first()?;
     let davis = Davis::open(transport, usb).context("opening the DAVIS camera")?;
     println!(
-        "recording {} ({}×{}) for {} s to {}",
+        "recording {} ({}×{}) for {} to {}",
         davis.info().chip_name(),
         davis.info().dvs_size_x,
         davis.info().dvs_size_y,
-        args.seconds,
+        args.duration,
         out.display()
     );
     davis
@@ -65,7 +60,7 @@ pub fn run(args: RecordArgs) -> anyhow::Result<()> {
     } else {
         0
     };
-    let duration = Duration::from_secs_f64(args.seconds);
+    let duration = Duration::from_secs_f64(args.duration.s());
     let rec = record(&mut stream, &mut *writer, duration, offset_us)
         .with_context(|| format!("writing {}", out.display()))?;
     println!(

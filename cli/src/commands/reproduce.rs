@@ -5,11 +5,11 @@
 use super::options::{ForceOption, SeedOption, SetsOption, ThreadsOption, help};
 use super::outputs::{Output, cache_folder, check_outputs, refuse_report_over_inputs};
 use super::progress::Bars;
-use crate::commands::args;
+use crate::commands::args::{self, Time};
 use clap::{Args, ValueEnum};
 use neurotac_cli::report::class_tables::{paper_confusion_table, phase_table, recall_table};
 use neurotac_cli::report::tables::{
-    accuracy_table, afferent_table, intensive_table, parameter_table,
+    accuracy_table, afferent_table, fitted_grids_mm, intensive_table, parameter_table,
 };
 use neurotac_cli::report::write_report;
 use neurotac_core::Ranks;
@@ -72,16 +72,17 @@ pub struct ReproduceArgs {
     /// report accuracy and time next to the direct pipeline.
     #[arg(long, value_parser = args::menu::<NeuronKind>())]
     afferents: Option<NeuronKind>,
-    /// τ grid step of the optimisation (s; default 0.005, --quick 0.01; the paper's 1 ms grid
-    /// costs ≈ 5× the default).
-    #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long)]
-    tau_step: Option<f64>,
+    /// τ grid step of the optimisation (ms, or with a unit: 20ms, 0.02s; default 5 ms,
+    /// --quick 10 ms; the paper's 1 ms grid costs ≈ 5× the default).
+    #[arg(value_parser = args::time_tau_step, allow_negative_numbers = true, long)]
+    tau_step: Option<Time>,
     /// Where the spatiotemporal coding's Van Rossum distance comes from.
     #[arg(long, value_enum, default_value = "exact")]
     vr_from: VrFromArg,
-    /// Trace step for --vr-from traces (ms, a whole number of µs; default 0.1, the network step).
-    #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long, default_value_t = 0.1)]
-    trace_dt: f64,
+    /// Trace step for --vr-from traces, a whole number of µs (ms, or with a unit: 20ms,
+    /// 0.02s; default 0.1 ms, the network step).
+    #[arg(value_parser = args::time_step, allow_negative_numbers = true, long, default_value = "0.1ms")]
+    trace_dt: Time,
     /// Arithmetic of --vr-from traces.
     #[arg(long, value_parser = args::menu::<Precision>(), default_value = "f64")]
     trace_precision: Precision,
@@ -125,7 +126,7 @@ pub fn run(args: ReproduceArgs, ranks: &dyn Ranks) -> anyhow::Result<()> {
         config.pipeline.bayes.epochs = e;
     }
     if let Some(s) = args.tau_step {
-        config.pipeline.bayes.tau_step_s = s;
+        config.pipeline.bayes.tau_step_s = s.s();
     }
     config.trials = args.trials.or(config.trials);
     if let Some(p) = &args.params {
@@ -134,7 +135,7 @@ pub fn run(args: ReproduceArgs, ranks: &dyn Ranks) -> anyhow::Result<()> {
     config.pipeline.vr_from = match args.vr_from {
         VrFromArg::Exact => VrFrom::Exact,
         VrFromArg::Traces => VrFrom::Traces {
-            trace_dt_s: args.trace_dt * 1e-3,
+            trace_dt_s: args.trace_dt.s(),
             precision: args.trace_precision,
         },
     };
@@ -154,32 +155,40 @@ pub fn run(args: ReproduceArgs, ranks: &dyn Ranks) -> anyhow::Result<()> {
         true => &bars,
         false => &NoProgress,
     };
-    let (written, total) = timed(|| -> anyhow::Result<()> {
+    let (written, total) = timed(|| -> anyhow::Result<Option<f64>> {
         let report = with_threads(args.threads.threads, || {
             reproduce::run(&config, &sources, progress, ranks)
         })??;
         if !ranks.is_root() {
-            return Ok(());
+            return Ok(None);
         }
-        report.sets.iter().for_each(print_set);
+        for set in &report.sets {
+            print_set(set, &fitted_grids_mm(&report, set));
+        }
         bars.stage("writing the report (SVG, PNG, CSV, JSON, Markdown)", 0);
         let written = write_report(&args.out, &report, args.force.force);
         bars.finish();
-        Ok(written?)
+        written?;
+        Ok(Some(report.time.wall_s))
     });
-    written?;
-    if !ranks.is_root() {
+    let Some(pipelines_s) = written? else {
         return Ok(());
-    }
+    };
     println!(
         "report: {} (report.md, report.json, CSV tables, SVG and PNG figures)",
         args.out.display()
     );
-    println!("total: {total}");
+    // The report states the datasets and pipelines' time (it cannot time its own writing):
+    // both numbers are printed, so the terminal's total and report.md's agree.
+    println!(
+        "total: {total} ({pipelines_s:.1} s datasets and pipelines, as report.md states, \
+         + {:.1} s printing and writing the report)",
+        total.wall_s - pipelines_s
+    );
     Ok(())
 }
 
-fn print_set(set: &SetReport) {
+fn print_set(set: &SetReport, fitted_grids_mm: &[f64]) {
     let d = &set.direct;
     let samples: usize = d.samples_per_class.iter().sum();
     println!(
@@ -193,7 +202,7 @@ fn print_set(set: &SetReport) {
     );
     println!("{}", accuracy_table(set));
     println!("{}", parameter_table(d));
-    println!("{}", intensive_table(d));
+    println!("{}", intensive_table(d, fitted_grids_mm));
     println!("{}", phase_table(set));
     println!("{}", recall_table(set));
     let confusions = paper_confusion_table(set);

@@ -143,7 +143,7 @@ mod tests {
         std::fs::write(&b, "another dataset").unwrap();
         let (a, b) = (a.to_str().unwrap(), b.to_str().unwrap());
         fn classify<'a>(changed: &[&'a str]) -> Vec<&'a str> {
-            let mut args = vec!["classify", "--coding", "temporal", "--dt", "0.01"];
+            let mut args = vec!["classify", "--coding", "temporal", "--dt", "10ms"];
             args.extend_from_slice(changed);
             args
         }

@@ -2,7 +2,7 @@
 
 use super::options::{ForceOption, SeedOption};
 use super::outputs::{Output, check_outputs};
-use crate::commands::args;
+use crate::commands::args::{self, Time};
 use clap::Args;
 use neurotac_experiments::datasets::synthetic::{SyntheticConfig, synthetic_dataset};
 use std::path::PathBuf;
@@ -25,9 +25,9 @@ pub struct SynthArgs {
     /// Mean spikes per channel.
     #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long, default_value_t = 10.0)]
     spikes_per_unit: f64,
-    /// Sample duration (s).
-    #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long, default_value_t = 4.5)]
-    duration: f64,
+    /// Sample duration (ms, or with a unit: 20ms, 0.02s).
+    #[arg(value_parser = args::time_duration, allow_negative_numbers = true, long, default_value = "4.5s")]
+    duration: Time,
     #[command(flatten)]
     seed: SeedOption,
     #[command(flatten)]
@@ -45,7 +45,7 @@ pub fn run(args: SynthArgs) -> anyhow::Result<()> {
         classes: args.classes,
         channels: args.channels,
         spikes_per_unit: args.spikes_per_unit,
-        duration_s: args.duration,
+        duration_s: args.duration.s(),
         seed: args.seed.seed,
     };
     config.check()?;

@@ -3,7 +3,7 @@
 
 use super::options::{ForceOption, OutOption, OutPathOption, help};
 use super::outputs::{Output, check_outputs};
-use crate::commands::args;
+use crate::commands::args::{self, Time};
 use anyhow::{Context, bail};
 use clap::Args;
 use neurotac_cli::report::figures::spike_train_figure;
@@ -86,28 +86,28 @@ pub struct TransduceArgs {
     /// Event file (AEDAT 2/3.1/4, ECD text, CSV; detected from its first bytes).
     input: PathBuf,
     /// Taxel layout: `default` (49 pins, rings 1+8+16+24), a JSON file of [x, y] centres, or
-    /// `auto` (detected from the first --calibration-ms of the recording; refused when its
+    /// `auto` (detected from the first --calibration of the recording; refused when its
     /// confidence is below the calibrated threshold, see --accept-uncertain-layout).
     #[arg(long, default_value = "default")]
     layout: String,
-    /// Background-activity window (µs); 0 disables the filter.
-    #[arg(value_parser = args::positive_i64, allow_negative_numbers = true, long, default_value_t = 5000)]
-    ba_window_us: i64,
+    /// Background-activity window, rounded to the µs (ms, or with a unit: 20ms, 0.02s).
+    #[arg(value_parser = args::time_event_window, allow_negative_numbers = true, long, default_value = "5ms")]
+    ba_window: Time,
     /// Start the BA time surface empty instead of at t = 0 (dv-processing's choice).
     #[arg(long)]
     ba_empty_start: bool,
     /// Receptive-field radius (px); the paper's fields are 6 px in diameter.
     #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long, default_value_t = 3.0)]
     rf_radius_px: f64,
-    /// Pooling window (ms).
-    #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long, default_value_t = 20.0)]
-    pool_ms: f64,
+    /// Pooling window (ms, or with a unit: 20ms, 0.02s).
+    #[arg(value_parser = args::time_window, allow_negative_numbers = true, long, alias = "pool-ms", default_value = "20ms")]
+    pool: Time,
     /// Re-centring gain in [0, 1] (0: fixed fields).
     #[arg(value_parser = args::unit_interval, allow_negative_numbers = true, long, default_value_t = 0.5)]
     gain: f64,
-    /// Calibration time for --layout auto (ms).
-    #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long, default_value_t = 500.0)]
-    calibration_ms: f64,
+    /// Calibration time for --layout auto (ms, or with a unit: 20ms, 0.02s).
+    #[arg(value_parser = args::time_duration, allow_negative_numbers = true, long, alias = "calibration-ms", default_value = "500ms")]
+    calibration: Time,
     /// Use a --layout auto layout even when its confidence is below the calibrated threshold
     /// (by default `transduce` then stops).
     #[arg(long)]
@@ -166,18 +166,15 @@ pub fn run_transduce(a: TransduceArgs) -> anyhow::Result<()> {
     let layout = layout_from(
         &a.layout,
         &a.input,
-        a.calibration_ms,
+        a.calibration.ms(),
         a.rf_radius_px,
         uncertain,
     )?;
-    if !(a.pool_ms.is_finite() && a.pool_ms > 0.0) {
-        bail!("--pool-ms {} must be finite and > 0", a.pool_ms);
-    }
     let config = TransductionConfig {
-        ba_window_us: (a.ba_window_us > 0).then_some(a.ba_window_us),
+        ba_window_us: Some(a.ba_window.us()),
         ba_start: ba_start(a.ba_empty_start),
         rf_radius_px: a.rf_radius_px,
-        pool_window_us: neurotac_core::time::s_to_us(a.pool_ms / 1e3),
+        pool_window_us: neurotac_core::time::s_to_us(a.pool.s()),
         recentre_gain: a.gain,
         ..TransductionConfig::default()
     };
@@ -233,15 +230,16 @@ pub struct FilterArgs {
     input: PathBuf,
     /// Event file to write (format from its extension).
     output: PathBuf,
-    /// Background-activity window (µs).
-    #[arg(value_parser = args::positive_i64, allow_negative_numbers = true, long, default_value_t = 5000)]
-    ba_window_us: i64,
+    /// Background-activity window, rounded to the µs (ms, or with a unit: 20ms, 0.02s).
+    #[arg(value_parser = args::time_event_window, allow_negative_numbers = true, long, default_value = "5ms")]
+    ba_window: Time,
     /// Start the BA time surface empty instead of at t = 0.
     #[arg(long)]
     ba_empty_start: bool,
-    /// Also drop events within this refractory period of their own pixel's last event (µs).
-    #[arg(value_parser = args::positive_i64, allow_negative_numbers = true, long)]
-    refractory_us: Option<i64>,
+    /// Also drop events within this refractory period of their own pixel's last event,
+    /// rounded to the µs (ms, or with a unit: 20ms, 0.02s).
+    #[arg(value_parser = args::time_event_window, allow_negative_numbers = true, long)]
+    refractory: Option<Time>,
     #[command(flatten)]
     force: ForceOption,
 }
@@ -255,9 +253,9 @@ pub fn run_filter(a: FilterArgs) -> anyhow::Result<()> {
         &a.input,
         &a.output,
         Replace::when(a.force.force),
-        a.ba_window_us,
+        a.ba_window.us(),
         start_mode,
-        a.refractory_us,
+        a.refractory.map(Time::us),
     )?;
     if let Some(warning) = c.read.warning(&a.input) {
         eprintln!("{warning}");
@@ -279,9 +277,9 @@ pub fn run_filter(a: FilterArgs) -> anyhow::Result<()> {
 pub struct LayoutArgs {
     /// Calibration recording (any event file).
     input: PathBuf,
-    /// Use the first this many milliseconds.
-    #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long, default_value_t = 500.0)]
-    calibration_ms: f64,
+    /// Use the first this long of the recording (ms, or with a unit: 20ms, 0.02s).
+    #[arg(value_parser = args::time_duration, allow_negative_numbers = true, long, alias = "calibration-ms", default_value = "500ms")]
+    calibration: Time,
     /// Receptive-field radius (px); the paper's fields are 6 px in diameter.
     #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long, default_value_t = 3.0)]
     rf_radius_px: f64,
@@ -300,7 +298,7 @@ pub fn run_layout(a: LayoutArgs) -> anyhow::Result<()> {
     let layout = layout_from(
         "auto",
         &a.input,
-        a.calibration_ms,
+        a.calibration.ms(),
         a.rf_radius_px,
         Uncertain::Warn,
     )?;

@@ -1,7 +1,9 @@
 //! `report.md`: how the run was made, then per set its tables, figures and notes.
 
 use super::class_tables::{paper_confusion_table, phase_table, recall_table};
-use super::tables::{accuracy_table, afferent_table, intensive_table, parameter_table};
+use super::tables::{
+    accuracy_table, afferent_table, fitted_grids_mm, intensive_table, parameter_table,
+};
 use neurotac_experiments::coding::CodingName;
 use neurotac_experiments::menu::Menu;
 use neurotac_experiments::reproduce::{Report, SetReport};
@@ -12,7 +14,7 @@ pub fn report_markdown(report: &Report) -> String {
     let mut md = markdown_intro(report);
     md.push_str(&calibration_section(report));
     for set in &report.sets {
-        markdown_set(set, &mut md);
+        markdown_set(set, &fitted_grids_mm(report, set), &mut md);
     }
     md.push_str(
         "Files: `report.json` (every number), `accuracy.csv`, `parameters.csv`, \
@@ -26,7 +28,9 @@ pub fn report_markdown(report: &Report) -> String {
 /// The head of `report.md`: how the run was made and what the numbers mean.
 fn markdown_intro(report: &Report) -> String {
     format!(
-        "# NeuroTac reproduction\n\n`{}` (neurotac {}, seed {}): {:.1} s wall{}.\n\n\
+        "# NeuroTac reproduction\n\n`{}` (neurotac {}, seed {}): {:.1} s wall{} for the \
+         datasets and pipelines, everything but writing this report (the terminal's `total` \
+         adds the writing).\n\n\
          Pipeline (the paper's Methods): pixel events → background-activity filter (5 ms) → 49 \
          receptive fields → 20 ms pooling with re-centring → taxel spikes → four codings → KNN \
          (k = 4). Accuracies: leave-one-out (the paper's Tables 1 and 2), ± the standard \
@@ -85,7 +89,7 @@ fn calibration_section(report: &Report) -> String {
 }
 
 /// A set's section of `report.md`.
-fn markdown_set(set: &SetReport, md: &mut String) {
+fn markdown_set(set: &SetReport, fitted_grids_mm: &[f64], md: &mut String) {
     let d = &set.direct;
     let name = &d.name;
     let samples: usize = d.samples_per_class.iter().sum();
@@ -121,7 +125,7 @@ fn markdown_set(set: &SetReport, md: &mut String) {
     }
     md.push_str(&parameter_table(d));
     md.push('\n');
-    md.push_str(&intensive_table(d));
+    md.push_str(&intensive_table(d, fitted_grids_mm));
     md.push('\n');
     markdown_class_sections(set, md);
     if let Some(a) = &set.afferent {

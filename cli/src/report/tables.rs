@@ -3,7 +3,9 @@
 
 use neurotac_experiments::coding::CodingName;
 use neurotac_experiments::reproduce::paper::{self, PaperTable};
-use neurotac_experiments::reproduce::{SetReport, SetResult};
+use neurotac_experiments::reproduce::{Report, SetReport, SetResult};
+use neurotac_experiments::search::bayes::BayesStep;
+use neurotac_experiments::search::{NoiseBand, noise_band};
 use std::fmt::Write as _;
 
 /// A fraction as a percentage with one decimal (`0.785` → `78.5`).
@@ -141,6 +143,35 @@ pub struct ChosenParameter {
     /// Why it is suspect: it sits on a bound of its search (the optimum may lie beyond it);
     /// `None` when inside.
     pub bound_note: Option<String>,
+    /// Why it is not determined: other candidates of its search score within the best's
+    /// noise ([`noise_band`]), so the data single out a range, not this value; `None` when
+    /// the best stands alone.
+    pub noise_note: Option<String>,
+}
+
+/// The value `printed` of a search's choice and its noise note: when other candidates score
+/// within the best's noise the printed value says it is not determined and gives the range
+/// (`159, not determined: 40–200`), and the note says how many candidates that range holds.
+fn undetermined(
+    printed: String,
+    band: Option<NoiseBand>,
+    what: &str,
+    (scale, decimals, unit): (f64, usize, &str),
+) -> (String, Option<String>) {
+    match band {
+        Some(b) if !b.determined() => (
+            format!(
+                "{printed}, not determined: {:.decimals$}–{:.decimals$}{unit}",
+                b.low * scale,
+                b.high * scale
+            ),
+            Some(format!(
+                "{} of {} {what} score within the best's Wilson 95 % interval",
+                b.count, b.of
+            )),
+        ),
+        _ => (printed, None),
+    }
 }
 
 /// The note of `value` when it sits on a bound of its search `[low, high]` (within
@@ -172,26 +203,37 @@ fn bound_note(
 /// optimisation) — each against the paper's and flagged when on a bound of its search.
 pub fn chosen_parameters(set: &SetResult) -> Vec<ChosenParameter> {
     let paper_set = set.name == "artificial";
-    let chosen =
-        |quantity: &str, value: f64, paper: f64, printed: String, bound_note| ChosenParameter {
-            row: ParameterRow {
-                quantity: quantity.into(),
-                value,
-                paper: paper_set.then_some(paper),
-            },
-            printed,
-            bound_note,
-        };
+    let chosen = |quantity: &str,
+                  value: f64,
+                  paper: f64,
+                  (printed, noise_note): (String, Option<String>),
+                  bound_note| ChosenParameter {
+        row: ParameterRow {
+            quantity: quantity.into(),
+            value,
+            paper: paper_set.then_some(paper),
+        },
+        printed,
+        bound_note,
+        noise_note,
+    };
+    // Every search scores leave-one-out accuracy on all the set's samples.
+    let n: usize = set.samples_per_class.iter().sum();
     let mut out = Vec::new();
     if let Some(dt) = set.dt_search() {
         let w = dt.sweep.best_window_ms;
         let span = (1.0, dt.max_window_ms as f64);
         let note = bound_note(w as f64, span, 0.0, "Δt", (1.0, " ms"));
+        let candidates: Vec<(f64, f64)> = (dt.sweep.windows_ms.iter())
+            .zip(&dt.sweep.accuracy)
+            .map(|(&w, &a)| (w as f64, a))
+            .collect();
+        let band = noise_band(&candidates, dt.sweep.best.n);
         out.push(chosen(
             "temporal Δt (ms)",
             w as f64,
             paper::DT_MS,
-            w.to_string(),
+            undetermined(w.to_string(), band, "windows", (1.0, 0, " ms")),
             note,
         ));
     }
@@ -202,11 +244,22 @@ pub fn chosen_parameters(set: &SetResult) -> Vec<ChosenParameter> {
         let tau_ms = (tau * 1e3 * 1e9).round() / 1e9;
         let span = (b.tau_min_s, b.tau_max_s);
         let tau_note = bound_note(tau, span, b.tau_step_s / 2.0, "τ", (1e3, " ms"));
+        let trace = &b.result.trace;
+        let band = |pick: fn(&BayesStep) -> f64| {
+            let candidates: Vec<(f64, f64)> = trace.iter().map(|s| (pick(s), s.value)).collect();
+            noise_band(&candidates, n)
+        };
+        let evaluations = "evaluations";
         out.push(chosen(
             "Van Rossum τ (ms)",
             tau_ms,
             paper::TAU_MS,
-            format!("{tau_ms:.0}"),
+            undetermined(
+                format!("{tau_ms:.0}"),
+                band(|s| s.tau_s),
+                evaluations,
+                (1e3, 0, " ms"),
+            ),
             tau_note,
         ));
         let cos_note = bound_note(cos, (0.0, 1.0), b.cos_step / 2.0, "cos θ", (1.0, ""));
@@ -214,7 +267,12 @@ pub fn chosen_parameters(set: &SetResult) -> Vec<ChosenParameter> {
             "Van Rossum cos θ",
             cos,
             paper::COS_THETA,
-            format!("{cos:.2}"),
+            undetermined(
+                format!("{cos:.2}"),
+                band(|s| s.cos),
+                evaluations,
+                (1.0, 2, ""),
+            ),
             cos_note,
         ));
     }
@@ -249,7 +307,11 @@ pub fn parameter_table(set: &SetResult) -> String {
     let mut s = String::from("| quantity | this run | paper | note |\n|---|---|---|---|\n");
     for c in chosen_parameters(set) {
         let paper = c.row.paper.map_or("—".into(), |p| p.to_string());
-        let note = c.bound_note.as_deref().unwrap_or("");
+        let note = [c.bound_note, c.noise_note]
+            .into_iter()
+            .flatten()
+            .collect::<Vec<_>>()
+            .join("; ");
         let _ = writeln!(
             s,
             "| {} | {} | {paper} | {note} |",
@@ -259,18 +321,45 @@ pub fn parameter_table(set: &SetResult) -> String {
     s
 }
 
+/// The grid sizes (mm) whose intensive means the simulator was fitted to, for `set`: the
+/// calibration's anchors when the set is simulated, none for a recorded set.
+pub fn fitted_grids_mm(report: &Report, set: &SetReport) -> Vec<f64> {
+    match set.source.starts_with("simulated") {
+        true => report
+            .calibration
+            .iter()
+            .map(|c| c.anchor_grid_mm)
+            .collect(),
+        false => Vec::new(),
+    }
+}
+
+/// Marks a value the simulator was fitted to ([`intensive_table`]'s footnote says so).
+pub const FITTED_MARK: &str = "†";
+
 /// The intensive mean (spikes per taxel) of every class in class order, with the paper's where
-/// it gives one, then for bump grids whether the means rise with grid size, as Markdown.
-pub fn intensive_table(set: &SetResult) -> String {
+/// it gives one, then for bump grids whether the means rise with grid size, as Markdown. The
+/// classes of `fitted_grids_mm` ([`fitted_grids_mm`]) are marked † with a footnote: their
+/// agreement with the paper was fitted, not predicted.
+pub fn intensive_table(set: &SetResult, fitted_grids_mm: &[f64]) -> String {
     let mut s =
         String::from("| class | intensive mean (spikes per taxel) | paper |\n|---|---|---|\n");
-    for r in class_mean_rows(set) {
-        let class = r
-            .quantity
-            .trim_start_matches("intensive mean, ")
-            .trim_end_matches(" (spikes per taxel)");
+    let mut marked = false;
+    for (r, name) in class_mean_rows(set).into_iter().zip(&set.class_names) {
+        let fitted = paper::grid_size_mm(name)
+            .is_some_and(|mm| fitted_grids_mm.iter().any(|&f| (f - mm).abs() < 1e-9));
+        marked |= fitted;
+        let mark = if fitted { FITTED_MARK } else { "" };
         let paper = r.paper.map_or("—".into(), |p| p.to_string());
-        let _ = writeln!(s, "| {class} | {:.2} | {paper} |", r.value);
+        let _ = writeln!(s, "| {name} | {:.2}{mark} | {paper} |", r.value);
+    }
+    if marked {
+        let _ = writeln!(
+            s,
+            "\n{FITTED_MARK} fitted: the simulator's calibration target (one simulator \
+             parameter is fitted to each of these paper means), so agreement here is by \
+             construction, not a prediction."
+        );
     }
     if let Some(line) = monotonicity(set) {
         let _ = writeln!(s, "\n{line}");
@@ -466,7 +555,10 @@ pub(crate) mod tests {
         assert_eq!(natural[0].paper, None);
         let table = parameter_table(&set_result("artificial"));
         assert!(
-            table.contains("| temporal Δt (ms) | 3 | 159 | on the search bound (Δt ≤ 3 ms) |"),
+            table.contains(
+                "| temporal Δt (ms) | 3, not determined: 1–3 ms | 159 | on the search bound \
+                 (Δt ≤ 3 ms); 3 of 3 windows score within the best's Wilson 95 % interval |"
+            ),
             "{table}"
         );
         assert!(
@@ -518,13 +610,74 @@ pub(crate) mod tests {
         );
     }
 
+    /// A search whose other candidates score within the best's noise does not report its
+    /// choice as determined: the range is printed instead; a best that stands out is printed
+    /// alone.
+    #[test]
+    fn a_choice_within_the_noise_of_others_is_reported_as_not_determined() {
+        let mut set = set_result("natural");
+        set.samples_per_class = vec![500, 500];
+        for c in &mut set.codings {
+            match &mut c.search {
+                // 1000 samples: 70 % stands out from 60 % and 50 %.
+                Some(Search::DtSweep(dt)) => dt.sweep.best.n = 1000,
+                Some(Search::Bayes(b)) => {
+                    let step = b.result.trace[0];
+                    b.result.trace = [(0.02, 0.5, 0.8), (0.05, 0.9, 0.79), (0.09, 0.1, 0.5)]
+                        .map(|(tau_s, cos, value)| BayesStep {
+                            tau_s,
+                            cos,
+                            value,
+                            ..step
+                        })
+                        .to_vec();
+                }
+                None => {}
+            }
+        }
+        let chosen = chosen_parameters(&set);
+        assert_eq!(
+            (chosen[0].printed.as_str(), &chosen[0].noise_note),
+            ("3", &None)
+        );
+        // 79 % on 1000 samples is within the Wilson interval of 80 %: τ 20–50 ms, cos 0.5–0.9.
+        assert_eq!(chosen[1].printed, "20, not determined: 20–50 ms");
+        assert_eq!(chosen[2].printed, "0.50, not determined: 0.50–0.90");
+        assert_eq!(
+            chosen[1].noise_note.as_deref(),
+            Some("2 of 3 evaluations score within the best's Wilson 95 % interval")
+        );
+    }
+
+    /// The three class means the simulator was fitted to are marked in a simulated set's
+    /// table, with a footnote; a recorded set's are not.
+    #[test]
+    fn the_fitted_intensive_means_are_marked_for_simulated_sets_only() {
+        let set = set_result("artificial");
+        let table = intensive_table(&set, &[0.0, 2.5, 5.0]);
+        assert!(table.contains("| grid 0.0 mm | 4.00† | 4.63 |"), "{table}");
+        assert!(table.contains("| grid 2.5 mm | 10.00† | 9.84 |"), "{table}");
+        assert!(
+            table.contains("† fitted: the simulator's calibration target"),
+            "{table}"
+        );
+        let mut report = report_of(set_result("artificial"), "simulated, 3 slides per texture");
+        report.calibration = neurotac_sensor::sim::SimParams::default()
+            .calibrated_parameters()
+            .to_vec();
+        assert_eq!(fitted_grids_mm(&report, &report.sets[0]), [0.0, 2.5, 5.0]);
+        report.sets[0].source = "recorded: textures/".into();
+        assert!(fitted_grids_mm(&report, &report.sets[0]).is_empty());
+    }
+
     /// Every class's intensive mean is shown, and a fall with grid size is named.
     #[test]
     fn every_intensive_mean_is_shown_and_monotonicity_is_checked() {
         let mut set = set_result("artificial");
-        let table = intensive_table(&set);
+        let table = intensive_table(&set, &[]);
         assert!(table.contains("| grid 0.0 mm | 4.00 | 4.63 |"), "{table}");
         assert!(table.contains("| grid 2.5 mm | 10.00 | 9.84 |"), "{table}");
+        assert!(!table.contains(FITTED_MARK), "{table}");
         assert!(
             table.ends_with("The intensive mean rises with every grid size.\n"),
             "{table}"
@@ -536,7 +689,7 @@ pub(crate) mod tests {
         );
         set.class_names = vec!["cotton".into(), "denim".into()];
         assert_eq!(monotonicity(&set), None);
-        assert!(intensive_table(&set).contains("| cotton | 10.00 | — |"));
+        assert!(intensive_table(&set, &[0.0, 2.5, 5.0]).contains("| cotton | 10.00 | — |"));
     }
 
     /// A --quick run's table says it is not comparable with the paper's.

@@ -30,7 +30,7 @@ pub fn small_reproduce(out: &Path, cache: &Path, extra: &[&str]) -> (bool, Strin
         "--epochs",
         "12",
         "--tau-step",
-        "0.03",
+        "30ms",
         "--out",
         out,
         "--cache",

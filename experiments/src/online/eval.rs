@@ -5,7 +5,9 @@
 //! the time since the slide start, when each coding first reaches 90 % of its final accuracy,
 //! and the decision latency.
 
-use super::{Decision, OnlineClassifier, OnlineTraining, Recogniser, latency_percentiles};
+use super::{
+    Decision, LatencyPercentiles, OnlineClassifier, OnlineTraining, Recogniser, latency_percentiles,
+};
 use crate::coding::Coding;
 use crate::datasets::simulated::{
     DatasetsError, TextureSet, TrialJob, camera_seed, load_or_simulate, map_trials,
@@ -52,8 +54,8 @@ pub struct CodingTimeline {
     pub final_accuracy: f64,
     /// The first elapsed time (s) at which the accuracy reaches 90 % of the final one.
     pub t90_s: Option<f64>,
-    /// Decision latency p50, p99 and max over every window of every slide (s).
-    pub latency_s: (f64, f64, f64),
+    /// Decision latency over every window of every slide.
+    pub latency: LatencyPercentiles,
     /// Held-out slides replayed per second of wall time, relative to real time (the
     /// slide's duration over the replay's wall time, mean over slides).
     pub replay_speed: f64,
@@ -68,6 +70,8 @@ pub struct OnlineEval {
     pub n_train: usize,
     /// Held-out slides.
     pub n_test: usize,
+    /// Neighbours of every coding's KNN (the `k` the classifiers used).
+    pub k: usize,
     /// End of each window (s since the slide start).
     pub window_end_s: Vec<f64>,
     /// One timeline per coding.
@@ -166,7 +170,7 @@ pub fn evaluate_online(
                 .find(|(a, _)| **a >= 0.9 * final_accuracy)
                 .map(|(_, &t)| t);
             let all: Vec<Decision> = slides().flat_map(|r| r.decisions.clone()).collect();
-            let latency_s = latency_percentiles(&all).unwrap_or((0.0, 0.0, 0.0));
+            let latency = latency_percentiles(&all).unwrap_or_default();
             let replay_speed =
                 slides().map(|r| duration_s / r.wall_s).sum::<f64>() / truth.len().max(1) as f64;
             CodingTimeline {
@@ -175,7 +179,7 @@ pub fn evaluate_online(
                 accuracy,
                 final_accuracy,
                 t90_s,
-                latency_s,
+                latency,
                 replay_speed,
             }
         })
@@ -184,6 +188,7 @@ pub fn evaluate_online(
         set: config.set.name(),
         n_train: train.len(),
         n_test: test.len(),
+        k: config.k,
         window_end_s,
         codings,
     })

@@ -457,12 +457,29 @@ fn finish_reporting(
     Ok(last)
 }
 
-/// `(p50, p99, max)` of the decisions' latencies (s), nearest-rank; `None` without decisions.
-pub fn latency_percentiles(decisions: &[Decision]) -> Option<(f64, f64, f64)> {
-    let mut l: Vec<f64> = decisions.iter().map(|d| d.latency_s).collect();
+/// Percentiles of the decision latency (the wall time from a window's end to its decision),
+/// named so that a `summary.json` reads without the code: `{"p50_ms": …, "p99_ms": …,
+/// "max_ms": …}`.
+#[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize)]
+pub struct LatencyPercentiles {
+    /// Median latency (ms), nearest-rank.
+    pub p50_ms: f64,
+    /// 99th-percentile latency (ms), nearest-rank.
+    pub p99_ms: f64,
+    /// Largest latency (ms).
+    pub max_ms: f64,
+}
+
+/// The decisions' latency percentiles, nearest-rank; `None` without decisions.
+pub fn latency_percentiles(decisions: &[Decision]) -> Option<LatencyPercentiles> {
+    let mut l: Vec<f64> = decisions.iter().map(|d| d.latency_s * 1e3).collect();
     l.sort_by(f64::total_cmp);
     let at = |q: f64| l[((q * l.len() as f64).ceil() as usize).clamp(1, l.len()) - 1];
-    (!l.is_empty()).then(|| (at(0.5), at(0.99), l[l.len() - 1]))
+    (!l.is_empty()).then(|| LatencyPercentiles {
+        p50_ms: at(0.5),
+        p99_ms: at(0.99),
+        max_ms: l[l.len() - 1],
+    })
 }
 
 /// The live network: taxel spike input → (afferents) → spatiotemporal readout (the trains).

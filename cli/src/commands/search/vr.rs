@@ -1,6 +1,6 @@
 //! `neurotac search vr`: Bayesian optimisation of the spatiotemporal coding's (τ, cos θ).
 
-use crate::commands::args;
+use crate::commands::args::{self, Time};
 use crate::commands::inputs::load_labelled;
 use crate::commands::options::{ForceOption, SeedOption, help};
 use crate::commands::outputs::{Output, check_outputs};
@@ -27,15 +27,15 @@ pub struct VrArgs {
     initial: usize,
     #[command(flatten)]
     seed: SeedOption,
-    /// Smallest τ (s).
-    #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long, default_value_t = 0.010)]
-    tau_min: f64,
-    /// Largest τ (s).
-    #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long, default_value_t = 0.100)]
-    tau_max: f64,
-    /// τ grid step (s).
-    #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long, default_value_t = 0.001)]
-    tau_step: f64,
+    /// Smallest τ (ms, or with a unit: 20ms, 0.02s).
+    #[arg(value_parser = args::time_tau, allow_negative_numbers = true, long, default_value = "10ms")]
+    tau_min: Time,
+    /// Largest τ (ms, or with a unit: 20ms, 0.02s).
+    #[arg(value_parser = args::time_tau, allow_negative_numbers = true, long, default_value = "100ms")]
+    tau_max: Time,
+    /// τ grid step (ms, or with a unit: 20ms, 0.02s).
+    #[arg(value_parser = args::time_tau_step, allow_negative_numbers = true, long, default_value = "1ms")]
+    tau_step: Time,
     /// cos θ grid step.
     #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long, default_value_t = 0.01)]
     cos_step: f64,
@@ -68,9 +68,9 @@ pub fn run(args: VrArgs, ranks: &dyn Ranks) -> anyhow::Result<()> {
         epochs: args.epochs,
         initial: args.initial,
         seed: args.seed.seed,
-        tau_min_s: args.tau_min,
-        tau_max_s: args.tau_max,
-        tau_step_s: args.tau_step,
+        tau_min_s: args.tau_min.s(),
+        tau_max_s: args.tau_max.s(),
+        tau_step_s: args.tau_step.s(),
         cos_step: args.cos_step,
         ..Default::default()
     };

@@ -1,6 +1,6 @@
 //! `neurotac tradeoff neurons`: writes neurons.csv, neurons.md, neurons.svg and neurons.png.
 
-use crate::commands::args;
+use crate::commands::args::{self, Time};
 use crate::commands::options::{ForceOption, TradeoffOutOption};
 use crate::commands::outputs::{Output, check_outputs};
 use anyhow::Context;
@@ -13,9 +13,9 @@ use neurotac_core::io::{AtomicFileSet, Replace};
 pub struct NeuronsArgs {
     #[command(flatten)]
     out: TradeoffOutOption,
-    /// Simulated time of each accuracy run (s).
-    #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long, default_value_t = 1.0)]
-    duration: f64,
+    /// Simulated time of each accuracy run (ms, or with a unit: 20ms, 0.02s).
+    #[arg(value_parser = args::time_duration, allow_negative_numbers = true, long, default_value = "1s")]
+    duration: Time,
     /// Fewer time steps and smaller speed runs (a few seconds).
     #[arg(long)]
     quick: bool,
@@ -26,7 +26,7 @@ pub struct NeuronsArgs {
 pub fn run(args: NeuronsArgs) -> anyhow::Result<()> {
     let start = std::time::Instant::now();
     let mut config = NeuronTradeoffConfig {
-        duration_s: args.duration,
+        duration_s: args.duration.s(),
         ..NeuronTradeoffConfig::default()
     };
     if args.quick {

@@ -2,7 +2,7 @@
 //! traces sampled at `--trace-dts` in f64/f32, as LOO accuracy, distance error and matrix time,
 //! on a simulated set (`--set`) or a labelled dataset (`--input`).
 
-use crate::commands::args;
+use crate::commands::args::{self, Time};
 use crate::commands::inputs::load_labelled;
 use crate::commands::outputs::cache_folder;
 use clap::Args;
@@ -33,20 +33,20 @@ pub struct VrArgs {
     /// A labelled spike dataset (JSON or binary) instead.
     #[arg(long)]
     input: Option<PathBuf>,
-    /// Kernel time constant τ (s).
-    #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long, default_value_t = 0.076)]
-    tau: f64,
+    /// Kernel time constant τ (ms, or with a unit: 20ms, 0.02s).
+    #[arg(value_parser = args::time_tau, allow_negative_numbers = true, long, default_value = "76ms")]
+    tau: Time,
     /// cos θ in [0, 1].
     #[arg(value_parser = args::unit_interval, allow_negative_numbers = true, long, default_value_t = 0.4)]
     cos: f64,
-    /// Trace steps to try (ms, whole µs), comma-separated.
+    /// Trace steps to try, whole µs each (ms, or with a unit: 20ms, 0.02s), comma-separated.
     #[arg(
-        value_parser = args::positive_f64, allow_negative_numbers = true,
+        value_parser = args::time_step, allow_negative_numbers = true,
         long,
         value_delimiter = ',',
         default_value = "0.1,1,5,20"
     )]
-    trace_dts: Vec<f64>,
+    trace_dts: Vec<Time>,
     /// Trace arithmetic to try, comma-separated.
     #[arg(long, value_parser = args::menu::<Precision>(), value_delimiter = ',', default_value = "f64,f32")]
     precisions: Vec<Precision>,
@@ -78,9 +78,9 @@ pub fn run(args: VrArgs) -> anyhow::Result<()> {
         }
     };
     let config = VrTradeoffConfig {
-        tau_s: args.tau,
+        tau_s: args.tau.s(),
         cos: args.cos,
-        trace_dts_s: args.trace_dts.iter().map(|ms| ms * 1e-3).collect(),
+        trace_dts_s: args.trace_dts.iter().map(|t| t.s()).collect(),
         precisions: args.precisions.clone(),
         samples: args.samples,
         ..VrTradeoffConfig::default()
