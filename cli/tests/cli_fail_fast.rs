@@ -65,7 +65,7 @@ fn every_command_that_writes_refuses_an_unwritable_output_before_reading_or_comp
             vec!["search", "vr", "--input", missing, "--trace", &json],
             "--trace",
         ),
-        (vec!["record", "--out", &aedat, "--seconds", "1"], "--out"),
+        (vec!["record", "--out", &aedat, "--duration", "1s"], "--out"),
         (
             vec![
                 "simulate",
