@@ -159,12 +159,21 @@ fn the_layout_finder_finds_the_pins_of_sliding_slides_and_its_confidence_is_cali
         let rows: Vec<&Scored> = scored.iter().filter(|s| s.case == *case).collect();
         let n = rows.len() as f64;
         let within = rows.iter().map(|s| s.hits as f64).sum::<f64>() / (49.0 * n);
-        let mean_px = rows.iter().map(|s| s.mean_px).sum::<f64>() / n;
+        // Over the slides where the finder placed centres at all (none: "–").
+        let placed: Vec<f64> = rows
+            .iter()
+            .map(|s| s.mean_px)
+            .filter(|m| m.is_finite())
+            .collect();
+        let mean_px = match placed.is_empty() {
+            true => "–".to_owned(),
+            false => format!("{:.1}", placed.iter().sum::<f64>() / placed.len() as f64),
+        };
         let (lo, hi) = rows.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), s| {
             (lo.min(s.confidence), hi.max(s.confidence))
         });
         println!(
-            "{:<24} {:>5} {:>8} {:>13.1}% {:>10.1} px {:>11} {:>6.2}–{:.2}",
+            "{:<24} {:>5} {:>8} {:>13.1}% {:>10} px {:>11} {:>6.2}–{:.2}",
             case,
             rows.len(),
             rows.iter().filter(|s| s.right()).count(),
