@@ -9,7 +9,10 @@ use neurotac_core::{
 use neurotac_neurons::{
     InitialPotential, Integrator, Izhikevich, IzhikevichParams, Lif, LifParams,
 };
-use rand::{RngExt, SeedableRng};
+use rand::SeedableRng;
+
+mod common;
+use common::push_poisson;
 
 const DT: f64 = 1e-4;
 const N: usize = 1000;
@@ -30,11 +33,7 @@ fn taxels(phases: &[(f64, f64, f64)], seed: u64) -> MultiSpikeTrain {
             if !(c % stride == 0 && c / stride < k) {
                 continue;
             }
-            let mut t = from - (1.0 - rng.random::<f64>()).ln() / 40.0;
-            while t < to {
-                train.push(t);
-                t += -(1.0 - rng.random::<f64>()).ln() / 40.0;
-            }
+            push_poisson(&mut train, &mut rng, 40.0, from, to);
         }
         train
     });

@@ -8,7 +8,10 @@ use neurotac_core::{
 use neurotac_neurons::{
     InitialPotential, Integrator, Izhikevich, IzhikevichParams, Lif, LifParams, Real,
 };
-use rand::{RngExt, SeedableRng};
+use rand::SeedableRng;
+
+mod common;
+use common::push_poisson;
 
 const DT: f64 = 1e-4;
 
@@ -20,11 +23,7 @@ fn taxels(n: usize, active: usize, rate_hz: f64, duration_s: f64, seed: u64) -> 
     let channels = (0..n).map(|c| {
         let mut train = Vec::new();
         if c % stride == 0 && c / stride < active {
-            let mut t = -(1.0 - rng.random::<f64>()).ln() / rate_hz;
-            while t < duration_s {
-                train.push(t);
-                t += -(1.0 - rng.random::<f64>()).ln() / rate_hz;
-            }
+            push_poisson(&mut train, &mut rng, rate_hz, 0.0, duration_s);
         }
         train
     });
