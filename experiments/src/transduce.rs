@@ -51,9 +51,35 @@ pub enum TransduceError {
         /// The calibration time (ms).
         calibration_ms: f64,
     },
+    /// An automatic layout whose confidence is below
+    /// [`LayoutDetection::RELIABLE_CONFIDENCE`] ([`check_reliable`]).
+    #[error(
+        "the layout found in {} is unreliable (confidence {confidence:.2} < {:.2}: the events do not show the NeuroTac's pin rings)",
+        path.display(),
+        LayoutDetection::RELIABLE_CONFIDENCE
+    )]
+    UnreliableLayout {
+        /// The recording.
+        path: PathBuf,
+        /// The detection's confidence.
+        confidence: f64,
+    },
     /// The spike dataset could not be built or written.
     #[error(transparent)]
     Dataset(#[from] DatasetError),
+}
+
+/// `Err(`[`TransduceError::UnreliableLayout`]`)` when the layout detected in `path` is below the
+/// confidence the layout-accuracy test calibrated; the caller decides whether to refuse it,
+/// warn or use it anyway.
+pub fn check_reliable(detection: &LayoutDetection, path: &Path) -> Result<(), TransduceError> {
+    match detection.is_reliable() {
+        true => Ok(()),
+        false => Err(TransduceError::UnreliableLayout {
+            path: path.to_owned(),
+            confidence: detection.confidence,
+        }),
+    }
 }
 
 /// Where the taxel centres come from.

@@ -8,11 +8,11 @@ use crate::errors::{OrRaise, invalid};
 use neurotac_core::time::s_to_us;
 use neurotac_core::{EventBuffer, SpikeDataset};
 use neurotac_experiments::transduce::{
-    LayoutSpec, TransduceError, resolve_layout, transduce_file, transduced_dataset,
+    LayoutSpec, TransduceError, check_reliable, resolve_layout, transduce_file, transduced_dataset,
 };
 use neurotac_sensor::filter::MapStart;
 use neurotac_sensor::format::{DAVIS240_SIZE, ReadStats, read_file, write_file};
-use neurotac_sensor::taxel::{LayoutDetection, Transducer, TransductionConfig};
+use neurotac_sensor::taxel::{Transducer, TransductionConfig};
 use numpy::{IntoPyArray, PyArray1};
 use pyo3::exceptions::PyUserWarning;
 use pyo3::prelude::*;
@@ -160,7 +160,7 @@ fn layout_spec(layout: Option<&Path>, calibration_ms: f64) -> (LayoutSpec, Strin
 /// re-centring with `gain`. `label` names the class (then `labels == [0]`); `meta` records the
 /// source, layout, settings, time origin and stage counts.
 #[pyfunction]
-/// An automatic layout whose confidence is below [`LayoutDetection::RELIABLE_CONFIDENCE`] is
+/// An automatic layout whose confidence is below [`LayoutDetection::RELIABLE_CONFIDENCE`](neurotac_sensor::taxel::LayoutDetection::RELIABLE_CONFIDENCE) is
 /// refused (`NeurotacValueError`) unless `accept_uncertain_layout`, as the CLI's `transduce
 /// --layout auto` does.
 #[pyo3(signature = (path, layout=None, *, label=None, ba_window_us=5000, ba_empty_start=false, rf_radius_px=3.0, pool_ms=20.0, gain=0.5, calibration_ms=500.0, accept_uncertain_layout=false))]
@@ -183,12 +183,12 @@ pub(crate) fn transduce_path(
     let (layout, detection) = py
         .detach(|| resolve_layout(&spec, &path, rf_radius_px))
         .or_raise()?;
-    if let Some(d) = detection.filter(|d| !d.is_reliable() && !accept_uncertain_layout) {
+    if let Some(Err(why)) = detection
+        .filter(|_| !accept_uncertain_layout)
+        .map(|d| check_reliable(&d, &path))
+    {
         return Err(invalid(format!(
-            "the layout found in {} is unreliable (confidence {:.2} < {:.2}: the events do not show the NeuroTac's pin rings); give layout=\"default\" or a layout file, or accept_uncertain_layout=True to use it anyway",
-            path.display(),
-            d.confidence,
-            LayoutDetection::RELIABLE_CONFIDENCE
+            "{why}; give layout=\"default\" or a layout file, or accept_uncertain_layout=True to use it anyway"
         )));
     }
     let t = py

@@ -10,13 +10,15 @@ use neurotac_cli::report::figures::spike_train_figure;
 use neurotac_cli::report::png::PngRenderer;
 use neurotac_core::io::{AtomicFileSet, Replace, check_distinct};
 use neurotac_experiments::export::{DATASET_FORMATS, OutputFormat, dataset_bytes};
-use neurotac_experiments::transduce::{LayoutSpec, filter_file, resolve_layout, transduce_file};
+use neurotac_experiments::transduce::{
+    LayoutSpec, check_reliable, filter_file, resolve_layout, transduce_file,
+};
 use neurotac_sensor::filter::MapStart;
-use neurotac_sensor::taxel::{LayoutDetection, TaxelLayout, TransductionConfig};
+use neurotac_sensor::taxel::{TaxelLayout, TransductionConfig};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-/// What to do with an automatic layout below [`LayoutDetection::RELIABLE_CONFIDENCE`].
+/// What to do with an automatic layout below [`LayoutDetection::RELIABLE_CONFIDENCE`](neurotac_sensor::taxel::LayoutDetection::RELIABLE_CONFIDENCE).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Uncertain {
     /// `neurotac layout`: print it, with a warning.
@@ -47,13 +49,7 @@ fn layout_from(
             d.active,
             100.0 * d.captured_fraction
         );
-        if !d.is_reliable() {
-            let why = format!(
-                "the layout found in {} is unreliable (confidence {:.2} < {:.2}: the events do not show the NeuroTac's pin rings)",
-                input.display(),
-                d.confidence,
-                LayoutDetection::RELIABLE_CONFIDENCE
-            );
+        if let Err(why) = check_reliable(&d, input) {
             match uncertain {
                 Uncertain::Refuse => bail!(
                     "{why}; pass a layout file (--layout FILE) or the default layout (--layout default), or --accept-uncertain-layout to use it anyway"
