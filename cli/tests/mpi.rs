@@ -342,7 +342,7 @@ fn bad_input_on_several_ranks_is_one_line_from_rank_0() {
         ],
     );
     assert!(!ok);
-    let ours: Vec<&str> = stderr.lines().filter(|l| l.contains("error")).collect();
+    let ours = error_lines(&stderr);
     assert!(
         ours[0].starts_with("error: ") && ours[0].contains("missing.bin"),
         "{stderr}"
