@@ -239,6 +239,30 @@ pub enum ModelError {
         /// Variables it has.
         available: String,
     },
+    /// A saved model state that does not fit the model
+    /// ([`NeuronModel::restore_state`](crate::NeuronModel::restore_state)).
+    #[error("{model}: cannot restore the saved state: {reason}")]
+    State {
+        /// Model name.
+        model: &'static str,
+        /// What does not fit.
+        reason: String,
+    },
+    /// A model that cannot be saved or described (it does not implement
+    /// [`NeuronModel::describe`](crate::NeuronModel::describe)).
+    #[error("{model}: this model cannot be saved or exported (it has no description)")]
+    NotSaveable {
+        /// Model name.
+        model: &'static str,
+    },
+    /// A description of a model the factory does not make, or with settings it refuses.
+    #[error("cannot make model '{model}': {reason}")]
+    UnknownModel {
+        /// The model name in the description.
+        model: String,
+        /// Why (not a model this factory makes, or which setting is wrong).
+        reason: String,
+    },
 }
 
 /// A coding (intensive, spatial, temporal, spatiotemporal) that cannot be computed as asked.

@@ -45,6 +45,7 @@ pub mod graph;
 pub mod io;
 pub mod knn;
 pub mod model;
+pub mod model_state;
 pub mod ranks;
 pub mod seed_hash;
 pub mod special;
@@ -74,6 +75,7 @@ pub use graph::{
 pub use io::{AtomicDir, AtomicFile, AtomicFileSet, Replace};
 pub use knn::{Decision, FittedKnn, Knn};
 pub use model::{NeuronModel, SpikeBuffer};
+pub use model_state::{ModelDescription, ModelFactory, ModelState};
 /// The `ndarray` version neurotac's matrices use (feature matrices, distance matrices), so user
 /// code needs no matching dependency of its own.
 pub use ndarray;

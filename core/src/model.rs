@@ -16,6 +16,7 @@
 
 use crate::currents::SynapticDrive;
 use crate::error::ModelError;
+use crate::model_state::{ModelDescription, ModelState};
 use std::ops::Range;
 
 /// The spikes of one node in one time step: neuron indices and in-step fractions.
@@ -208,5 +209,33 @@ pub trait NeuronModel: Send {
     fn restrict(&self, range: Range<usize>) -> Option<Box<dyn NeuronModel>> {
         let _ = range;
         None
+    }
+
+    /// What this model is — name, size and settings — for saving the network
+    /// ([`Network::save`](crate::Network::save)) or exporting it
+    /// ([`Network::describe`](crate::Network::describe)); a
+    /// [`ModelFactory`](crate::ModelFactory) makes it anew from this. `None` (the default): the
+    /// model cannot be saved, and saving a network with it is a [`ModelError::NotSaveable`].
+    fn describe(&self) -> Option<ModelDescription> {
+        None
+    }
+
+    /// Every number the next step of this prepared model depends on (see
+    /// [`ModelState`]), as it is: event-driven bookkeeping included, nothing brought up to date
+    /// first. `None` (the default) when the model cannot be saved.
+    fn save_state(&self) -> Option<ModelState> {
+        None
+    }
+
+    /// Puts this prepared model (made from the same description, prepared at the same `dt`)
+    /// where `state` says, so that it continues bit for bit as the saved one would have. A
+    /// state that does not fit (a missing or wrong-length array, a count out of range) is a
+    /// [`ModelError::State`] and leaves the model as it was. The default refuses
+    /// ([`ModelError::NotSaveable`]).
+    fn restore_state(&mut self, state: &ModelState) -> Result<(), ModelError> {
+        let _ = state;
+        Err(ModelError::NotSaveable {
+            model: self.model_name(),
+        })
     }
 }
