@@ -11,6 +11,7 @@
 
 use neurotac_experiments::neuron_setup::{NeuronKind, Precision};
 use neurotac_neurons::Integrator;
+use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -85,6 +86,31 @@ impl PeerResult {
     }
 }
 
+impl AsRef<PeerResult> for PeerResult {
+    fn as_ref(&self) -> &PeerResult {
+        self
+    }
+}
+
+/// A peer's run of the Song–Abbott STDP network (`brian2_bench.py stdp`): the measurement and
+/// what the run ended with.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct StdpPeerResult {
+    /// The measurement (`spikes`: the output neuron's).
+    #[serde(flatten)]
+    pub run: PeerResult,
+    /// Final weight of each input's synapse (mV).
+    pub weights: Vec<f64>,
+    /// The output neuron's spike times (s).
+    pub spike_times_s: Vec<f64>,
+}
+
+impl AsRef<PeerResult> for StdpPeerResult {
+    fn as_ref(&self) -> &PeerResult {
+        &self.run
+    }
+}
+
 /// A peer that could not be run.
 #[derive(Debug, thiserror::Error)]
 pub enum PeerError {
@@ -127,8 +153,9 @@ pub enum PeerError {
     Output(String),
 }
 
-/// Runs the Brian2 script with `args` under `python`.
-pub fn run_brian2(python: &Path, args: &[String]) -> Result<PeerResult, PeerError> {
+/// Runs the Brian2 script with `args` under `python` and reads the JSON object it prints last
+/// (a [`PeerResult`], or more, e.g. [`StdpPeerResult`]).
+pub fn run_brian2<T: DeserializeOwned>(python: &Path, args: &[String]) -> Result<T, PeerError> {
     let script = brian2_script();
     if !script.is_file() {
         return Err(PeerError::MissingScript(script));
@@ -152,5 +179,11 @@ pub fn run_brian2(python: &Path, args: &[String]) -> Result<PeerResult, PeerErro
     }
     let stdout = String::from_utf8_lossy(&out.stdout);
     let last = stdout.lines().last().unwrap_or("");
-    serde_json::from_str(last).map_err(|_| PeerError::Output(last.to_owned()))
+    serde_json::from_str(last).map_err(|_| {
+        let mut shown: String = last.chars().take(200).collect();
+        if shown.len() < last.len() {
+            shown.push('…');
+        }
+        PeerError::Output(shown)
+    })
 }

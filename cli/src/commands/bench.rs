@@ -1,4 +1,6 @@
-//! `neurotac bench neurons|cuba`: throughput on the cases Brian2 is measured on.
+//! `neurotac bench neurons|cuba|stdp`: throughput on the cases Brian2 is measured on.
+
+mod stdp;
 
 use super::options::{SeedOption, ThreadsOption, help};
 use super::outputs::{Output, check_outputs};
@@ -10,6 +12,7 @@ use neurotac_cli::bench::{
 };
 use neurotac_cli::ceiling::{Ceiling, CeilingFractions};
 use neurotac_cli::peers::{PeerResult, brian2_method, brian2_precision, run_brian2};
+use serde::de::DeserializeOwned;
 use neurotac_core::graph::CROSSOVER_FILE_NAME;
 use neurotac_core::{Crossovers, Ranks};
 use neurotac_experiments::afferents::AfferentConfig;
@@ -33,6 +36,10 @@ enum BenchCommand {
     Neurons(NeuronsArgs),
     /// The CUBA network: 4000 LIF, 80/20 exc/inh, 2 % connectivity, exponential synapses.
     Cuba(CubaArgs),
+    /// Song, Miller & Abbott (2000) Fig. 1: Poisson inputs onto one LIF neuron through
+    /// additive STDP; final weights, output rate, and with --brian2 the same network in
+    /// Brian2 (weights compared by a two-sample KS test, speed ratio).
+    Stdp(stdp::StdpArgs),
 }
 
 #[derive(Debug, Args)]
@@ -131,23 +138,24 @@ struct PeerCase<'a> {
 
 /// Runs `ours` and, with a peer, the peer `repeats` times each, interleaved (ours, peer, ours,
 /// …) so that both sides see the same machine, and keeps the fastest run of each (`wall` of
-/// ours, `run_s` of the peer's): a shared machine's noise only ever adds time.
-fn fastest_interleaved<T>(
+/// ours, `run_s` of the peer's, read as `P`): a shared machine's noise only ever adds time.
+fn fastest_interleaved<T, P: DeserializeOwned + AsRef<PeerResult>>(
     repeats: usize,
     mut ours: impl FnMut() -> anyhow::Result<T>,
     wall: impl Fn(&T) -> f64,
     peer: Option<&PeerCase<'_>>,
-) -> anyhow::Result<(T, Option<PeerResult>)> {
+) -> anyhow::Result<(T, Option<P>)> {
     let mut best: Option<T> = None;
-    let mut best_peer: Option<PeerResult> = None;
+    let mut best_peer: Option<P> = None;
     for _ in 0..repeats.max(1) {
         let run = ours()?;
         if best.as_ref().is_none_or(|b| wall(&run) < wall(b)) {
             best = Some(run);
         }
         if let Some(case) = peer {
-            let run = run_brian2(case.python, &case.args)?;
-            if best_peer.as_ref().is_none_or(|b| run.run_s < b.run_s) {
+            let run: P = run_brian2(case.python, &case.args)?;
+            let fastest = |p: &P| p.as_ref().run_s;
+            if best_peer.as_ref().is_none_or(|b| fastest(&run) < fastest(b)) {
                 best_peer = Some(run);
             }
         }
@@ -209,6 +217,10 @@ pub fn run(args: BenchArgs, ranks: &dyn Ranks) -> anyhow::Result<()> {
         ),
         BenchCommand::Neurons(a) => neurons(a),
         BenchCommand::Cuba(a) => cuba_network(a, ranks),
+        BenchCommand::Stdp(_) if ranks.size() > 1 => anyhow::bail!(
+            "`neurotac bench stdp` runs one neuron on one process; run it without mpirun"
+        ),
+        BenchCommand::Stdp(a) => stdp::run(a),
     }
 }
 
@@ -270,7 +282,8 @@ fn neurons(a: NeuronsArgs) -> anyhow::Result<()> {
         ceiling = Some(ceiling.map_or(now, |c| c.max(now)));
         Ok(r)
     };
-    let (r, peer) = fastest_interleaved(a.run.repeats, run, |r| r.wall_s, case.as_ref())?;
+    let (r, peer) =
+        fastest_interleaved::<_, PeerResult>(a.run.repeats, run, |r| r.wall_s, case.as_ref())?;
     let ceiling = ceiling.expect("at least one run");
     let mut report = serde_json::to_value(&r)?;
     if let (Some(peer), Some(case)) = (&peer, &case) {
@@ -385,7 +398,8 @@ fn cuba_network(a: CubaArgs, ranks: &dyn Ranks) -> anyhow::Result<()> {
         })?
         .map_err(anyhow::Error::from)
     };
-    let (r, peer) = fastest_interleaved(a.run.repeats, run, |r| r.run_s, case.as_ref())?;
+    let (r, peer) =
+        fastest_interleaved::<_, PeerResult>(a.run.repeats, run, |r| r.run_s, case.as_ref())?;
     let spikes = spikes.expect("the first run keeps its spikes");
     if !ranks.is_root() {
         return Ok(());

@@ -427,3 +427,85 @@ mod tests {
         );
     }
 }
+
+/// One simulator's run of the Song–Abbott network, as [`song_abbott_figure`] draws it.
+pub struct StdpRunView<'a> {
+    /// Legend and panel title (`neurotac`, `brian2 2.9.0`).
+    pub label: &'a str,
+    /// Final weights (mV).
+    pub weights: &'a [f64],
+    /// Output spike times (s).
+    pub spike_times_s: &'a [f64],
+}
+
+/// The final weights of each run as histograms side by side (20 bins over `[0, w_max]`, the
+/// same bins and count axis in every panel) and, below, every run's output rate over time
+/// (100 bins over `[0, duration_s)`).
+pub fn song_abbott_figure(runs: &[StdpRunView<'_>], duration_s: f64) -> String {
+    use neurotac_experiments::song_abbott::{W_MAX_MV, histogram, rate_over_time};
+    const BINS: usize = 20;
+    let counts: Vec<Vec<usize>> = runs.iter().map(|r| histogram(r.weights, BINS)).collect();
+    let highest = counts.iter().flatten().copied().max().unwrap_or(0) as f64;
+    let width = W_MAX_MV / BINS as f64;
+    let mut charts: Vec<Chart> = runs
+        .iter()
+        .zip(&counts)
+        .enumerate()
+        .map(|(k, (run, counts))| {
+            // The histogram's outline: up and across each bin.
+            let mut points = vec![(0.0, 0.0)];
+            for (b, &c) in counts.iter().enumerate() {
+                let (lo, hi) = (b as f64 * width, (b + 1) as f64 * width);
+                points.extend([(lo, c as f64), (hi, c as f64)]);
+            }
+            points.push((W_MAX_MV, 0.0));
+            Chart {
+                title: format!("{}: final weights", run.label),
+                x: Axis {
+                    label: "weight (mV)".into(),
+                    log: false,
+                    range: Some((0.0, W_MAX_MV)),
+                },
+                y: from_zero("synapses", highest),
+                series: vec![Series {
+                    label: format!("{} synapses", run.weights.len()),
+                    points,
+                    color: PALETTE[k % PALETTE.len()].into(),
+                    marker: Marker::None,
+                    filled: false,
+                    line: true,
+                    y_ranges: Vec::new(),
+                }],
+            }
+        })
+        .collect();
+    let bin_s = duration_s / 100.0;
+    let rates: Vec<Series> = runs
+        .iter()
+        .enumerate()
+        .map(|(k, run)| Series {
+            label: run.label.to_owned(),
+            points: rate_over_time(run.spike_times_s, duration_s, bin_s),
+            color: PALETTE[k % PALETTE.len()].into(),
+            marker: Marker::None,
+            filled: false,
+            line: true,
+            y_ranges: Vec::new(),
+        })
+        .collect();
+    let fastest = rates
+        .iter()
+        .flat_map(|s| s.points.iter().map(|p| p.1))
+        .fold(0.0, f64::max);
+    charts.push(Chart {
+        title: format!("output rate ({} s bins)", (bin_s * 1e3).round() / 1e3),
+        x: Axis {
+            label: "time (s)".into(),
+            log: false,
+            range: Some((0.0, duration_s)),
+        },
+        y: from_zero("rate (Hz)", fastest),
+        series: rates,
+    });
+    panels(&charts, runs.len().max(1))
+}
