@@ -29,6 +29,7 @@
 //! | [`afferents`] | taxel → afferent networks (the `demo` command, `reproduce --afferents`) |
 //! | [`transduce`] | one event file → taxel spike dataset (`neurotac transduce`), layouts (`layout`), event filtering (`filter`) |
 //! | [`neuron_setup`] | the menu of neuron models ([`neuron_setup::NeuronKind`]: one registration line per model, dispatching to its `ModelFamily`); one neuron population set up by model, integrator and precision (bench, `neurotac neuron`, trade-offs) |
+//! | [`song_abbott`] | Song, Miller & Abbott's STDP network (Poisson inputs → one LIF through additive STDP), its final weights compared with a peer's |
 //! | [`statistics`] | the two-sample Kolmogorov–Smirnov test ([`statistics::kolmogorov_smirnov`]) |
 //! | [`progress`] | the [`progress::Progress`] trait every long entry point reports to |
 //! | [`threads`] | [`threads::with_threads`]: work on a pool of a chosen size |
@@ -51,6 +52,7 @@ pub mod readouts;
 pub mod reproduce;
 pub mod scoring;
 pub mod search;
+pub mod song_abbott;
 pub mod statistics;
 pub mod threads;
 pub mod timing;

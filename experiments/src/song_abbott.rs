@@ -247,7 +247,9 @@ pub fn histogram(weights: &[f64], bins: usize) -> Vec<usize> {
     let mut counts = vec![0usize; bins.max(1)];
     let last = counts.len() - 1;
     for &w in weights {
-        let k = (w / W_MAX_MV * counts.len() as f64).floor().clamp(0.0, last as f64);
+        let k = (w / W_MAX_MV * counts.len() as f64)
+            .floor()
+            .clamp(0.0, last as f64);
         counts[k as usize] += 1;
     }
     counts
@@ -266,9 +268,8 @@ impl BoundFractions {
     /// The shares of `weights` (both 0 for none).
     pub fn of(weights: &[f64]) -> Self {
         let n = weights.len().max(1) as f64;
-        let share = |near: &dyn Fn(f64) -> bool| {
-            weights.iter().filter(|&&w| near(w)).count() as f64 / n
-        };
+        let share =
+            |near: &dyn Fn(f64) -> bool| weights.iter().filter(|&&w| near(w)).count() as f64 / n;
         Self {
             near_zero: share(&|w| w <= NEAR_BOUND * W_MAX_MV),
             near_max: share(&|w| w >= (1.0 - NEAR_BOUND) * W_MAX_MV),
@@ -294,4 +295,77 @@ pub fn compare_weights(ours: &[f64], peer: &[f64]) -> Result<WeightComparison, E
         ours: BoundFractions::of(ours),
         peer: BoundFractions::of(peer),
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// 60 s of the default network, long enough for the weights to split (release builds).
+    fn learned() -> SongAbbottRun {
+        run(&SongAbbottConfig {
+            duration_s: 60.0,
+            ..SongAbbottConfig::default()
+        })
+        .unwrap()
+    }
+
+    #[test]
+    fn the_weights_leave_their_uniform_start_for_both_bounds_and_stay_inside_them() {
+        let r = learned();
+        assert_eq!(r.weights.len(), 1000);
+        assert!(
+            r.weights.iter().all(|w| (0.0..=W_MAX_MV).contains(w)),
+            "a weight left [0, w_max]"
+        );
+        // Uniform weights put a tenth in each decile; learned ones pile up at both ends (a
+        // U-shaped, bimodal histogram) and leave the middle.
+        let h = histogram(&r.weights, 10);
+        let middle = *h[3..7].iter().max().unwrap();
+        assert!(h[0] > 2 * middle && h[9] > middle, "{h:?}");
+        let b = r.bounds();
+        let start = BoundFractions::of(&initial_weights(1000, 1));
+        assert!(b.near_zero > 2.0 * start.near_zero, "{b:?} from {start:?}");
+        assert!(b.near_max > start.near_max, "{b:?} from {start:?}");
+        // The output rate falls from its start as the weights split.
+        let first = rate_over_time(&r.spike_times_s, r.duration_s, 6.0)[0].1;
+        assert!(
+            r.final_rate_hz() < 0.7 * first,
+            "{first} → {}",
+            r.final_rate_hz()
+        );
+    }
+
+    #[test]
+    fn a_frozen_projection_keeps_its_initial_weights() {
+        let config = SongAbbottConfig {
+            duration_s: 5.0,
+            ..SongAbbottConfig::default()
+        };
+        let SongAbbottNetwork {
+            builder,
+            projection,
+            spikes,
+        } = network(&config).unwrap();
+        let mut net = builder.build(NetworkConfig { dt_s: config.dt_s }).unwrap();
+        net.set_learning(projection, false).unwrap();
+        net.run(config.duration_s, &OneProcess).unwrap();
+        assert!(
+            !net.readout(spikes).unwrap().spikes().is_empty(),
+            "the neuron fired"
+        );
+        let w = net.weights(projection).unwrap();
+        assert_eq!(w.pre, (0..1000).collect::<Vec<u32>>());
+        assert_eq!(w.weight, initial_weights(1000, config.seed));
+    }
+
+    #[test]
+    fn rates_and_histograms_count_every_spike_and_weight_once() {
+        let rates = rate_over_time(&[0.1, 0.2, 1.5, 2.4], 2.5, 1.0);
+        assert_eq!(rates, vec![(0.5, 2.0), (1.5, 1.0), (2.25, 2.0)]);
+        assert_eq!(final_rate_hz(&[0.1, 9.5, 9.9], 10.0), 2.0);
+        assert_eq!(histogram(&[0.0, 0.3, W_MAX_MV, W_MAX_MV], 2), vec![1, 3]);
+        let b = BoundFractions::of(&[0.0, 0.06, 0.3, 0.54, 0.6]);
+        assert_eq!((b.near_zero, b.near_max), (0.4, 0.4));
+    }
 }

@@ -12,7 +12,6 @@ use neurotac_cli::bench::{
 };
 use neurotac_cli::ceiling::{Ceiling, CeilingFractions};
 use neurotac_cli::peers::{PeerResult, brian2_method, brian2_precision, run_brian2};
-use serde::de::DeserializeOwned;
 use neurotac_core::graph::CROSSOVER_FILE_NAME;
 use neurotac_core::{Crossovers, Ranks};
 use neurotac_experiments::afferents::AfferentConfig;
@@ -21,6 +20,7 @@ use neurotac_experiments::menu::Menu;
 use neurotac_experiments::neuron_setup::{NeuronKind, NeuronSetup, Precision};
 use neurotac_experiments::threads::with_threads;
 use neurotac_neurons::Integrator;
+use serde::de::DeserializeOwned;
 use serde_json::{Value, json};
 use std::path::{Path, PathBuf};
 
@@ -155,7 +155,10 @@ fn fastest_interleaved<T, P: DeserializeOwned + AsRef<PeerResult>>(
         if let Some(case) = peer {
             let run: P = run_brian2(case.python, &case.args)?;
             let fastest = |p: &P| p.as_ref().run_s;
-            if best_peer.as_ref().is_none_or(|b| fastest(&run) < fastest(b)) {
+            if best_peer
+                .as_ref()
+                .is_none_or(|b| fastest(&run) < fastest(b))
+            {
                 best_peer = Some(run);
             }
         }
