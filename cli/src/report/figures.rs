@@ -378,56 +378,6 @@ pub fn set_spike_train_figure(set: &SetReport) -> String {
     panels(&charts, ex.len().max(1))
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn figures_show_every_spike_and_the_rolling_mean() {
-        let trains =
-            MultiSpikeTrain::from_channels(vec![vec![0.01, 0.5], vec![], vec![0.2]]).unwrap();
-        let raster = raster_chart(&trains, "t");
-        assert_eq!(
-            raster.series[0].points,
-            vec![(0.01, 0.0), (0.5, 0.0), (0.2, 2.0)]
-        );
-        let temporal = temporal_chart(&trains, 0.1, "t");
-        // Window [0.2, 0.3) holds one spike of three taxels.
-        assert_eq!(temporal.series[0].points[200], (0.2, 1.0 / 3.0));
-        let svg = spike_train_figure(&trains, "3 taxels", 0.1);
-        assert!(svg.matches("<line x1").count() >= 3);
-        assert!(svg.contains("spatial distribution") && svg.contains("temporal distribution"));
-    }
-
-    #[test]
-    fn confusion_figure_draws_one_cell_per_pair_and_prints_the_counts() {
-        let names = vec!["a<b".to_owned(), "c".to_owned()];
-        let svg = confusion_figure(&[vec![3, 1], vec![0, 4]], &names, "t & u", None);
-        assert_eq!(svg.matches("<rect x=").count(), 4 + 50 + 1);
-        // Row percentages, the row totals and the colour bar's scale.
-        assert!(svg.contains(">75</text>") && svg.contains(">25</text>"));
-        assert!(svg.contains(">100</text>") && svg.contains(">n = 4</text>"));
-        assert!(svg.contains(">100 %</text>") && svg.contains(">0 %</text>"));
-        // Empty cells print nothing; text is escaped.
-        assert!(!svg.contains(">0</text>"));
-        assert!(svg.contains("a&lt;b") && svg.contains("t &amp; u"));
-        let quick = confusion_figure(&[vec![1, 1]], &names, "t", Some("2 test samples"));
-        assert!(quick.contains(">2 test samples</text>"));
-    }
-
-    #[test]
-    fn count_axes_start_at_zero() {
-        let trains = MultiSpikeTrain::from_channels(vec![vec![0.1; 3], vec![0.2; 5]]).unwrap();
-        let spatial = spatial_chart(&trains, "s");
-        assert_eq!(spatial.y.range.map(|r| r.0), Some(0.0));
-        assert!(spatial.y.range.unwrap().1 >= 5.0);
-        assert_eq!(
-            temporal_chart(&trains, 0.1, "t").y.range.map(|r| r.0),
-            Some(0.0)
-        );
-    }
-}
-
 /// One simulator's run of the Song–Abbott network, as [`song_abbott_figure`] draws it.
 pub struct StdpRunView<'a> {
     /// Legend and panel title (`neurotac`, `brian2 2.9.0`).
@@ -508,4 +458,54 @@ pub fn song_abbott_figure(runs: &[StdpRunView<'_>], duration_s: f64) -> String {
         series: rates,
     });
     panels(&charts, runs.len().max(1))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn figures_show_every_spike_and_the_rolling_mean() {
+        let trains =
+            MultiSpikeTrain::from_channels(vec![vec![0.01, 0.5], vec![], vec![0.2]]).unwrap();
+        let raster = raster_chart(&trains, "t");
+        assert_eq!(
+            raster.series[0].points,
+            vec![(0.01, 0.0), (0.5, 0.0), (0.2, 2.0)]
+        );
+        let temporal = temporal_chart(&trains, 0.1, "t");
+        // Window [0.2, 0.3) holds one spike of three taxels.
+        assert_eq!(temporal.series[0].points[200], (0.2, 1.0 / 3.0));
+        let svg = spike_train_figure(&trains, "3 taxels", 0.1);
+        assert!(svg.matches("<line x1").count() >= 3);
+        assert!(svg.contains("spatial distribution") && svg.contains("temporal distribution"));
+    }
+
+    #[test]
+    fn confusion_figure_draws_one_cell_per_pair_and_prints_the_counts() {
+        let names = vec!["a<b".to_owned(), "c".to_owned()];
+        let svg = confusion_figure(&[vec![3, 1], vec![0, 4]], &names, "t & u", None);
+        assert_eq!(svg.matches("<rect x=").count(), 4 + 50 + 1);
+        // Row percentages, the row totals and the colour bar's scale.
+        assert!(svg.contains(">75</text>") && svg.contains(">25</text>"));
+        assert!(svg.contains(">100</text>") && svg.contains(">n = 4</text>"));
+        assert!(svg.contains(">100 %</text>") && svg.contains(">0 %</text>"));
+        // Empty cells print nothing; text is escaped.
+        assert!(!svg.contains(">0</text>"));
+        assert!(svg.contains("a&lt;b") && svg.contains("t &amp; u"));
+        let quick = confusion_figure(&[vec![1, 1]], &names, "t", Some("2 test samples"));
+        assert!(quick.contains(">2 test samples</text>"));
+    }
+
+    #[test]
+    fn count_axes_start_at_zero() {
+        let trains = MultiSpikeTrain::from_channels(vec![vec![0.1; 3], vec![0.2; 5]]).unwrap();
+        let spatial = spatial_chart(&trains, "s");
+        assert_eq!(spatial.y.range.map(|r| r.0), Some(0.0));
+        assert!(spatial.y.range.unwrap().1 >= 5.0);
+        assert_eq!(
+            temporal_chart(&trains, 0.1, "t").y.range.map(|r| r.0),
+            Some(0.0)
+        );
+    }
 }
