@@ -73,6 +73,7 @@ use crate::real::Real;
 #[cfg(doc)]
 use neurotac_core::NeuronModel;
 use neurotac_core::{DecayingCurrents, ModelError, SynapticDrive};
+use serde_json::Value;
 #[cfg(target_arch = "x86_64")]
 use std::any::Any;
 use std::marker::PhantomData;
@@ -433,8 +434,42 @@ impl<F: Real> BlockModel for LifModel<F> {
     const DIVERGENCE: &'static str = "the membrane reached threshold under an input whose steady state v∞ lies below it, or left the finite range";
     const DEFAULT_CROSSOVER: f64 = 0.08; // 0.080: `bench neurons --crossover --n 10000` on the 2-core VM
 
+    /// The potentials and (with a refractory period) the refractory counts.
+    const STATE_ARRAYS: &'static [&'static str] = &["v", "refractory_steps"];
+
     fn supports(integrator: Integrator) -> bool {
         integrator != Integrator::Izhikevich2003
+    }
+
+    fn state_array(s: &LifState<F>, a: usize) -> &[F] {
+        [&s.v, &s.refractory_steps][a]
+    }
+
+    fn state_array_mut(s: &mut LifState<F>, a: usize) -> &mut [F] {
+        if a == 0 {
+            &mut s.v
+        } else {
+            &mut s.refractory_steps
+        }
+    }
+
+    /// Potentials are finite; refractory counts are whole numbers up to the refractory period
+    /// (they count down through 0 and below).
+    fn check_state_value(k: &LifConstants<F>, a: usize, x: F) -> Result<(), &'static str> {
+        match a {
+            0 if x.is_finite() => Ok(()),
+            0 => Err("finite"),
+            _ if x.is_finite() && x.trunc() == x && x <= k.refractory => Ok(()),
+            _ => Err("a whole number of steps up to the refractory period"),
+        }
+    }
+
+    fn params_to_json(params: &LifParams) -> Option<Value> {
+        params.to_json()
+    }
+
+    fn params_from_json(value: &Value) -> Result<LifParams, String> {
+        LifParams::from_json(value)
     }
 
     fn default_initial(params: &LifParams) -> InitialPotential {
