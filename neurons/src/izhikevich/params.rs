@@ -120,7 +120,7 @@ impl IzhikevichParams {
 
     /// The `params` object of an Izhikevich population's settings: the fields by name,
     /// `v_min` as `null` when −∞; `None` when another value is not finite (it has no JSON).
-    pub(super) fn to_json(&self) -> Option<Value> {
+    pub(super) fn to_json(self) -> Option<Value> {
         Some(json!({
             "a": number(self.a)?,
             "b": number(self.b)?,

@@ -93,7 +93,7 @@ impl LifParams {
 
     /// The `params` object of a LIF population's settings: the fields by name, `v_min` as
     /// `null` when −∞; `None` when another value is not finite (it has no JSON).
-    pub(super) fn to_json(&self) -> Option<Value> {
+    pub(super) fn to_json(self) -> Option<Value> {
         Some(json!({
             "tau_m_s": number(self.tau_m_s)?,
             "v_rest": number(self.v_rest)?,
