@@ -37,7 +37,7 @@ pub struct BlockPopulation<M: BlockModel> {
     pub(super) initial: InitialPotential,
     pub(super) blocks: Vec<M::State>,
     pub(super) k: M::Constants,
-    pub(super) dt_s: f64,
+    dt_s: f64,
     /// Steps advanced since `prepare`/`reset`.
     pub(super) steps: u64,
     /// The first step (0-based) in which the divergence criterion fired, if any.
@@ -48,7 +48,7 @@ pub struct BlockPopulation<M: BlockModel> {
     /// Event-driven stepping: the neurons not settled after their last step (ascending), and
     /// the buffer for the next step's.
     pub(super) restless: Vec<u32>,
-    pub(super) restless_next: Vec<u32>,
+    restless_next: Vec<u32>,
 }
 
 impl<M: BlockModel> Clone for BlockPopulation<M> {
