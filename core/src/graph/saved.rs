@@ -7,7 +7,7 @@
 //! Readouts are not saved (they watch a run; add them again after loading).
 
 use super::builder::NetworkBuilder;
-use super::description::NetworkDescription;
+use super::description::{NetworkDescription, NodeDescription};
 use super::network::{Network, active_neurons};
 use super::running::RunningKind;
 use super::snapshot::{NetworkState, NodeState, ProjectionState, TraceState};
@@ -340,6 +340,10 @@ impl NetworkBuilder {
             source,
         })?;
         let saved = decode(&bytes, path)?;
+        check_state_fits(&saved).map_err(|what| NetworkFileError::Graph {
+            path: path.to_owned(),
+            source: Box::new(GraphError::Description(format!("saved state: {what}"))),
+        })?;
         let mut b =
             NetworkBuilder::from_description(&saved.description, models).map_err(|source| {
                 NetworkFileError::Graph {
@@ -355,6 +359,37 @@ impl NetworkBuilder {
     pub fn saved_dt_s(&self) -> Option<f64> {
         self.saved.as_ref().map(|(dt, _)| *dt)
     }
+}
+
+/// Checks, before anything is made, that the saved state has one entry per described node
+/// (populations and spike sources) and projection, and that no population is larger than its
+/// longest saved array: a corrupt size never sizes an allocation (the arrays are in the file).
+fn check_state_fits(saved: &SavedNetwork) -> Result<(), String> {
+    let (d, s) = (&saved.description, &saved.state);
+    let nodes = (d.nodes.iter())
+        .filter(|n| !matches!(n, NodeDescription::Current { .. }))
+        .count();
+    if s.nodes.len() != nodes || s.projections.len() != d.projections.len() {
+        return Err(format!(
+            "{} node and {} projection states for {nodes} nodes and {} projections",
+            s.nodes.len(),
+            s.projections.len(),
+            d.projections.len()
+        ));
+    }
+    for (node, state) in d.nodes.iter().zip(&s.nodes) {
+        if let (NodeDescription::Population { name, model }, Some(m)) = (node, &state.model) {
+            let longest = m.arrays.iter().map(|(_, a)| a.len()).max();
+            if longest.is_some_and(|l| model.size > l) {
+                return Err(format!(
+                    "population '{name}' has {} neurons but its longest saved array {} values",
+                    model.size,
+                    longest.unwrap_or(0)
+                ));
+            }
+        }
+    }
+    Ok(())
 }
 
 /// The saved network in `bytes` (the file `path`), checked as [`Network::save`] says.
