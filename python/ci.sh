@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # The Python bindings from scratch: a fresh virtual environment in a temporary folder, maturin,
 # NumPy and pytest from PyPI, a release wheel of this crate installed into it, then the tests
-# (pymuvr, the optional oracle, is installed when it builds; nir, for neurotac.nir, when it installs). Needs Python ≥ 3.9 with venv and a
-# Rust toolchain. Prints "skipped: <reason>" and exits 0 when Python, venv, pip or the package
-# registries cannot be used; exits non-zero when the build or a test fails.
+# (pymuvr, the optional oracle, is installed when it builds; nir, for neurotac.nir, when it
+# installs). Needs Python ≥ 3.9 with venv and a Rust toolchain. Prints "skipped: <reason>" and
+# exits 0 when Python, venv, pip or the package registries cannot be used; exits non-zero when
+# the build or a test fails.
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
 cd "$here"
