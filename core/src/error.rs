@@ -157,6 +157,19 @@ pub enum GraphError {
         /// The first step after the exchanged epoch.
         step: u64,
     },
+    /// A node or projection dropped at build because no readout depends on it (see
+    /// [`Network::pruned_nodes`](crate::Network::pruned_nodes)): it has no weights or state.
+    #[error("{what} was dropped at build (no readout depends on it)")]
+    Pruned {
+        /// What was asked for.
+        what: String,
+    },
+    /// A projection that is not plastic, asked for something only plastic ones have.
+    #[error("projection {projection} is not plastic (connect it with connect_plastic)")]
+    NotPlastic {
+        /// The projection's builder index.
+        projection: usize,
+    },
 }
 
 /// A neuron model that rejects its parameters, integrator or time step.

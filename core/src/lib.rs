@@ -68,9 +68,10 @@ pub use graph::{
     Connectivity, Crossovers, CurrentId, CurrentInput, DecayingCurrents, ExpSynapse, InputId,
     Network, NetworkBuilder, NetworkConfig, NodeId, PoissonInput, PopulationId, PopulationStepping,
     ProjectionId, Readout, ReadoutContext, ReadoutId, ReadoutSource, RunSummary, SpikeArrayInput,
-    SpikeRecorder, SpikeSource, StateRecorder, StateSampler, StepView, Stepping, SteppingFileError,
-    SteppingMode, Synapse, SynapticCurrentSampler, SynapticDrive, SynapticTraceRecorder,
-    TraceRecorder, TraceSampler, one_spike_weight,
+    SpikeRecorder, SpikeSource, StateRecorder, StateSampler, Stdp, StepView, Stepping,
+    SteppingFileError, SteppingMode, Synapse, SynapticCurrentSampler, SynapticDrive,
+    SynapticTraceRecorder, TraceInteraction, TraceRecorder, TraceSampler, WeightDependence,
+    Weights, one_spike_weight,
 };
 pub use io::{AtomicDir, AtomicFile, AtomicFileSet, Replace};
 pub use knn::{Decision, FittedKnn, Knn};

@@ -10,7 +10,7 @@ use super::network::{DEFAULT_EPOCH_STEPS, ExchangeStats, Network, Partition};
 use super::readout::{Readout, SpikeRecorder, StateRecorder, SynapticTraceRecorder};
 use super::running::{RunningKind, RunningNode, RunningSource};
 use super::stepping::{EventStepping, Stepping};
-use super::synapse::{Connectivity, ExpSynapse, RunningProjection};
+use super::synapse::{Connectivity, ExpSynapse, Plasticity, RunningProjection, Stdp, Wiring};
 use crate::error::GraphError;
 use crate::model::{NeuronModel, SpikeBuffer};
 use crate::ranks::even_block;
@@ -44,6 +44,7 @@ struct ProjectionSpec {
     post: usize,
     connectivity: Connectivity,
     synapse: ExpSynapse,
+    plasticity: Option<Stdp>,
 }
 
 /// Describes a network node by node; [`build`](Self::build) checks it and prunes it.
@@ -232,6 +233,33 @@ impl NetworkBuilder {
         connectivity: Connectivity,
         synapse: ExpSynapse,
     ) -> Result<ProjectionId, GraphError> {
+        self.add_projection(pre, post, connectivity, synapse, None)
+    }
+
+    /// [`connect`](Self::connect) with plastic weights: the projection learns by `stdp` (pair-based
+    /// STDP with traces, see [`Stdp`]) while the network runs, clock- or event-driven, with any
+    /// connectivity and delay; [`Network::set_learning`](super::Network::set_learning) freezes it.
+    /// Every initial weight must lie in `[stdp.w_min, stdp.w_max]`
+    /// ([`GraphError::InvalidParameter`] otherwise).
+    pub fn connect_plastic(
+        &mut self,
+        pre: impl SpikingNode,
+        post: PopulationId,
+        connectivity: Connectivity,
+        synapse: ExpSynapse,
+        stdp: Stdp,
+    ) -> Result<ProjectionId, GraphError> {
+        self.add_projection(pre, post, connectivity, synapse, Some(stdp))
+    }
+
+    fn add_projection(
+        &mut self,
+        pre: impl SpikingNode,
+        post: PopulationId,
+        connectivity: Connectivity,
+        synapse: ExpSynapse,
+        plasticity: Option<Stdp>,
+    ) -> Result<ProjectionId, GraphError> {
         let src = self.node(pre)?;
         if matches!(src.kind, NodeKind::Current(_)) {
             return Err(Self::wrong_role(src, "a presynaptic spike source"));
@@ -256,12 +284,17 @@ impl NetworkBuilder {
             });
         }
         connectivity.validate(&what, src.size, dst.size)?;
+        if let Some(stdp) = &plasticity {
+            stdp.validate(&what)?;
+            connectivity.check_weights_within(&what, stdp.w_min, stdp.w_max)?;
+        }
         let (pre, post) = (pre.index(), post.index);
         self.projections.push(ProjectionSpec {
             pre,
             post,
             connectivity,
             synapse,
+            plasticity,
         });
         Ok(ProjectionId {
             index: self.projections.len() - 1,
@@ -531,16 +564,28 @@ impl NetworkBuilder {
             }
             let post_block = block(sizes[p.post]);
             projection_index[i] = Some(projections.len());
+            let n_local = post_block.len();
+            let mut wiring = p
+                .connectivity
+                .compile(sizes[p.pre], sizes[p.post], post_block);
+            let mut plasticity = None;
+            if let Some(rule) = p.plasticity {
+                wiring = wiring.explicit(sizes[p.pre], n_local);
+                if let Wiring::Csr { offsets, post, .. } = &wiring {
+                    plasticity = Some(Box::new(Plasticity::new(
+                        rule, dt_s, offsets, post, n_local,
+                    )));
+                }
+            }
             let mut projection = RunningProjection {
                 pre,
                 post: runtime_index[p.post],
                 delay,
                 decay: (-dt_s / p.synapse.tau_s).exp(),
-                current: vec![0.0; post_block.len()],
-                wiring: p
-                    .connectivity
-                    .compile(sizes[p.pre], sizes[p.post], post_block),
+                current: vec![0.0; n_local],
+                wiring,
                 bound: f64::INFINITY,
+                plasticity,
             };
             let from_population = matches!(nodes[pre].kind, RunningKind::Population(_));
             projection.bound = projection.current_bound(sizes[p.pre], from_population);
@@ -627,6 +672,7 @@ impl NetworkBuilder {
             },
             exchange: ExchangeStats::default(),
             packed: Vec::new(),
+            projection_index,
         })
     }
 

@@ -70,6 +70,7 @@ mod builder;
 mod exchange;
 mod ids;
 mod input;
+mod inspect;
 mod network;
 mod readout;
 mod running;
@@ -93,7 +94,9 @@ pub use stepping::{
     CLOCK_SAMPLE_STEPS, CROSSOVER_FILE_NAME, Crossovers, DECISION_WINDOW_STEPS, EVENT_CHECK_STEPS,
     HYSTERESIS, PopulationStepping, Stepping, SteppingFileError, SteppingMode,
 };
-pub use synapse::{Connectivity, ExpSynapse, Synapse};
+pub use synapse::{
+    Connectivity, ExpSynapse, Stdp, Synapse, TraceInteraction, WeightDependence, Weights,
+};
 pub use weight::one_spike_weight;
 
 #[cfg(test)]

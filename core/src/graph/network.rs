@@ -69,6 +69,8 @@ pub struct Network {
     pub(super) exchange: ExchangeStats,
     /// This rank's message of one exchange (reused).
     pub(super) packed: Vec<u8>,
+    /// The run-time index of each of the builder's projections (`None` when pruned).
+    pub(super) projection_index: Vec<Option<usize>>,
 }
 
 impl Network {
@@ -233,8 +235,9 @@ impl Network {
         Ok(())
     }
 
-    /// Returns to time 0: sources rewound, populations and synaptic currents reset, readouts
-    /// begun anew on the next run.
+    /// Returns to time 0: sources rewound, populations and synaptic currents reset, plasticity
+    /// traces cleared, readouts begun anew on the next run. Weights stay as they are (what a
+    /// plastic projection learned is kept; [`set_weights`](Self::set_weights) restores others).
     pub fn reset(&mut self) {
         self.step = 0;
         self.begun = false;
@@ -253,6 +256,9 @@ impl Network {
         self.exchange = ExchangeStats::default();
         for p in &mut self.projections {
             p.current.iter_mut().for_each(|c| *c = 0.0);
+            if let Some(plasticity) = &mut p.plasticity {
+                plasticity.clear();
+            }
         }
     }
 
@@ -470,6 +476,7 @@ impl Network {
                 let h = &self.nodes[p.pre].history;
                 let spikes = h[((k - p.delay as u64) % h.len() as u64) as usize].indices();
                 p.deliver(spikes);
+                p.learn_from_pre(spikes, k);
                 let event =
                     |post: &usize| self.nodes[*post].active.as_ref().is_some_and(|a| a.event);
                 if let Some(post) = p.post.filter(event) {
@@ -580,6 +587,14 @@ impl Network {
                 if n.local.start > 0 {
                     n.history[slot].shift_indices(n.local.start as u32);
                 }
+            }
+        }
+        // 4b. plasticity: this step's postsynaptic spikes
+        for p in &mut self.projections {
+            if let (Some(_), Some(post)) = (&p.plasticity, p.post) {
+                let n = &self.nodes[post];
+                let spikes = n.history[(k % n.history.len() as u64) as usize].indices();
+                p.learn_from_post(spikes, n.local.start, k);
             }
         }
         for &p in &self.untargeted {

@@ -131,6 +131,30 @@ impl Connectivity {
         Ok(())
     }
 
+    /// Checks that every weight lies in `[w_min, w_max]` (a plastic projection's bounds).
+    pub(crate) fn check_weights_within(
+        &self,
+        what: &str,
+        w_min: f64,
+        w_max: f64,
+    ) -> Result<(), GraphError> {
+        let outside = |w: f64| !(w_min..=w_max).contains(&w);
+        let bad = match self {
+            Connectivity::OneToOne { weight }
+            | Connectivity::AllToAll { weight }
+            | Connectivity::Random { weight, .. } => outside(*weight).then_some(*weight),
+            Connectivity::Sparse(list) => list.iter().map(|s| s.weight).find(|&w| outside(w)),
+        };
+        match bad {
+            Some(value) => Err(GraphError::InvalidParameter {
+                what: format!("{what} initial weight"),
+                value,
+                expected: "within the STDP bounds [w_min, w_max]",
+            }),
+            None => Ok(()),
+        }
+    }
+
     /// Compiles into run-time wiring (random pairs are drawn here, only for needed projections),
     /// keeping only the synapses onto the postsynaptic neurons `post_block`, renumbered from
     /// `post_block.start` (the whole `0..n_post` in one process). The synapses kept are exactly

@@ -14,7 +14,13 @@
 mod connectivity;
 mod exp;
 mod projection;
+mod stdp;
+mod weights;
 
+pub(crate) use connectivity::Wiring;
 pub use connectivity::{Connectivity, Synapse};
 pub use exp::ExpSynapse;
 pub(crate) use projection::RunningProjection;
+pub(crate) use stdp::Plasticity;
+pub use stdp::{Stdp, TraceInteraction, WeightDependence};
+pub use weights::Weights;

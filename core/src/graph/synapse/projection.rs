@@ -3,6 +3,7 @@
 //! delivery, decay, the drain into a population's input and the bound on the currents.
 
 use super::connectivity::Wiring;
+use super::stdp::Plasticity;
 use crate::currents::{decay_and_flush, flush};
 
 /// A projection while running: wiring, delay, decay factor and the synaptic currents.
@@ -17,6 +18,8 @@ pub(crate) struct RunningProjection {
     pub current: Vec<f64>,
     /// A bound on `|current|` at every step ([`DecayingCurrents::bound`]).
     pub bound: f64,
+    /// The STDP of a plastic projection (whose wiring is then [`Wiring::Csr`]).
+    pub plasticity: Option<Box<Plasticity>>,
 }
 
 impl RunningProjection {
@@ -85,6 +88,32 @@ impl RunningProjection {
         }
     }
 
+    /// Plasticity of the presynaptic `spikes` arriving in step `k`, after their delivery
+    /// (see [`Stdp`](super::Stdp)); nothing for a fixed projection.
+    #[inline]
+    pub fn learn_from_pre(&mut self, spikes: &[u32], k: u64) {
+        if let (
+            Some(p),
+            Wiring::Csr {
+                offsets,
+                post,
+                weight,
+            },
+        ) = (&mut self.plasticity, &mut self.wiring)
+        {
+            p.on_pre(spikes, k, offsets, post, weight);
+        }
+    }
+
+    /// Plasticity of the target population's `spikes` of step `k` (whole-population indices;
+    /// this rank's neurons start at `first`).
+    #[inline]
+    pub fn learn_from_post(&mut self, spikes: &[u32], first: usize, k: u64) {
+        if let (Some(p), Wiring::Csr { weight, .. }) = (&mut self.plasticity, &mut self.wiring) {
+            p.on_post(spikes.iter().map(|&j| j as usize - first), k, weight);
+        }
+    }
+
     /// Calls `f` with every target neuron the presynaptic `spikes` reach (with repeats).
     #[inline]
     pub fn for_each_target(&self, spikes: &[u32], mut f: impl FnMut(u32)) {
@@ -112,21 +141,30 @@ impl RunningProjection {
         if !once_per_step || leak < (-40f64).exp2() {
             return f64::INFINITY;
         }
-        let most_onto_one = match &self.wiring {
-            Wiring::OneToOne(w) => w.abs(),
-            Wiring::AllToAll(w) => n_pre as f64 * w.abs(),
-            Wiring::Csr { post, weight, .. } => {
-                let mut sum = vec![0.0f64; self.current.len()];
-                post.iter()
-                    .zip(weight)
-                    .for_each(|(&j, w)| sum[j as usize] += w.abs());
-                sum.into_iter().fold(0.0, f64::max)
-            }
-            Wiring::UniformCsr { post, weight, .. } => {
+        let most_onto_one = match (&self.plasticity, &self.wiring) {
+            // Plastic weights move within their bounds.
+            (Some(p), Wiring::Csr { post, .. }) => {
                 let mut count = vec![0u32; self.current.len()];
                 post.iter().for_each(|&j| count[j as usize] += 1);
-                count.into_iter().max().unwrap_or(0) as f64 * weight.abs()
+                let w = p.rule.w_min.abs().max(p.rule.w_max.abs());
+                count.into_iter().max().unwrap_or(0) as f64 * w
             }
+            (_, wiring) => match wiring {
+                Wiring::OneToOne(w) => w.abs(),
+                Wiring::AllToAll(w) => n_pre as f64 * w.abs(),
+                Wiring::Csr { post, weight, .. } => {
+                    let mut sum = vec![0.0f64; self.current.len()];
+                    post.iter()
+                        .zip(weight)
+                        .for_each(|(&j, w)| sum[j as usize] += w.abs());
+                    sum.into_iter().fold(0.0, f64::max)
+                }
+                Wiring::UniformCsr { post, weight, .. } => {
+                    let mut count = vec![0u32; self.current.len()];
+                    post.iter().for_each(|&j| count[j as usize] += 1);
+                    count.into_iter().max().unwrap_or(0) as f64 * weight.abs()
+                }
+            },
         };
         4.0 * most_onto_one / leak
     }
@@ -157,6 +195,7 @@ mod tests {
             wiring: Wiring::OneToOne(1.0),
             current: vec![0.0; 2],
             bound: f64::INFINITY,
+            plasticity: None,
         };
         p.deliver(&[1]);
         for _ in 0..10 {
@@ -186,6 +225,7 @@ mod tests {
             wiring: connectivity.compile(n_pre, n_post, 0..n_post),
             current: vec![0.0; n_post],
             bound: f64::INFINITY,
+            plasticity: None,
         }
     }
 
