@@ -164,6 +164,22 @@ pub enum GraphError {
         /// What was asked for.
         what: String,
     },
+    /// No node has this name.
+    #[error("no node is named '{0}'")]
+    UnknownName(String),
+    /// A node, model or source that cannot be saved or described (see
+    /// [`Network::save`](crate::Network::save)).
+    #[error("{node} cannot be saved or described: {reason}")]
+    NotSaveable {
+        /// The node.
+        node: String,
+        /// Why.
+        reason: String,
+    },
+    /// A network description (or saved network) that does not describe a network this
+    /// version builds: another format or version, a reference to a node that does not exist.
+    #[error("network description: {0}")]
+    Description(String),
     /// A projection that is not plastic, asked for something only plastic ones have.
     #[error("projection {projection} is not plastic (connect it with connect_plastic)")]
     NotPlastic {

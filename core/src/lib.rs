@@ -66,12 +66,14 @@ pub use error::{
 pub use event::{Event, EventBuffer};
 pub use graph::{
     Connectivity, Crossovers, CurrentId, CurrentInput, DecayingCurrents, ExpSynapse, InputId,
-    Network, NetworkBuilder, NetworkConfig, NodeId, PoissonInput, PopulationId, PopulationStepping,
-    ProjectionId, Readout, ReadoutContext, ReadoutId, ReadoutSource, RunSummary, SpikeArrayInput,
+    NETWORK_FILE_MAGIC, NETWORK_FILE_VERSION, NETWORK_FORMAT, NETWORK_VERSION, Network,
+    NetworkBuilder, NetworkConfig, NetworkDescription, NetworkFileError, NodeDescription, NodeId,
+    PoissonInput, PopulationId, PopulationStepping, ProjectionDescription, ProjectionId, Readout,
+    ReadoutContext, ReadoutId, ReadoutSource, RunSummary, SourceDescription, SpikeArrayInput,
     SpikeRecorder, SpikeSource, StateRecorder, StateSampler, Stdp, StepView, Stepping,
     SteppingFileError, SteppingMode, Synapse, SynapticCurrentSampler, SynapticDrive,
     SynapticTraceRecorder, TraceInteraction, TraceRecorder, TraceSampler, WeightDependence,
-    Weights, one_spike_weight,
+    Weights, WiringDescription, one_spike_weight,
 };
 pub use io::{AtomicDir, AtomicFile, AtomicFileSet, Replace};
 pub use knn::{Decision, FittedKnn, Knn};

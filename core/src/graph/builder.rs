@@ -9,6 +9,7 @@ use super::input::{CurrentInput, SpikeSource};
 use super::network::{DEFAULT_EPOCH_STEPS, ExchangeStats, Network, Partition};
 use super::readout::{Readout, SpikeRecorder, StateRecorder, SynapticTraceRecorder};
 use super::running::{RunningKind, RunningNode, RunningSource};
+use super::saved::NetworkState;
 use super::stepping::{EventStepping, Stepping};
 use super::synapse::{Connectivity, ExpSynapse, Plasticity, RunningProjection, Stdp, Wiring};
 use crate::error::GraphError;
@@ -60,6 +61,8 @@ pub struct NetworkBuilder {
     injections: Vec<(usize, usize)>,
     readouts: Vec<(ReadoutSource, Box<dyn Readout>)>,
     stepping: Stepping,
+    /// The time step and state of the saved network this builder was loaded from.
+    pub(super) saved: Option<(f64, Box<NetworkState>)>,
 }
 
 impl Default for NetworkBuilder {
@@ -78,6 +81,7 @@ impl NetworkBuilder {
             injections: Vec::new(),
             readouts: Vec::new(),
             stepping: Stepping::Clock,
+            saved: None,
         }
     }
 
@@ -155,12 +159,68 @@ impl NetworkBuilder {
         name: &str,
         model: impl NeuronModel + 'static,
     ) -> Result<PopulationId, GraphError> {
+        self.add_boxed_population(name, Box::new(model))
+    }
+
+    /// [`add_population`](Self::add_population) of a boxed model (as a
+    /// [`ModelFactory`](crate::ModelFactory) makes them).
+    pub fn add_boxed_population(
+        &mut self,
+        name: &str,
+        model: Box<dyn NeuronModel>,
+    ) -> Result<PopulationId, GraphError> {
         let size = model.len();
-        self.add(name, size, NodeKind::Population(Box::new(model)))
+        self.add(name, size, NodeKind::Population(model))
             .map(|n| PopulationId {
                 index: n.index,
                 brand: n.brand,
             })
+    }
+
+    /// The node named `name` and whether it is a population, a spike source or a current
+    /// source ([`GraphError::UnknownName`] when there is none).
+    fn named(&self, name: &str) -> Result<(usize, &'static str), GraphError> {
+        self.nodes
+            .iter()
+            .position(|n| n.name == name)
+            .map(|i| (i, self.nodes[i].kind.describe()))
+            .ok_or_else(|| GraphError::UnknownName(name.to_owned()))
+    }
+
+    /// The population named `name` (e.g. in a loaded network: [`load`](Self::load)).
+    pub fn population(&self, name: &str) -> Result<PopulationId, GraphError> {
+        match self.named(name)? {
+            (index, "population") => Ok(PopulationId {
+                index,
+                brand: self.brand,
+            }),
+            (index, _) => Err(Self::wrong_role(&self.nodes[index], "used as a population")),
+        }
+    }
+
+    /// The spike source named `name`.
+    pub fn spike_input(&self, name: &str) -> Result<InputId, GraphError> {
+        match self.named(name)? {
+            (index, "spike source") => Ok(InputId {
+                index,
+                brand: self.brand,
+            }),
+            (index, _) => Err(Self::wrong_role(
+                &self.nodes[index],
+                "used as a spike source",
+            )),
+        }
+    }
+
+    /// Every projection, in the order they were connected (a loaded network's: in the order
+    /// of its description).
+    pub fn projections(&self) -> Vec<ProjectionId> {
+        (0..self.projections.len())
+            .map(|index| ProjectionId {
+                index,
+                brand: self.brand,
+            })
+            .collect()
     }
 
     /// Adds a spike source (recorded trains, Poisson, or your own [`SpikeSource`]).
@@ -169,8 +229,17 @@ impl NetworkBuilder {
         name: &str,
         source: impl SpikeSource + 'static,
     ) -> Result<InputId, GraphError> {
+        self.add_boxed_spike_input(name, Box::new(source))
+    }
+
+    /// [`add_spike_input`](Self::add_spike_input) of a boxed source.
+    pub fn add_boxed_spike_input(
+        &mut self,
+        name: &str,
+        source: Box<dyn SpikeSource>,
+    ) -> Result<InputId, GraphError> {
         let size = source.len();
-        self.add(name, size, NodeKind::Spikes(Box::new(source)))
+        self.add(name, size, NodeKind::Spikes(source))
             .map(|n| InputId {
                 index: n.index,
                 brand: n.brand,
@@ -252,7 +321,7 @@ impl NetworkBuilder {
         self.add_projection(pre, post, connectivity, synapse, Some(stdp))
     }
 
-    fn add_projection(
+    pub(super) fn add_projection(
         &mut self,
         pre: impl SpikingNode,
         post: PopulationId,
@@ -432,7 +501,7 @@ impl NetworkBuilder {
     /// With `size == 1` this is [`build`](Self::build). `rank ≥ size` or `size == 0` is a
     /// [`GraphError::InvalidPartition`].
     pub fn build_partitioned(
-        self,
+        mut self,
         config: NetworkConfig,
         rank: usize,
         size: usize,
@@ -451,6 +520,22 @@ impl NetworkBuilder {
         let partitioned = size > 1;
         if partitioned {
             self.check_partitionable_readouts(size)?;
+        }
+        let saved = self.saved.take();
+        if let Some((saved_dt, _)) = &saved {
+            if *saved_dt != dt_s {
+                return Err(GraphError::InvalidParameter {
+                    what: format!("NetworkConfig dt_s of a network saved at dt = {saved_dt} s"),
+                    value: dt_s,
+                    expected: "the saved time step (NetworkBuilder::saved_dt_s)",
+                });
+            }
+            if partitioned {
+                return Err(GraphError::NotSaveable {
+                    node: "a saved network".into(),
+                    reason: "it continues in one process only (build it with build)".into(),
+                });
+            }
         }
         // Walk back from the readouts.
         let mut node_needed = vec![false; self.nodes.len()];
@@ -489,6 +574,7 @@ impl NetworkBuilder {
         let mut runtime_index = vec![None; self.nodes.len()];
         let mut nodes = Vec::new();
         let mut currents = Vec::new();
+        let mut current_names = Vec::new();
         let mut pruned = Vec::new();
         for (i, spec) in self.nodes.into_iter().enumerate() {
             if !node_needed[i] {
@@ -499,6 +585,7 @@ impl NetworkBuilder {
             let kind = match spec.kind {
                 NodeKind::Current(c) => {
                     runtime_index[i] = Some(currents.len());
+                    current_names.push(spec.name);
                     currents.push(if partitioned {
                         c.restrict(block(c.len()))
                     } else {
@@ -581,6 +668,7 @@ impl NetworkBuilder {
                 pre,
                 post: runtime_index[p.post],
                 delay,
+                tau_s: p.synapse.tau_s,
                 decay: (-dt_s / p.synapse.tau_s).exp(),
                 current: vec![0.0; n_local],
                 wiring,
@@ -650,7 +738,7 @@ impl NetworkBuilder {
         } else {
             Vec::new()
         };
-        Ok(Network {
+        let mut network = Network {
             brand: self.brand,
             dt_s,
             step: 0,
@@ -673,7 +761,13 @@ impl NetworkBuilder {
             exchange: ExchangeStats::default(),
             packed: Vec::new(),
             projection_index,
-        })
+            current_names,
+            stepping: self.stepping,
+        };
+        if let Some((_, state)) = saved {
+            network.restore(&state)?;
+        }
+        Ok(network)
     }
 
     /// `model` cut to `block` (see [`NeuronModel::restrict`]).

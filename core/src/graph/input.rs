@@ -25,6 +25,67 @@ pub trait SpikeSource: Send {
 
     /// Pushes the spikes of step `step` (covering `[step·dt, (step+1)·dt)`) into `out`.
     fn emit(&mut self, step: u64, out: &mut SpikeBuffer);
+
+    /// What this source is, for saving or describing its network
+    /// ([`Network::save`](crate::Network::save)); `None` (the default): it cannot be saved.
+    fn describe(&self) -> Option<SourceDescription> {
+        None
+    }
+
+    /// Where this prepared source is in its stream beyond what the step number tells (a
+    /// random generator's position), for saving mid-run; `None` (the default) when it cannot
+    /// be saved.
+    fn position(&self) -> Option<Vec<u64>> {
+        None
+    }
+
+    /// Continues this prepared source (made from its description) from `position` as of step
+    /// `step`, so that it emits what the saved one would have. The default refuses.
+    fn seek(&mut self, step: u64, position: &[u64]) -> Result<(), GraphError> {
+        let _ = (step, position);
+        Err(GraphError::NotSaveable {
+            node: "a spike source".into(),
+            reason: "it has no saved position".into(),
+        })
+    }
+}
+
+/// What a built-in spike source is: enough to make it anew ([`SourceDescription::make`]).
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum SourceDescription {
+    /// A [`SpikeArrayInput`]: spike times (s) per channel.
+    SpikeArray {
+        /// One train per channel, ascending times.
+        trains: Vec<Vec<f64>>,
+    },
+    /// A [`PoissonInput`].
+    Poisson {
+        /// Channels.
+        size: usize,
+        /// Rate of every channel (Hz).
+        rate_hz: f64,
+        /// Seed of its generator.
+        seed: u64,
+    },
+}
+
+impl SourceDescription {
+    /// The source described (unprepared). Spike trains that are not valid (a time not finite,
+    /// out of order) are a [`GraphError::Description`] naming `node`.
+    pub fn make(&self, node: &str) -> Result<Box<dyn SpikeSource>, GraphError> {
+        Ok(match self {
+            SourceDescription::SpikeArray { trains } => Box::new(SpikeArrayInput::new(
+                MultiSpikeTrain::from_channels(trains.clone())
+                    .map_err(|e| GraphError::Description(format!("spike source '{node}': {e}")))?,
+            )),
+            SourceDescription::Poisson {
+                size,
+                rate_hz,
+                seed,
+            } => Box::new(PoissonInput::new(*size, *rate_hz, *seed)),
+        })
+    }
 }
 
 /// Tolerance on `t/dt` when assigning a spike time to a step: 0.3 s / 0.1 s evaluates to
@@ -80,6 +141,24 @@ impl SpikeSource for SpikeArrayInput {
 
     fn reset(&mut self) {
         self.cursor = 0;
+    }
+
+    fn describe(&self) -> Option<SourceDescription> {
+        Some(SourceDescription::SpikeArray {
+            trains: (0..self.trains.n_channels())
+                .map(|c| self.trains.channel(c).to_vec())
+                .collect(),
+        })
+    }
+
+    fn position(&self) -> Option<Vec<u64>> {
+        Some(Vec::new())
+    }
+
+    /// The position is the step's: the first spike scheduled at or after `step`.
+    fn seek(&mut self, step: u64, _position: &[u64]) -> Result<(), GraphError> {
+        self.cursor = self.schedule.partition_point(|&(k, _, _)| k < step);
+        Ok(())
     }
 
     fn emit(&mut self, step: u64, out: &mut SpikeBuffer) {
@@ -147,6 +226,33 @@ impl SpikeSource for PoissonInput {
         self.rng = ChaCha8Rng::seed_from_u64(self.seed);
     }
 
+    fn describe(&self) -> Option<SourceDescription> {
+        Some(SourceDescription::Poisson {
+            size: self.n,
+            rate_hz: self.rate_hz,
+            seed: self.seed,
+        })
+    }
+
+    /// The generator's word position (128 bits, as two `u64`, low first).
+    fn position(&self) -> Option<Vec<u64>> {
+        let w = self.rng.get_word_pos();
+        Some(vec![w as u64, (w >> 64) as u64])
+    }
+
+    fn seek(&mut self, _step: u64, position: &[u64]) -> Result<(), GraphError> {
+        let [low, high] = position else {
+            return Err(GraphError::Description(format!(
+                "a Poisson source's position is 2 numbers, the saved one has {}",
+                position.len()
+            )));
+        };
+        self.rng = ChaCha8Rng::seed_from_u64(self.seed);
+        self.rng
+            .set_word_pos(u128::from(*low) | (u128::from(*high) << 64));
+        Ok(())
+    }
+
     fn emit(&mut self, _step: u64, out: &mut SpikeBuffer) {
         for i in 0..self.n {
             if self.rng.random::<f64>() < self.p {
@@ -157,7 +263,8 @@ impl SpikeSource for PoissonInput {
 }
 
 /// A current injected directly into a population (no synapse), in the model's input units.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
 pub enum CurrentInput {
     /// A constant current per neuron (one value is broadcast to every neuron).
     Constant {

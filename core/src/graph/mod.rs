@@ -67,6 +67,7 @@
 //! ```
 
 mod builder;
+mod description;
 mod exchange;
 mod ids;
 mod input;
@@ -74,22 +75,28 @@ mod inspect;
 mod network;
 mod readout;
 mod running;
+mod saved;
 mod stepping;
 mod synapse;
 mod weight;
 
 pub use crate::currents::{DecayingCurrents, FLUSH_TO_ZERO, SynapticDrive};
 pub use builder::NetworkBuilder;
+pub use description::{
+    NETWORK_FORMAT, NETWORK_VERSION, NetworkDescription, NodeDescription, ProjectionDescription,
+    WiringDescription,
+};
 pub use ids::{
     CurrentId, InputId, NetworkConfig, NodeId, PopulationId, ProjectionId, ReadoutId,
     ReadoutSource, SpikingNode,
 };
-pub use input::{CurrentInput, PoissonInput, SpikeArrayInput, SpikeSource};
+pub use input::{CurrentInput, PoissonInput, SourceDescription, SpikeArrayInput, SpikeSource};
 pub use network::{DEFAULT_EPOCH_STEPS, Network, RunSummary};
 pub use readout::{
     Readout, ReadoutContext, SpikeRecorder, StateRecorder, StateSampler, StepView,
     SynapticCurrentSampler, SynapticTraceRecorder, TraceRecorder, TraceSampler,
 };
+pub use saved::{NETWORK_FILE_MAGIC, NETWORK_FILE_VERSION, NetworkFileError};
 pub use stepping::{
     CLOCK_SAMPLE_STEPS, CROSSOVER_FILE_NAME, Crossovers, DECISION_WINDOW_STEPS, EVENT_CHECK_STEPS,
     HYSTERESIS, PopulationStepping, Stepping, SteppingFileError, SteppingMode,

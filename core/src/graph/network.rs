@@ -71,6 +71,10 @@ pub struct Network {
     pub(super) packed: Vec<u8>,
     /// The run-time index of each of the builder's projections (`None` when pruned).
     pub(super) projection_index: Vec<Option<usize>>,
+    /// The names of the kept current sources (`currents`' order).
+    pub(super) current_names: Vec<String>,
+    /// How the populations are stepped (as the builder was told).
+    pub(super) stepping: super::Stepping,
 }
 
 impl Network {
@@ -643,7 +647,7 @@ impl Network {
 
 /// The neurons `0..n` with a nonzero synaptic current in one of the projections `incoming`,
 /// ascending.
-fn active_neurons<'a>(
+pub(super) fn active_neurons<'a>(
     projections: &'a [RunningProjection],
     incoming: &'a [usize],
     n: usize,

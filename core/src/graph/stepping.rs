@@ -83,7 +83,8 @@ pub const CROSSOVER_FILE_NAME: &str = "stepping-crossovers.json";
 ///
 /// [`NeuronModel::settle`]: crate::NeuronModel::settle
 /// [`NeuronModel::resume_event_driven`]: crate::NeuronModel::resume_event_driven
-#[derive(Debug, Clone, Default, PartialEq)]
+#[derive(Debug, Clone, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
 pub enum Stepping {
     /// Every neuron every step.
     #[default]
@@ -354,6 +355,44 @@ impl EventStepping {
     /// The mean activity since build or reset.
     pub(super) fn activity(&self) -> Option<f64> {
         (self.total.1 > 0).then(|| self.total.0 / self.total.1 as f64)
+    }
+
+    /// The mode and counts, for a saved network (the active set follows from the currents).
+    pub(super) fn saved(&self) -> SteppingState {
+        SteppingState {
+            event: self.event,
+            window: self.window,
+            window_from: self.window_from,
+            total: self.total,
+            switches: self.switches,
+        }
+    }
+
+    /// Takes the mode and counts of a saved network.
+    pub(super) fn restore(&mut self, s: &SteppingState) {
+        self.event = s.event;
+        self.window = s.window;
+        self.window_from = s.window_from;
+        self.total = s.total;
+        self.switches = s.switches;
+    }
+}
+
+/// A population's stepping mode and activity counts in a saved network.
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct SteppingState {
+    event: bool,
+    window: (f64, u64),
+    window_from: u64,
+    total: (f64, u64),
+    switches: u64,
+}
+
+impl SteppingState {
+    /// `true` when the population was stepped event-driven.
+    pub(super) fn event(&self) -> bool {
+        self.event
     }
 }
 

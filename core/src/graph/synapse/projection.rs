@@ -13,6 +13,8 @@ pub(crate) struct RunningProjection {
     /// The target node (runtime index), `None` when pruned (kept for a trace readout).
     pub post: Option<usize>,
     pub delay: usize,
+    /// The synaptic time constant τ_syn (s); `decay` is `e^(−dt/τ_syn)`.
+    pub tau_s: f64,
     pub decay: f64,
     pub wiring: Wiring,
     pub current: Vec<f64>,
@@ -191,6 +193,7 @@ mod tests {
             pre: 0,
             post: None,
             delay: 0,
+            tau_s: 10.0,
             decay: (-0.1f64).exp(),
             wiring: Wiring::OneToOne(1.0),
             current: vec![0.0; 2],
@@ -221,6 +224,7 @@ mod tests {
             pre: 0,
             post: Some(1),
             delay: 1,
+            tau_s: tau,
             decay: (-1e-4 / tau).exp(),
             wiring: connectivity.compile(n_pre, n_post, 0..n_post),
             current: vec![0.0; n_post],

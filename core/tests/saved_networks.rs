@@ -1,0 +1,426 @@
+//! Saved networks ([`Network::save`], [`NetworkBuilder::load`]) and descriptions
+//! ([`Network::describe`], [`NetworkBuilder::from_description`]) with a small saveable model:
+//! a loaded network continues exactly as the uninterrupted one, and a damaged or foreign file
+//! is a typed error naming it, never a different network.
+
+use neurotac_core::{
+    Connectivity, CurrentInput, ExpSynapse, GraphError, ModelDescription, ModelError, ModelFactory,
+    ModelState, MultiSpikeTrain, Network, NetworkBuilder, NetworkConfig, NetworkDescription,
+    NetworkFileError, NeuronModel, OneProcess, PoissonInput, PopulationId, ProjectionId, ReadoutId,
+    SpikeArrayInput, SpikeBuffer, SpikeRecorder, Stdp,
+};
+use std::path::Path;
+
+const DT: f64 = 1e-4;
+
+/// A leaky integrator `v ← v·e^(−dt/τ) + input`, a spike and reset to 0 at `v ≥ 1`.
+struct Leaky {
+    n: usize,
+    tau_s: f64,
+    decay: f64,
+    v: Vec<f64>,
+}
+
+impl Leaky {
+    fn new(n: usize, tau_s: f64) -> Self {
+        Self {
+            n,
+            tau_s,
+            decay: 0.0,
+            v: Vec::new(),
+        }
+    }
+}
+
+impl NeuronModel for Leaky {
+    fn model_name(&self) -> &'static str {
+        "leaky"
+    }
+    fn len(&self) -> usize {
+        self.n
+    }
+    fn variables(&self) -> &'static [&'static str] {
+        &["v"]
+    }
+    fn prepare(&mut self, dt_s: f64) -> Result<(), ModelError> {
+        self.decay = (-dt_s / self.tau_s).exp();
+        self.v = vec![0.0; self.n];
+        Ok(())
+    }
+    fn reset(&mut self) {
+        self.v.iter_mut().for_each(|v| *v = 0.0);
+    }
+    fn step(&mut self, current: &[f64], spikes: &mut SpikeBuffer) {
+        for (i, (v, &x)) in self.v.iter_mut().zip(current).enumerate() {
+            *v = *v * self.decay + x;
+            if *v >= 1.0 {
+                *v = 0.0;
+                spikes.push(i as u32);
+            }
+        }
+    }
+    fn read_variable(&self, _var: usize, neurons: &[u32], out: &mut Vec<f64>) {
+        out.extend(neurons.iter().map(|&i| self.v[i as usize]));
+    }
+    fn describe(&self) -> Option<ModelDescription> {
+        Some(ModelDescription {
+            model: "leaky".into(),
+            size: self.n,
+            settings: serde_json::json!({ "tau_s": self.tau_s }),
+        })
+    }
+    fn save_state(&self) -> Option<ModelState> {
+        Some(ModelState {
+            arrays: vec![("v".into(), self.v.clone())],
+            ..ModelState::default()
+        })
+    }
+    fn restore_state(&mut self, state: &ModelState) -> Result<(), ModelError> {
+        let v = state.array("leaky", "v", self.n)?;
+        self.v.copy_from_slice(v);
+        Ok(())
+    }
+}
+
+struct LeakyFactory;
+
+impl ModelFactory for LeakyFactory {
+    fn make(&self, d: &ModelDescription) -> Result<Box<dyn NeuronModel>, ModelError> {
+        let tau = d.settings["tau_s"].as_f64();
+        match (d.model.as_str(), tau) {
+            ("leaky", Some(tau)) => Ok(Box::new(Leaky::new(d.size, tau))),
+            _ => Err(ModelError::UnknownModel {
+                model: d.model.clone(),
+                reason: "not a leaky model with tau_s".into(),
+            }),
+        }
+    }
+}
+
+/// The ids of [`network`]'s parts a test reads.
+struct Parts {
+    plastic: ProjectionId,
+    hidden: PopulationId,
+    spikes: ReadoutId<SpikeRecorder>,
+}
+
+/// Poisson and recorded inputs → a plastic layer → (delay 3) → a fixed layer with a current.
+fn builder() -> (NetworkBuilder, Parts) {
+    let mut b = NetworkBuilder::new();
+    let noise = b
+        .add_spike_input("noise", PoissonInput::new(30, 40.0, 5))
+        .unwrap();
+    let trains: Vec<Vec<f64>> = (0..4)
+        .map(|c| {
+            (0..50)
+                .map(|k| 0.003 * k as f64 + 1e-4 * c as f64)
+                .collect()
+        })
+        .collect();
+    let taxels = b
+        .add_spike_input(
+            "taxels",
+            SpikeArrayInput::new(MultiSpikeTrain::from_channels(trains).unwrap()),
+        )
+        .unwrap();
+    let hidden = b.add_population("hidden", Leaky::new(12, 0.02)).unwrap();
+    let out = b.add_population("out", Leaky::new(3, 0.01)).unwrap();
+    let plastic = b
+        .connect_plastic(
+            noise,
+            hidden,
+            Connectivity::Random {
+                probability: 0.5,
+                weight: 0.2,
+                seed: 1,
+            },
+            ExpSynapse::new(5e-3),
+            Stdp::additive(0.02, 0.02, 0.01, 0.011, 0.4),
+        )
+        .unwrap();
+    b.connect(
+        taxels,
+        hidden,
+        Connectivity::AllToAll { weight: 0.05 },
+        ExpSynapse::new(3e-3).with_delay(0),
+    )
+    .unwrap();
+    b.connect(
+        hidden,
+        out,
+        Connectivity::AllToAll { weight: 0.3 },
+        ExpSynapse::new(4e-3).with_delay(3),
+    )
+    .unwrap();
+    let drive = b
+        .add_current_input("drive", CurrentInput::constant(0.001))
+        .unwrap();
+    b.inject(drive, out).unwrap();
+    let spikes = b.record_spikes(out).unwrap();
+    (
+        b,
+        Parts {
+            plastic,
+            hidden,
+            spikes,
+        },
+    )
+}
+
+fn network() -> (Network, Parts) {
+    let (b, parts) = builder();
+    (b.build(NetworkConfig { dt_s: DT }).unwrap(), parts)
+}
+
+/// A network saved after `first_s` and loaded, with its output spikes recorded, and the
+/// ids of the loaded parts.
+fn saved_and_loaded(path: &Path, first_s: f64) -> (Network, Parts) {
+    let (mut first, _) = network();
+    first.run(first_s, &OneProcess).unwrap();
+    first.save(path).unwrap();
+    let mut b = NetworkBuilder::load(path, &LeakyFactory).unwrap();
+    assert_eq!(b.saved_dt_s(), Some(DT));
+    let parts = Parts {
+        plastic: b.projections()[0],
+        hidden: b.population("hidden").unwrap(),
+        spikes: b.record_spikes(b.population("out").unwrap()).unwrap(),
+    };
+    (b.build(NetworkConfig { dt_s: DT }).unwrap(), parts)
+}
+
+#[test]
+fn a_loaded_network_continues_as_the_uninterrupted_one_bit_for_bit() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("net.ntnet");
+    let (mut whole, w) = network();
+    whole.run(0.3, &OneProcess).unwrap();
+    let (mut second, s) = saved_and_loaded(&path, 0.15);
+    assert_eq!(second.steps_done(), 1500);
+    second.run(0.15, &OneProcess).unwrap();
+
+    let expected: Vec<(u32, f64)> = (whole.readout(w.spikes).unwrap().spikes().iter().copied())
+        .filter(|s| s.1 > 0.15 + DT / 2.0)
+        .collect();
+    assert!(
+        expected.len() > 10,
+        "the output layer spikes in the second half"
+    );
+    assert_eq!(
+        second.readout(s.spikes).unwrap().spikes(),
+        &expected[..],
+        "the spikes after the save"
+    );
+    assert_eq!(
+        second.weights(s.plastic).unwrap(),
+        whole.weights(w.plastic).unwrap(),
+        "plastic weights"
+    );
+    assert_ne!(
+        whole.weights(w.plastic).unwrap().weight,
+        vec![0.2; 180],
+        "the weights learned"
+    );
+    let bits = |v: Vec<f64>| v.into_iter().map(f64::to_bits).collect::<Vec<_>>();
+    assert_eq!(
+        bits(second.state(s.hidden, "v").unwrap()),
+        bits(whole.state(w.hidden, "v").unwrap())
+    );
+}
+
+#[test]
+fn a_description_through_json_builds_the_same_network() {
+    let (mut first, f) = network();
+    first.run(0.1, &OneProcess).unwrap();
+    // Through JSON (what the Python package reads and writes), the network as it is now —
+    // learned weights included — built afresh from step 0.
+    let json = serde_json::to_string(&first.describe().unwrap()).unwrap();
+    let description: NetworkDescription = serde_json::from_str(&json).unwrap();
+    assert_eq!(description, first.describe().unwrap());
+    let mut b = NetworkBuilder::from_description(&description, &LeakyFactory).unwrap();
+    let plastic = b.projections()[0];
+    b.record_spikes(b.population("out").unwrap()).unwrap();
+    let rebuilt = b.build(NetworkConfig { dt_s: DT }).unwrap();
+    assert_eq!(rebuilt.steps_done(), 0);
+    assert_eq!(
+        rebuilt.weights(plastic).unwrap(),
+        first.weights(f.plastic).unwrap()
+    );
+    assert!(
+        json.contains("\"kind\":\"population\"") && json.contains("\"sparse\""),
+        "{json:.300}"
+    );
+    // A model the factory does not make is refused, naming the population.
+    let mut foreign = description.clone();
+    if let neurotac_core::NodeDescription::Population { model, .. } = &mut foreign.nodes[2] {
+        model.model = "qif".into();
+    }
+    let e = NetworkBuilder::from_description(&foreign, &LeakyFactory)
+        .err()
+        .unwrap();
+    assert!(e.to_string().contains("hidden"), "{e}");
+    // So is a newer version.
+    let newer = NetworkDescription {
+        version: 99,
+        ..description
+    };
+    let e = NetworkBuilder::from_description(&newer, &LeakyFactory)
+        .err()
+        .unwrap();
+    assert!(
+        matches!(e, GraphError::Description(_)) && e.to_string().contains("99"),
+        "{e}"
+    );
+}
+
+/// `bytes` with a fresh CRC-32 in their last 4 bytes.
+fn with_checksum(mut bytes: Vec<u8>) -> Vec<u8> {
+    let n = bytes.len() - 4;
+    let crc = crc32fast::hash(&bytes[..n]);
+    bytes[n..].copy_from_slice(&crc.to_le_bytes());
+    bytes
+}
+
+/// The saved file with its body (CBOR) changed by `edit`, length and checksum made right.
+fn with_body(file: &[u8], edit: impl FnOnce(&mut ciborium::Value)) -> Vec<u8> {
+    let mut body: ciborium::Value = ciborium::de::from_reader(&file[20..file.len() - 4]).unwrap();
+    edit(&mut body);
+    let mut encoded = Vec::new();
+    ciborium::ser::into_writer(&body, &mut encoded).unwrap();
+    let mut out = file[..12].to_vec();
+    out.extend((encoded.len() as u64).to_le_bytes());
+    out.extend(encoded);
+    out.extend([0; 4]);
+    with_checksum(out)
+}
+
+/// The map entry `key` of CBOR map `v`.
+fn entry<'a>(v: &'a mut ciborium::Value, key: &str) -> &'a mut ciborium::Value {
+    let ciborium::Value::Map(m) = v else {
+        panic!("not a map")
+    };
+    &mut m
+        .iter_mut()
+        .find(|(k, _)| k.as_text() == Some(key))
+        .unwrap()
+        .1
+}
+
+fn load(bytes: &[u8], path: &Path) -> Result<NetworkBuilder, NetworkFileError> {
+    std::fs::write(path, bytes).unwrap();
+    NetworkBuilder::load(path, &LeakyFactory)
+}
+
+#[test]
+fn a_damaged_or_foreign_file_is_a_typed_error_naming_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let good = dir.path().join("good.ntnet");
+    let (mut net, _) = network();
+    net.run(0.05, &OneProcess).unwrap();
+    net.save(&good).unwrap();
+    let file = std::fs::read(&good).unwrap();
+    let bad = dir.path().join("bad.ntnet");
+    let named = |e: &NetworkFileError| e.to_string().contains(&bad.display().to_string());
+    // Cut anywhere.
+    for len in (0..file.len()).step_by(7).chain([file.len() - 1]) {
+        let e = load(&file[..len], &bad)
+            .err()
+            .unwrap_or_else(|| panic!("cut at {len} loaded"));
+        assert!(named(&e), "{e}");
+        assert!(
+            matches!(
+                e,
+                NetworkFileError::NotANetwork { .. } | NetworkFileError::Length { .. }
+            ),
+            "cut at {len}: {e}"
+        );
+    }
+    // A flipped bit anywhere.
+    for pos in (0..file.len()).step_by(11) {
+        let mut flipped = file.clone();
+        flipped[pos] ^= 1 << (pos % 8);
+        let e = load(&flipped, &bad)
+            .err()
+            .unwrap_or_else(|| panic!("bit flipped at byte {pos} loaded"));
+        assert!(named(&e), "{e}");
+    }
+    // From a future version.
+    let mut future = file.clone();
+    future[8..12].copy_from_slice(&2u32.to_le_bytes());
+    let e = load(&with_checksum(future), &bad).err().unwrap();
+    assert!(
+        matches!(e, NetworkFileError::Version { found: 2, .. }) && e.to_string().contains("newer"),
+        "{e}"
+    );
+    // Not a network at all.
+    let e = load(b"{\"crossovers\": {}}", &bad).err().unwrap();
+    assert!(matches!(e, NetworkFileError::NotANetwork { .. }), "{e}");
+    // A body that is not a saved network (its checksum right).
+    let e = load(
+        &with_body(&file, |v| *v = ciborium::Value::Text("hello".into())),
+        &bad,
+    )
+    .err()
+    .unwrap();
+    assert!(
+        matches!(e, NetworkFileError::Decode { .. }) && named(&e),
+        "{e}"
+    );
+    // A graph that does not validate: a projection onto a node that does not exist, a delay 0
+    // between populations.
+    let nowhere = with_body(&file, |v| {
+        let p = entry(entry(v, "description"), "projections");
+        let ciborium::Value::Array(list) = p else {
+            panic!()
+        };
+        *entry(&mut list[1], "post") = ciborium::Value::Text("nowhere".into());
+    });
+    let e = load(&nowhere, &bad).err().unwrap();
+    assert!(
+        matches!(e, NetworkFileError::Graph { .. }) && e.to_string().contains("nowhere"),
+        "{e}"
+    );
+    let instant = with_body(&file, |v| {
+        let p = entry(entry(v, "description"), "projections");
+        let ciborium::Value::Array(list) = p else {
+            panic!()
+        };
+        *entry(&mut list[2], "delay_steps") = ciborium::Value::Integer(0.into());
+    });
+    let e = load(&instant, &bad).err().unwrap();
+    assert!(e.to_string().contains("delay_steps"), "{e}");
+    // A state that does not fit its model: refused at build, nothing built.
+    let short = with_body(&file, |v| {
+        let nodes = entry(entry(v, "state"), "nodes");
+        let ciborium::Value::Array(list) = nodes else {
+            panic!()
+        };
+        let arrays = entry(entry(&mut list[2], "model"), "arrays");
+        let ciborium::Value::Array(arrays) = arrays else {
+            panic!()
+        };
+        let ciborium::Value::Array(pair) = &mut arrays[0] else {
+            panic!()
+        };
+        let ciborium::Value::Array(v) = &mut pair[1] else {
+            panic!()
+        };
+        v.pop();
+    });
+    let mut b = load(&short, &bad).unwrap();
+    b.record_spikes(b.population("out").unwrap()).unwrap();
+    let e = b.build(NetworkConfig { dt_s: DT }).err().unwrap();
+    assert!(
+        matches!(
+            e,
+            GraphError::Model {
+                source: ModelError::State { .. },
+                ..
+            }
+        ) && e.to_string().contains("hidden"),
+        "{e}"
+    );
+    // And the saved time step is the only one it builds at.
+    let mut b = NetworkBuilder::load(&good, &LeakyFactory).unwrap();
+    b.record_spikes(b.population("out").unwrap()).unwrap();
+    assert!(b.build(NetworkConfig { dt_s: 2.0 * DT }).is_err());
+}
