@@ -31,15 +31,14 @@ imported graphs may use any ``r`` and ``w_in`` (also per neuron: they scale the 
 | LIF population without projections | ``LIF`` |
 | projection (one-to-one, all-to-all, sparse) | ``Linear`` (dense weights; ``Affine`` with a zero bias on import) |
 | delay of d steps | ``Delay`` of ``d·dt`` seconds before the ``Linear`` |
-| recorded node | ``Output`` (named ``output_<node>``) |
+| population that feeds no other | ``Output`` (named ``output_<node>``) |
 | dt, stepping, integrator, precision, interpolation, initial potentials | graph metadata ``"neurotac"`` (JSON) |
 
 On import, a foreign graph's nodes take neurotac's defaults for what NIR does not say: the exact
 integrator, f64, spike times on the grid, clock-driven stepping, membranes starting at
 ``v_leak``; a delay must be a whole number of steps of ``dt_s`` (population → population spikes
 arrive one step later at the earliest, the discrete-time reading of every step-based NIR
-backend); the populations that feed an ``Output`` are recorded (all of them when the graph has
-no ``Output``). NIR thresholds are ``v > v_threshold``, neurotac's ``v ≥ v_th`` (the same
+backend); an ``Output`` must read a spiking node (a population or an ``Input``). NIR thresholds are ``v > v_threshold``, neurotac's ``v ≥ v_th`` (the same
 except when ``v`` lands exactly on the threshold). The metadata never overrides a NIR field, so
 a graph edited in another tool imports with its edits.
 
@@ -76,6 +75,9 @@ __all__ = [
 METADATA_KEY = "neurotac"
 _FORMAT = "neurotac-network"
 _VERSION = 1
+#: The record in the metadata, and its version.
+_META_FORMAT = "neurotac-nir"
+_META_VERSION = 1
 _LIF = "lif"
 #: Node types :func:`graph_to_description` understands.
 _NEURONS = ("CubaLIF", "LIF")
@@ -112,9 +114,9 @@ def _full(n, value):
 
 
 def _dense_weights(projection, n_pre, n_post):
-    """The ``(n_post, n_pre)`` weight matrix of a projection's connectivity."""
+    """The ``(n_post, n_pre)`` weight matrix of a projection's wiring."""
     name = _projection_name(projection)
-    ((kind, spec),) = projection["connectivity"].items()
+    ((kind, spec),) = projection["wiring"].items()
     w = _np.zeros((n_post, n_pre), dtype=_np.float64)
     if kind == "one_to_one":
         _np.fill_diagonal(w, spec["weight"])
@@ -126,13 +128,16 @@ def _dense_weights(projection, n_pre, n_post):
         # Repeated pairs add up, as their currents do.
         _np.add.at(w, (post, pre), _np.asarray(spec["weight"], dtype=_np.float64))
     else:
-        raise NirError(name, f"{kind} connectivity has no NIR export (describe it as sparse)")
+        raise NirError(name, f"{kind} wiring has no NIR export")
     return w
 
 
 def _size(node):
     """The number of neurons or channels of a description's node."""
-    return node["model"]["size"] if node["kind"] == "population" else node["size"]
+    if node["kind"] == "population":
+        return node["model"]["size"]
+    ((kind, source),) = node["source"].items()
+    return len(source["trains"]) if kind == "spike_array" else source["size"]
 
 
 def _projection_name(projection):
@@ -215,11 +220,13 @@ def description_to_graph(description):
                 "model": node["model"]["model"],
                 "settings": {k: v for k, v in settings.items() if k != "params"},
             }
-        elif kind in ("spike_array", "poisson"):
-            add(name, _nir.Input(input_type=_np.array([node["size"]])))
-            meta_nodes[name] = {k: v for k, v in node.items() if k not in ("name", "size")}
+        elif kind == "source":
+            add(name, _nir.Input(input_type=_np.array([_size(node)])))
+            meta_nodes[name] = {"source": node["source"]}
         else:
-            raise NirError(f"node '{name}'", f"{kind} nodes have no NIR export")
+            raise NirError(
+                f"{kind} source '{name}'", "has no NIR equivalent (NIR inputs are spikes)"
+            )
 
     used = set()
     for p in description["projections"]:
@@ -246,17 +253,18 @@ def description_to_graph(description):
             source = f"{base}_synapse"
         edges.append((source, post))
 
-    for name in description.get("recorded", []):
-        add(f"output_{name}", _nir.Output(output_type=_np.array([_size(nodes[name])])))
-        edges.append((name, f"output_{name}"))
+    feeding = {p["pre"] for p in description["projections"]}
+    for name, node in nodes.items():
+        if node["kind"] == "population" and name not in feeding:
+            add(f"output_{name}", _nir.Output(output_type=_np.array([_size(node)])))
+            edges.append((name, f"output_{name}"))
 
     metadata = {
-        "format": _FORMAT,
-        "version": _VERSION,
+        "format": _META_FORMAT,
+        "version": _META_VERSION,
         "dt_s": dt_s,
-        "stepping": description.get("stepping"),
+        "stepping": description["stepping"],
         "order": list(nodes),
-        "recorded": list(description.get("recorded", [])),
         "nodes": meta_nodes,
     }
     return _nir.NIRGraph(
@@ -291,12 +299,13 @@ def _metadata(graph):
         meta = _json.loads(raw)
     except (TypeError, ValueError) as e:
         raise NirError("graph metadata", f"'{METADATA_KEY}' is not JSON ({e})") from e
-    if not isinstance(meta, dict) or meta.get("format") != _FORMAT:
-        raise NirError("graph metadata", f"'{METADATA_KEY}' is not a {_FORMAT} record")
-    if meta.get("version") != _VERSION:
+    if not isinstance(meta, dict) or meta.get("format") != _META_FORMAT:
+        raise NirError("graph metadata", f"'{METADATA_KEY}' is not a {_META_FORMAT} record")
+    if meta.get("version") != _META_VERSION:
         raise NirError(
             "graph metadata",
-            f"'{METADATA_KEY}' has version {meta.get('version')}, this neurotac reads {_VERSION}",
+            f"'{METADATA_KEY}' has version {meta.get('version')}, "
+            f"this neurotac reads {_META_VERSION}",
         )
     return meta
 
@@ -381,13 +390,12 @@ def _population(name, node, meta_node):
 def _input(name, node, meta_node):
     """A description's spike source from a NIR Input (trains or Poisson from the metadata)."""
     size = int(_np.prod(node.input_type["input"]))
-    if meta_node.get("kind") in ("spike_array", "poisson"):
-        return {"name": name, "size": size, **meta_node}
-    return {"kind": "spike_array", "name": name, "size": size, "trains": [[] for _ in range(size)]}
+    source = meta_node.get("source") or {"spike_array": {"trains": [[] for _ in range(size)]}}
+    return {"kind": "source", "name": name, "source": source}
 
 
-def _connectivity(m):
-    """The connectivity of an effective ``(n_post, n_pre)`` weight matrix."""
+def _wiring(m):
+    """The wiring of an effective ``(n_post, n_pre)`` weight matrix."""
     n_post, n_pre = m.shape
     if m.size and m.flat[0] != 0 and _np.all(m == m.flat[0]):
         return {"all_to_all": {"weight": float(m.flat[0])}}
@@ -454,7 +462,6 @@ def graph_to_description(graph, dt_s=None):
         projections.append(projection)
         visited.update(chain)
 
-    recorded = []
     for name, node in nodes.items():
         if not isinstance(node, _nir.Output):
             continue
@@ -463,12 +470,9 @@ def graph_to_description(graph, dt_s=None):
             if src not in described:
                 raise NirError(
                     _label(src, nodes[src]),
-                    f"feeds Output '{name}', but neurotac records only the spikes of "
+                    f"feeds Output '{name}', but neurotac's outputs are the spikes of "
                     "populations and inputs (a non-spiking readout?)",
                 )
-            recorded.append(src)
-    if not any(isinstance(n, _nir.Output) for n in nodes.values()):
-        recorded = [n for n, d in described.items() if d["kind"] == "population"]
     for name in nodes:
         if name not in visited:
             raise NirError(
@@ -482,7 +486,6 @@ def graph_to_description(graph, dt_s=None):
         "stepping": meta.get("stepping") or "clock",
         "nodes": [described[n] for n in order if n in described],
         "projections": projections,
-        "recorded": [n for n in order if n in set(recorded)],
     }
 
 
@@ -589,7 +592,7 @@ def _projection(graph, preds, described, src, post, dt_s):
         "post": post,
         "tau_s": tau_s,
         "delay_steps": delay_steps,
-        "connectivity": _connectivity(weight * factor[:, None]),
+        "wiring": _wiring(weight * factor[:, None]),
         "plasticity": None,
     }
     return projection, chain.values()

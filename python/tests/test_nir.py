@@ -9,8 +9,13 @@ import pytest
 
 nir = pytest.importorskip("nir")
 
-import neurotac  # noqa: E402
-from neurotac.nir import NirError, description_to_graph, graph_to_description, to_nir  # noqa: E402
+import neurotac
+from neurotac.nir import (
+    NirError,
+    from_nir,
+    graph_to_description,
+    to_nir,
+)
 
 DT_S = 1e-4
 
@@ -38,13 +43,13 @@ def lif(n, tau_m_s=0.01, v_th=1.0, v_reset=0.0, **settings):
     }
 
 
-def projection(pre, post, connectivity, tau_s=0.005, delay_steps=1):
+def projection(pre, post, wiring, tau_s=0.005, delay_steps=1):
     return {
         "pre": pre,
         "post": post,
         "tau_s": tau_s,
         "delay_steps": delay_steps,
-        "connectivity": connectivity,
+        "wiring": wiring,
         "plasticity": None,
     }
 
@@ -64,10 +69,9 @@ def two_layers():
         "stepping": "clock",
         "nodes": [
             {
-                "kind": "spike_array",
+                "kind": "source",
                 "name": "in",
-                "size": 3,
-                "trains": [[0.001], [0.002, 0.0031], []],
+                "source": {"spike_array": {"trains": [[0.001], [0.002, 0.0031], []]}},
             },
             {"kind": "population", "name": "hidden", "model": lif(4, tau_m_s=0.02, v_reset=-0.1)},
             {
@@ -75,7 +79,11 @@ def two_layers():
                 "name": "out",
                 "model": lif(2, precision="f32", interpolate=True),
             },
-            {"kind": "poisson", "name": "noise", "size": 2, "rate_hz": 50.0, "seed": 7},
+            {
+                "kind": "source",
+                "name": "noise",
+                "source": {"poisson": {"size": 2, "rate_hz": 50.0, "seed": 7}},
+            },
         ],
         "projections": [
             projection("in", "hidden", {"all_to_all": {"weight": 0.7}}, delay_steps=0),
@@ -87,7 +95,6 @@ def two_layers():
                 "noise", "out", {"one_to_one": {"weight": 0.25}}, tau_s=0.002, delay_steps=0
             ),
         ],
-        "recorded": ["hidden", "out"],
     }
 
 
@@ -134,7 +141,8 @@ def test_exported_graph_holds_the_weights_parameters_and_delays():
     np.testing.assert_array_equal(nodes["hidden_to_out_delay"].delay, [3 * DT_S] * 4)
     assert "in_to_hidden_delay" not in nodes
     assert ("hidden_to_out_delay", "hidden_to_out_linear") in graph.edges
-    assert ("hidden", "output_hidden") in graph.edges and ("out", "output_out") in graph.edges
+    # Populations that feed no other are the graph's outputs.
+    assert ("out", "output_out") in graph.edges and "output_hidden" not in nodes
 
 
 def built_with_nir(weight, r=1.0, w_in=1.0, tau_syn=0.005, metadata=None):
@@ -162,7 +170,11 @@ def built_with_nir(weight, r=1.0, w_in=1.0, tau_syn=0.005, metadata=None):
 def test_graph_built_with_nir_maps_with_neurotac_defaults():
     description = graph_to_description(built_with_nir(3.0, r=2.0, w_in=0.5), dt_s=DT_S)
     (source, population) = description["nodes"]
-    assert source == {"kind": "spike_array", "name": "input", "size": 1, "trains": [[]]}
+    assert source == {
+        "kind": "source",
+        "name": "input",
+        "source": {"spike_array": {"trains": [[]]}},
+    }
     assert population["name"] == "lif"
     settings = population["model"]["settings"]
     assert (settings["integrator"], settings["precision"], settings["interpolate"]) == (
@@ -181,9 +193,8 @@ def test_graph_built_with_nir_maps_with_neurotac_defaults():
     (p,) = description["projections"]
     # A spike moves NIR's current by w_in·W/τ_syn and v sees r·I: neurotac's weight is
     # W·r·w_in/τ_syn = 3·2·0.5/0.005 = 600.
-    assert p["connectivity"] == {"all_to_all": {"weight": pytest.approx(600.0)}}
+    assert p["wiring"] == {"all_to_all": {"weight": pytest.approx(600.0)}}
     assert (p["pre"], p["post"], p["tau_s"], p["delay_steps"]) == ("input", "lif", 0.005, 0)
-    assert description["recorded"] == ["lif"]
     assert description["dt_s"] == DT_S
 
 
@@ -246,7 +257,7 @@ def test_what_a_neurotac_population_cannot_hold_is_refused_by_name():
     assert refused_on_import(graph).startswith("NIR node 'linear' (Affine): a bias")
     # A zero bias is a Linear.
     graph.nodes["linear"] = nir.Affine(weight=np.ones((1, 1)), bias=np.zeros(1))
-    assert graph_to_description(graph, dt_s=DT_S)["projections"][0]["connectivity"] == {
+    assert graph_to_description(graph, dt_s=DT_S)["projections"][0]["wiring"] == {
         "all_to_all": {"weight": 200.0}
     }
 
@@ -318,5 +329,42 @@ def test_metadata_never_overrides_the_graph():
     description = graph_to_description(graph)
     expected = copy.deepcopy(two_layers())
     expected["nodes"][1]["model"]["settings"]["params"]["v_th"] = 2.0
-    expected["projections"][0]["connectivity"] = {"all_to_all": {"weight": 0.9}}
+    expected["projections"][0]["wiring"] = {"all_to_all": {"weight": 0.9}}
     assert description == expected
+
+
+# --- Running what crosses: neurotac.Network ------------------------------------------------
+
+
+def recorded_spikes(net, duration_s=0.2):
+    net.run(duration_s)
+    return {name: [a.tolist() for a in net.spikes(name)] for name in ("hidden", "out")}
+
+
+def test_network_to_nir_and_back_runs_identical_spikes(tmp_path):
+    description = two_layers()
+    description["nodes"][0]["source"]["spike_array"]["trains"] = [
+        list(np.arange(0.001, 0.2, 0.007 * (c + 1))) for c in range(3)
+    ]
+    net = neurotac.Network.from_description(json.dumps(description))
+    graph = to_nir(net)
+    expected = recorded_spikes(net)
+    assert sum(len(t) for t, _ in expected.values()) > 20
+    assert recorded_spikes(from_nir(graph)) == expected
+    path = tmp_path / "net.nir"
+    nir.write(path, graph)
+    assert recorded_spikes(from_nir(nir.read(path))) == expected
+
+
+def test_graph_built_with_nir_runs_one_spike_above_the_computed_peak_and_none_below():
+    # τ_mem = 10 ms, τ_syn = 5 ms, r = w_in = 1: a spike through W moves the current by W/τ_syn,
+    # so v(t) = (W/τ_syn)·(e^(−t/10ms) − e^(−t/5ms)), peak 0.25·W/τ_syn. W = 0.03 (peak 1.5):
+    # v crosses 1 at 2.4 ms and the current left peaks at 0.93 after the reset: one spike.
+    # W = 0.01 (peak 0.5): none.
+    for weight, count in ((0.03, 1), (0.01, 0)):
+        net = from_nir(built_with_nir(weight), dt_s=DT_S)
+        net.run(0.05, inputs={"input": [np.array([0.001])]})
+        times, neurons = net.spikes("lif")
+        assert len(times) == count
+        if count:
+            assert neurons.tolist() == [0] and 0.003 < times[0] < 0.004
