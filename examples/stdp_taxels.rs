@@ -11,8 +11,9 @@
 
 use ndarray::Array2;
 use neurotac::core::{
-    Connectivity, ExpSynapse, Knn, Network, NetworkBuilder, NetworkConfig, OneProcess,
-    ProjectionId, ReadoutId, SpikeArrayInput, SpikeDataset, SpikeRecorder, Stdp, Synapse, Weights,
+    Connectivity, ExpSynapse, InputId, Knn, MultiSpikeTrain, Network, NetworkBuilder,
+    NetworkConfig, OneProcess, ProjectionId, ReadoutId, SpikeArrayInput, SpikeDataset,
+    SpikeRecorder, Stdp, Synapse, Weights,
 };
 use neurotac::experiments::datasets::simulated::{TextureSet, load_or_simulate, sample_duration_s};
 use neurotac::neurons::{Lif, LifParams};
@@ -48,21 +49,19 @@ pub struct Outcome {
     pub weights: (Weights, Weights),
 }
 
+/// The built network and the ids the example uses.
+struct Layer {
+    net: Network,
+    taxels: InputId,
+    plastic: ProjectionId,
+    spikes: ReadoutId<SpikeRecorder>,
+}
+
 /// The network: taxels → plastic projection (initial weights uniform in `[0, W_MAX]` from
 /// `seed`) → `NEURONS` LIF neurons with all-to-all inhibition (one step of delay).
-fn network(
-    seed: u64,
-) -> Result<
-    (
-        Network,
-        neurotac::core::InputId,
-        ProjectionId,
-        ReadoutId<SpikeRecorder>,
-    ),
-    Box<dyn Error>,
-> {
+fn network(seed: u64) -> Result<Layer, Box<dyn Error>> {
     let mut b = NetworkBuilder::new();
-    let empty = neurotac::core::MultiSpikeTrain::from_channels(vec![Vec::new(); 49])?;
+    let empty = MultiSpikeTrain::from_channels(vec![Vec::new(); 49])?;
     let taxels = b.add_spike_input("taxels", SpikeArrayInput::new(empty))?;
     let layer = b.add_population("layer", Lif::<f64>::new(NEURONS, LifParams::default()))?;
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
@@ -89,28 +88,30 @@ fn network(
         ExpSynapse::new(5e-3),
     )?;
     let spikes = b.record_spikes(layer)?;
-    Ok((
-        b.build(NetworkConfig { dt_s: DT })?,
+    Ok(Layer {
+        net: b.build(NetworkConfig { dt_s: DT })?,
         taxels,
         plastic,
         spikes,
-    ))
+    })
 }
 
-/// Runs slide `i` of `data` through `net` from time 0; its output spike counts.
+/// Runs slide `i` of `data` through the layer from time 0; its output spike counts.
 fn counts(
-    net: &mut Network,
-    input: neurotac::core::InputId,
-    spikes: ReadoutId<SpikeRecorder>,
+    layer: &mut Layer,
     data: &SpikeDataset,
     i: usize,
     duration_s: f64,
 ) -> Result<Vec<f64>, Box<dyn Error>> {
-    net.replace_spike_input(input, SpikeArrayInput::new(data.observations()[i].clone()))?;
+    let net = &mut layer.net;
+    net.replace_spike_input(
+        layer.taxels,
+        SpikeArrayInput::new(data.observations()[i].clone()),
+    )?;
     net.reset();
     net.run(duration_s, &OneProcess)?;
     Ok(net
-        .readout(spikes)?
+        .readout(layer.spikes)?
         .counts()
         .into_iter()
         .map(|c| c as f64)
@@ -164,22 +165,22 @@ pub fn run(trials: usize, cache: &Path) -> Result<Outcome, Box<dyn Error>> {
     let (train, test): (Vec<usize>, Vec<usize>) =
         (0..data.len()).partition(|&i| i % trials < trials / 2);
 
-    let (mut net, input, plastic, spikes) = network(7)?;
-    let before = net.weights(plastic)?;
+    let mut layer = network(7)?;
+    let before = layer.net.weights(layer.plastic)?;
     for &i in &train {
-        counts(&mut net, input, spikes, &data, i, duration_s)?;
+        counts(&mut layer, &data, i, duration_s)?;
     }
-    net.set_learning(plastic, false)?;
-    let after = net.weights(plastic)?;
-    let learned: Vec<Vec<f64>> = (0..data.len())
-        .map(|i| counts(&mut net, input, spikes, &data, i, duration_s))
-        .collect::<Result<_, _>>()?;
-
-    let (mut fixed_net, input, fixed_plastic, spikes) = network(7)?;
-    fixed_net.set_learning(fixed_plastic, false)?;
-    let fixed: Vec<Vec<f64>> = (0..data.len())
-        .map(|i| counts(&mut fixed_net, input, spikes, &data, i, duration_s))
-        .collect::<Result<_, _>>()?;
+    layer.net.set_learning(layer.plastic, false)?;
+    let after = layer.net.weights(layer.plastic)?;
+    let all_counts = |layer: &mut Layer| {
+        (0..data.len())
+            .map(|i| counts(layer, &data, i, duration_s))
+            .collect::<Result<Vec<_>, _>>()
+    };
+    let learned = all_counts(&mut layer)?;
+    let mut fixed_layer = network(7)?;
+    fixed_layer.net.set_learning(fixed_layer.plastic, false)?;
+    let fixed = all_counts(&mut fixed_layer)?;
 
     let mean_spikes =
         |f: &[Vec<f64>]| f.iter().map(|c| c.iter().sum::<f64>()).sum::<f64>() / f.len() as f64;
