@@ -343,6 +343,7 @@ def recorded_spikes(net, duration_s=0.2):
 
 def test_network_to_nir_and_back_runs_identical_spikes(tmp_path):
     description = two_layers()
+    description["projections"][0]["wiring"] = {"all_to_all": {"weight": 3.0}}
     description["nodes"][0]["source"]["spike_array"]["trains"] = [
         list(np.arange(0.001, 0.2, 0.007 * (c + 1))) for c in range(3)
     ]

@@ -212,6 +212,13 @@ impl NetworkBuilder {
         }
     }
 
+    /// The names of the nodes, in the order they were added (a loaded network's: in the order
+    /// of its description), e.g. to find every population and spike source of a loaded
+    /// network with [`population`](Self::population) and [`spike_input`](Self::spike_input).
+    pub fn node_names(&self) -> Vec<&str> {
+        self.nodes.iter().map(|n| n.name.as_str()).collect()
+    }
+
     /// Every projection, in the order they were connected (a loaded network's: in the order
     /// of its description).
     pub fn projections(&self) -> Vec<ProjectionId> {
