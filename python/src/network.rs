@@ -98,6 +98,9 @@ fn find<T: Copy>(list: &[(String, T)], name: &str, what: &str) -> PyResult<T> {
         })
 }
 
+/// Spike times (s) and neuron indices, as `spikes` returns them.
+type SpikeArrays<'py> = (Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<u32>>);
+
 /// `a, b, c` of the names, or `none`.
 fn names<T>(list: &[(String, T)]) -> String {
     if list.is_empty() {
@@ -257,7 +260,7 @@ impl Network {
         &self,
         py: Python<'py>,
         name: &str,
-    ) -> PyResult<(Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<u32>>)> {
+    ) -> PyResult<SpikeArrays<'py>> {
         let id = find(&self.recorders, name, "population or spike input")?;
         let net = self.net();
         let spikes = net.readout(id).or_raise()?.spikes();

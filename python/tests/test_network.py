@@ -137,6 +137,10 @@ def test_one_input_spike_fires_once_above_and_never_below_the_computed_peak():
     net = neurotac.Network.from_description(json.dumps(one_neuron(2.0)))
     net.run(0.05)
     assert len(net.spikes("lif")[0]) == 0
+    # 49 ms after the spike v has decayed from its peak 0.5: 2·(e^(−4.9) − e^(−9.8)) ≈ 0.0149.
+    (v,) = net.state("lif", "v")
+    assert v == pytest.approx(2.0 * (np.exp(-4.9) - np.exp(-9.8)), rel=0.05)
+    assert (net.inputs, net.populations, net.n_projections) == (["in"], ["lif"], 1)
 
 
 def test_description_round_trips_and_runs_the_same_spikes():
