@@ -325,6 +325,14 @@ def test_what_nir_cannot_express_is_refused_on_export_by_name():
     description["nodes"][2]["model"]["settings"]["params"]["v_min"] = -1.0
     assert refused_on_export(description).startswith("population 'out': potential floor v_min")
 
+    description = two_layers()
+    description["nodes"].append(
+        {"kind": "current", "name": "bias", "current": {"constant": 0.5}, "into": ["out"]}
+    )
+    assert refused_on_export(description) == (
+        "current source 'bias': has no NIR equivalent (NIR inputs are spikes)"
+    )
+
 
 def test_metadata_never_overrides_the_graph():
     graph = to_nir(two_layers())
