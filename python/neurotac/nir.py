@@ -265,6 +265,9 @@ def description_to_graph(description):
         "dt_s": dt_s,
         "stepping": description["stepping"],
         "order": list(nodes),
+        "unfed": [
+            n for n, node in nodes.items() if node["kind"] == "population" and not incoming[n]
+        ],
         "nodes": meta_nodes,
     }
     return _nir.NIRGraph(
@@ -445,6 +448,16 @@ def graph_to_description(graph, dt_s=None):
     order = [n for n in meta.get("order", []) if n in nodes]
     order += [n for n in nodes if n not in order]
 
+    # nir's type check gives a population without inputs an Input of its own ("input_<name>");
+    # in a graph to_nir made, such an Input into a population that had none is not part of it.
+    unfed = set(meta.get("unfed", []))
+    added = {
+        a
+        for a, b in graph.edges
+        if b in unfed and a not in meta.get("order", []) and isinstance(nodes[a], _nir.Input)
+    }
+    order = [n for n in order if n not in added]
+
     described = {}
     for name in order:
         node = nodes[name]
@@ -452,11 +465,11 @@ def graph_to_description(graph, dt_s=None):
             described[name] = _input(name, node, meta_nodes.get(name, {}))
         elif isinstance(node, _NEURON_TYPES):
             described[name] = _population(name, node, meta_nodes.get(name, {}))
-    visited = set(described)
+    visited = set(described) | added
 
     projections = []
     for src, post in graph.edges:
-        if not isinstance(nodes[post], _NEURON_TYPES):
+        if src in added or not isinstance(nodes[post], _NEURON_TYPES):
             continue
         projection, chain = _projection(graph, preds, described, src, post, dt_s)
         projections.append(projection)

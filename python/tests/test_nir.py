@@ -118,6 +118,21 @@ def test_description_round_trips_through_a_nir_file(tmp_path):
     assert graph_to_description(nir.read(path)) == description
 
 
+def test_a_population_without_inputs_round_trips(tmp_path):
+    description = two_layers()
+    description["nodes"].append(
+        {"kind": "population", "name": "lonely", "model": lif(2, initial={"constant": 1.5})}
+    )
+    graph = to_nir(description)
+    # nir's type check gives it an Input of its own, which is not part of the network.
+    assert ("input_lonely", "lonely") in graph.edges
+    assert graph_to_description(graph) == description
+    nir.write(tmp_path / "net.nir", graph)
+    net = from_nir(nir.read(tmp_path / "net.nir"))
+    net.run(0.01)
+    assert net.spikes("lonely")[1].tolist() == [0, 1]  # started above threshold
+
+
 def test_exported_graph_holds_the_weights_parameters_and_delays():
     graph = to_nir(two_layers())
     nodes = graph.nodes
