@@ -1,7 +1,7 @@
 //! Finding a builder's nodes and projections by name ([`NetworkBuilder::population`],
 //! [`NetworkBuilder::spike_input`], [`NetworkBuilder::projections`],
-//! [`NetworkBuilder::node_names`]): how code that did not
-//! build a network (a loaded one, one read from a description) reaches its parts.
+//! [`NetworkBuilder::node_names`]): how code that did not build a network (a loaded one, one
+//! read from a description) reaches its parts.
 
 use super::builder::NetworkBuilder;
 use super::ids::{InputId, PopulationId, ProjectionId};
