@@ -1,6 +1,7 @@
 //! Finding a builder's nodes and projections by name ([`NetworkBuilder::population`],
-//! [`NetworkBuilder::spike_input`], [`NetworkBuilder::projections`]): how code that did not
-//! build a network (a loaded one, one read from a description) reaches its parts.
+//! [`NetworkBuilder::spike_input`], [`NetworkBuilder::projections`],
+//! [`NetworkBuilder::node_names`]): how code that did not build a network (a loaded one, one
+//! read from a description) reaches its parts.
 
 use super::builder::NetworkBuilder;
 use super::ids::{InputId, PopulationId, ProjectionId};
@@ -40,6 +41,13 @@ impl NetworkBuilder {
                 "used as a spike source",
             )),
         }
+    }
+
+    /// The names of the nodes, in the order they were added (a loaded network's: in the order
+    /// of its description), e.g. to find every population and spike source of a loaded
+    /// network with [`population`](Self::population) and [`spike_input`](Self::spike_input).
+    pub fn node_names(&self) -> Vec<&str> {
+        self.nodes.iter().map(|n| n.name.as_str()).collect()
     }
 
     /// Every projection, in the order they were connected (a loaded network's: in the order
