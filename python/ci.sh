@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # The Python bindings from scratch: a fresh virtual environment in a temporary folder, maturin,
 # NumPy and pytest from PyPI, a release wheel of this crate installed into it, then the tests
-# (pymuvr, the optional oracle, is installed when it builds). Needs Python ≥ 3.9 with venv and a
-# Rust toolchain. Prints "skipped: <reason>" and exits 0 when Python, venv, pip or the package
-# registries cannot be used; exits non-zero when the build or a test fails.
+# (pymuvr, the optional oracle, is installed when it builds; nir, for neurotac.nir, when it
+# installs). Needs Python ≥ 3.9 with venv and a Rust toolchain. Prints "skipped: <reason>" and
+# exits 0 when Python, venv, pip or the package registries cannot be used; exits non-zero when
+# the build or a test fails.
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
 cd "$here"
@@ -48,6 +49,13 @@ if "$py" -m pip install -q --disable-pip-version-check wheel setuptools >"$work/
     echo "pymuvr installed"
 else
     echo "pymuvr could not be installed ($(tail -n 1 "$work/pymuvr.log")); its comparison is skipped"
+fi
+
+echo "== nir (optional: neurotac.nir and its tests; needs Python ≥ 3.10)"
+if "$py" -m pip install -q --disable-pip-version-check "nir>=1.0,<2" >"$work/nir.log" 2>&1; then
+    echo "nir installed"
+else
+    echo "nir could not be installed ($(tail -n 1 "$work/nir.log")); the NIR tests are skipped"
 fi
 
 echo "== pytest"

@@ -77,8 +77,8 @@ pub use graph::{
 };
 pub use io::{AtomicDir, AtomicFile, AtomicFileSet, Replace};
 pub use knn::{Decision, FittedKnn, Knn};
-pub use model::{NeuronModel, SpikeBuffer};
-pub use model_state::{ModelDescription, ModelFactory, ModelState};
+pub use model::{ModelFactory, NeuronModel, SpikeBuffer};
+pub use model_state::{ModelDescription, ModelState};
 /// The `ndarray` version neurotac's matrices use (feature matrices, distance matrices), so user
 /// code needs no matching dependency of its own.
 pub use ndarray;

@@ -214,7 +214,7 @@ pub trait NeuronModel: Send {
     /// What this model is — name, size and settings — for saving the network
     /// ([`Network::save`](crate::Network::save)) or exporting it
     /// ([`Network::describe`](crate::Network::describe)); a
-    /// [`ModelFactory`](crate::ModelFactory) makes it anew from this. `None` (the default): the
+    /// [`ModelFactory`] makes it anew from this. `None` (the default): the
     /// model cannot be saved, and saving a network with it is a [`ModelError::NotSaveable`].
     fn describe(&self) -> Option<ModelDescription> {
         None
@@ -238,4 +238,13 @@ pub trait NeuronModel: Send {
             model: self.model_name(),
         })
     }
+}
+
+/// Makes models from their [`ModelDescription`]s, for loading saved networks.
+/// `neurotac_neurons::BuiltinModels` makes LIF and Izhikevich; a user's own model needs a
+/// factory of its own (which may fall back on the built-in one).
+pub trait ModelFactory {
+    /// The model `description` describes, unprepared, or a [`ModelError`] naming what is wrong
+    /// ([`ModelError::UnknownModel`] for a model this factory does not make).
+    fn make(&self, description: &ModelDescription) -> Result<Box<dyn NeuronModel>, ModelError>;
 }

@@ -1,7 +1,8 @@
 //! Saving and restoring neuron models: what a model is ([`ModelDescription`]: its name, size
 //! and settings, enough to make it anew) and where it is ([`ModelState`]: every number its
-//! next step depends on), and the [`ModelFactory`] that makes models from descriptions when a
-//! saved network is loaded ([`NetworkBuilder::load`](crate::NetworkBuilder::load)).
+//! next step depends on), and the factory that makes models from descriptions when a
+//! saved network is loaded ([`NetworkBuilder::load`](crate::NetworkBuilder::load); the
+//! factory trait is [`ModelFactory`](crate::ModelFactory)).
 //!
 //! A model that can be saved implements [`NeuronModel::describe`],
 //! [`NeuronModel::save_state`] and [`NeuronModel::restore_state`] so that
@@ -14,13 +15,13 @@
 //! [`NeuronModel::restore_state`]: crate::NeuronModel::restore_state
 
 use crate::error::ModelError;
-use crate::model::NeuronModel;
 use serde::{Deserialize, Serialize};
 
-/// What a population's model is: enough to make it anew with a [`ModelFactory`].
+/// What a population's model is: enough to make it anew with a
+/// [`ModelFactory`](crate::ModelFactory).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ModelDescription {
-    /// The model's name ([`NeuronModel::model_name`](crate::NeuronModel::model_name)), the key
+    /// The model's name ([`NeuronModel::model_name`](crate::NeuronModel::model_name)): the key
     /// the factory makes it by.
     pub model: String,
     /// Number of neurons.
@@ -99,13 +100,4 @@ fn check_len(
             reason: format!("'{name}' holds {got} values, expected {expected}"),
         })
     }
-}
-
-/// Makes models from their [`ModelDescription`]s, for loading saved networks.
-/// `neurotac_neurons::BuiltinModels` makes LIF and Izhikevich; a user's own model needs a
-/// factory of its own (which may fall back on the built-in one).
-pub trait ModelFactory {
-    /// The model `description` describes, unprepared, or a [`ModelError`] naming what is wrong
-    /// ([`ModelError::UnknownModel`] for a model this factory does not make).
-    fn make(&self, description: &ModelDescription) -> Result<Box<dyn NeuronModel>, ModelError>;
 }

@@ -388,7 +388,7 @@ fn a_damaged_or_foreign_file_is_a_typed_error_naming_it() {
     });
     let e = load(&instant, &bad).err().unwrap();
     assert!(e.to_string().contains("delay_steps"), "{e}");
-    // A state that does not fit its model: refused at build, nothing built.
+    // A state that does not fit its model: refused, nothing built.
     let short = with_body(&file, |v| {
         let nodes = entry(entry(v, "state"), "nodes");
         let ciborium::Value::Array(list) = nodes else {
@@ -406,7 +406,27 @@ fn a_damaged_or_foreign_file_is_a_typed_error_naming_it() {
         };
         v.pop();
     });
-    let mut b = load(&short, &bad).unwrap();
+    let e = load(&short, &bad).err().unwrap();
+    assert!(
+        matches!(e, NetworkFileError::Graph { .. }) && e.to_string().contains("'hidden'"),
+        "{e}"
+    );
+    // One the model itself refuses (its array renamed) is refused at build.
+    let renamed = with_body(&file, |v| {
+        let nodes = entry(entry(v, "state"), "nodes");
+        let ciborium::Value::Array(list) = nodes else {
+            panic!()
+        };
+        let arrays = entry(entry(&mut list[2], "model"), "arrays");
+        let ciborium::Value::Array(arrays) = arrays else {
+            panic!()
+        };
+        let ciborium::Value::Array(pair) = &mut arrays[0] else {
+            panic!()
+        };
+        *pair = vec![ciborium::Value::Text("w".into()), pair[1].clone()];
+    });
+    let mut b = load(&renamed, &bad).unwrap();
     b.record_spikes(b.population("out").unwrap()).unwrap();
     let e = b.build(NetworkConfig { dt_s: DT }).err().unwrap();
     assert!(
@@ -423,4 +443,37 @@ fn a_damaged_or_foreign_file_is_a_typed_error_naming_it() {
     let mut b = NetworkBuilder::load(&good, &LeakyFactory).unwrap();
     b.record_spikes(b.population("out").unwrap()).unwrap();
     assert!(b.build(NetworkConfig { dt_s: 2.0 * DT }).is_err());
+}
+
+#[test]
+fn a_saved_size_larger_than_its_state_is_refused_before_anything_is_allocated() {
+    let dir = tempfile::tempdir().unwrap();
+    let good = dir.path().join("good.ntnet");
+    let (net, _) = network();
+    net.save(&good).unwrap();
+    let file = std::fs::read(&good).unwrap();
+    let bad = dir.path().join("bad.ntnet");
+    // "hidden" claims 2³² − 1 neurons; its saved state holds 12.
+    let huge = with_body(&file, |v| {
+        let nodes = entry(entry(v, "description"), "nodes");
+        let ciborium::Value::Array(list) = nodes else {
+            panic!()
+        };
+        *entry(entry(&mut list[2], "model"), "size") = ciborium::Value::Integer(u32::MAX.into());
+    });
+    let e = load(&huge, &bad).err().unwrap();
+    assert!(
+        e.to_string().contains("'hidden' has 4294967295 neurons"),
+        "{e}"
+    );
+    // A state missing a node's entry is refused too.
+    let fewer = with_body(&file, |v| {
+        let nodes = entry(entry(v, "state"), "nodes");
+        let ciborium::Value::Array(list) = nodes else {
+            panic!()
+        };
+        list.pop();
+    });
+    let e = load(&fewer, &bad).err().unwrap();
+    assert!(e.to_string().contains("node and"), "{e}");
 }

@@ -19,6 +19,16 @@
 //! [`BlockPopulation`]'s. Each model flags steps whose result left its dynamics (divergence;
 //! see the models' docs), reported by [`neurotac_core::NeuronModel::check_divergence`].
 //!
+//! Populations can be saved with their network: [`NeuronModel::describe`] gives what a
+//! population is (model, size, settings as JSON), [`NeuronModel::save_state`] where it is
+//! (every number its next step depends on, event-driven bookkeeping included), and
+//! [`BuiltinModels`] makes LIF and Izhikevich populations anew from their descriptions, which
+//! [`NeuronModel::restore_state`] then puts where the saved one was, to continue bit for bit.
+//!
+//! [`NeuronModel::describe`]: neurotac_core::NeuronModel::describe
+//! [`NeuronModel::save_state`]: neurotac_core::NeuronModel::save_state
+//! [`NeuronModel::restore_state`]: neurotac_core::NeuronModel::restore_state
+//!
 //! Each model is also a [`ModelFamily`] ([`LifFamily`], [`IzhikevichFamily`]): the model at
 //! every precision with the set-ups the applications run it in — its benchmark case, named
 //! presets, afferent set-up and closed-form spike times if any — declared in the model's file.
@@ -42,6 +52,7 @@
 
 #[cfg(target_arch = "x86_64")]
 mod avx512;
+mod builtin;
 pub mod family;
 pub mod integrate;
 pub mod izhikevich;
@@ -50,6 +61,7 @@ pub mod population;
 pub mod real;
 pub mod run;
 
+pub use builtin::BuiltinModels;
 pub use family::{AfferentPreset, Benchmark, FamilyVisitor, ModelFamily, UpdateCost, check_family};
 pub use integrate::{Integrator, UnknownIntegrator};
 pub use izhikevich::{

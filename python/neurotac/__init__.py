@@ -12,6 +12,10 @@ module ``neurotac._native``.
   ``meta``; :func:`to_pymuvr` / :func:`from_pymuvr` convert to and from pymuvr's nested lists.
 - :mod:`neurotac.van_rossum`: pymuvr's ``square_distance_matrix`` and ``distance_matrix``.
 - :mod:`neurotac.coding`: the paper's four codings; :class:`Knn`: the KNN head.
+- :class:`Network`: a spiking network loaded from a saved file or a JSON description, run with
+  input spike trains, its spikes, weights and learning switch read and set, saved again;
+  :mod:`neurotac.nir` (``import neurotac.nir``, needs the ``nir`` package) turns it into a NIR
+  graph and back.
 - Errors: :class:`NeurotacError` (and its subclasses :class:`NeurotacValueError`, also a
   ``ValueError``, and :class:`NeurotacOSError`, also an ``OSError``), carrying the message the
   ``neurotac`` CLI prints.
@@ -24,6 +28,7 @@ import numpy as _np
 from . import _native
 from ._native import (
     Knn,
+    Network,
     NeurotacError,
     NeurotacOSError,
     NeurotacValueError,
@@ -42,6 +47,7 @@ EVENT_DTYPE = _np.dtype([("t", "<i8"), ("x", "<u2"), ("y", "<u2"), ("p", "?")])
 __all__ = [
     "EVENT_DTYPE",
     "Knn",
+    "Network",
     "NeurotacError",
     "NeurotacOSError",
     "NeurotacValueError",

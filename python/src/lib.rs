@@ -12,6 +12,7 @@
 //! | multi-unit Van Rossum (pymuvr's API) | [`van_rossum`] | `neurotac.van_rossum.square_distance_matrix`, `distance_matrix`, `square_distance_matrix_flat` |
 //! | the four codings | [`coding`] | `neurotac.coding.intensive`, `spatial`, `temporal`, `spatiotemporal`, `distances` |
 //! | KNN | [`knn`] | `neurotac.Knn` |
+//! | spiking networks: load, describe, run, spikes, weights, save | [`network`] | `neurotac.Network` (and `neurotac.nir`, in Python) |
 //! | errors | [`errors`] | `NeurotacError`, `NeurotacValueError`, `NeurotacOSError` |
 //!
 //! Every library error becomes an exception whose message is the one the `neurotac` CLI prints
@@ -23,6 +24,7 @@ pub mod dataset;
 pub mod errors;
 pub mod events;
 pub mod knn;
+pub mod network;
 pub mod simulate;
 pub mod threads;
 pub mod van_rossum;
@@ -37,6 +39,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("NeurotacValueError", errors::value_error_type(py)?)?;
     m.add("NeurotacOSError", errors::os_error_type(py)?)?;
     m.add_class::<knn::Knn>()?;
+    m.add_class::<network::Network>()?;
     m.add_function(wrap_pyfunction!(events::read_event_arrays, m)?)?;
     m.add_function(wrap_pyfunction!(events::write_event_arrays, m)?)?;
     m.add_function(wrap_pyfunction!(events::transduce_path, m)?)?;

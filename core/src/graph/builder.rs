@@ -9,7 +9,7 @@ use super::input::{CurrentInput, SpikeSource};
 use super::network::{DEFAULT_EPOCH_STEPS, ExchangeStats, Network, Partition};
 use super::readout::{Readout, SpikeRecorder, StateRecorder, SynapticTraceRecorder};
 use super::running::{RunningKind, RunningNode, RunningSource};
-use super::saved::NetworkState;
+use super::snapshot::NetworkState;
 use super::stepping::{EventStepping, Stepping};
 use super::synapse::{Connectivity, ExpSynapse, Plasticity, RunningProjection, Stdp, Wiring};
 use crate::error::GraphError;
@@ -18,14 +18,14 @@ use crate::ranks::even_block;
 use std::marker::PhantomData;
 use std::ops::Range;
 
-enum NodeKind {
+pub(super) enum NodeKind {
     Spikes(Box<dyn SpikeSource>),
     Current(CurrentInput),
     Population(Box<dyn NeuronModel>),
 }
 
 impl NodeKind {
-    fn describe(&self) -> &'static str {
+    pub(super) fn describe(&self) -> &'static str {
         match self {
             NodeKind::Spikes(_) => "spike source",
             NodeKind::Current(_) => "current source",
@@ -34,13 +34,13 @@ impl NodeKind {
     }
 }
 
-struct NodeSpec {
-    name: String,
+pub(super) struct NodeSpec {
+    pub(super) name: String,
     size: usize,
-    kind: NodeKind,
+    pub(super) kind: NodeKind,
 }
 
-struct ProjectionSpec {
+pub(super) struct ProjectionSpec {
     pre: usize,
     post: usize,
     connectivity: Connectivity,
@@ -55,8 +55,8 @@ struct ProjectionSpec {
 pub struct NetworkBuilder {
     /// This builder's brand, carried by every id it hands out.
     pub(super) brand: u64,
-    nodes: Vec<NodeSpec>,
-    projections: Vec<ProjectionSpec>,
+    pub(super) nodes: Vec<NodeSpec>,
+    pub(super) projections: Vec<ProjectionSpec>,
     /// `(current node, population)` injections.
     injections: Vec<(usize, usize)>,
     readouts: Vec<(ReadoutSource, Box<dyn Readout>)>,
@@ -115,7 +115,7 @@ impl NetworkBuilder {
             .ok_or(GraphError::UnknownProjection(index))
     }
 
-    fn wrong_role(node: &NodeSpec, role: &'static str) -> GraphError {
+    pub(super) fn wrong_role(node: &NodeSpec, role: &'static str) -> GraphError {
         GraphError::WrongRole {
             node: node.name.clone(),
             kind: node.kind.describe(),
@@ -175,52 +175,6 @@ impl NetworkBuilder {
                 index: n.index,
                 brand: n.brand,
             })
-    }
-
-    /// The node named `name` and whether it is a population, a spike source or a current
-    /// source ([`GraphError::UnknownName`] when there is none).
-    fn named(&self, name: &str) -> Result<(usize, &'static str), GraphError> {
-        self.nodes
-            .iter()
-            .position(|n| n.name == name)
-            .map(|i| (i, self.nodes[i].kind.describe()))
-            .ok_or_else(|| GraphError::UnknownName(name.to_owned()))
-    }
-
-    /// The population named `name` (e.g. in a loaded network: [`load`](Self::load)).
-    pub fn population(&self, name: &str) -> Result<PopulationId, GraphError> {
-        match self.named(name)? {
-            (index, "population") => Ok(PopulationId {
-                index,
-                brand: self.brand,
-            }),
-            (index, _) => Err(Self::wrong_role(&self.nodes[index], "used as a population")),
-        }
-    }
-
-    /// The spike source named `name`.
-    pub fn spike_input(&self, name: &str) -> Result<InputId, GraphError> {
-        match self.named(name)? {
-            (index, "spike source") => Ok(InputId {
-                index,
-                brand: self.brand,
-            }),
-            (index, _) => Err(Self::wrong_role(
-                &self.nodes[index],
-                "used as a spike source",
-            )),
-        }
-    }
-
-    /// Every projection, in the order they were connected (a loaded network's: in the order
-    /// of its description).
-    pub fn projections(&self) -> Vec<ProjectionId> {
-        (0..self.projections.len())
-            .map(|index| ProjectionId {
-                index,
-                brand: self.brand,
-            })
-            .collect()
     }
 
     /// Adds a spike source (recorded trains, Poisson, or your own [`SpikeSource`]).

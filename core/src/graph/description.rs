@@ -3,14 +3,6 @@
 //! now, time constants, delays, plasticity) — as data: serde, JSON for the Python package's NIR
 //! bridge, and the first half of a saved network ([`Network::save`]).
 //! [`Network::describe`] writes it; [`NetworkBuilder::from_description`] builds from it.
-//!
-//! ```json
-//! {"format": "neurotac-network", "version": 1, "dt_s": 0.0001, "stepping": "clock",
-//!  "nodes": [{"kind": "spike_array", "name": "taxels", "trains": [[0.01, 0.02], []]},
-//!            {"kind": "population", "name": "out", "model": {"model": "lif", "size": 2, "settings": {…}}}],
-//!  "projections": [{"pre": "taxels", "post": "out", "tau_s": 0.005, "delay_steps": 0,
-//!                   "wiring": {"one_to_one": {"weight": 1.2}}, "plasticity": null}]}
-//! ```
 
 use super::builder::NetworkBuilder;
 use super::ids::{InputId, PopulationId};
@@ -20,7 +12,8 @@ use super::running::RunningKind;
 use super::stepping::Stepping;
 use super::synapse::{Connectivity, ExpSynapse, Stdp, Synapse, Wiring};
 use crate::error::{GraphError, ModelError};
-use crate::model_state::{ModelDescription, ModelFactory};
+use crate::model::ModelFactory;
+use crate::model_state::ModelDescription;
 use serde::{Deserialize, Serialize};
 
 /// The `format` of every description.
@@ -28,7 +21,16 @@ pub const NETWORK_FORMAT: &str = "neurotac-network";
 /// The description version written; older ones (none yet) are read.
 pub const NETWORK_VERSION: u32 = 1;
 
-/// A network as data (see the [module docs](self)).
+/// A network as data: the time step, the stepping, the nodes and the projections with their
+/// weights now. As JSON:
+///
+/// ```json
+/// {"format": "neurotac-network", "version": 1, "dt_s": 0.0001, "stepping": "clock",
+///  "nodes": [{"kind": "source", "name": "taxels", "source": {"spike_array": {"trains": [[0.01, 0.02], []]}}},
+///            {"kind": "population", "name": "out", "model": {"model": "lif", "size": 2, "settings": {…}}}],
+///  "projections": [{"pre": "taxels", "post": "out", "tau_s": 0.005, "delay_steps": 0,
+///                   "wiring": {"one_to_one": {"weight": 1.2}}, "plasticity": null}]}
+/// ```
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct NetworkDescription {

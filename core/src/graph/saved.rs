@@ -4,27 +4,18 @@
 //! currents, the spikes still in flight in the delay lines, sources' positions, plastic weights
 //! and their traces, automatic stepping's counts.
 //!
-//! # File format (version 1)
-//! Little-endian: magic `NTNETWRK`, `u32` version, `u64` length `L` of the body, the body (`L`
-//! bytes: [CBOR](https://www.rfc-editor.org/rfc/rfc8949) of `{description, state}`, the
-//! description as [`NetworkDescription`]), and last a `u32` CRC-32 (IEEE, as zlib's `crc32`)
-//! of every byte before it. The magic and the version are read first (a newer file is a
-//! [`NetworkFileError::Version`]), then the length is checked against the file's size and the
-//! checksum verified before anything is decoded: a file cut anywhere or with a flipped bit is
-//! a typed error naming the file, never a different network. Numbers are stored as they are
-//! (CBOR floats are exact). Written through [`AtomicFile`]: never half-written.
-//!
 //! Readouts are not saved (they watch a run; add them again after loading).
 
 use super::builder::NetworkBuilder;
-use super::description::NetworkDescription;
+use super::description::{NetworkDescription, NodeDescription};
 use super::network::{Network, active_neurons};
 use super::running::RunningKind;
+use super::snapshot::{NetworkState, NodeState, ProjectionState, TraceState};
 use super::stepping::SteppingState;
 use crate::error::{GraphError, IoAction};
 use crate::io::{AtomicFile, Replace};
+use crate::model::ModelFactory;
 use crate::model::SpikeBuffer;
-use crate::model_state::{ModelFactory, ModelState};
 use serde::{Deserialize, Serialize};
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -112,47 +103,6 @@ struct SavedNetwork {
     state: NetworkState,
 }
 
-/// Where a network is: one entry per described node (populations and spike sources, in
-/// order) and per described projection.
-#[derive(Debug, Clone, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub(super) struct NetworkState {
-    step: u64,
-    neuron_updates: u64,
-    nodes: Vec<NodeState>,
-    projections: Vec<ProjectionState>,
-}
-
-#[derive(Debug, Clone, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-struct NodeState {
-    /// A population's model state.
-    model: Option<ModelState>,
-    /// A spike source's position.
-    position: Option<Vec<u64>>,
-    /// The spikes of the latest steps, newest first (step − 1, step − 2, …).
-    history: Vec<(Vec<u32>, Vec<f64>)>,
-    /// An event-driven or automatic population's stepping.
-    stepping: Option<SteppingState>,
-}
-
-#[derive(Debug, Clone, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-struct ProjectionState {
-    current: Vec<f64>,
-    /// A plastic projection's learning switch and traces.
-    plasticity: Option<TraceState>,
-}
-
-/// A plastic projection's learning switch and its traces' values and steps.
-#[derive(Debug, Clone, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-struct TraceState {
-    learning: bool,
-    pre: (Vec<f64>, Vec<u64>),
-    post: (Vec<f64>, Vec<u64>),
-}
-
 impl Network {
     /// Where this network is ([`NetworkState`]), for [`save`](Self::save).
     fn saved_state(&self) -> Result<NetworkState, GraphError> {
@@ -209,11 +159,25 @@ impl Network {
         })
     }
 
-    /// Saves this network to `path` (see the [module docs](self) for the format): its
-    /// description ([`describe`](Self::describe)) and where every part of it is now, so that
-    /// [`NetworkBuilder::load`] continues it bit for bit. Replaces `path` atomically. Errors:
-    /// what [`describe`](Self::describe) refuses, a model or source without a saved state, a
+    /// Saves this network to `path`: its description ([`describe`](Self::describe)) and where
+    /// every part of it is now — models (event-driven bookkeeping included), synaptic
+    /// currents, the spikes still in flight in the delay lines, sources' positions, plastic
+    /// weights and their traces, automatic stepping's counts — so that
+    /// [`NetworkBuilder::load`] continues it bit for bit. Readouts are not saved (they watch
+    /// a run; add them again after loading). Replaces `path` atomically. Errors: what
+    /// [`describe`](Self::describe) refuses, a model or source without a saved state, a
     /// network partitioned over ranks, the file not writable.
+    ///
+    /// # File format (version 1)
+    /// Little-endian: magic `NTNETWRK`, `u32` version, `u64` length `L` of the body, the body (`L`
+    /// bytes: [CBOR](https://www.rfc-editor.org/rfc/rfc8949) of `{description, state}`, the
+    /// description as [`NetworkDescription`]), and last a `u32` CRC-32 (IEEE, as zlib's `crc32`)
+    /// of every byte before it. The magic and the version are read first (a newer file is a
+    /// [`NetworkFileError::Version`]), then the length is checked against the file's size and the
+    /// checksum verified before anything is decoded: a file cut anywhere or with a flipped bit is
+    /// a typed error naming the file, never a different network. Numbers are stored as they are
+    /// (CBOR floats are exact). Written through [`AtomicFile`](crate::AtomicFile): never half-written.
+    ///
     pub fn save(&self, path: impl AsRef<Path>) -> Result<(), NetworkFileError> {
         let path = path.as_ref();
         let graph = |source| NetworkFileError::Graph {
@@ -376,6 +340,10 @@ impl NetworkBuilder {
             source,
         })?;
         let saved = decode(&bytes, path)?;
+        check_state_fits(&saved).map_err(|what| NetworkFileError::Graph {
+            path: path.to_owned(),
+            source: Box::new(GraphError::Description(format!("saved state: {what}"))),
+        })?;
         let mut b =
             NetworkBuilder::from_description(&saved.description, models).map_err(|source| {
                 NetworkFileError::Graph {
@@ -393,7 +361,38 @@ impl NetworkBuilder {
     }
 }
 
-/// The saved network in `bytes` (the file `path`), checked as the [module docs](self) say.
+/// Checks, before anything is made, that the saved state has one entry per described node
+/// (populations and spike sources) and projection, and that no population is larger than its
+/// longest saved array: a corrupt size never sizes an allocation (the arrays are in the file).
+fn check_state_fits(saved: &SavedNetwork) -> Result<(), String> {
+    let (d, s) = (&saved.description, &saved.state);
+    let nodes = (d.nodes.iter())
+        .filter(|n| !matches!(n, NodeDescription::Current { .. }))
+        .count();
+    if s.nodes.len() != nodes || s.projections.len() != d.projections.len() {
+        return Err(format!(
+            "{} node and {} projection states for {nodes} nodes and {} projections",
+            s.nodes.len(),
+            s.projections.len(),
+            d.projections.len()
+        ));
+    }
+    for (node, state) in d.nodes.iter().zip(&s.nodes) {
+        if let (NodeDescription::Population { name, model }, Some(m)) = (node, &state.model) {
+            let longest = m.arrays.iter().map(|(_, a)| a.len()).max();
+            if longest.is_some_and(|l| model.size > l) {
+                return Err(format!(
+                    "population '{name}' has {} neurons but its longest saved array {} values",
+                    model.size,
+                    longest.unwrap_or(0)
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The saved network in `bytes` (the file `path`), checked as [`Network::save`] says.
 fn decode(bytes: &[u8], path: &Path) -> Result<SavedNetwork, NetworkFileError> {
     let size = bytes.len() as u64;
     let length = |what: String| NetworkFileError::Length {

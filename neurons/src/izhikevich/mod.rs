@@ -93,6 +93,7 @@ use crate::real::Real;
 use neurotac_core::ModelError;
 #[cfg(doc)]
 use neurotac_core::NeuronModel;
+use serde_json::Value;
 #[cfg(target_arch = "x86_64")]
 use std::any::Any;
 use std::marker::PhantomData;
@@ -515,8 +516,27 @@ impl<F: Real> BlockModel for IzhikevichModel<F> {
     const DIVERGENCE: &'static str = "the membrane jumped from at or below the reset to the peak in one step, faster than dv/dt allows for that input, or left the finite range";
     const DEFAULT_CROSSOVER: f64 = 0.10; // 0.103: `bench neurons --crossover --n 10000` on the 2-core VM
 
+    /// `v` and `u` (finite, the default check).
+    const STATE_ARRAYS: &'static [&'static str] = &["v", "u"];
+
     fn supports(integrator: Integrator) -> bool {
         integrator != Integrator::Exact
+    }
+
+    fn state_array(s: &IzhikevichState<F>, a: usize) -> &[F] {
+        [&s.v, &s.u][a]
+    }
+
+    fn state_array_mut(s: &mut IzhikevichState<F>, a: usize) -> &mut [F] {
+        if a == 0 { &mut s.v } else { &mut s.u }
+    }
+
+    fn params_to_json(params: &IzhikevichParams) -> Option<Value> {
+        params.to_json()
+    }
+
+    fn params_from_json(value: &Value) -> Result<IzhikevichParams, String> {
+        IzhikevichParams::from_json(value)
     }
 
     fn default_initial(_params: &IzhikevichParams) -> InitialPotential {

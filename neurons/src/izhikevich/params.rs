@@ -2,9 +2,10 @@
 //! Izhikevich (2003), the checks `prepare` runs on it, and the resting point of the equations
 //! without input ([`resting_point`]). The equations are in the [parent module](super).
 
-use crate::population::{check_param, check_representable};
+use crate::population::{Fields, check_param, check_representable, floor, number};
 use crate::real::Real;
 use neurotac_core::ModelError;
+use serde_json::{Value, json};
 
 /// The model name in messages.
 pub(super) const MODEL: &str = "izhikevich";
@@ -115,6 +116,35 @@ impl IzhikevichParams {
             .iter()
             .find(|(key, _)| key.eq_ignore_ascii_case(name))
             .map(|&(_, params)| params)
+    }
+
+    /// The `params` object of an Izhikevich population's settings: the fields by name,
+    /// `v_min` as `null` when −∞; `None` when another value is not finite (it has no JSON).
+    pub(super) fn to_json(self) -> Option<Value> {
+        Some(json!({
+            "a": number(self.a)?,
+            "b": number(self.b)?,
+            "c": number(self.c)?,
+            "d": number(self.d)?,
+            "v_peak": number(self.v_peak)?,
+            "v_min": floor(self.v_min)?,
+            "rest_tolerance": number(self.rest_tolerance)?,
+        }))
+    }
+
+    /// The parameters from their [`to_json`](Self::to_json) object; `Err` names the field.
+    pub(super) fn from_json(value: &Value) -> Result<Self, String> {
+        let fields = ["a", "b", "c", "d", "v_peak", "v_min", "rest_tolerance"];
+        let f = Fields::new(value, "settings.params", &fields)?;
+        Ok(Self {
+            a: f.number("a")?,
+            b: f.number("b")?,
+            c: f.number("c")?,
+            d: f.number("d")?,
+            v_peak: f.number("v_peak")?,
+            v_min: f.floor("v_min")?,
+            rest_tolerance: f.number("rest_tolerance")?,
+        })
     }
 
     /// Checks the fields (finite, representable in `F`, consistent); run by `prepare`.

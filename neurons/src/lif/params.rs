@@ -2,9 +2,10 @@
 //! neuron, CUBA's), the checks `prepare` runs on it, and the closed-form spike times of a neuron
 //! under constant input. The equations are in the [parent module](super).
 
-use crate::population::{check_param, check_representable};
+use crate::population::{Fields, check_param, check_representable, floor, number};
 use crate::real::Real;
 use neurotac_core::ModelError;
+use serde_json::{Value, json};
 
 /// The model name in messages.
 pub(super) const MODEL: &str = "lif";
@@ -88,6 +89,33 @@ impl LifParams {
             .map(|k| k as f64 * period + (k - 1) as f64 * self.t_ref_s)
             .take_while(|&t| t <= duration_s)
             .collect()
+    }
+
+    /// The `params` object of a LIF population's settings: the fields by name, `v_min` as
+    /// `null` when −∞; `None` when another value is not finite (it has no JSON).
+    pub(super) fn to_json(self) -> Option<Value> {
+        Some(json!({
+            "tau_m_s": number(self.tau_m_s)?,
+            "v_rest": number(self.v_rest)?,
+            "v_th": number(self.v_th)?,
+            "v_reset": number(self.v_reset)?,
+            "t_ref_s": number(self.t_ref_s)?,
+            "v_min": floor(self.v_min)?,
+        }))
+    }
+
+    /// The parameters from their [`to_json`](Self::to_json) object; `Err` names the field.
+    pub(super) fn from_json(value: &Value) -> Result<Self, String> {
+        let fields = ["tau_m_s", "v_rest", "v_th", "v_reset", "t_ref_s", "v_min"];
+        let f = Fields::new(value, "settings.params", &fields)?;
+        Ok(Self {
+            tau_m_s: f.number("tau_m_s")?,
+            v_rest: f.number("v_rest")?,
+            v_th: f.number("v_th")?,
+            v_reset: f.number("v_reset")?,
+            t_ref_s: f.number("t_ref_s")?,
+            v_min: f.floor("v_min")?,
+        })
     }
 
     /// Checks the fields (finite, representable in `F`, consistent); run by `prepare`.

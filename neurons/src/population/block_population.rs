@@ -13,7 +13,9 @@ use super::model::BlockModel;
 use super::stepping::Population;
 use crate::integrate::Integrator;
 use crate::real::Real;
-use neurotac_core::{ModelError, NeuronModel, SpikeBuffer, SynapticDrive};
+use neurotac_core::{
+    ModelDescription, ModelError, ModelState, NeuronModel, SpikeBuffer, SynapticDrive,
+};
 use num_traits::Float;
 use std::fmt;
 use std::ops::Range;
@@ -23,29 +25,29 @@ use std::ops::Range;
 ///
 /// Use it through the model aliases, [`Lif`](crate::Lif) and [`Izhikevich`](crate::Izhikevich).
 pub struct BlockPopulation<M: BlockModel> {
-    n: usize,
+    pub(super) n: usize,
     /// The whole population this one is a block of ([`NeuronModel::restrict`]), and the index
     /// there of this one's first neuron (`n` and 0 when it is whole): initial values are those
     /// of the whole population's neurons `first..first + n`.
-    whole: usize,
-    first: usize,
-    params: M::Params,
-    integrator: Integrator,
-    interpolate: bool,
-    initial: InitialPotential,
-    blocks: Vec<M::State>,
-    k: M::Constants,
+    pub(super) whole: usize,
+    pub(super) first: usize,
+    pub(super) params: M::Params,
+    pub(super) integrator: Integrator,
+    pub(super) interpolate: bool,
+    pub(super) initial: InitialPotential,
+    pub(super) blocks: Vec<M::State>,
+    pub(super) k: M::Constants,
     dt_s: f64,
     /// Steps advanced since `prepare`/`reset`.
-    steps: u64,
+    pub(super) steps: u64,
     /// The first step (0-based) in which the divergence criterion fired, if any.
-    diverged_at: Option<u64>,
+    pub(super) diverged_at: Option<u64>,
     /// Event-driven stepping: the step up to which each neuron's state is current (empty when
     /// the model cannot skip idle neurons with these settings).
-    current_to: Vec<u64>,
+    pub(super) current_to: Vec<u64>,
     /// Event-driven stepping: the neurons not settled after their last step (ascending), and
     /// the buffer for the next step's.
-    restless: Vec<u32>,
+    pub(super) restless: Vec<u32>,
     restless_next: Vec<u32>,
 }
 
@@ -356,6 +358,35 @@ impl<M: BlockModel> NeuronModel for BlockPopulation<M> {
         part.whole = self.whole;
         part.first = self.first + range.start;
         Some(Box::new(part))
+    }
+
+    /// Its name, size and settings (see [`BlockPopulation::from_description`]); a population
+    /// restricted to a block of a larger one is described as a population of its own, its
+    /// initial potentials listed. `None` when the model has no parameter JSON
+    /// ([`BlockModel::params_to_json`]) or a setting is not finite.
+    fn describe(&self) -> Option<ModelDescription> {
+        self.description()
+    }
+
+    /// Every number the next step depends on, as it is — neurons that event-driven stepping
+    /// left behind stay behind — in the population's precision widened to `f64`:
+    /// - counters `steps` (steps done since `prepare`) and `diverged_at` (the first step the
+    ///   divergence criterion flagged + 1, or 0);
+    /// - arrays: the model's [`STATE_ARRAYS`](BlockModel::STATE_ARRAYS) over all neurons
+    ///   (empty when the settings do not use one), and `dt_s`, the step it was saved at;
+    /// - index lists `current_to` (event-driven stepping: the step each neuron is current to;
+    ///   empty for a clock-driven population) and `restless` (the neurons still settling,
+    ///   ascending).
+    ///
+    /// `None` before `prepare`, or when the model lists no state arrays.
+    fn save_state(&self) -> Option<ModelState> {
+        self.saved_state()
+    }
+
+    /// Checks every part of `state` (names, lengths, counters within the steps done, values
+    /// representable in the precision and ones a step can leave) before writing any.
+    fn restore_state(&mut self, state: &ModelState) -> Result<(), ModelError> {
+        self.restore(state)
     }
 
     fn check_divergence(&self) -> Result<(), ModelError> {

@@ -15,6 +15,8 @@ mod blocks;
 mod checks;
 mod inputs;
 mod model;
+mod saving;
+mod settings;
 mod stepping;
 
 pub use active::{ActiveNeurons, ActiveStep};
@@ -24,4 +26,6 @@ pub(crate) use blocks::{DIVERGED_BIT, count_ones, take_diverged};
 pub use checks::{check_param, check_representable};
 pub use inputs::{Drive, InitialPotential};
 pub use model::BlockModel;
+pub(crate) use saving::precision;
+pub(crate) use settings::{Fields, floor, number};
 pub use stepping::{DIVERGENCE_CHECK_STEPS, Population};

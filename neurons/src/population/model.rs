@@ -11,6 +11,7 @@ use crate::real::Real;
 #[cfg(doc)]
 use neurotac_core::NeuronModel;
 use neurotac_core::{ModelError, SynapticDrive};
+use num_traits::Float;
 use std::fmt;
 
 /// The per-model part of a block-stepped population: parameters, the state of one block,
@@ -44,6 +45,12 @@ pub trait BlockModel: Send + Sync + 'static {
     /// The activity below which a population of this model is cheaper event-driven
     /// ([`NeuronModel::default_crossover`], used when no crossover is stored). Default 0.05.
     const DEFAULT_CROSSOVER: f64 = 0.05;
+    /// Names of the arrays of a block's state (in [`Real`](Self::Real)) that a step reads:
+    /// what [`NeuronModel::save_state`] saves besides the population's own counters, each
+    /// array the concatenation of the blocks' ([`state_array`](Self::state_array)). What every
+    /// step writes for every neuron before reading it (the spike mask, in-step fractions) is
+    /// the step's output, not state. Empty (the default): the model cannot be saved.
+    const STATE_ARRAYS: &'static [&'static str] = &[];
 
     /// `true` when the model implements `integrator`.
     fn supports(integrator: Integrator) -> bool;
@@ -110,6 +117,43 @@ pub trait BlockModel: Send + Sync + 'static {
 
     /// Variable `var` (an index into [`VARIABLES`](Self::VARIABLES)) of neuron `j` of the block.
     fn variable(state: &Self::State, var: usize, j: usize) -> f64;
+
+    /// Array `a` of [`STATE_ARRAYS`](Self::STATE_ARRAYS) of a block (empty when these
+    /// settings do not use it, e.g. refractory counters without a refractory period).
+    fn state_array(state: &Self::State, a: usize) -> &[Self::Real] {
+        let _ = (state, a);
+        &[]
+    }
+
+    /// Array `a` of [`STATE_ARRAYS`](Self::STATE_ARRAYS) of a block, to restore it.
+    fn state_array_mut(state: &mut Self::State, a: usize) -> &mut [Self::Real] {
+        let _ = (state, a);
+        &mut []
+    }
+
+    /// Checks a value `x` of array `a` of a state to be restored: `Err(expected)` when no
+    /// step of a population with constants `k` can leave it there. Default: finite.
+    fn check_state_value(k: &Self::Constants, a: usize, x: Self::Real) -> Result<(), &'static str> {
+        let _ = (k, a);
+        if x.is_finite() { Ok(()) } else { Err("finite") }
+    }
+
+    /// The parameters as the `params` object of the population's settings
+    /// ([`NeuronModel::describe`]): finite numbers only, a floor of −∞ written `null`. `None`
+    /// when a parameter has no JSON (not finite), or (the default) when the model cannot be
+    /// described.
+    fn params_to_json(params: &Self::Params) -> Option<serde_json::Value> {
+        let _ = params;
+        None
+    }
+
+    /// The parameters from the `params` object of the settings (as
+    /// [`params_to_json`](Self::params_to_json) writes them); `Err` names the field and says
+    /// what was expected (`settings.params.tau_m_s: missing`). Default: refused.
+    fn params_from_json(value: &serde_json::Value) -> Result<Self::Params, String> {
+        let _ = value;
+        Err(format!("{} cannot be made from a description", Self::NAME))
+    }
 
     /// Event-driven stepping ([`NeuronModel::event_driven`]): `true` when, with these settings, a
     /// neuron whose input is 0 and that is [`settled`](Self::settled) can be left alone and
