@@ -216,10 +216,18 @@ impl PoissonInput {
         }
     }
 
+    /// A saved position of `len` numbers where `2 + channels` were expected.
+    fn misfit(channels: usize, len: usize) -> GraphError {
+        GraphError::Description(format!(
+            "a Poisson source's position is {} numbers, the saved one has {len}",
+            2 + channels
+        ))
+    }
+
     /// The silent steps before a channel's next spike (geometric; see the type docs).
     fn gap(&mut self) -> u64 {
         let u = 1.0 - self.rng.random::<f64>();
-        // ln u ≤ 0 and ln(1 − p) < 0: a ratio ≥ 0 (or NaN for u = 1, p = 1: no gap), saturating.
+        // ln u ≤ 0 and ln(1 − p) < 0 (−∞ for p = 1: gap 0): a ratio ≥ 0, cast saturating.
         (u.ln() / self.ln_q).floor() as u64
     }
 }
@@ -282,18 +290,10 @@ impl SpikeSource for PoissonInput {
     fn seek(&mut self, _step: u64, position: &[u64]) -> Result<(), GraphError> {
         let channels = if self.ln_q < 0.0 { self.n } else { 0 };
         let [low, high, next @ ..] = position else {
-            return Err(GraphError::Description(format!(
-                "a Poisson source's position is {} numbers, the saved one has {}",
-                2 + channels,
-                position.len()
-            )));
+            return Err(Self::misfit(channels, position.len()));
         };
         if next.len() != channels {
-            return Err(GraphError::Description(format!(
-                "a Poisson source's position is {} numbers, the saved one has {}",
-                2 + channels,
-                position.len()
-            )));
+            return Err(Self::misfit(channels, position.len()));
         }
         self.rng = ChaCha8Rng::seed_from_u64(self.seed);
         self.rng

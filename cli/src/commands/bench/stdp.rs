@@ -3,7 +3,7 @@
 //! Brian2's run of the same equations: final weights compared (two-sample KS, shares near each
 //! bound), the speed ratio, and a figure.
 
-use super::{PeerCase, add_peer, fastest_interleaved, print};
+use super::peer_runs::{PeerCase, add_peer, fastest_interleaved, print};
 use crate::commands::args::{self, Time};
 use crate::commands::options::{ForceOption, SeedOption, help};
 use crate::commands::outputs::{Output, check_outputs};
