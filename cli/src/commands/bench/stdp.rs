@@ -25,10 +25,10 @@ use std::path::PathBuf;
 #[derive(Debug, Args)]
 #[command(mut_args(help("seed", "Seed of the initial weights and of the Poisson inputs")))]
 pub(super) struct StdpArgs {
-    /// Simulated duration (ms, or with a unit: 20ms, 100s; Brian2's example: 100 s).
+    /// Simulated duration (ms, or with a unit: 20ms, 0.02s; Brian2's example: 100s).
     #[arg(value_parser = args::time_duration, allow_negative_numbers = true, long, default_value = "100s")]
     duration: Time,
-    /// Time step (ms, or with a unit: 0.1ms, 100us).
+    /// Time step (ms, or with a unit: 20ms, 0.02s).
     #[arg(value_parser = args::time_step, allow_negative_numbers = true, long, default_value = "0.1ms")]
     dt: Time,
     /// Poisson inputs, each with one plastic synapse onto the neuron.
