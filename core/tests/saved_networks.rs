@@ -293,16 +293,20 @@ fn with_body(file: &[u8], edit: impl FnOnce(&mut ciborium::Value)) -> Vec<u8> {
     with_checksum(out)
 }
 
-/// The map entry `key` of CBOR map `v`.
-fn entry<'a>(v: &'a mut ciborium::Value, key: &str) -> &'a mut ciborium::Value {
-    let ciborium::Value::Map(m) = v else {
-        panic!("not a map")
-    };
-    &mut m
-        .iter_mut()
-        .find(|(k, _)| k.as_text() == Some(key))
-        .unwrap()
-        .1
+/// The value at `path` in CBOR value `v`: map keys and array indices joined by dots
+/// (`"state.nodes.2.model"`).
+fn at<'a>(v: &'a mut ciborium::Value, path: &str) -> &'a mut ciborium::Value {
+    path.split('.').fold(v, |v, step| match v {
+        ciborium::Value::Array(a) => &mut a[step.parse::<usize>().unwrap()],
+        ciborium::Value::Map(m) => {
+            &mut m
+                .iter_mut()
+                .find(|(k, _)| k.as_text() == Some(step))
+                .unwrap()
+                .1
+        }
+        _ => panic!("{path}: {step} is in neither a map nor an array"),
+    })
 }
 
 fn load(bytes: &[u8], path: &Path) -> Result<NetworkBuilder, NetworkFileError> {
@@ -368,11 +372,7 @@ fn a_damaged_or_foreign_file_is_a_typed_error_naming_it() {
     // A graph that does not validate: a projection onto a node that does not exist, a delay 0
     // between populations.
     let nowhere = with_body(&file, |v| {
-        let p = entry(entry(v, "description"), "projections");
-        let ciborium::Value::Array(list) = p else {
-            panic!()
-        };
-        *entry(&mut list[1], "post") = ciborium::Value::Text("nowhere".into());
+        *at(v, "description.projections.1.post") = ciborium::Value::Text("nowhere".into());
     });
     let e = load(&nowhere, &bad).err().unwrap();
     assert!(
@@ -380,31 +380,16 @@ fn a_damaged_or_foreign_file_is_a_typed_error_naming_it() {
         "{e}"
     );
     let instant = with_body(&file, |v| {
-        let p = entry(entry(v, "description"), "projections");
-        let ciborium::Value::Array(list) = p else {
-            panic!()
-        };
-        *entry(&mut list[2], "delay_steps") = ciborium::Value::Integer(0.into());
+        *at(v, "description.projections.2.delay_steps") = ciborium::Value::Integer(0.into());
     });
     let e = load(&instant, &bad).err().unwrap();
     assert!(e.to_string().contains("delay_steps"), "{e}");
     // A state that does not fit its model: refused, nothing built.
     let short = with_body(&file, |v| {
-        let nodes = entry(entry(v, "state"), "nodes");
-        let ciborium::Value::Array(list) = nodes else {
-            panic!()
-        };
-        let arrays = entry(entry(&mut list[2], "model"), "arrays");
-        let ciborium::Value::Array(arrays) = arrays else {
-            panic!()
-        };
-        let ciborium::Value::Array(pair) = &mut arrays[0] else {
-            panic!()
-        };
-        let ciborium::Value::Array(v) = &mut pair[1] else {
-            panic!()
-        };
-        v.pop();
+        at(v, "state.nodes.2.model.arrays.0.1")
+            .as_array_mut()
+            .unwrap()
+            .pop();
     });
     let e = load(&short, &bad).err().unwrap();
     assert!(
@@ -413,18 +398,7 @@ fn a_damaged_or_foreign_file_is_a_typed_error_naming_it() {
     );
     // One the model itself refuses (its array renamed) is refused at build.
     let renamed = with_body(&file, |v| {
-        let nodes = entry(entry(v, "state"), "nodes");
-        let ciborium::Value::Array(list) = nodes else {
-            panic!()
-        };
-        let arrays = entry(entry(&mut list[2], "model"), "arrays");
-        let ciborium::Value::Array(arrays) = arrays else {
-            panic!()
-        };
-        let ciborium::Value::Array(pair) = &mut arrays[0] else {
-            panic!()
-        };
-        *pair = vec![ciborium::Value::Text("w".into()), pair[1].clone()];
+        *at(v, "state.nodes.2.model.arrays.0.0") = ciborium::Value::Text("w".into());
     });
     let mut b = load(&renamed, &bad).unwrap();
     b.record_spikes(b.population("out").unwrap()).unwrap();
@@ -455,11 +429,7 @@ fn a_saved_size_larger_than_its_state_is_refused_before_anything_is_allocated() 
     let bad = dir.path().join("bad.ntnet");
     // "hidden" claims 2³² − 1 neurons; its saved state holds 12.
     let huge = with_body(&file, |v| {
-        let nodes = entry(entry(v, "description"), "nodes");
-        let ciborium::Value::Array(list) = nodes else {
-            panic!()
-        };
-        *entry(entry(&mut list[2], "model"), "size") = ciborium::Value::Integer(u32::MAX.into());
+        *at(v, "description.nodes.2.model.size") = ciborium::Value::Integer(u32::MAX.into());
     });
     let e = load(&huge, &bad).err().unwrap();
     assert!(
@@ -468,11 +438,7 @@ fn a_saved_size_larger_than_its_state_is_refused_before_anything_is_allocated() 
     );
     // A state missing a node's entry is refused too.
     let fewer = with_body(&file, |v| {
-        let nodes = entry(entry(v, "state"), "nodes");
-        let ciborium::Value::Array(list) = nodes else {
-            panic!()
-        };
-        list.pop();
+        at(v, "state.nodes").as_array_mut().unwrap().pop();
     });
     let e = load(&fewer, &bad).err().unwrap();
     assert!(e.to_string().contains("node and"), "{e}");

@@ -7,28 +7,7 @@ import neurotac
 import numpy as np
 import pytest
 
-DT_S = 1e-4
-
-
-def lif(n, tau_m_s=0.01):
-    return {
-        "model": "lif",
-        "size": n,
-        "settings": {
-            "precision": "f64",
-            "integrator": "exact",
-            "interpolate": False,
-            "initial": {"constant": 0.0},
-            "params": {
-                "tau_m_s": tau_m_s,
-                "v_rest": 0.0,
-                "v_th": 1.0,
-                "v_reset": 0.0,
-                "t_ref_s": 0.0,
-                "v_min": None,
-            },
-        },
-    }
+from descriptions import DT_S, lif
 
 
 def one_neuron(weight, trains=((0.001,),)):
