@@ -443,3 +443,20 @@ fn a_saved_size_larger_than_its_state_is_refused_before_anything_is_allocated() 
     let e = load(&fewer, &bad).err().unwrap();
     assert!(e.to_string().contains("node and"), "{e}");
 }
+
+#[test]
+fn a_poisson_source_larger_than_its_saved_position_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let good = dir.path().join("good.ntnet");
+    let (net, _) = network();
+    net.save(&good).unwrap();
+    let file = std::fs::read(&good).unwrap();
+    let bad = dir.path().join("bad.ntnet");
+    // "noise" (30 channels) claims 2⁶² channels.
+    let huge = with_body(&file, |v| {
+        *at(v, "description.nodes.0.source.poisson.size") =
+            ciborium::Value::Integer((1u64 << 62).into());
+    });
+    let e = load(&huge, &bad).err().unwrap();
+    assert!(e.to_string().contains("Poisson source 'noise'"), "{e}");
+}

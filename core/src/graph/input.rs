@@ -247,7 +247,8 @@ impl SpikeSource for PoissonInput {
             });
         }
         self.ln_q = (-p).ln_1p();
-        self.next = BinaryHeap::with_capacity(self.n);
+        // A silent source (rate 0) holds no channel.
+        self.next = BinaryHeap::with_capacity(if self.ln_q < 0.0 { self.n } else { 0 });
         self.reset();
         Ok(())
     }

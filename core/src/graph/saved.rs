@@ -8,6 +8,7 @@
 
 use super::builder::NetworkBuilder;
 use super::description::{NetworkDescription, NodeDescription};
+use super::input::SourceDescription;
 use super::network::{Network, active_neurons};
 use super::running::RunningKind;
 use super::snapshot::{NetworkState, NodeState, ProjectionState, TraceState};
@@ -378,6 +379,22 @@ fn check_state_fits(saved: &SavedNetwork) -> Result<(), String> {
         ));
     }
     for (node, state) in d.nodes.iter().zip(&s.nodes) {
+        // A firing Poisson source's position holds each channel's next spike.
+        if let (
+            NodeDescription::Source {
+                name,
+                source: SourceDescription::Poisson { size, rate_hz, .. },
+            },
+            Some(position),
+        ) = (node, &state.position)
+            && *rate_hz > 0.0
+            && position.len() != size.saturating_add(2)
+        {
+            return Err(format!(
+                "Poisson source '{name}' has {size} channels but its saved position {} numbers",
+                position.len()
+            ));
+        }
         if let (NodeDescription::Population { name, model }, Some(m)) = (node, &state.model) {
             let longest = m.arrays.iter().map(|(_, a)| a.len()).max();
             if longest.is_some_and(|l| model.size > l) {
