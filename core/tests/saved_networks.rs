@@ -427,36 +427,26 @@ fn a_saved_size_larger_than_its_state_is_refused_before_anything_is_allocated() 
     net.save(&good).unwrap();
     let file = std::fs::read(&good).unwrap();
     let bad = dir.path().join("bad.ntnet");
+    let refused = |edit: &dyn Fn(&mut ciborium::Value), expected: &str| {
+        let e = load(&with_body(&file, edit), &bad).err().unwrap();
+        assert!(e.to_string().contains(expected), "{e}");
+    };
     // "hidden" claims 2³² − 1 neurons; its saved state holds 12.
-    let huge = with_body(&file, |v| {
-        *at(v, "description.nodes.2.model.size") = ciborium::Value::Integer(u32::MAX.into());
-    });
-    let e = load(&huge, &bad).err().unwrap();
-    assert!(
-        e.to_string().contains("'hidden' has 4294967295 neurons"),
-        "{e}"
+    refused(
+        &|v| *at(v, "description.nodes.2.model.size") = ciborium::Value::Integer(u32::MAX.into()),
+        "'hidden' has 4294967295 neurons",
     );
-    // A state missing a node's entry is refused too.
-    let fewer = with_body(&file, |v| {
-        at(v, "state.nodes").as_array_mut().unwrap().pop();
-    });
-    let e = load(&fewer, &bad).err().unwrap();
-    assert!(e.to_string().contains("node and"), "{e}");
-}
-
-#[test]
-fn a_poisson_source_larger_than_its_saved_position_is_refused() {
-    let dir = tempfile::tempdir().unwrap();
-    let good = dir.path().join("good.ntnet");
-    let (net, _) = network();
-    net.save(&good).unwrap();
-    let file = std::fs::read(&good).unwrap();
-    let bad = dir.path().join("bad.ntnet");
-    // "noise" (30 channels) claims 2⁶² channels.
-    let huge = with_body(&file, |v| {
-        *at(v, "description.nodes.0.source.poisson.size") =
-            ciborium::Value::Integer((1u64 << 62).into());
-    });
-    let e = load(&huge, &bad).err().unwrap();
-    assert!(e.to_string().contains("Poisson source 'noise'"), "{e}");
+    // "noise" (30 channels) claims 2⁶²; its saved position holds 30 next spikes.
+    refused(
+        &|v| {
+            *at(v, "description.nodes.0.source.poisson.size") =
+                ciborium::Value::Integer((1u64 << 62).into())
+        },
+        "Poisson source 'noise'",
+    );
+    // A state missing a node's entry.
+    refused(
+        &|v| drop(at(v, "state.nodes").as_array_mut().unwrap().pop()),
+        "node and",
+    );
 }

@@ -4,6 +4,18 @@ tests."""
 DT_S = 1e-4
 
 
+def network(nodes, projections, stepping="clock"):
+    """A network description of `nodes` and `projections` at `DT_S`."""
+    return {
+        "format": "neurotac-network",
+        "version": 1,
+        "dt_s": DT_S,
+        "stepping": stepping,
+        "nodes": nodes,
+        "projections": projections,
+    }
+
+
 def lif(n, tau_m_s=0.01, v_th=1.0, v_reset=0.0, **settings):
     """A LIF model description of `n` neurons (the schema of Network.description())."""
     return {

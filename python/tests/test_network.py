@@ -7,17 +7,13 @@ import neurotac
 import numpy as np
 import pytest
 
-from descriptions import DT_S, lif
+from descriptions import DT_S, lif, network
 
 
 def one_neuron(weight, trains=((0.001,),)):
     """One input channel → one LIF neuron (τ_m 10 ms) through a 5 ms synapse of `weight`."""
-    return {
-        "format": "neurotac-network",
-        "version": 1,
-        "dt_s": DT_S,
-        "stepping": "clock",
-        "nodes": [
+    return network(
+        nodes=[
             {
                 "kind": "source",
                 "name": "in",
@@ -25,7 +21,7 @@ def one_neuron(weight, trains=((0.001,),)):
             },
             {"kind": "population", "name": "lif", "model": lif(1)},
         ],
-        "projections": [
+        projections=[
             {
                 "pre": "in",
                 "post": "lif",
@@ -35,7 +31,7 @@ def one_neuron(weight, trains=((0.001,),)):
                 "plasticity": None,
             }
         ],
-    }
+    )
 
 
 def recurrent():
@@ -44,12 +40,8 @@ def recurrent():
     rng = np.random.default_rng(3)
     pre, post = np.nonzero(rng.random((30, 10)) < 0.3)
     in_pre, in_post = np.nonzero(rng.random((20, 30)) < 0.5)
-    return {
-        "format": "neurotac-network",
-        "version": 1,
-        "dt_s": DT_S,
-        "stepping": "clock",
-        "nodes": [
+    return network(
+        nodes=[
             {
                 "kind": "source",
                 "name": "noise",
@@ -58,7 +50,7 @@ def recurrent():
             {"kind": "population", "name": "a", "model": lif(30)},
             {"kind": "population", "name": "b", "model": lif(10, tau_m_s=0.02)},
         ],
-        "projections": [
+        projections=[
             {
                 "pre": "noise",
                 "post": "a",
@@ -96,7 +88,7 @@ def recurrent():
                 "plasticity": None,
             },
         ],
-    }
+    )
 
 
 def spikes_of(net, duration_s=0.2):

@@ -21,19 +21,15 @@ from neurotac.nir import (
     to_nir,
 )
 
-from descriptions import DT_S, lif, projection, sparse
+from descriptions import DT_S, lif, network, projection, sparse
 
 
 def two_layers():
     """Input (3) → hidden (4, CubaLIF) → out (2, two projections with different τ_syn, so LIF +
     LI synapses); every connectivity; delays 0, 3 and 1; f32 and interpolated spike times on
     one population; sparse synapses by presynaptic neuron, as the import lists them."""
-    return {
-        "format": "neurotac-network",
-        "version": 1,
-        "dt_s": DT_S,
-        "stepping": "clock",
-        "nodes": [
+    return network(
+        nodes=[
             {
                 "kind": "source",
                 "name": "in",
@@ -51,7 +47,7 @@ def two_layers():
                 "source": {"poisson": {"size": 2, "rate_hz": 50.0, "seed": 7}},
             },
         ],
-        "projections": [
+        projections=[
             projection("in", "hidden", {"all_to_all": {"weight": 0.7}}, delay_steps=0),
             projection(
                 "hidden", "out", sparse([0, 1, 3], [1, 0, 1], [0.5, -0.2, 1.1]), delay_steps=3
@@ -61,7 +57,7 @@ def two_layers():
                 "noise", "out", {"one_to_one": {"weight": 0.25}}, tau_s=0.002, delay_steps=0
             ),
         ],
-    }
+    )
 
 
 def test_description_round_trips_through_nir_unchanged():
