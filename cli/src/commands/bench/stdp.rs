@@ -152,6 +152,17 @@ pub(super) fn run(a: StdpArgs) -> anyhow::Result<()> {
         report["peer_near_zero"] = json!(c.peer.near_zero);
         report["peer_near_max"] = json!(c.peer.near_max);
         report["ks"] = json!(c.ks);
+        report["input_draws"] = json!({
+            "neurotac": "one per spike (each input's geometric gap to its next spike)",
+            "peer": "one per input and step (PoissonGroup)",
+        });
+        after.push(
+            "inputs: neurotac draws each input's gap to its next spike (one draw per spike), \
+             Brian2's PoissonGroup one number per input and step: the same law, not the same \
+             work (with per-step draws neurotac was 1.9× Brian2, README \"Learning against \
+             Brian2\")"
+                .to_owned(),
+        );
         after.push(format!(
             "{}: {:.1} Hz in the last tenth; final weights within 10 % of 0: {:.1} %, of w_max: \
              {:.1} %",
