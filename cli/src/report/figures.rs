@@ -394,6 +394,16 @@ pub struct StdpRunView<'a> {
 pub fn song_abbott_figure(runs: &[StdpRunView<'_>], duration_s: f64) -> String {
     use neurotac_experiments::song_abbott::{W_MAX_MV, histogram, rate_over_time};
     const BINS: usize = 20;
+    // Run `k`'s line, in its colour.
+    let line = |label: String, points: Vec<(f64, f64)>, k: usize| Series {
+        label,
+        points,
+        color: PALETTE[k % PALETTE.len()].into(),
+        marker: Marker::None,
+        filled: false,
+        line: true,
+        y_ranges: Vec::new(),
+    };
     let counts: Vec<Vec<usize>> = runs.iter().map(|r| histogram(r.weights, BINS)).collect();
     let highest = counts.iter().flatten().copied().max().unwrap_or(0) as f64;
     let width = W_MAX_MV / BINS as f64;
@@ -417,15 +427,7 @@ pub fn song_abbott_figure(runs: &[StdpRunView<'_>], duration_s: f64) -> String {
                     range: Some((0.0, W_MAX_MV)),
                 },
                 y: from_zero("synapses", highest),
-                series: vec![Series {
-                    label: format!("{} synapses", run.weights.len()),
-                    points,
-                    color: PALETTE[k % PALETTE.len()].into(),
-                    marker: Marker::None,
-                    filled: false,
-                    line: true,
-                    y_ranges: Vec::new(),
-                }],
+                series: vec![line(format!("{} synapses", run.weights.len()), points, k)],
             }
         })
         .collect();
@@ -433,14 +435,9 @@ pub fn song_abbott_figure(runs: &[StdpRunView<'_>], duration_s: f64) -> String {
     let rates: Vec<Series> = runs
         .iter()
         .enumerate()
-        .map(|(k, run)| Series {
-            label: run.label.to_owned(),
-            points: rate_over_time(run.spike_times_s, duration_s, bin_s),
-            color: PALETTE[k % PALETTE.len()].into(),
-            marker: Marker::None,
-            filled: false,
-            line: true,
-            y_ranges: Vec::new(),
+        .map(|(k, run)| {
+            let points = rate_over_time(run.spike_times_s, duration_s, bin_s);
+            line(run.label.to_owned(), points, k)
         })
         .collect();
     let fastest = rates
