@@ -6,7 +6,7 @@ use std::fmt::{self, Write};
 use base64::Engine;
 
 use super::colour::{EVENT_BACKGROUND, EVENT_OFF, EVENT_ON};
-use super::{Area, LABEL_STYLE, TITLE_STYLE, finite_or};
+use super::{Area, TITLE_STYLE, finite_or};
 use crate::frame::{EventImage, Frame};
 
 /// The event image as an RGBA PNG (fast compression; it is made for every frame): a pixel at
@@ -69,11 +69,11 @@ pub(super) fn panel(out: &mut String, frame: &Frame, area: Area) -> fmt::Result 
     if png_bytes.is_empty() {
         write!(
             out,
-            r#"<rect x="{:.1}" y="{:.1}" width="{w:.1}" height="{h:.1}" fill="{EVENT_BACKGROUND}"/><text x="{:.1}" y="{:.1}" text-anchor="middle" {LABEL_STYLE}>no event image: {} intensities for {} × {} px</text>"#,
+            r##"<rect x="{:.1}" y="{:.1}" width="{w:.1}" height="{h:.1}" fill="{EVENT_BACKGROUND}"/><text x="{:.1}" y="{:.1}" text-anchor="middle" font-size="11" fill="#bbbbbb">no event image: {} intensities for {} × {} px</text>"##,
             area.x,
             area.y,
             area.x + w / 2.0,
-            area.y + h / 2.0,
+            area.y + 20.0,
             image.intensity.len(),
             image.width,
             image.height,

@@ -211,18 +211,21 @@ impl fmt::Display for Esc<'_> {
     }
 }
 
-/// `s` cut to at most `max_chars` characters, ending in `…` when cut.
+/// `s` cut to at most `max_chars` characters by replacing its middle with `…`, so names that
+/// differ only at the end (`natural texture 12`, a file's number) stay apart.
 fn clipped(s: &str, max_chars: usize) -> Cow<'_, str> {
-    match s.char_indices().nth(max_chars) {
-        None => Cow::Borrowed(s),
-        Some(_) => {
-            let end = s
-                .char_indices()
-                .nth(max_chars.saturating_sub(1))
-                .map_or(s.len(), |(i, _)| i);
-            Cow::Owned(format!("{}…", &s[..end]))
-        }
+    let chars = s.chars().count();
+    if chars <= max_chars {
+        return Cow::Borrowed(s);
     }
+    let head = max_chars.saturating_sub(1) / 2;
+    let tail = max_chars.saturating_sub(1) - head;
+    let byte_at = |n: usize| s.char_indices().nth(n).map_or(s.len(), |(i, _)| i);
+    Cow::Owned(format!(
+        "{}…{}",
+        &s[..byte_at(head)],
+        &s[byte_at(chars - tail)..]
+    ))
 }
 
 /// A count with its thousands grouped by spaces (`12 034`).
@@ -325,7 +328,7 @@ mod tests {
 
     /// A plausible frame: 49 pins in their rings, a moving blob of events, `spikes` raster
     /// spikes spread over 2 s, rates rising with the taxel index.
-    pub(crate) fn frame_with(spikes: usize) -> Frame {
+    fn frame_with(spikes: usize) -> Frame {
         let (width, height) = (240u16, 180u16);
         let mut intensity = vec![0.0f32; width as usize * height as usize];
         for y in 60..120 {
@@ -390,7 +393,7 @@ mod tests {
     }
 
     /// `frame` with a recogniser's decisions for two codings.
-    pub(crate) fn with_decisions(mut frame: Frame) -> Frame {
+    fn with_decisions(mut frame: Frame) -> Frame {
         frame.class_names = (0..11)
             .map(|k| format!("grid {:.1} mm", k as f64 * 0.5))
             .collect();
@@ -563,7 +566,12 @@ mod tests {
         assert_eq!(decimals_for(0.5), 1);
         assert_eq!(decimals_for(0.05), 2);
         assert_eq!(decimals_for(2.0), 0);
-        assert_eq!(clipped("abcdef", 4), "abc…");
+        assert_eq!(clipped("abcdef", 4), "a…ef");
+        assert_eq!(
+            clipped("natural texture number 12", 17),
+            "natural …umber 12"
+        );
+        assert_eq!(clipped("äöüäöü", 5), "äö…öü");
         for (x, text) in [
             (0.0, "0.0"),
             (-0.04, "0.0"),
