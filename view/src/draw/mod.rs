@@ -244,7 +244,7 @@ impl fmt::Display for Count {
     }
 }
 
-/// `x` with one decimal, as `{:.1}` writes it (ties away from zero rather than to even), made
+/// `x` with one decimal, as `{:.1}` writes it (up to how exact halves round), made
 /// for the thousands of coordinates of a frame: a stack buffer instead of float formatting.
 /// Not finite or beyond ±10¹⁵ falls back to `{:.1}`.
 struct F1(f64);
@@ -317,7 +317,6 @@ fn decimals_for(step: f64) -> usize {
     }
 }
 
-#[cfg(test)]
 #[cfg(test)]
 mod tests {
     use super::*;

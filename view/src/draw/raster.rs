@@ -34,7 +34,7 @@ pub(super) fn panel(
         |t_s: f64| area.x + area.w * (finite_or((t_s - from_s) / span_s, 0.0)).clamp(0.0, 1.0);
     write!(
         out,
-        r#"<text x="{:.1}" y="{:.1}" {TITLE_STYLE}>taxel spikes ({rows} taxels), population rate below</text>"#,
+        r#"<text x="{:.1}" y="{:.1}" {TITLE_STYLE}>taxel spikes over the last {span_s:.1} s ({rows} taxels); below, the population rate (mean per taxel)</text>"#,
         area.x,
         area.y - 8.0,
     )?;
