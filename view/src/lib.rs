@@ -15,6 +15,7 @@
 //! | [`player`] | [`Player`]: pacing (`realtime`, `N×`, `max`), pause, step, seek; a frame every [`FRAME_INTERVAL`](player::FRAME_INTERVAL) |
 //! | [`hub`] | [`Hub`]: frames drawn on their own thread and handed to every viewer; [`Control`]s back |
 //! | [`server`] | [`Server`]: the embedded HTTP server, the page and its Server-Sent Events |
+//! | [`draw`] | [`draw_frame`]: a [`Frame`] as one standalone SVG (event image with fields, taxel hexagons, raster and population rate, decisions, what is left out); [`event_image_png`] |
 //! | [`snapshot`] | [`frame_at`]: the frame at a chosen time, without a browser (`--snapshot`) |
 //! | [`error`] | [`ViewError`] |
 #![deny(missing_docs)]
