@@ -129,7 +129,7 @@ fn a_snapshot_of_the_simulator_shows_the_recogniser_of_every_coding() {
     for coding in ["intensive", "spatial", "temporal", "spatiotemporal"] {
         assert!(text.contains(coding), "{coding} is shown");
     }
-    assert!(text.contains("grid 5 mm"));
+    assert!(text.contains("simulated grid 5.0 mm, slide 1"));
 }
 
 #[test]

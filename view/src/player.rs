@@ -357,7 +357,8 @@ impl<'s> Player<'s> {
         let mut frame: Frame = self.monitor.frame(self.seq, &self.label, state, &speed);
         let wall = self.last_frame_wall.elapsed().as_secs_f64() * 1e3;
         self.last_frame_wall = Instant::now();
-        frame.decimation.speed_vs_realtime = match wall > 0.0 {
+        // Measured only over a stretch of playing (0: not measured).
+        frame.decimation.speed_vs_realtime = match wall > 0.0 && self.state == PlayState::Playing {
             true => frame.decimation.stream_ms_since_last_frame / wall,
             false => 0.0,
         };

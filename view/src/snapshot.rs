@@ -62,7 +62,7 @@ pub fn frame_at(
         true => PlayState::Ended,
         false => PlayState::Paused,
     };
-    let mut frame = monitor.frame(1, &source.label(), state, "snapshot");
+    let mut frame = monitor.frame(1, &source.label(), state, "");
     frame.class_names = observer.class_names();
     frame.decisions = observer.decisions();
     Ok(frame)

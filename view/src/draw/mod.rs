@@ -131,10 +131,10 @@ fn header(out: &mut String, frame: &Frame) -> fmt::Result {
     let c = &frame.counts;
     write!(
         out,
-        r##"<text class="header" x="20" y="24" font-size="13" fill="#222"><tspan font-weight="bold">{}</tspan><tspan fill="#999">  ·  </tspan>t = {:.3} s<tspan fill="#999">  ·  </tspan>{state}<tspan fill="#999">  ·  </tspan>speed {}<tspan fill="#999">  ·  </tspan>{} pixel events → {} after filters → {} in fields → {} taxel spikes</text>"##,
+        r##"<text class="header" x="20" y="24" font-size="13" fill="#222"><tspan font-weight="bold">{}</tspan><tspan fill="#999">  ·  </tspan>t = {:.3} s<tspan fill="#999">  ·  </tspan>{state}{}<tspan fill="#999">  ·  </tspan>{} pixel events → {} after filters → {} in fields → {} taxel spikes</text>"##,
         Esc(&clipped(&frame.source, 60)),
         finite_or(frame.t_s, 0.0),
-        Esc(&clipped(&frame.speed, 12)),
+        Speed(&frame.speed),
         Count(c.events_in),
         Count(c.after_filters),
         Count(c.in_fields),
@@ -145,6 +145,18 @@ fn header(out: &mut String, frame: &Frame) -> fmt::Result {
         r##"<line x1="20" x2="{:.0}" y1="34.5" y2="34.5" stroke="#ddd" stroke-width="1"/>"##,
         WIDTH - 20.0
     )
+}
+
+/// ` · speed 2×` in the header; nothing for an empty speed (a snapshot).
+struct Speed<'a>(&'a str);
+
+impl fmt::Display for Speed<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self.0 {
+            "" => Ok(()),
+            speed => write!(f, r##"<tspan fill="#999">  ·  </tspan>speed {}"##, Esc(&clipped(speed, 12))),
+        }
+    }
 }
 
 /// What the drawing leaves out, and the notice (red) when there is one.
@@ -166,11 +178,12 @@ fn footer(out: &mut String, frame: &Frame) -> fmt::Result {
             finite_or(d.stream_ms_since_last_frame, 0.0).max(0.0),
         )?;
     }
-    write!(
-        out,
-        "; counts, rates and raster include every event; stream at {:.1}× real time",
-        finite_or(d.speed_vs_realtime, 0.0).max(0.0)
-    )?;
+    out.push_str("; counts, rates and raster include every event");
+    // 0: not measured (a snapshot has no wall clock to compare with).
+    let speed = finite_or(d.speed_vs_realtime, 0.0);
+    if speed > 0.0 {
+        write!(out, "; stream at {speed:.1}× real time")?;
+    }
     if let Some(notice) = &frame.notice {
         write!(
             out,

@@ -18,8 +18,8 @@ $("step").addEventListener("click", () => control("step"));
 $("seek").addEventListener("change", (e) => control("seek " + e.target.value));
 $("speed").addEventListener("change", (e) => control("speed " + e.target.value));
 
-function show(m) {
-  if (lastSeq && m.seq > lastSeq + 1) skipped += m.seq - lastSeq - 1;
+function show(m, firstOfConnection) {
+  if (lastSeq && !firstOfConnection && m.seq > lastSeq + 1) skipped += m.seq - lastSeq - 1;
   lastSeq = m.seq;
   state = m.state;
   $("view").innerHTML = m.svg;
@@ -45,7 +45,13 @@ function show(m) {
   $("decimation").textContent = parts.join("; ");
   $("notice").hidden = !m.notice;
   $("notice").textContent = m.notice || "";
-  if (m.due_unix_ms !== null) {
+  const speed = $("speed");
+  const value = m.speed === "realtime" ? "realtime" : m.speed.replace("×", "");
+  if (![...speed.options].some((o) => o.value === value)) speed.add(new Option(m.speed, value));
+  speed.value = value;
+  speed.disabled = m.speed === "live";
+  // The first frame of a connection was drawn before this tab came: not a latency.
+  if (m.due_unix_ms !== null && !firstOfConnection) {
     // Painted: the frame after the next animation frame has been composited.
     requestAnimationFrame(() => setTimeout(() => {
       const latency = performance.timeOrigin + performance.now() - m.due_unix_ms;
@@ -58,12 +64,17 @@ function show(m) {
 
 function connect() {
   const events = new EventSource("/stream");
-  events.onmessage = (e) => show(JSON.parse(e.data));
+  let first = true;
+  events.onmessage = (e) => {
+    show(JSON.parse(e.data), first);
+    first = false;
+  };
   events.onerror = () => {
     $("notice").hidden = false;
     $("notice").textContent = "lost the connection to neurotac view; retrying…";
   };
   events.onopen = () => {
+    first = true;
     if ($("notice").textContent.startsWith("lost")) $("notice").hidden = true;
   };
 }
