@@ -28,7 +28,11 @@ fn the_server_prints_its_address_and_stops_cleanly_on_ctrl_c() {
         line.starts_with("serving http://127.0.0.1:") && line.contains("Ctrl-C"),
         "{line}"
     );
-    let address = line.split_whitespace().nth(1).unwrap().trim_end_matches('/');
+    let address = line
+        .split_whitespace()
+        .nth(1)
+        .unwrap()
+        .trim_end_matches('/');
     let address = address.trim_start_matches("http://").to_owned();
     // The page answers, then Ctrl-C.
     let mut s = std::net::TcpStream::connect(&address).unwrap();
@@ -70,8 +74,14 @@ fn a_snapshot_draws_a_recording_at_a_chosen_time_as_svg_or_png() {
     let dir = tempfile::tempdir().unwrap();
     let svg = dir.path().join("pick.svg");
     let pick_s = pick.to_str().unwrap();
-    let (ok, stdout, stderr) =
-        neurotac(&["view", pick_s, "--snapshot", svg.to_str().unwrap(), "--at", "0.5s"]);
+    let (ok, stdout, stderr) = neurotac(&[
+        "view",
+        pick_s,
+        "--snapshot",
+        svg.to_str().unwrap(),
+        "--at",
+        "0.5s",
+    ]);
     assert!(ok, "{stderr}");
     assert!(stdout.contains("t = 0.500 s"), "{stdout}");
     let text = std::fs::read_to_string(&svg).unwrap();
@@ -85,8 +95,15 @@ fn a_snapshot_draws_a_recording_at_a_chosen_time_as_svg_or_png() {
         dir.path().join("pick.json").to_str().unwrap(),
     ]);
     assert!(ok);
-    let spikes: usize = transduced.split(" taxel spikes").next().unwrap()
-        .rsplit(' ').next().unwrap().parse().unwrap();
+    let spikes: usize = transduced
+        .split(" taxel spikes")
+        .next()
+        .unwrap()
+        .rsplit(' ')
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap();
     let png = dir.path().join("pick.png");
     let (ok, _, stderr) = neurotac(&["view", pick_s, "--snapshot", png.to_str().unwrap()]);
     assert!(ok, "{stderr}");
@@ -99,8 +116,14 @@ fn a_snapshot_draws_a_recording_at_a_chosen_time_as_svg_or_png() {
     let (ok, _, stderr) = neurotac(&["view", pick_s, "--snapshot", png.to_str().unwrap()]);
     assert!(!ok && stderr.contains("--force"), "{stderr}");
     let late = dir.path().join("late.svg");
-    let (ok, _, stderr) =
-        neurotac(&["view", pick_s, "--snapshot", late.to_str().unwrap(), "--at", "9s"]);
+    let (ok, _, stderr) = neurotac(&[
+        "view",
+        pick_s,
+        "--snapshot",
+        late.to_str().unwrap(),
+        "--at",
+        "9s",
+    ]);
     assert!(!ok && stderr.contains("after the stream's end"), "{stderr}");
     assert!(!late.exists());
 }

@@ -161,9 +161,7 @@ impl<'s> Player<'s> {
         }
         PlayerEnd {
             events: self.events_before + self.monitor.counts().events_in,
-            failure: self
-                .notice
-                .filter(|_| self.state == PlayState::Failed),
+            failure: self.notice.filter(|_| self.state == PlayState::Failed),
         }
     }
 
@@ -188,7 +186,10 @@ impl<'s> Player<'s> {
                     // Quiet: let the clock close a pooling window, then wait for the next event.
                     self.monitor.advance_to(stream_now.min(first - 1));
                     let wait = Duration::from_secs_f64((first - stream_now) as f64 / f * 1e-6);
-                    std::thread::sleep(wait.min(until.saturating_duration_since(now)).min(Duration::from_millis(5)));
+                    std::thread::sleep(
+                        wait.min(until.saturating_duration_since(now))
+                            .min(Duration::from_millis(5)),
+                    );
                     return false;
                 }
                 let due = wall + Duration::from_secs_f64((first - stream).max(0) as f64 / f * 1e-6);
@@ -338,7 +339,10 @@ impl<'s> Player<'s> {
     /// The stream origin (its first event), the next pending event's time before any.
     fn monitor_origin(&self) -> i64 {
         match self.monitor.elapsed_us() {
-            Some(_) => self.monitor.origin_us().expect("known once an event arrived"),
+            Some(_) => self
+                .monitor
+                .origin_us()
+                .expect("known once an event arrived"),
             None => self.pending.t.get(self.cursor).copied().unwrap_or(0),
         }
     }

@@ -33,8 +33,8 @@ impl Server {
     /// Listens on `host:port` (`port` 0: any free port).
     pub fn bind(host: &str, port: u16, hub: Arc<Hub>) -> Result<Self, ViewError> {
         let address = format!("{host}:{port}");
-        let listener = TcpListener::bind(&address)
-            .map_err(|source| ViewError::Listen { address, source })?;
+        let listener =
+            TcpListener::bind(&address).map_err(|source| ViewError::Listen { address, source })?;
         Ok(Self { listener, hub })
     }
 
@@ -92,9 +92,12 @@ fn serve(stream: TcpStream, hub: &Hub) -> std::io::Result<()> {
         ("GET", "/page.js") => respond(&mut out, "200 OK", "text/javascript", PAGE_JS),
         ("GET", "/page.css") => respond(&mut out, "200 OK", "text/css", PAGE_CSS),
         ("GET", "/frame.svg") => respond(&mut out, "200 OK", "image/svg+xml", &hub.latest().svg),
-        ("GET", "/frame.json") => {
-            respond(&mut out, "200 OK", "application/json", &hub.latest().message)
-        }
+        ("GET", "/frame.json") => respond(
+            &mut out,
+            "200 OK",
+            "application/json",
+            &hub.latest().message,
+        ),
         ("GET", "/stream") => stream_frames(&mut out, hub),
         ("POST", "/control") => {
             let mut body = String::new();

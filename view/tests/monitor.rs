@@ -27,7 +27,12 @@ fn bursts() -> EventBuffer {
         for (k, &(x, y)) in layout.centres().iter().enumerate() {
             for j in 0..3i64 {
                 let t = step * 60_000 + (k as i64) * 200 + j * 50;
-                events.push(event(t, x as u16 + (j as u16 % 2), y as u16, !(k + j as usize).is_multiple_of(3)));
+                events.push(event(
+                    t,
+                    x as u16 + (j as u16 % 2),
+                    y as u16,
+                    !(k + j as usize).is_multiple_of(3),
+                ));
             }
         }
     }
@@ -37,8 +42,11 @@ fn bursts() -> EventBuffer {
 #[test]
 fn counts_and_raster_equal_the_transduction_in_any_chunking() {
     let events = bursts();
-    let mut transducer =
-        Transducer::new(&TaxelLayout::neurotac_default(), TransductionConfig::default()).unwrap();
+    let mut transducer = Transducer::new(
+        &TaxelLayout::neurotac_default(),
+        TransductionConfig::default(),
+    )
+    .unwrap();
     transducer.push(&events).unwrap();
     transducer.finish();
     let expected: Vec<(u16, f64)> = transducer
@@ -57,7 +65,11 @@ fn counts_and_raster_equal_the_transduction_in_any_chunking() {
         let frame = m.frame(1, "bursts", PlayState::Ended, "max");
         let c = transducer.counts();
         assert_eq!(
-            (frame.counts.events_in, frame.counts.after_filters, frame.counts.in_fields),
+            (
+                frame.counts.events_in,
+                frame.counts.after_filters,
+                frame.counts.in_fields
+            ),
             (c.events_in, c.after_filters, c.in_fields)
         );
         assert_eq!(frame.counts.taxel_spikes, expected.len() as u64);
@@ -74,8 +86,11 @@ fn a_recording_shows_the_counts_neurotac_transduce_prints() {
         return;
     };
     let path = dir.join("pick.aedat");
-    let mut transducer =
-        Transducer::new(&TaxelLayout::neurotac_default(), TransductionConfig::default()).unwrap();
+    let mut transducer = Transducer::new(
+        &TaxelLayout::neurotac_default(),
+        TransductionConfig::default(),
+    )
+    .unwrap();
     let t = transducer
         .transduce_reader(&mut *open_reader(&path).unwrap(), &path)
         .unwrap();
@@ -93,7 +108,10 @@ fn a_recording_shows_the_counts_neurotac_transduce_prints() {
     assert_eq!(frame.counts.after_filters, t.counts.after_filters);
     assert_eq!(frame.counts.in_fields, t.counts.in_fields);
     assert_eq!(frame.counts.taxel_spikes, t.counts.taxel_events);
-    assert_eq!(frame.raster.spikes.len() as u64, t.spike_trains.total_spikes() as u64);
+    assert_eq!(
+        frame.raster.spikes.len() as u64,
+        t.spike_trains.total_spikes() as u64
+    );
 }
 
 #[test]
@@ -106,7 +124,10 @@ fn the_event_image_decays_from_each_pixels_last_event() {
     let at = |frame: &neurotac_view::Frame, x: usize, y: usize| frame.image.intensity[y * 240 + x];
     let f = m.frame(1, "", PlayState::Playing, "");
     assert_eq!(f.image.intensity.len(), 240 * 180);
-    assert!((at(&f, 30, 40) + 1.0).abs() < 1e-6, "OFF is negative, fresh is full");
+    assert!(
+        (at(&f, 30, 40) + 1.0).abs() < 1e-6,
+        "OFF is negative, fresh is full"
+    );
     let expected = (-1.0f64 / 30.0).exp() as f32; // 1 ms old at τ = 30 ms
     assert!((at(&f, 10, 20) - expected).abs() < 1e-6);
     // One τ later (a quiet stream's clock moving on).
@@ -140,9 +161,13 @@ fn the_drawn_share_says_how_many_new_events_the_image_shows() {
 #[test]
 fn a_bad_event_is_a_typed_error_after_the_good_ones_are_shown() {
     let mut m = monitor();
-    let events: EventBuffer = [event(5, 1, 1, true), event(9, 2, 2, true), event(4, 3, 3, true)]
-        .into_iter()
-        .collect();
+    let events: EventBuffer = [
+        event(5, 1, 1, true),
+        event(9, 2, 2, true),
+        event(4, 3, 3, true),
+    ]
+    .into_iter()
+    .collect();
     let e = m.push(&events).unwrap_err();
     assert!(matches!(e, ViewError::Transduction(_)), "{e}");
     assert!(e.to_string().contains('2'), "names the event's index: {e}");

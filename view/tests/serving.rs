@@ -4,8 +4,8 @@
 
 use neurotac_sensor::taxel::TaxelLayout;
 use neurotac_view::{
-    FileSource, Hub, MonitorConfig, NoObserver, Player, PlayerOptions, Server, Speed,
-    StreamSource, ViewError,
+    FileSource, Hub, MonitorConfig, NoObserver, Player, PlayerOptions, Server, Speed, StreamSource,
+    ViewError,
 };
 use serde_json::Value;
 use std::io::{BufRead, BufReader, Read, Write};
@@ -21,7 +21,12 @@ fn recording(dir: &Path, seconds: i64) -> std::path::PathBuf {
     for step in 0..seconds * 1000 / 30 {
         for (k, &(x, y)) in layout.centres().iter().enumerate() {
             let t = step * 30_000 + k as i64 * 300;
-            text += &format!("{t},{},{},{}\n", x as u16, y as u16, (k + step as usize) % 2);
+            text += &format!(
+                "{t},{},{},{}\n",
+                x as u16,
+                y as u16,
+                (k + step as usize) % 2
+            );
             text += &format!("{},{},{},1\n", t + 40, x as u16 + 1, y as u16);
         }
     }
@@ -87,7 +92,11 @@ impl Tab {
             if done(&m) {
                 return m;
             }
-            assert!(Instant::now() < deadline, "no such frame; last: {}", strip(&m));
+            assert!(
+                Instant::now() < deadline,
+                "no such frame; last: {}",
+                strip(&m)
+            );
         }
     }
 }
@@ -235,7 +244,10 @@ fn a_file_that_ends_early_fails_on_the_page_naming_the_file_and_the_server_stays
         let failed = tab.until(|m| m["state"] == "failed");
         let notice = failed["notice"].as_str().unwrap();
         assert!(notice.contains("cut.csv"), "{notice}");
-        assert!(failed["counts"]["events_in"].as_u64().unwrap() > 0, "what came first is shown");
+        assert!(
+            failed["counts"]["events_in"].as_u64().unwrap() > 0,
+            "what came first is shown"
+        );
         // Still serving: the page, the frame, another tab.
         assert_eq!(request(address, "GET", "/", "").0, 200);
         assert_eq!(Tab::open(address).next()["state"], "failed");
@@ -268,7 +280,10 @@ fn an_unplugged_camera_fails_on_the_page_after_showing_its_events() {
         let failed = Tab::open(address).until(|m| m["state"] == "failed");
         let notice = failed["notice"].as_str().unwrap();
         assert!(notice.contains("DAVIS240 (replayed)"), "{notice}");
-        assert!(notice.to_lowercase().contains("unplugged") || notice.contains("isconnected"), "{notice}");
+        assert!(
+            notice.to_lowercase().contains("unplugged") || notice.contains("isconnected"),
+            "{notice}"
+        );
         assert!(failed["counts"]["events_in"].as_u64().unwrap() > 10_000);
         assert_eq!(failed["speed"], "live");
     });
@@ -292,10 +307,27 @@ fn controls_parse_as_the_page_sends_them() {
     use neurotac_view::Control;
     assert_eq!(Control::parse("pause"), Some(Control::Pause));
     assert_eq!(Control::parse("seek 1.25"), Some(Control::Seek(1.25)));
-    assert_eq!(Control::parse("speed max"), Some(Control::Speed(Speed::Max)));
-    assert_eq!(Control::parse("speed 2x"), Some(Control::Speed(Speed::Paced(2.0))));
-    assert_eq!(Control::parse("speed realtime"), Some(Control::Speed(Speed::Paced(1.0))));
-    for bad in ["", "seek", "seek -1", "seek nan", "speed 0", "speed fast", "pause now"] {
+    assert_eq!(
+        Control::parse("speed max"),
+        Some(Control::Speed(Speed::Max))
+    );
+    assert_eq!(
+        Control::parse("speed 2x"),
+        Some(Control::Speed(Speed::Paced(2.0)))
+    );
+    assert_eq!(
+        Control::parse("speed realtime"),
+        Some(Control::Speed(Speed::Paced(1.0)))
+    );
+    for bad in [
+        "",
+        "seek",
+        "seek -1",
+        "seek nan",
+        "speed 0",
+        "speed fast",
+        "pause now",
+    ] {
         assert_eq!(Control::parse(bad), None, "{bad:?}");
     }
 }

@@ -154,7 +154,11 @@ impl fmt::Display for Speed<'_> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self.0 {
             "" => Ok(()),
-            speed => write!(f, r##"<tspan fill="#999">  ·  </tspan>speed {}"##, Esc(&clipped(speed, 12))),
+            speed => write!(
+                f,
+                r##"<tspan fill="#999">  ·  </tspan>speed {}"##,
+                Esc(&clipped(speed, 12))
+            ),
         }
     }
 }

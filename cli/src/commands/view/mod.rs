@@ -23,8 +23,8 @@ use neurotac_sensor::davis::{Davis, RusbTransport, StartOptions};
 use neurotac_sensor::sim::SimParams;
 use neurotac_sensor::taxel::{TaxelLayout, TransductionConfig};
 use neurotac_view::{
-    CameraSource, FileSource, Hub, MonitorConfig, NoObserver, Player, PlayerOptions, Server,
-    Speed, StreamObserver, StreamSource, draw_frame, frame_at,
+    CameraSource, FileSource, Hub, MonitorConfig, NoObserver, Player, PlayerOptions, Server, Speed,
+    StreamObserver, StreamSource, draw_frame, frame_at,
 };
 use recognition::Recognition;
 use simulated::SimulatedSlides;
@@ -176,7 +176,9 @@ fn serve(
     let hub = Hub::start();
     let server = match Server::bind(&a.host, a.port, hub.clone()) {
         Ok(server) => server,
-        Err(e) if a.port != 0 => bail!("{e} (another program has it? pass --port 0 for any free port)"),
+        Err(e) if a.port != 0 => {
+            bail!("{e} (another program has it? pass --port 0 for any free port)")
+        }
         Err(e) => return Err(e.into()),
     };
     let address = server.local_addr();

@@ -1,10 +1,10 @@
 //! The online recogniser as a [`StreamObserver`] of the view: one [`Recogniser`] per coding
 //! on the same events as the page, started again with every stream (a rewind, the next slide).
 
+use neurotac_core::EventBuffer;
 use neurotac_experiments::online::{Decision, OnlineClassifier, Recogniser};
 use neurotac_sensor::taxel::TransductionConfig;
 use neurotac_view::{CodingDecisions, DecisionPoint, StreamObserver};
-use neurotac_core::EventBuffer;
 
 /// One recogniser per classifier (coding), as the page shows them.
 pub struct Recognition<'a> {
@@ -36,9 +36,10 @@ impl<'a> Recognition<'a> {
     }
 
     fn recognisers(&self) -> anyhow::Result<Vec<Recogniser<'a>>> {
-        let made = self.classifiers.iter().map(|c| {
-            Recogniser::new(c, self.transduction, self.stable_windows)
-        });
+        let made = self
+            .classifiers
+            .iter()
+            .map(|c| Recogniser::new(c, self.transduction, self.stable_windows));
         Ok(made.collect::<Result<_, _>>()?)
     }
 }

@@ -37,7 +37,10 @@ impl SimulatedSlides {
         let found = [TextureSet::Artificial, TextureSet::Natural]
             .into_iter()
             .find_map(|set| {
-                let class = set.class_names().iter().position(|c| *c == texture.name())?;
+                let class = set
+                    .class_names()
+                    .iter()
+                    .position(|c| *c == texture.name())?;
                 Some((set, class))
             });
         let Some((set, class)) = found else {
@@ -65,7 +68,12 @@ impl SimulatedSlides {
     }
 
     fn simulate(&mut self) {
-        let trial = trial_seed(self.seed, self.set, self.class, FIRST_VIEW_TRIAL + self.slide);
+        let trial = trial_seed(
+            self.seed,
+            self.set,
+            self.class,
+            FIRST_VIEW_TRIAL + self.slide,
+        );
         self.events = self
             .simulator
             .simulate_slide(&self.texture, self.slide, trial)
