@@ -22,8 +22,10 @@ use neurotac_core::EventBuffer;
 use neurotac_sensor::taxel::TaxelLayout;
 use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
 
-/// Wall time between frames (30 per second).
-pub const FRAME_INTERVAL: Duration = Duration::from_millis(33);
+/// Wall time between frames (50 per second): an event waits at most this long for its frame,
+/// which keeps event-to-screen latency at 1× within 50 ms with the drawing and the browser's
+/// paint.
+pub const FRAME_INTERVAL: Duration = Duration::from_millis(20);
 
 /// How long the last picture of a simulated slide stays before the next slide starts.
 const HOLD_BETWEEN_STREAMS: Duration = Duration::from_millis(1500);

@@ -52,7 +52,7 @@ function show(m, firstOfConnection) {
   speed.disabled = m.speed === "live";
   // The first frame of a connection was drawn before this tab came: not a latency.
   if (m.due_unix_ms !== null && !firstOfConnection) {
-    // Painted: the frame after the next animation frame has been composited.
+    // Painted: once the next animation frame has run, this one has been composited.
     requestAnimationFrame(() => setTimeout(() => {
       const latency = performance.timeOrigin + performance.now() - m.due_unix_ms;
       latencyMax = Math.max(latencyMax, latency);
@@ -62,12 +62,28 @@ function show(m, firstOfConnection) {
   }
 }
 
+// Messages are drawn at most once per display refresh, newest only: a tab that draws slower
+// than frames come skips the older ones (and counts them) instead of falling behind.
+let newest = null;
+let drawScheduled = false;
+
+function drawNewest() {
+  drawScheduled = false;
+  const { data, first } = newest;
+  newest = null;
+  show(JSON.parse(data), first);
+}
+
 function connect() {
   const events = new EventSource("/stream");
   let first = true;
   events.onmessage = (e) => {
-    show(JSON.parse(e.data), first);
+    newest = { data: e.data, first: first || (newest !== null && newest.first) };
     first = false;
+    if (!drawScheduled) {
+      drawScheduled = true;
+      requestAnimationFrame(drawNewest);
+    }
   };
   events.onerror = () => {
     $("notice").hidden = false;
