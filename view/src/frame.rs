@@ -1,5 +1,5 @@
 //! One [`Frame`]: everything the page (and a snapshot) draws at one moment of the stream, as
-//! plain owned data, taken from the [`StreamMonitor`](crate::StreamMonitor) and drawn by
+//! plain owned data, taken from the [`StreamMonitor`](crate::monitor::StreamMonitor) and drawn by
 //! [`draw_frame`](crate::draw_frame) — the browser and `--snapshot` show the same SVG.
 
 use serde::Serialize;
@@ -105,7 +105,7 @@ pub struct Decimation {
     /// pixel's latest one within 5 decay times of the frame time): 1 = nothing left out.
     pub drawn_share: f64,
     /// How fast the stream went against the wall clock since the previous frame (1 = real
-    /// time).
+    /// time; 0 = not measured: paused, after a seek, a snapshot).
     pub speed_vs_realtime: f64,
 }
 

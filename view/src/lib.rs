@@ -2,13 +2,42 @@
 //!
 //! The live view of a sensor stream (`neurotac view`): pixel events in, a page of pictures out.
 //!
+//! ```text
+//! StreamSource ─ Player (pace, controls) ─┬─ StreamMonitor ─ Frame ─ Hub ─ draw_frame (SVG) ─ Server ─ browser tabs
+//!  (file, camera, simulator)              └─ StreamObserver (the recogniser's decisions) ─┘
+//! ```
+//!
 //! | module | what it holds |
 //! |---|---|
 //! | [`frame`] | [`Frame`]: everything drawn at one moment — the decaying event image, receptive fields, taxel rates, the spike raster, the recogniser's decisions, what was left out of the drawing |
+//! | [`monitor`] | [`StreamMonitor`]: pixel events → the state a frame shows (the transduction `neurotac transduce` runs, so the counts agree) |
+//! | [`source`] | [`StreamSource`]: a recorded file ([`FileSource`]), a DAVIS camera ([`CameraSource`]) |
+//! | [`player`] | [`Player`]: pacing (`realtime`, `N×`, `max`), pause, step, seek; a frame every [`FRAME_INTERVAL`](player::FRAME_INTERVAL) |
+//! | [`hub`] | [`Hub`]: frames drawn on their own thread and handed to every viewer; [`Control`]s back |
+//! | [`server`] | [`Server`]: the embedded HTTP server, the page and its Server-Sent Events |
+//! | [`draw`] | [`draw_frame`]: a [`Frame`] as one standalone SVG (event image with fields, taxel hexagons, raster and population rate, decisions, what is left out); [`event_image_png`] |
+//! | [`snapshot`] | [`frame_at`]: the frame at a chosen time, without a browser (`--snapshot`) |
+//! | [`error`] | [`ViewError`] |
 #![deny(missing_docs)]
 
+pub mod draw;
+pub mod error;
 pub mod frame;
+pub mod hub;
+pub mod monitor;
+pub mod player;
+pub mod server;
+pub mod snapshot;
+pub mod source;
 
+pub use draw::{draw_frame, event_image_png};
+pub use error::ViewError;
 pub use frame::{
     CodingDecisions, Decimation, DecisionPoint, EventImage, Frame, PlayState, Raster, StageCounts,
 };
+pub use hub::{Control, Hub, Speed};
+pub use monitor::{MonitorConfig, StreamMonitor};
+pub use player::{NoObserver, Player, PlayerEnd, PlayerOptions, StreamObserver};
+pub use server::Server;
+pub use snapshot::frame_at;
+pub use source::{CameraSource, FileSource, SourceError, SourceRead, StreamSource};

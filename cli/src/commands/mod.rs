@@ -37,6 +37,7 @@ mod simulate;
 mod synth;
 mod tradeoff;
 mod transduce;
+mod view;
 
 /// neurotac: spiking neural networks for neuromorphic touch (the NeuroTac sensor).
 #[derive(Debug, Parser)]
@@ -97,6 +98,10 @@ enum Command {
     /// Recognise a texture while the sensor slides (event file or live camera), a decision
     /// every pooling window; or `--eval` accuracy against time on a simulated set.
     Recognise(recognise::RecogniseArgs),
+    /// A live page of the sensor on localhost — events, receptive fields, taxel rates, the
+    /// spike raster, the recogniser's decisions — from a recording, the camera or the
+    /// simulator; or `--snapshot` the same page to a PNG/SVG file.
+    View(view::ViewArgs),
 }
 
 /// Runs the parsed command on `ranks` (one process, or the MPI ranks it was started on).
@@ -137,6 +142,7 @@ pub fn run(cli: Cli, ranks: &dyn Ranks) -> anyhow::Result<()> {
         Command::Devices(args) => single("devices").and_then(|()| devices::run(args)),
         Command::Record(args) => single("record").and_then(|()| record::run(args)),
         Command::Recognise(args) => single("recognise").and_then(|()| recognise::run(args)),
+        Command::View(args) => single("view").and_then(|()| view::run(args)),
     };
     ran.map_err(outputs::exists_as_refusal)
 }
