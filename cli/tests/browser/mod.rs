@@ -40,7 +40,11 @@ const NO_CHROMIUM: &str =
 pub fn chromium() -> Option<PathBuf> {
     if let Some(named) = std::env::var_os(CHROMIUM_ENV).filter(|v| !v.is_empty()) {
         let named = PathBuf::from(named);
-        assert!(named.is_file(), "{CHROMIUM_ENV}={} is not a file", named.display());
+        assert!(
+            named.is_file(),
+            "{CHROMIUM_ENV}={} is not a file",
+            named.display()
+        );
         return Some(named);
     }
     let on_path = std::env::var_os("PATH").and_then(|paths| {
@@ -188,7 +192,10 @@ impl Browser {
                     .find(|t| t["type"] == "page" && t["webSocketDebuggerUrl"].is_string())
             });
             if let Some(page) = page {
-                return Tab::connect(page["id"].as_str().unwrap(), page["webSocketDebuggerUrl"].as_str().unwrap());
+                return Tab::connect(
+                    page["id"].as_str().unwrap(),
+                    page["webSocketDebuggerUrl"].as_str().unwrap(),
+                );
             }
             assert!(
                 Instant::now() < deadline,
@@ -209,7 +216,10 @@ impl Browser {
         let id = created["targetId"]
             .as_str()
             .unwrap_or_else(|| panic!("Target.createTarget returned {created}"));
-        Tab::connect(id, &format!("ws://127.0.0.1:{}/devtools/page/{id}", self.port))
+        Tab::connect(
+            id,
+            &format!("ws://127.0.0.1:{}/devtools/page/{id}", self.port),
+        )
     }
 
     /// Closes `tab`.
@@ -277,7 +287,10 @@ impl Tab {
         );
         if let Some(thrown) = reply.get("exceptionDetails") {
             let what = thrown["exception"]["description"].as_str();
-            panic!("{expression} threw: {}", what.unwrap_or(&thrown.to_string()));
+            panic!(
+                "{expression} threw: {}",
+                what.unwrap_or(&thrown.to_string())
+            );
         }
         reply["result"].get("value").cloned().unwrap_or(Value::Null)
     }
@@ -299,11 +312,19 @@ impl Tab {
         }
     }
 
-    /// A PNG screenshot of the visible page.
-    pub fn screenshot_png(&mut self) -> Vec<u8> {
-        let shot = self
-            .cdp
-            .call("Page.captureScreenshot", json!({ "format": "png" }));
+    /// A PNG screenshot of the element `#id` (all of it, also where it reaches past the window).
+    pub fn screenshot_png(&mut self, id: &str) -> Vec<u8> {
+        let rect = self.eval(&format!(
+            "(() => {{
+                const r = document.getElementById('{id}').getBoundingClientRect();
+                return {{ x: r.x + scrollX, y: r.y + scrollY, width: r.width, height: r.height,
+                          scale: 1 }};
+            }})()"
+        ));
+        let shot = self.cdp.call(
+            "Page.captureScreenshot",
+            json!({ "format": "png", "clip": rect, "captureBeyondViewport": true }),
+        );
         let data = shot["data"]
             .as_str()
             .unwrap_or_else(|| panic!("Page.captureScreenshot returned no data"));
