@@ -10,7 +10,7 @@ use std::borrow::Cow;
 use std::fmt::{self, Write};
 
 use super::colour::{NO_CLASS, Rgb, class_colour};
-use super::{AXIS_STYLE, Area, Esc, LABEL_STYLE, TITLE_STYLE, clipped, finite_or};
+use super::svg::{AXIS_STYLE, Area, Esc, LABEL_STYLE, TITLE_STYLE, clipped, finite_or};
 use crate::frame::{DecisionPoint, Frame};
 
 /// Height of one coding's row (name line + strip).

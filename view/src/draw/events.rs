@@ -6,7 +6,7 @@ use std::fmt::{self, Write};
 use base64::Engine;
 
 use super::colour::{EVENT_BACKGROUND, EVENT_OFF, EVENT_ON};
-use super::{Area, TITLE_STYLE, finite_or};
+use super::svg::{Area, TITLE_STYLE, finite_or};
 use crate::frame::{EventImage, Frame};
 
 /// The event image as an RGBA PNG (fast compression; it is made for every frame): a pixel at

@@ -7,7 +7,7 @@
 
 use std::fmt::{self, Write};
 
-use super::{
+use super::svg::{
     AXIS_STYLE, Area, F1, LABEL_STYLE, TITLE_STYLE, decimals_for, finite_or, nice_ceil, nice_step,
 };
 use crate::frame::Raster;

@@ -9,7 +9,7 @@
 use std::fmt::{self, Write};
 
 use super::colour::{NO_CLASS, sequential};
-use super::{AXIS_STYLE, Area, LABEL_STYLE, TITLE_STYLE, finite_or, nice_ceil};
+use super::svg::{AXIS_STYLE, Area, LABEL_STYLE, TITLE_STYLE, finite_or, nice_ceil};
 use crate::frame::Frame;
 
 /// The colour bar's lowest top (Hz).
