@@ -3,7 +3,6 @@
 //! [`Tab`]s, driven over the Chrome DevTools Protocol ([`cdp`]). Every wait has a deadline, so
 //! a hung browser fails the test with a message instead of hanging it; the browser and its
 //! children are killed when the [`Browser`] is dropped.
-#![allow(dead_code)] // each test file uses what it needs
 
 pub mod cdp;
 
