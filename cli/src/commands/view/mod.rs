@@ -73,7 +73,7 @@ pub struct ViewArgs {
     /// Instead of serving the page, draw it at --at to this file (`.svg`, or `.png`).
     #[arg(long, value_name = "FILE")]
     snapshot: Option<PathBuf>,
-    /// With --snapshot: the stream time to draw (ms, or with a unit: 500ms, 1.2s); default
+    /// With --snapshot: the stream time to draw (ms, or with a unit: 20ms, 0.02s); default
     /// the stream's end.
     #[arg(value_parser = args::time_duration, allow_negative_numbers = true, long, requires = "snapshot")]
     at: Option<Time>,
