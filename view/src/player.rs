@@ -22,10 +22,11 @@ use neurotac_core::EventBuffer;
 use neurotac_sensor::taxel::TaxelLayout;
 use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
 
-/// Wall time between frames (50 per second): an event waits at most this long for its frame,
-/// which keeps event-to-screen latency at 1× within 50 ms with the drawing and the browser's
-/// paint.
-pub const FRAME_INTERVAL: Duration = Duration::from_millis(20);
+/// Wall time between frames (100 per second): an event waits at most this long for its
+/// frame. At 1× in headless Chromium on a 2-core machine the oldest event of a frame reaches
+/// the screen in ≈ 45 ms (median; README "Look at the sensor"), 20 ms-frames took ≈ 55 ms.
+/// A tab that paints slower draws only the newest frame it has.
+pub const FRAME_INTERVAL: Duration = Duration::from_millis(10);
 
 /// How long the last picture of a simulated slide stays before the next slide starts.
 const HOLD_BETWEEN_STREAMS: Duration = Duration::from_millis(1500);

@@ -117,7 +117,7 @@ fn header(out: &mut String, frame: &Frame) -> fmt::Result {
     write!(
         out,
         r##"<text class="header" x="20" y="24" font-size="13" fill="#222"><tspan font-weight="bold">{}</tspan><tspan fill="#999">  ·  </tspan>t = {:.3} s<tspan fill="#999">  ·  </tspan>{state}{}<tspan fill="#999">  ·  </tspan>{} pixel events → {} after filters → {} in fields → {} taxel spikes</text>"##,
-        Esc(&clipped(&frame.source, 60)),
+        Esc(&clipped(&frame.source, 40)),
         finite_or(frame.t_s, 0.0),
         Speed(&frame.speed),
         Count(c.events_in),

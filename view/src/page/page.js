@@ -63,16 +63,22 @@ function show(m, firstOfConnection) {
   }
 }
 
-// Messages are drawn at most once per display refresh, newest only: a tab that draws slower
-// than frames come skips the older ones (and counts them) instead of falling behind.
+// A message is drawn as soon as it comes unless the previous drawing has not been painted
+// yet; then only the newest waiting one is drawn once it has: a tab that draws slower than
+// frames come skips the older ones (and counts them) instead of falling behind.
 let newest = null;
-let drawScheduled = false;
+let painting = false;
 
 function drawNewest() {
-  drawScheduled = false;
   const { data, first } = newest;
   newest = null;
+  painting = true;
   show(JSON.parse(data), first);
+  // After the next animation frame the drawing has been painted.
+  requestAnimationFrame(() => setTimeout(() => {
+    painting = false;
+    if (newest !== null) drawNewest();
+  }, 0));
 }
 
 function connect() {
@@ -81,10 +87,7 @@ function connect() {
   events.onmessage = (e) => {
     newest = { data: e.data, first: first || (newest !== null && newest.first) };
     first = false;
-    if (!drawScheduled) {
-      drawScheduled = true;
-      requestAnimationFrame(drawNewest);
-    }
+    if (!painting) drawNewest();
   };
   events.onerror = () => {
     $("notice").hidden = false;
