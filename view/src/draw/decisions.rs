@@ -112,19 +112,25 @@ pub(super) fn panel(out: &mut String, frame: &Frame, area: Area) -> fmt::Result 
             r##"<rect x="{:.1}" y="{strip_y:.1}" width="{strip_w:.1}" height="{strip_h:.1}" fill="#f4f4f4"/>"##,
             area.x
         )?;
+        // One rect per run of windows with the same decision (a slide has hundreds of
+        // windows but few changes, and the page redraws this up to 100 times a second).
+        let same =
+            |a: &DecisionPoint, b: &DecisionPoint| a.tie == b.tie && (a.tie || a.class == b.class);
         let mut previous_s = 0.0;
-        for point in &coding.history {
-            let (x0, x1) = (x_at(previous_s), x_at(point.t_s));
-            previous_s = finite_or(point.t_s, previous_s);
+        for run in coding.history.chunk_by(same) {
+            let (first, last) = (&run[0], &run[run.len() - 1]);
+            let (x0, x1) = (x_at(previous_s), x_at(last.t_s));
+            let from_s = previous_s;
+            previous_s = finite_or(last.t_s, previous_s);
             write!(
                 out,
-                r#"<rect class="decision-point" x="{:.1}" y="{strip_y:.1}" width="{:.1}" height="{strip_h:.1}" fill="{}"><title>{:.2} s: {} ({:.0} %)</title></rect>"#,
+                r#"<rect class="decision-run" x="{:.1}" y="{strip_y:.1}" width="{:.1}" height="{strip_h:.1}" fill="{}"><title>{:.2}–{:.2} s: {}</title></rect>"#,
                 x0.min(x1),
                 (x1 - x0).abs().max(1.5),
-                colour(point),
-                finite_or(point.t_s, 0.0),
-                Esc(&name(point)),
-                100.0 * finite_or(point.vote_share, 0.0).clamp(0.0, 1.0),
+                colour(first),
+                from_s,
+                finite_or(last.t_s, 0.0),
+                Esc(&name(first)),
             )?;
         }
         if let Some(last) = &coding.final_decision {

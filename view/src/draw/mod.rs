@@ -387,13 +387,14 @@ mod tests {
     fn the_decisions_panel_appears_only_with_a_recogniser() {
         let svg = draw_frame(&frame_with(10));
         assert_eq!(count(&svg, "class=\"decisions\""), 0);
-        assert_eq!(count(&svg, "class=\"decision-point\""), 0);
+        assert_eq!(count(&svg, "class=\"decision-run\""), 0);
 
         let svg = draw_frame(&with_decisions(frame_with(10)));
         assert_balanced(&svg);
         assert_eq!(count(&svg, "class=\"decisions\""), 1);
-        // One timeline rect per history point, the final decision marked once.
-        assert_eq!(count(&svg, "class=\"decision-point\""), 5);
+        // One timeline rect per run of equal decisions (tie, 3 3 | 2 | 5), the final
+        // decision marked once.
+        assert_eq!(count(&svg, "class=\"decision-run\""), 4);
         assert_eq!(count(&svg, "class=\"final-decision\""), 1);
         // The latest decisions by name, with their vote share, the first one stable.
         assert!(svg.contains(">grid 1.5 mm</text>"));
