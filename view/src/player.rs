@@ -285,6 +285,11 @@ impl<'s> Player<'s> {
                 self.state = PlayState::Playing;
                 self.anchor = None;
             }
+            // At the end of a recording: from its start again.
+            Control::Play if self.state == PlayState::Ended && !self.is_live() => {
+                self.obey(Control::Seek(0.0));
+                self.obey(Control::Play);
+            }
             Control::Step if self.state != PlayState::Failed && !self.is_live() => {
                 let window = self.options.monitor.transduction.pool_window_us;
                 let target = self.monitor.elapsed_us().map_or(window, |t| t + window);

@@ -174,6 +174,11 @@ fn every_tab_sees_the_whole_recording_and_its_counts() {
         let (status, why) = request(address, "POST", "/control", "jump 3");
         assert_eq!(status, 400);
         assert!(why.contains("jump 3") && why.contains("seek"), "{why}");
+        // Play at the end replays the recording from its start, to the same counts.
+        request(address, "POST", "/control", "play");
+        let seq = from_a["seq"].as_u64().unwrap();
+        let again = a.until(|m| m["seq"].as_u64().unwrap() > seq && m["state"] == "ended");
+        assert_eq!(again["counts"], from_a["counts"]);
     });
     assert_eq!(end.events, 2 * 49 * 33);
     assert_eq!(end.failure, None);

@@ -13,7 +13,8 @@ function control(body) {
   return fetch("/control", { method: "POST", body });
 }
 
-$("pause").addEventListener("click", () => control(state === "paused" ? "play" : "pause"));
+$("pause").addEventListener("click", () =>
+  control(state === "paused" || state === "ended" ? "play" : "pause"));
 $("step").addEventListener("click", () => control("step"));
 $("seek").addEventListener("change", (e) => control("seek " + e.target.value));
 $("speed").addEventListener("change", (e) => control("speed " + e.target.value));
@@ -25,7 +26,7 @@ function show(m, firstOfConnection) {
   $("view").innerHTML = m.svg;
   $("source").textContent = m.source;
   $("state").textContent = m.state;
-  $("pause").textContent = m.state === "paused" ? "play" : "pause";
+  $("pause").textContent = { paused: "play", ended: "replay" }[m.state] || "pause";
   $("stream-time").textContent = m.t_s.toFixed(3);
   $("events-in").textContent = m.counts.events_in;
   $("after-filters").textContent = m.counts.after_filters;
