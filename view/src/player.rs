@@ -74,7 +74,7 @@ pub struct PlayerOptions {
 /// How a player ended.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PlayerEnd {
-    /// Pixel events shown, over all streams.
+    /// Pixel events shown, over every stream (and again for a replayed stretch).
     pub events: u64,
     /// The source's failure, if it failed (already shown on the page).
     pub failure: Option<String>,
@@ -101,7 +101,8 @@ pub struct Player<'s> {
     seq: u64,
     oldest_due: Option<f64>,
     last_frame_wall: Instant,
-    events_before: u64,
+    /// Events pushed, over every stream and replay.
+    pushed: u64,
     clock: WallClock,
 }
 
@@ -136,7 +137,7 @@ impl<'s> Player<'s> {
             seq: 0,
             oldest_due: None,
             last_frame_wall: Instant::now(),
-            events_before: 0,
+            pushed: 0,
             clock: WallClock::new(),
         })
     }
@@ -163,7 +164,7 @@ impl<'s> Player<'s> {
             }
         }
         PlayerEnd {
-            events: self.events_before + self.monitor.counts().events_in,
+            events: self.pushed,
             failure: self.notice.filter(|_| self.state == PlayState::Failed),
         }
     }
@@ -234,6 +235,7 @@ impl<'s> Player<'s> {
             &self.scratch
         };
         self.cursor = end;
+        self.pushed += events.len() as u64;
         self.oldest_due.get_or_insert(due_unix_ms);
         let result = self.monitor.push(events);
         self.observer.push(events);
@@ -266,7 +268,6 @@ impl<'s> Player<'s> {
 
     /// A fresh monitor and observer for a new stream (or the same one from its start).
     fn restart(&mut self) {
-        self.events_before += self.monitor.counts().events_in;
         self.monitor = StreamMonitor::new(&self.layout, self.options.monitor)
             .expect("the configuration was validated when the player was made");
         self.observer.restart();
@@ -306,7 +307,6 @@ impl<'s> Player<'s> {
                         return self.fail(format!("{}: {e}", self.label));
                     }
                     self.restart();
-                    self.events_before = 0;
                 }
                 if self.state == PlayState::Ended {
                     self.state = PlayState::Paused;
