@@ -7,6 +7,27 @@
 //!  (file, camera, simulator)              └─ StreamObserver (the recogniser's decisions) ─┘
 //! ```
 //!
+//! A frame of a few events at one taxel, drawn as the page and `--snapshot` draw it:
+//!
+//! ```
+//! use neurotac_core::{Event, EventBuffer, Timestamp};
+//! use neurotac_sensor::taxel::TaxelLayout;
+//! use neurotac_view::{MonitorConfig, PlayState, StreamMonitor, draw_frame};
+//! let layout = TaxelLayout::neurotac_default();
+//! let mut monitor = StreamMonitor::new(&layout, MonitorConfig::default())?;
+//! let (x, y) = layout.centres()[0];
+//! let events: EventBuffer = (0..50)
+//!     .map(|i| Event { t: Timestamp(i * 1000), x: x as u16, y: y as u16, polarity: true })
+//!     .collect();
+//! monitor.push(&events)?;
+//! monitor.finish(); // the end of the stream closes the last pooling window
+//! let frame = monitor.frame(1, "example", PlayState::Ended, "");
+//! assert_eq!(frame.counts.events_in, 50);
+//! assert!(frame.raster.spikes.iter().all(|&(taxel, _)| taxel == 0));
+//! assert!(draw_frame(&frame).starts_with("<svg"));
+//! # Ok::<(), neurotac_view::ViewError>(())
+//! ```
+//!
 //! | module | what it holds |
 //! |---|---|
 //! | [`frame`] | [`Frame`]: everything drawn at one moment — the decaying event image, receptive fields, taxel rates, the spike raster, the recogniser's decisions, what was left out of the drawing |
