@@ -81,7 +81,7 @@ pub struct DecisionPoint {
 pub enum PlayState {
     /// Events are being read and shown.
     Playing,
-    /// Paused by a viewer (a recording waits; a camera's frames are held).
+    /// Paused by a viewer (a recording or a simulated slide waits; a camera is never paused).
     Paused,
     /// The source ended (a recording's end).
     Ended,

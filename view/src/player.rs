@@ -278,13 +278,16 @@ impl<'s> Player<'s> {
 
     fn obey(&mut self, control: Control) {
         match control {
-            Control::Pause if self.state == PlayState::Playing => {
+            // A camera does not wait: it is watched live, never paused.
+            Control::Pause if self.state == PlayState::Playing && !self.is_live() => {
                 self.state = PlayState::Paused;
                 self.publish();
             }
             Control::Play if self.state == PlayState::Paused => {
                 self.state = PlayState::Playing;
                 self.anchor = None;
+                // The speed against real time counts from here, not from the pause.
+                self.last_frame_wall = Instant::now();
             }
             // At the end of a recording: from its start again.
             Control::Play if self.state == PlayState::Ended && !self.is_live() => {

@@ -51,7 +51,7 @@ function show(m, firstOfConnection) {
   if (![...speed.options].some((o) => o.value === value)) speed.add(new Option(m.speed, value));
   speed.value = value;
   // A camera is only watched live.
-  for (const id of ["speed", "step", "seek"]) $(id).disabled = m.speed === "live";
+  for (const id of ["pause", "speed", "step", "seek"]) $(id).disabled = m.speed === "live";
   // The first frame of a connection was drawn before this tab came: not a latency.
   if (m.due_unix_ms !== null && !firstOfConnection) {
     // Painted: once the next animation frame has run, this one has been composited.
