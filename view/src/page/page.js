@@ -52,16 +52,16 @@ function show(m, firstOfConnection) {
   speed.value = value;
   // A camera is only watched live.
   for (const id of ["pause", "speed", "step", "seek"]) $(id).disabled = m.speed === "live";
-  // The first frame of a connection was drawn before this tab came: not a latency.
-  if (m.due_unix_ms !== null && !firstOfConnection) {
-    // Painted: once the next animation frame has run, this one has been composited.
-    requestAnimationFrame(() => setTimeout(() => {
-      const latency = performance.timeOrigin + performance.now() - m.due_unix_ms;
-      latencyMax = Math.max(latencyMax, latency);
-      $("latency-ms").textContent = latency.toFixed(1);
-      $("latency-max-ms").textContent = latencyMax.toFixed(1);
-    }, 0));
-  }
+}
+
+// Event-to-screen latency, once `m` has been painted. The first frame of a connection was
+// drawn before this tab came: not a latency.
+function painted(m, firstOfConnection) {
+  if (m.due_unix_ms === null || firstOfConnection) return;
+  const latency = performance.timeOrigin + performance.now() - m.due_unix_ms;
+  latencyMax = Math.max(latencyMax, latency);
+  $("latency-ms").textContent = latency.toFixed(1);
+  $("latency-max-ms").textContent = latencyMax.toFixed(1);
 }
 
 // A message is drawn as soon as it comes unless the previous drawing has not been painted
@@ -74,9 +74,11 @@ function drawNewest() {
   const { data, first } = newest;
   newest = null;
   painting = true;
-  show(JSON.parse(data), first);
-  // After the next animation frame the drawing has been painted.
+  const m = JSON.parse(data);
+  show(m, first);
+  // Once the next animation frame has run, the drawing has been painted.
   requestAnimationFrame(() => setTimeout(() => {
+    painted(m, first);
     painting = false;
     if (newest !== null) drawNewest();
   }, 0));
