@@ -196,25 +196,6 @@ impl Hub {
     }
 }
 
-/// Each coding's latest decision (the final one once made), by class name.
-fn latest_decisions(frame: &Frame) -> Vec<serde_json::Value> {
-    let name = |class: usize| frame.class_names.get(class).map_or("", String::as_str);
-    (frame.decisions.iter())
-        .filter_map(|c| {
-            let d = c.final_decision.as_ref().or(c.history.last())?;
-            Some(serde_json::json!({
-                "coding": c.coding,
-                "class_name": if d.tie { "" } else { name(d.class) },
-                "tie": d.tie,
-                "vote_share": d.vote_share,
-                "stable": d.stable,
-                "final": c.final_decision.is_some(),
-                "t_s": d.t_s,
-            }))
-        })
-        .collect()
-}
-
 /// Draws `frame` and wraps it in the viewers' message (design in `page/page.js`).
 fn draw(frame: &Frame) -> Drawn {
     let svg: Arc<str> = draw_frame(frame).into();
@@ -228,7 +209,6 @@ fn draw(frame: &Frame) -> Drawn {
         "raster_spikes": frame.raster.spikes.len(),
         "decimation": frame.decimation,
         "notice": frame.notice,
-        "decisions": latest_decisions(frame),
         "due_unix_ms": frame.oldest_new_event_due_unix_ms,
         "svg": &*svg,
     });

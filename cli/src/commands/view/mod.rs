@@ -19,6 +19,7 @@ use neurotac_experiments::datasets::metadata::transduction_of;
 use neurotac_experiments::datasets::simulated::{TextureSet, load_or_simulate};
 use neurotac_experiments::menu::Menu;
 use neurotac_experiments::online::{OnlineClassifier, OnlineTraining};
+use neurotac_experiments::reproduce::paper;
 use neurotac_sensor::davis::{Davis, RusbTransport, StartOptions};
 use neurotac_sensor::sim::SimParams;
 use neurotac_sensor::taxel::{TaxelLayout, TransductionConfig};
@@ -239,16 +240,16 @@ fn open_source(a: &ViewArgs) -> anyhow::Result<Box<dyn StreamSource>> {
     Ok(Box::new(CameraSource::new(label, stream)))
 }
 
-/// The paper's parameters for the artificial textures (as `recognise`'s defaults; not fitted
-/// here).
+/// The paper's choices for the artificial textures (`reproduce::paper`, as `recognise`'s
+/// defaults; not fitted here).
 fn paper_coding(name: CodingName) -> Coding {
     Coding {
         name,
         parameters: CodingParameters {
-            window_ms: Some(159),
+            window_ms: Some(paper::DT_MS as u32),
             duration_ms: None,
-            tau_s: Some(0.076),
-            cos: Some(0.4),
+            tau_s: Some(paper::TAU_MS / 1e3),
+            cos: Some(paper::COS_THETA),
         },
     }
 }

@@ -23,25 +23,24 @@ impl<'a> Recognition<'a> {
         transduction: TransductionConfig,
         stable_windows: usize,
     ) -> anyhow::Result<Self> {
-        let mut recognition = Self {
+        Ok(Self {
+            live: recognisers(classifiers, transduction, stable_windows)?,
+            finals: vec![None; classifiers.len()],
             classifiers,
             transduction,
             stable_windows,
-            live: Vec::new(),
-            finals: Vec::new(),
-        };
-        recognition.live = recognition.recognisers()?;
-        recognition.finals = vec![None; classifiers.len()];
-        Ok(recognition)
+        })
     }
+}
 
-    fn recognisers(&self) -> anyhow::Result<Vec<Recogniser<'a>>> {
-        let made = self
-            .classifiers
-            .iter()
-            .map(|c| Recogniser::new(c, self.transduction, self.stable_windows));
-        Ok(made.collect::<Result<_, _>>()?)
-    }
+/// A fresh recogniser per classifier.
+fn recognisers<'a>(
+    classifiers: &'a [OnlineClassifier<'a>],
+    transduction: TransductionConfig,
+    stable_windows: usize,
+) -> anyhow::Result<Vec<Recogniser<'a>>> {
+    let made = (classifiers.iter()).map(|c| Recogniser::new(c, transduction, stable_windows));
+    Ok(made.collect::<Result<_, _>>()?)
 }
 
 fn point(d: &Decision) -> DecisionPoint {
@@ -72,7 +71,7 @@ impl StreamObserver for Recognition<'_> {
 
     fn restart(&mut self) {
         // The same settings made them before, so they are made again.
-        if let Ok(live) = self.recognisers() {
+        if let Ok(live) = recognisers(self.classifiers, self.transduction, self.stable_windows) {
             self.live = live;
         }
         self.finals = vec![None; self.classifiers.len()];
