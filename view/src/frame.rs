@@ -140,8 +140,9 @@ pub struct Frame {
     pub decisions: Vec<CodingDecisions>,
     /// Whether the stream moves.
     pub state: PlayState,
-    /// The replay speed as set (`realtime`, `2×`, `max`, `live`).
-    pub speed: String,
+    /// The replay speed as set (`realtime`, `2×`, `max`, `live`); `None` for a snapshot,
+    /// which has no speed.
+    pub speed: Option<String>,
     /// What the drawing leaves out.
     pub decimation: Decimation,
     /// A one-line notice for the viewer (an error that ended the source, a device unplugged).

@@ -21,7 +21,7 @@
 //!     .collect();
 //! monitor.push(&events)?;
 //! monitor.finish(); // the end of the stream closes the last pooling window
-//! let frame = monitor.frame(1, "example", PlayState::Ended, "");
+//! let frame = monitor.frame(1, "example", PlayState::Ended, None);
 //! assert_eq!(frame.counts.events_in, 50);
 //! assert!(frame.raster.spikes.iter().all(|&(taxel, _)| taxel == 0));
 //! assert!(draw_frame(&frame).starts_with("<svg"));

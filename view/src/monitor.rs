@@ -176,7 +176,13 @@ impl StreamMonitor {
     /// The picture now, numbered `seq`, with the player's `source`, `state` and `speed`; the
     /// decisions and the latency stamp are the caller's to fill in. Resets the "since the last
     /// frame" counts of [`Decimation`].
-    pub fn frame(&mut self, seq: u64, source: &str, state: PlayState, speed: &str) -> Frame {
+    pub fn frame(
+        &mut self,
+        seq: u64,
+        source: &str,
+        state: PlayState,
+        speed: Option<&str>,
+    ) -> Frame {
         let t = self.config.transduction;
         let now_us = self.now_us.unwrap_or(0);
         let t_s = self.elapsed_s();
@@ -255,7 +261,7 @@ impl StreamMonitor {
             class_names: Vec::new(),
             decisions: Vec::new(),
             state,
-            speed: speed.to_owned(),
+            speed: speed.map(str::to_owned),
             decimation,
             notice: None,
             oldest_new_event_due_unix_ms: None,

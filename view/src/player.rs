@@ -369,7 +369,9 @@ impl<'s> Player<'s> {
             true => "live".to_owned(),
             false => self.speed.label(),
         };
-        let mut frame: Frame = self.monitor.frame(self.seq, &self.label, state, &speed);
+        let mut frame: Frame = self
+            .monitor
+            .frame(self.seq, &self.label, state, Some(&speed));
         let wall = self.last_frame_wall.elapsed().as_secs_f64() * 1e3;
         self.last_frame_wall = Instant::now();
         // Measured only over a stretch of playing (0: not measured).

@@ -62,7 +62,7 @@ pub fn frame_at(
         true => PlayState::Ended,
         false => PlayState::Paused,
     };
-    let mut frame = monitor.frame(1, &source.label(), state, "");
+    let mut frame = monitor.frame(1, &source.label(), state, None);
     frame.class_names = observer.class_names();
     frame.decisions = observer.decisions();
     Ok(frame)

@@ -62,7 +62,7 @@ fn counts_and_raster_equal_the_transduction_in_any_chunking() {
             m.push(&part.iter().copied().collect()).unwrap();
         }
         m.finish();
-        let frame = m.frame(1, "bursts", PlayState::Ended, "max");
+        let frame = m.frame(1, "bursts", PlayState::Ended, Some("max"));
         let c = transducer.counts();
         assert_eq!(
             (
@@ -102,7 +102,7 @@ fn a_recording_shows_the_counts_neurotac_transduce_prints() {
         chunk.clear();
     }
     m.finish();
-    let frame = m.frame(1, "pick", PlayState::Ended, "max");
+    let frame = m.frame(1, "pick", PlayState::Ended, Some("max"));
     // The numbers of `neurotac transduce pick.aedat`: 118558 → 81980 → 3797 → 298.
     assert_eq!(frame.counts.events_in, t.counts.events_in);
     assert_eq!(frame.counts.after_filters, t.counts.after_filters);
@@ -122,7 +122,7 @@ fn the_event_image_decays_from_each_pixels_last_event() {
         .collect();
     m.push(&events).unwrap();
     let at = |frame: &neurotac_view::Frame, x: usize, y: usize| frame.image.intensity[y * 240 + x];
-    let f = m.frame(1, "", PlayState::Playing, "");
+    let f = m.frame(1, "", PlayState::Playing, None);
     assert_eq!(f.image.intensity.len(), 240 * 180);
     assert!(
         (at(&f, 30, 40) + 1.0).abs() < 1e-6,
@@ -132,12 +132,12 @@ fn the_event_image_decays_from_each_pixels_last_event() {
     assert!((at(&f, 10, 20) - expected).abs() < 1e-6);
     // One τ later (a quiet stream's clock moving on).
     m.advance_to(31_000);
-    let f = m.frame(2, "", PlayState::Playing, "");
+    let f = m.frame(2, "", PlayState::Playing, None);
     assert!((at(&f, 10, 20) - (-31.0f64 / 30.0).exp() as f32).abs() < 1e-6);
     assert!((at(&f, 30, 40) + (-1.0f32).exp()).abs() < 1e-6);
     // Past five decay times nothing is left.
     m.advance_to(200_000);
-    let f = m.frame(3, "", PlayState::Playing, "");
+    let f = m.frame(3, "", PlayState::Playing, None);
     assert!(f.image.intensity.iter().all(|&a| a == 0.0));
 }
 
@@ -149,11 +149,11 @@ fn the_drawn_share_says_how_many_new_events_the_image_shows() {
         .map(|i| event(i as i64 * 10, (i % 10) as u16, 5, true))
         .collect();
     m.push(&events).unwrap();
-    let f = m.frame(1, "", PlayState::Playing, "");
+    let f = m.frame(1, "", PlayState::Playing, None);
     assert_eq!(f.decimation.events_since_last_frame, 100);
     assert!((f.decimation.drawn_share - 0.1).abs() < 1e-12);
     // Nothing new: nothing left out.
-    let f = m.frame(2, "", PlayState::Playing, "");
+    let f = m.frame(2, "", PlayState::Playing, None);
     assert_eq!(f.decimation.events_since_last_frame, 0);
     assert_eq!(f.decimation.drawn_share, 1.0);
 }

@@ -119,7 +119,7 @@ fn header(out: &mut String, frame: &Frame) -> fmt::Result {
         r##"<text class="header" x="20" y="24" font-size="13" fill="#222"><tspan font-weight="bold">{}</tspan><tspan fill="#999">  ·  </tspan>t = {:.3} s<tspan fill="#999">  ·  </tspan>{state}{}<tspan fill="#999">  ·  </tspan>{} pixel events → {} after filters → {} in fields → {} taxel spikes</text>"##,
         Esc(&clipped(&frame.source, 40)),
         finite_or(frame.t_s, 0.0),
-        Speed(&frame.speed),
+        Speed(frame.speed.as_deref()),
         Count(c.events_in),
         Count(c.after_filters),
         Count(c.in_fields),
@@ -132,14 +132,14 @@ fn header(out: &mut String, frame: &Frame) -> fmt::Result {
     )
 }
 
-/// ` · speed 2×` in the header; nothing for an empty speed (a snapshot).
-struct Speed<'a>(&'a str);
+/// ` · speed 2×` in the header; nothing without a speed (a snapshot).
+struct Speed<'a>(Option<&'a str>);
 
 impl fmt::Display for Speed<'_> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self.0 {
-            "" => Ok(()),
-            speed => write!(
+            None => Ok(()),
+            Some(speed) => write!(
                 f,
                 r##"<tspan fill="#999">  ·  </tspan>speed {}"##,
                 Esc(&clipped(speed, 12))
@@ -247,7 +247,7 @@ mod tests {
             class_names: vec![],
             decisions: vec![],
             state: PlayState::Playing,
-            speed: "2×".into(),
+            speed: Some("2×".into()),
             decimation: Decimation {
                 events_since_last_frame: 12_034,
                 stream_ms_since_last_frame: 66.0,
