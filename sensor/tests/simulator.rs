@@ -91,15 +91,17 @@ fn noise_is_labelled_and_at_the_background_activity_rate() {
     // noise, no event carries the noise label; every event outside the pin patches is noise.
     let mut p = SimParams::default();
     p.kinematics.distance_mm = 0.0;
-    p.kinematics.rest_before_s = 4.0;
-    p.kinematics.rest_after_s = 0.0;
+    p.kinematics.press_travel_mm = 0.0;
+    p.kinematics.dwell_s = 4.0;
     let still = run(p, "grid 5 mm", 4);
     assert!(!still.events.is_empty());
     assert_eq!(still.noise_count(), still.events.len());
-    let rate = still.noise_count() as f64 / (240.0 * 180.0 * 4.0);
+    let seconds = still.info.duration_s;
+    assert!(seconds > 4.0);
+    let rate = still.noise_count() as f64 / (240.0 * 180.0 * seconds);
     assert!((0.1..=0.3).contains(&rate), "{rate} Hz per pixel");
     // Static: taxel spikes come from filtered noise alone, ≤ 0.4 per taxel per second.
-    let per_taxel_s = spikes_per_taxel(&still) / 4.0;
+    let per_taxel_s = spikes_per_taxel(&still) / seconds;
     assert!(per_taxel_s <= 0.4, "{per_taxel_s}");
 
     let moving = short();

@@ -43,8 +43,9 @@ pub fn phase_table(set: &SetReport) -> String {
     let t = shares.timing;
     let mut s = format!(
         "Share of each sample's taxel spikes (%) by slide phase, mean over the class's samples: \
-         rest = before the motion start ({:.3} s), onset = its first {:.0} ms, sliding = the \
-         rest of the motion, stop = from the motion end ({:.3} s) to the end of the recording. \
+         press = the press and dwell before the slide starts ({:.3} s), onset = the slide's first \
+         {:.0} ms, sliding = the rest of the slide, stop = from the slide's end ({:.3} s) to the end \
+         of the recording. \
          Motion times from {}.\n\n| class |",
         t.motion_start_s,
         ONSET_S * 1e3,
@@ -184,8 +185,8 @@ mod tests {
     #[test]
     fn the_phase_table_has_a_row_per_class_and_the_mean() {
         let mut set = set_report(set_result("artificial"), "simulated", false);
-        let share = |rest, onset, sliding, stop| PhaseShare {
-            rest,
+        let share = |press, onset, sliding, stop| PhaseShare {
+            press,
             onset,
             sliding,
             stop,
@@ -202,7 +203,7 @@ mod tests {
         });
         let table = phase_table(&set);
         assert!(
-            table.contains("| class | rest | onset | sliding | stop |"),
+            table.contains("| class | press | onset | sliding | stop |"),
             "{table}"
         );
         assert!(

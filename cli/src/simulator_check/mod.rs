@@ -192,10 +192,11 @@ pub fn simulator_check(
         &jobs_for(set, config.seed ^ 0xfa57, &[flat, coarse], 0, n),
         progress,
     )?;
-    // Static: no motion, as long as a slide.
+    // Static: no press, no slide; the loop holds as long as a recording lasts.
     let mut still = p;
     still.kinematics.distance_mm = 0.0;
-    still.kinematics.rest_before_s = p.duration_s();
+    still.kinematics.press_travel_mm = 0.0;
+    still.kinematics.dwell_s = p.duration_s();
     let static_runs = run_jobs(
         &still,
         &camera,

@@ -252,7 +252,11 @@ pub(super) fn analyse(
             comb_spacing_hz = Some(spacing);
         }
     }
-    let predicted_stick_s = params.stick_time_s(info.draw.mu_static, info.draw.press_depth_mm);
+    let predicted_stick_s = params.stick_time_s(
+        info.draw.mu_static,
+        info.press.normal_force_n,
+        info.press.shear_share,
+    );
     Ok(Summary {
         class,
         spikes_per_taxel: pooled.len() as f64 / 49.0,

@@ -1,9 +1,9 @@
 //! Where in a simulated slide the taxel spikes fall. A slide's recording is cut into four phases
-//! by its motion start `t₀` and end `t₁` (s from the recording start):
+//! by its slide's start `t₀` and end `t₁` (s from the recording start):
 //!
 //! | phase | interval |
 //! |---|---|
-//! | rest | `[0, t₀)`: the sensor pressed, the base still |
+//! | press | `[0, t₀)`: the press and the dwell before the slide ([`neurotac_sensor::sim::kinematics`]) |
 //! | onset | `[t₀, t₀ + 200 ms)` ([`ONSET_S`]) |
 //! | sliding | `[t₀ + 200 ms, t₁)` |
 //! | stop | `[t₁, end of recording]` |
@@ -15,6 +15,7 @@
 use crate::coding::class_means_of;
 use neurotac_core::{MultiSpikeTrain, SpikeDataset};
 use neurotac_sensor::sim::SimParams;
+use neurotac_sensor::sim::kinematics::Recording;
 use serde::Serialize;
 
 /// Length of the onset phase after the motion start (s).
@@ -28,8 +29,8 @@ pub const RECORDED_HAS_NO_PHASES: &str = "a recorded dataset stores no motion st
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum SlidePhase {
-    /// Before the motion starts.
-    Rest,
+    /// Before the slide starts: the press and the dwell.
+    Press,
     /// The first [`ONSET_S`] of the motion.
     Onset,
     /// The rest of the motion.
@@ -41,16 +42,16 @@ pub enum SlidePhase {
 impl SlidePhase {
     /// The four phases in time order.
     pub const ALL: [SlidePhase; 4] = [
-        SlidePhase::Rest,
+        SlidePhase::Press,
         SlidePhase::Onset,
         SlidePhase::Sliding,
         SlidePhase::Stop,
     ];
 
-    /// `rest`, `onset`, `sliding`, `stop`.
+    /// `press`, `onset`, `sliding`, `stop`.
     pub fn key(self) -> &'static str {
         match self {
-            SlidePhase::Rest => "rest",
+            SlidePhase::Press => "press",
             SlidePhase::Onset => "onset",
             SlidePhase::Sliding => "sliding",
             SlidePhase::Stop => "stop",
@@ -68,21 +69,21 @@ pub struct SlideTiming {
 }
 
 impl SlideTiming {
-    /// The nominal timing of a slide simulated with `params`: `t₀ = kinematics.rest_before_s`,
-    /// `t₁ = t₀ + motion_duration_s()`. A simulated slide's own start differs by its onset
-    /// jitter (standard deviation `kinematics.onset_jitter_s`, a few ms).
+    /// The nominal timing of a slide simulated with `params`: its recording loop at the mean
+    /// latencies ([`Recording::nominal`]). A simulated slide's own start differs by the loop's
+    /// timing (about `kinematics.loop_jitter_s·√(6/8)`, a few ms).
     pub fn nominal(params: &SimParams) -> Self {
-        let motion_start_s = params.kinematics.rest_before_s;
+        let recording = Recording::nominal(params);
         Self {
-            motion_start_s,
-            motion_end_s: motion_start_s + params.motion_duration_s(),
+            motion_start_s: recording.slide_start_s,
+            motion_end_s: recording.slide_end_s(),
         }
     }
 
     /// The phase of a spike at `t_s` (s from the recording start).
     pub fn phase_of(&self, t_s: f64) -> SlidePhase {
         if t_s < self.motion_start_s {
-            SlidePhase::Rest
+            SlidePhase::Press
         } else if t_s < (self.motion_start_s + ONSET_S).min(self.motion_end_s) {
             SlidePhase::Onset
         } else if t_s < self.motion_end_s {
@@ -96,8 +97,8 @@ impl SlideTiming {
 /// The share of taxel spikes in each phase (fractions; they sum to 1).
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize)]
 pub struct PhaseShare {
-    /// Before the motion.
-    pub rest: f64,
+    /// Before the slide: the press and the dwell.
+    pub press: f64,
     /// The motion's first [`ONSET_S`].
     pub onset: f64,
     /// The rest of the motion.
@@ -110,7 +111,7 @@ impl PhaseShare {
     /// The share of `phase`.
     pub fn of(&self, phase: SlidePhase) -> f64 {
         match phase {
-            SlidePhase::Rest => self.rest,
+            SlidePhase::Press => self.press,
             SlidePhase::Onset => self.onset,
             SlidePhase::Sliding => self.sliding,
             SlidePhase::Stop => self.stop,
@@ -118,9 +119,9 @@ impl PhaseShare {
     }
 
     /// From shares in [`SlidePhase::ALL`] order.
-    fn from_array([rest, onset, sliding, stop]: [f64; 4]) -> Self {
+    fn from_array([press, onset, sliding, stop]: [f64; 4]) -> Self {
         Self {
-            rest,
+            press,
             onset,
             sliding,
             stop,
@@ -160,9 +161,9 @@ impl Phases {
     pub fn of_simulated(data: &SpikeDataset, params: &SimParams) -> Self {
         let mut shares = phase_shares(data, SlideTiming::nominal(params));
         shares.timing_source = format!(
-            "the nominal kinematics of the simulator parameters (the dataset stores no per-slide \
-             motion times; each slide's onset is jittered by σ = {:.0} ms)",
-            params.kinematics.onset_jitter_s * 1e3
+            "the nominal recording loop of the simulator parameters (the dataset stores no \
+             per-slide motion times; each slide's start varies with the loop's timing, σ ≈ {:.1} ms)",
+            params.kinematics.loop_jitter_s * 0.75f64.sqrt() * 1e3
         );
         Phases::Known(shares)
     }
@@ -229,8 +230,8 @@ mod tests {
     #[test]
     fn spikes_fall_in_the_phase_of_their_half_open_interval() {
         let phase = |t| TIMING.phase_of(t);
-        assert_eq!(phase(0.0), SlidePhase::Rest);
-        assert_eq!(phase(0.249), SlidePhase::Rest);
+        assert_eq!(phase(0.0), SlidePhase::Press);
+        assert_eq!(phase(0.249), SlidePhase::Press);
         assert_eq!(phase(0.25), SlidePhase::Onset);
         assert_eq!(phase(0.449), SlidePhase::Onset);
         assert_eq!(phase(0.45), SlidePhase::Sliding);
@@ -281,10 +282,10 @@ mod tests {
     }
 
     #[test]
-    fn nominal_timing_is_the_rest_then_the_motion_of_the_parameters() {
+    fn nominal_timing_is_the_press_then_the_slide_of_the_parameters() {
         let params = SimParams::default();
         let t = SlideTiming::nominal(&params);
-        assert_eq!(t.motion_start_s, params.kinematics.rest_before_s);
+        assert_eq!(t.motion_start_s, Recording::nominal(&params).slide_start_s);
         assert!((t.motion_end_s - t.motion_start_s - params.motion_duration_s()).abs() < 1e-12);
         assert!(matches!(Phases::recorded(), Phases::Unknown(why) if why.contains("recorded")));
     }

@@ -49,6 +49,9 @@ pub struct SkinContact {
     pub mean_abs_slope: f64,
     /// Deepest sag of the skin below the highest texture point (mm).
     pub max_sag_mm: f64,
+    /// Mean sag of the skin below the highest texture point over the cell (mm): how much less
+    /// the dome is compressed than on a plate at the tops' level ([`super::layer::Press`]).
+    pub mean_sag_mm: f64,
     /// Real contact area relative to the same skin on a flat plate (Persson 2001).
     pub real_area_ratio: f64,
     /// Sweeps the solver took.
@@ -149,7 +152,9 @@ pub fn solve(
     let fraction = in_contact as f64 / cells;
     let area = fraction * law.area_fraction(q / fraction.max(1e-9));
     let bottom = z.iter().copied().fold(f64::INFINITY, f64::min);
+    let mean_sag_mm = top - z.iter().sum::<f64>() / cells;
     SkinContact {
+        mean_sag_mm,
         real_area_ratio: area / law.area_fraction(q),
         contact_fraction: fraction,
         mean_abs_slope: slope / cells,

@@ -43,9 +43,12 @@
 //! come from the texture's [`Mounting`], plus the arm's repeatability; press depth and motion
 //! onset jitter per slide.
 
-use super::kinematics::Trapezoid;
+use super::fabric::FabricDrag;
+use super::kinematics::Recording;
+use super::layer::Press;
 use super::params::SimParams;
 use super::random::gaussian;
+use super::shear_spread::{ShearSpread, SpreadContact};
 use super::slip_front::{ContactState, PinShear, SlipFront};
 use super::texture::{Surface, TextureField};
 use neurotac_core::seed_hash::{fnv1a, splitmix64};
@@ -146,14 +149,15 @@ pub struct TrialDraw {
     pub mu_static: f64,
     /// Kinetic friction of this slide.
     pub mu_kinetic: f64,
-    /// Delay of the motion onset from its nominal time (s).
-    pub onset_delay_s: f64,
+    /// The recording's timeline: the loop's latencies of this slide
+    /// ([`Recording::draw`]).
+    pub recording: Recording,
 }
 
 impl TrialDraw {
     /// Draws slide `slide` of a texture with `surface` on `mounting`: the mounting's offset and
     /// phase plus the arm's repeatability (or, with `per_slide_offsets`, fresh uniform
-    /// ones), press-depth and onset jitter, friction scaled by the mounting's factor.
+    /// ones), press-depth jitter, the loop's timing, friction scaled by the mounting's factor.
     pub fn draw(
         params: &SimParams,
         surface: &Surface,
@@ -176,8 +180,7 @@ impl TrialDraw {
         };
         let press_depth_mm =
             (k.press_depth_mm + k.press_depth_sd_mm * gaussian(rng)).max(0.25 * k.press_depth_mm);
-        let limit = 0.5 * k.rest_before_s;
-        let onset_delay_s = (k.onset_jitter_s * gaussian(rng)).clamp(-limit, limit);
+        let recording = Recording::draw(params, rng);
         let f = mounting.friction_factor(slide);
         Self {
             lateral_offset_mm,
@@ -185,7 +188,7 @@ impl TrialDraw {
             press_depth_mm,
             mu_static: surface.mu_static * f,
             mu_kinetic: surface.mu_kinetic * f,
-            onset_delay_s,
+            recording,
         }
     }
 }
@@ -217,6 +220,8 @@ pub struct PinTrajectories {
     pub stick_limit_mm: f64,
     /// Time of the first full slip (s from the recording start), if it happened.
     pub full_slip_s: Option<f64>,
+    /// The press of this slide.
+    pub press: Option<Press>,
 }
 
 impl PinTrajectories {
@@ -363,17 +368,28 @@ impl PinTrajectories {
     }
 }
 
-/// Per-trial constants of one pin: position, radial unit vector, contact weight χ, its
-/// derivative χ' and the shear spread φ.
+/// Per-trial constants of one pin: position, distance from the apex, radial unit vector,
+/// contact weight χ and its derivative χ' (at the final contact radius).
 #[derive(Debug, Clone, Copy)]
 struct PinConstants {
     x: f64,
     y: f64,
+    r: f64,
     rx: f64,
     ry: f64,
     chi: f64,
     dchi: f64,
-    phi: f64,
+}
+
+/// The contact weight χ of a point at distance `r` from the apex under a contact of radius
+/// `a` with an edge of width `w`, and its derivative dχ/dr: a smooth indicator of |r| < a,
+/// `χ = σ((a − r)/w) − σ((−a − r)/w)` with σ the logistic function — 0 everywhere without
+/// contact (a = 0), the logistic edge `1/(1 + e^((r − a)/w))` once a ≫ w.
+#[inline]
+fn contact_weight(r: f64, a: f64, w: f64) -> (f64, f64) {
+    let sigma = |x: f64| 1.0 / (1.0 + (-x).exp());
+    let (near, far) = (sigma((a - r) / w), sigma((-a - r) / w));
+    (near - far, (-near * (1.0 - near) + far * (1.0 - far)) / w)
 }
 
 /// Reusable buffers and pin geometry for computing trajectories (allocated once).
@@ -383,6 +399,7 @@ pub struct Mechanics {
     pin_constants: Vec<PinConstants>,
     front: SlipFront,
     pin_shear: PinShear,
+    spread: ShearSpread,
     dome_radius_mm: f64,
     scale_px_per_mm: f64,
 }
@@ -395,6 +412,7 @@ impl Mechanics {
             pin_constants: Vec::with_capacity(pins_mm.len()),
             front: SlipFront::default(),
             pin_shear: PinShear::default(),
+            spread: ShearSpread::default(),
             pins_mm,
             dome_radius_mm,
             scale_px_per_mm,
@@ -412,32 +430,31 @@ impl Mechanics {
         out: &mut PinTrajectories,
     ) {
         let c = &params.contact;
-        let onset_delay = draw.onset_delay_s;
+        let rec = draw.recording;
         let local_gain = c.pin_shear_gain / c.skin_shear_stiffness_n_mm3;
-        let duration = params.duration_s();
         let dt = params.solver.mechanics_dt_s;
-        let n_samples = (duration / dt).ceil() as usize + 2;
+        let n_samples = (rec.end_s / dt).ceil() as usize + 2;
         let n_pins = self.pins_mm.len();
         let press = surface.press(params, draw.press_depth_mm, self.dome_radius_mm);
         let a = press.contact_radius_mm;
         let normal = press.normal_force_n;
         let shear_share = press.shear_share;
         let n_over_kt = normal / c.tangential_stiffness_n_mm;
-        let chi = |r: f64| 1.0 / (1.0 + ((r - a) / c.contact_edge_mm).exp());
+        let edge = c.contact_edge_mm;
 
         self.pin_constants.clear();
         for &(x, y) in &self.pins_mm {
             let r = (x * x + y * y).sqrt();
             let (rx, ry) = if r > 1e-9 { (x / r, y / r) } else { (0.0, 0.0) };
-            let ch = chi(r);
+            let (chi, dchi) = contact_weight(r, a, edge);
             self.pin_constants.push(PinConstants {
                 x,
                 y,
+                r,
                 rx,
                 ry,
-                chi: ch,
-                dchi: -ch * (1.0 - ch) / c.contact_edge_mm,
-                phi: (-(r / (c.shear_spread * a)).powi(2)).exp(),
+                chi,
+                dchi,
             });
         }
 
@@ -451,11 +468,9 @@ impl Mechanics {
         out.shear_mm.clear();
         out.shear_mm.resize(n_samples, 0.0);
         out.in_contact.clear();
-        out.in_contact.extend(
-            self.pins_mm
-                .iter()
-                .map(|&(x, y)| chi((x * x + y * y).sqrt()) > 0.5),
-        );
+        out.in_contact
+            .extend(self.pin_constants.iter().map(|pin| pin.chi > 0.5));
+        out.press = Some(press);
 
         // Shear state.
         let s_static = draw.mu_static * n_over_kt;
@@ -463,7 +478,7 @@ impl Mechanics {
         out.stick_limit_mm = s_static;
         out.full_slip_s = None;
         out.slip_front.clear();
-        if c.partial_slip {
+        if c.partial_slip && a > 0.0 {
             let state = ContactState {
                 radius_mm: a,
                 normal_force_n: normal,
@@ -480,7 +495,46 @@ impl Mechanics {
             out.slip_front.resize(n_pins, None);
         }
         self.pin_shear.start(&self.front);
-        let kinetic_ratio = draw.mu_kinetic / draw.mu_static;
+        // How the load spreads to the pins: the layer's forward shift and the pile's reach.
+        let forward_shift = match (surface.layer, press.overlap_mm > 0.0) {
+            (Some(layer), true) => {
+                2.0 * layer.loss_tangent * (press.overlap_mm - press.dome_depth_mm)
+                    / press.overlap_mm
+            }
+            _ => 0.0,
+        };
+        let pile = surface.pile.and_then(|pile| {
+            let outer = pile.reach_mm(press.overlap_mm, self.dome_radius_mm);
+            let hairs =
+                pile.traction_mpa(draw.mu_kinetic) * std::f64::consts::PI * (outer * outer - a * a);
+            (a > 0.0 && outer > a).then(|| (outer, hairs / (hairs + draw.mu_kinetic * normal)))
+        });
+        self.spread.solve(
+            &self.pins_mm,
+            &SpreadContact {
+                radius_mm: a,
+                forward_shift,
+                pile,
+                depth_mm: c.skin_depth_mm,
+            },
+        );
+        // A fabric dragged on its mounting during the onset (before the first full slip).
+        let mut drag = surface
+            .fabric
+            .filter(|_| a > 0.0 && shear_share > 0.0)
+            .map(|fabric| {
+                FabricDrag::new(
+                    &fabric,
+                    (a, normal),
+                    (c.fabric_mount_span_mm, c.fabric_base_friction),
+                    (c.tangential_stiffness_n_mm, shear_share),
+                )
+            });
+        let kinetic_ratio = if draw.mu_static > 0.0 {
+            draw.mu_kinetic / draw.mu_static
+        } else {
+            1.0
+        };
         let relax = (-dt / c.slip_time_s).exp();
         let weakening = surface.weakening_speed_mm_s;
         let slip_level = |v: f64| {
@@ -504,22 +558,43 @@ impl Mechanics {
             .catch_period_mm
             .map_or(f64::INFINITY, |p| p - draw.start_phase_mm.rem_euclid(p));
         let mut slid = 0.0;
-        let release = |micro: &mut f64, rng: &mut ChaCha8Rng| {
+        let release = |micro: &mut f64, rng: &mut ChaCha8Rng, scale: f64| {
             let u = rng.random::<f64>();
-            *micro -= c.microslip_min_mm + u * (c.microslip_max_mm - c.microslip_min_mm);
+            *micro -= scale * (c.microslip_min_mm + u * (c.microslip_max_mm - c.microslip_min_mm));
         };
+        // A bump edge catches the skin as deeply as the skin sinks into the gaps: a full
+        // catch once it drapes to the floor, none on a grid it only rests on.
+        let catch_scale = (surface.max_sag_mm / c.bump_height_mm).min(1.0);
+        let mut slipped_once = false;
+        // The press: the dome starts `clearance` above the specimen's surface and its contact
+        // grows as √(overlap) until the press ends; the skin flattens against the specimen by
+        // the dome's share of the overlap, splaying the pins it covers (spec §7).
+        let travel = params.kinematics.press_travel_mm;
+        let clearance = travel - press.overlap_mm;
+        let splay_gain = if press.overlap_mm > 0.0 {
+            c.lever_mm * (press.dome_depth_mm / press.overlap_mm) / self.dome_radius_mm
+        } else {
+            0.0
+        };
+        let press_end = rec.press_end_s();
         let mut t = 0.0;
         let scale = self.scale_px_per_mm;
-        let base = Trapezoid::new(params);
         for n in 0..n_samples {
             if n > 0 {
                 for _ in 0..sub {
-                    let (_, vb) = base.at(t + 0.5 * h - onset_delay);
-                    let vb = shear_share * vb;
+                    let (_, base_speed) = rec.slide_at(t + 0.5 * h);
+                    let vb = shear_share * base_speed;
                     if stuck {
-                        s += vb * h;
+                        match drag.as_mut().filter(|_| !slipped_once) {
+                            Some(drag) => {
+                                s += drag.share(s) * base_speed * h;
+                                s = drag.wrinkle(s);
+                            }
+                            None => s += vb * h,
+                        }
                         if s >= s_static && vb > 0.0 {
                             stuck = false;
+                            slipped_once = true;
                         }
                     } else {
                         let target = (s - slip_level(vp)) / c.slip_time_s;
@@ -533,12 +608,12 @@ impl Mechanics {
                         if micro_rate_per_mm > 0.0
                             && rng.random::<f64>() < micro_rate_per_mm * vp * h
                         {
-                            release(&mut micro, rng);
+                            release(&mut micro, rng, 1.0);
                         }
                         slid += vp * h;
                         if slid >= next_catch {
                             next_catch += surface.catch_period_mm.unwrap_or(f64::INFINITY);
-                            release(&mut micro, rng);
+                            release(&mut micro, rng, catch_scale);
                         }
                     }
                     micro *= micro_decay;
@@ -550,22 +625,38 @@ impl Mechanics {
             }
             self.pin_shear
                 .step(s, s_static, kinetic_ratio, stuck, relax);
-            let (xb, _) = base.at(t - onset_delay);
+            let (xb, _) = rec.slide_at(t);
             let patch_x = xb - s + draw.start_phase_mm;
             out.shear_mm[n] = (s + micro) as f32;
+            // While pressing, the contact radius of the overlap so far.
+            let radius_now = (t < press_end && press.overlap_mm > 0.0).then(|| {
+                let overlap = (rec.press_travel_at(t) - clearance).max(0.0);
+                a * (overlap / press.overlap_mm).sqrt()
+            });
+            // The share of the contact that slides: the slip front's, up to the first full slip.
+            let slipped = if out.full_slip_s.is_some() {
+                1.0
+            } else if c.partial_slip && s_static > 0.0 {
+                1.0 - (1.0 - (s / s_static).clamp(0.0, 1.0)).powf(c.stick_area_exponent)
+            } else {
+                0.0
+            };
             for (i, pin) in self.pin_constants.iter().enumerate() {
-                let s_pin = self.pin_shear.pin(i, s) + micro;
-                let mut ux = c.pin_shear_gain * pin.phi * s_pin;
-                let mut uy = 0.0;
-                if !field.is_flat() && pin.chi > 1e-3 {
+                let (chi, dchi) =
+                    radius_now.map_or((pin.chi, pin.dchi), |r| contact_weight(pin.r, r, edge));
+                let s_pin = c.pin_shear_gain * (self.pin_shear.pin(i, s) + micro);
+                let (spread_x, spread_y) = self.spread.at(i, slipped);
+                let splay = splay_gain * pin.r * chi;
+                let mut ux = spread_x * s_pin - splay * pin.rx;
+                let mut uy = spread_y * s_pin - splay * pin.ry;
+                if !field.is_flat() && chi > 1e-3 {
                     let f = field.sample(pin.x + patch_x, pin.y + draw.lateral_offset_mm);
-                    let w = pin.chi * f.w;
-                    // ∇(χ·w₀) = χ∇w₀ + w₀·χ'(r)·r̂, χ' = −χ(1 − χ)/w_c.
-                    ux += c.lever_mm * (pin.chi * f.dw_dx + f.w * pin.dchi * pin.rx)
+                    let w = chi * f.w;
+                    // ∇(χ·w₀) = χ∇w₀ + w₀·χ'(r)·r̂.
+                    ux += c.lever_mm * (chi * f.dw_dx + f.w * dchi * pin.rx)
                         + c.bulge * w * pin.rx
-                        + local_gain * pin.chi * f.traction_mpa;
-                    uy += c.lever_mm * (pin.chi * f.dw_dy + f.w * pin.dchi * pin.ry)
-                        + c.bulge * w * pin.ry;
+                        + local_gain * chi * f.traction_mpa;
+                    uy += c.lever_mm * (chi * f.dw_dy + f.w * dchi * pin.ry) + c.bulge * w * pin.ry;
                 }
                 let idx = i * n_samples + n;
                 out.dx_px[idx] = (scale * ux) as f32;
@@ -598,7 +689,7 @@ mod tests {
             press_depth_mm: 2.0,
             mu_static,
             mu_kinetic,
-            onset_delay_s: 0.0,
+            recording: Recording::nominal(&p),
         };
         let mut m = Mechanics::new(g.pin_positions_mm(), g.dome_radius_mm, g.scale_px_per_mm);
         let mut out = PinTrajectories::default();
@@ -646,17 +737,32 @@ mod tests {
     fn flat_plate_onset_sticks_then_slips_back_and_recoils_at_the_stop() {
         let p = SimParams::default();
         let out = slide(0.0, 0.0, Some((1.0, 0.7)));
-        let at = |t: f64| out.shear_mm[(t / out.dt_s) as usize] as f64;
+        let at = |t: f64| out.shear_mm[((t / out.dt_s) as usize).min(out.n_samples - 1)] as f64;
         // N/k_t = 1 mm: stick up to s_s = 1 mm, steady s_k + τv = 0.85 mm, rest at s_k = 0.7 mm.
         let peak = out.shear_mm.iter().copied().fold(0.0f32, f32::max) as f64;
         assert!((peak - 1.0).abs() < 0.02, "{peak}");
         assert!((at(2.0) - 0.85).abs() < 0.01, "{}", at(2.0));
-        assert!((at(p.duration_s() - 0.01) - 0.7).abs() < 0.02);
-        // The centre pin moves g_pin·s·k = 0.5 · 1 mm · 4.5 px/mm ≈ 2.25 px at the peak.
-        let max = out.max_displacement_px();
-        assert!((max - 2.25).abs() < 0.1, "{max}");
-        // Nothing moves before the slide.
-        assert_eq!(out.arc(0, 0.2), 0.0);
+        let rec = Recording::nominal(&p);
+        assert!((at(rec.end_s) - 0.7).abs() < 0.02);
+        // Stuck, the centre pin moves g_pin·s·k = 0.5 · 1 mm · 4.5 px/mm ≈ 2.25 px at the stick
+        // limit; as the contact slips its traction turns Hertzian and the apex moves up to 1.5
+        // times as far (Cattaneo–Mindlin, [`ShearSpread`]).
+        let centre = (0..out.n_samples)
+            .map(|k| out.dx_px[k].hypot(out.dy_px[k]))
+            .fold(0.0f32, f32::max);
+        assert!(centre > 2.3 && centre < 1.5 * 2.25, "{centre}");
+        // The press splays the pins it covers radially, by G_lever·r/R at most.
+        let pressed = Recording::nominal(&p).slide_start_s - 0.01;
+        let (sx, sy) = out.displacement(8, pressed);
+        let g = PinGeometry::default();
+        let (x, y) = g.pin_positions_mm()[8];
+        let expected = p.contact.lever_mm * x.hypot(y) / g.dome_radius_mm * g.scale_px_per_mm;
+        assert!(sx.hypot(sy) > 0.9 * expected as f32 && sx.hypot(sy) <= expected as f32 * 1.01);
+        // Nothing moves before the press reaches the plate; the centre pin does not splay, so
+        // it moves only once the slide starts.
+        assert_eq!(out.arc(48, 0.05), 0.0);
+        assert_eq!(out.arc(0, rec.slide_start_s), 0.0);
+        assert!(out.arc(8, rec.slide_start_s) > 0.0);
         assert!(out.in_contact[0] && !out.in_contact[48]);
     }
 
@@ -666,9 +772,10 @@ mod tests {
         // A catch is a sudden drop of the pins' shear while sliding steadily (after the onset's
         // snap, before the stop's recoil); the patch slips ≈ 56 mm then, p = 5 mm.
         let out = slide(2.5, 1.0, None);
+        let rec = Recording::nominal(&p);
         let (from, to) = (
-            (0.6 / out.dt_s) as usize,
-            ((p.kinematics.rest_before_s + p.motion_duration_s() - 0.1) / out.dt_s) as usize,
+            ((rec.slide_start_s + 0.35) / out.dt_s) as usize,
+            ((rec.slide_end_s() - 0.1) / out.dt_s) as usize,
         );
         let drops = |out: &PinTrajectories| {
             out.shear_mm[from..to]
@@ -741,11 +848,10 @@ mod tests {
                 .iter()
                 .all(|d| (d.press_depth_mm - 2.0).abs() < 5.0 * p.kinematics.press_depth_sd_mm)
         );
-        assert!(
-            draws
-                .iter()
-                .all(|d| d.onset_delay_s.abs() < 5.0 * p.kinematics.onset_jitter_s)
-        );
+        let nominal = Recording::nominal(&p).slide_start_s;
+        assert!(draws.iter().all(|d| {
+            (d.recording.slide_start_s - nominal).abs() < 5.0 * p.kinematics.loop_jitter_s
+        }));
         // Friction: μ_s/μ_k fixed by the texture; the factor drifts slowly (neighbouring slides
         // differ far less than the drift's range).
         let ratio = surface.mu_static / surface.mu_kinetic;

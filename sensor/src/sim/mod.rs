@@ -9,8 +9,8 @@
 //! | skin-on-texture contact (§2.2, §8) | [`contact`] | [`SkinContact`] |
 //! | textures, friction (§2.1, §2.4) | [`texture`] | [`Texture`], [`TextureField`], [`Surface`] |
 //! | natural textures as materials (§2.4) | [`natural`] | [`NATURAL_TEXTURES`], [`NaturalTexture`] |
-//! | a compliant texture in series with the dome | [`layer`] | [`layer::Layer`], [`layer::Press`] |
-//! | the base's speed profile (§2.2 step 4) | [`kinematics`] | [`kinematics::base_motion`] |
+//! | the press under position control, compliant layers | [`layer`] | [`layer::Layer`], [`layer::Press`] |
+//! | the recording loop: press, dwell, slide (§2.1) | [`kinematics`] | [`kinematics::Recording`] |
 //! | stick-slip, pins, variability (§2.1–2.2) | [`mechanics`] | [`PinTrajectories`], [`Mounting`], [`TrialDraw`] |
 //! | partial-slip front of the onset (§9) | [`slip_front`] | [`slip_front::SlipFront`], [`slip_front::PinShear`] |
 //! | camera fixed-pattern noise (§3.2) | [`camera`] | [`Camera`] |
@@ -41,6 +41,7 @@ pub mod camera;
 pub mod contact;
 pub mod diagnostics;
 pub mod error;
+pub mod fabric;
 mod fft;
 pub mod kinematics;
 pub mod layer;
@@ -50,6 +51,7 @@ pub mod parameter_sources;
 pub mod params;
 pub mod pixel;
 mod random;
+pub mod shear_spread;
 pub mod slip_front;
 pub mod texture;
 
@@ -139,10 +141,16 @@ pub struct TrialInfo {
     pub draw: TrialDraw,
     /// Recording length (s); events lie in `[0, duration)`.
     pub duration_s: f64,
-    /// When the base starts moving (s).
+    /// When the press starts moving down (s).
+    pub press_start_s: f64,
+    /// When the press reaches its depth (s).
+    pub press_end_s: f64,
+    /// When the slide starts (s).
     pub motion_start_s: f64,
-    /// When it stops (s).
+    /// When the slide stops (s).
     pub motion_end_s: f64,
+    /// The press: overlap, force, contact radius, shear share ([`layer::Press`]).
+    pub press: layer::Press,
     /// Pixel-model effort.
     pub pixel_stats: PixelRunStats,
     /// Largest pin displacement from rest (px).
@@ -312,7 +320,8 @@ impl Simulator {
             &mut rng,
             &mut self.trajectories,
         );
-        let duration_s = params.duration_s();
+        let rec = draw.recording;
+        let duration_s = rec.end_s;
         self.raw.clear();
         let pixel_stats = self.pixels.run(
             &self.camera,
@@ -335,7 +344,7 @@ impl Simulator {
             events.polarity.push(e.on);
             labels.push(EventLabel(e.label));
         }
-        let motion_start_s = params.kinematics.rest_before_s + draw.onset_delay_s;
+        let motion_start_s = rec.slide_start_s;
         let onset = self.onset_facts(motion_start_s);
         SimulatedTrial {
             events,
@@ -346,8 +355,14 @@ impl Simulator {
                 slide,
                 draw,
                 duration_s,
+                press_start_s: rec.press_start_s,
+                press_end_s: rec.press_end_s(),
                 motion_start_s,
-                motion_end_s: motion_start_s + params.motion_duration_s(),
+                motion_end_s: rec.slide_end_s(),
+                press: self
+                    .trajectories
+                    .press
+                    .expect("the mechanics set the press"),
                 pixel_stats,
                 max_displacement_px: self.trajectories.max_displacement_px(),
                 in_contact: self.trajectories.in_contact.clone(),

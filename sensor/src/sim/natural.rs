@@ -7,6 +7,7 @@
 //! the same sample in every dataset. **The numbers are physical priors, never fitted to
 //! classification results.**
 
+use super::fabric::{FabricMechanics, Pile};
 use super::fft::{Complex, fft2, frequency_index};
 use super::layer::Layer;
 use super::random::{gaussian, poisson};
@@ -85,13 +86,23 @@ pub struct NaturalTexture {
     pub microslip_rate_hz: f64,
     /// Velocity-weakening speed v_c (mm/s), `μ(v) = μ_k + (μ_s − μ_k)·e^(−|v|/v_c)`; 0 = none.
     pub weakening_speed_mm_s: f64,
+    /// Its mechanics as a specimen: fabric properties, pile, friction spread.
+    pub material: Material,
 }
 
-/// Relative standard deviation of a natural texture's friction prior between specimens: each
-/// recording (rig seed) draws its specimen's μ_s and μ_k from it, sharing one factor. Temel,
-/// Johnson & Lloyd (Tribol. Lett. 70, 2022): cotton on skin μ_s 0.90 ± 0.19, 0.31 ± 0.07
-/// (≈ 20 %).
-pub const FRICTION_PRIOR_SPREAD: f64 = 0.2;
+/// What a natural texture is as a specimen besides its surface and compression: a fabric's
+/// in-plane and bending mechanics (mounting drag and wrinkling), its pile, and how much its
+/// friction varies between specimens ([`super::fabric`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Material {
+    /// Kawabata KES-FB1/FB2 properties of a fabric (`None`: not a fabric).
+    pub fabric: Option<FabricMechanics>,
+    /// Hairs standing proud of its surface (`None`: none).
+    pub pile: Option<Pile>,
+    /// Relative standard deviation of its friction between specimens: each recording (rig
+    /// seed) draws its specimen's μ_s and μ_k from it, sharing one factor.
+    pub friction_spread: f64,
+}
 
 #[allow(clippy::too_many_arguments)]
 const fn natural(
@@ -103,6 +114,7 @@ const fn natural(
     compliance: f64,
     layer: Option<Layer>,
     (mu_static, mu_kinetic, microslip_rate_hz): (f64, f64, f64),
+    material: Material,
 ) -> NaturalTexture {
     NaturalTexture {
         name,
@@ -119,6 +131,7 @@ const fn natural(
         mu_kinetic,
         microslip_rate_hz,
         weakening_speed_mm_s: 0.0,
+        material,
     }
 }
 
@@ -138,52 +151,89 @@ const fn features(density_per_cm2: f64, diameter_mm: f64, height_mm: f64) -> Opt
 /// - **Geometry** (weave, roughness, features, κ_m): the spec's §2.4 priors; where it gives a
 ///   range the middle is used; an unstated Hurst exponent is 0.8.
 /// - **Layer** (series compliance, [`Layer`]): fabrics from Kawabata compression (KES-FB3,
-///   thickness T₀ and compressibility EMC, middle of the typical range of each fabric class);
-///   the PU foam from Gibson & Ashby (E ≈ 50 kPa, densifying at 90 % strain, 10 mm thick
-///   \[A\]); wood, MDF, acrylic, metal mesh and foil are rigid (GPa moduli). Where two
-///   textures fall in the same fabric class their layers are the same (the organzas; tweed and
-///   needlecord): no source separates them.
+///   thickness T₀, compressibility EMC and resilience RC, middle of the typical range of each
+///   fabric class); the PU foam from Gibson & Ashby (E ≈ 50 kPa, densifying at 90 % strain,
+///   10 mm thick \[A\]); wood, MDF, acrylic, metal mesh and foil are rigid (GPa moduli). Where
+///   two textures fall in the same fabric class their layers are the same (the organzas; tweed
+///   and needlecord): no source separates them.
 /// - **Friction** (μ_s, μ_k): kinetic friction of a rubber skin = adhesion on the fraction of
 ///   the area in contact plus the texture's ploughing friction measured with a rigid tool (Penn
 ///   Haptic Texture Toolkit, Culbertson et al. 2014, one value per material class), μ_s/μ_k =
-///   1.2 for fabrics and foam (Temel et al. 2022: 1.14–1.24), 1.3 for smooth adhesive solids;
-///   each specimen drawn with [`FRICTION_PRIOR_SPREAD`]. No two textures share a value.
+///   1.2 for fabrics and foam (Temel et al. 2022: 1.14–1.24), 1.3 for smooth adhesive solids.
+///   No two textures share a value.
+/// - **Material** ([`Material`]): KES-FB1 tensile strain EMT and shear rigidity G, KES-FB2
+///   bending rigidity B (middle of each fabric class's typical range); hairs standing proud of
+///   pile and hairy fabrics (length, fibre diameter and modulus, density); each specimen's
+///   friction drawn with its class's spread — 21 % for cotton fabrics (Temel et al. 2022:
+///   0.90 ± 0.19), 25 % for smooth adhesive solids, 15 % for wood, 20 % where no source
+///   separates a class.
 /// - **Micro-slips** (λ_ms): the spec's §2.4 rates \[A\].
 ///
 /// Columns: name, weave, (p_w, a_w) in mm, (h_rms in mm, ξ in mm, H), features (per cm²,
-/// diameter mm, height mm), κ_m, layer, (μ_s, μ_k, λ_ms in s⁻¹).
+/// diameter mm, height mm), κ_m, layer, (μ_s, μ_k, λ_ms in s⁻¹), material.
 #[rustfmt::skip]
 pub const NATURAL_TEXTURES: [NaturalTexture; 20] = {
     use Weave::*;
     const RIGID: Option<Layer> = Option::None;
-    const fn fabric(thickness_mm: f64, compressibility: f64) -> Option<Layer> {
-        Some(Layer::fabric(thickness_mm, compressibility))
+    /// A fabric layer from KES-FB3: thickness T₀ (mm), compressibility EMC and resilience RC.
+    const fn fabric(thickness_mm: f64, compressibility: f64, resilience: f64) -> Option<Layer> {
+        Some(Layer::fabric(thickness_mm, compressibility, resilience))
     }
-    const FOAM: Option<Layer> = Some(Layer { thickness_mm: 10.0, modulus_mpa: 0.05, densification_strain: 0.9 });
-    let mut acrylic = natural("acrylic", None, (0.0, 0.0), (0.0005, 0.1, 0.8), Option::None, 1.0, RIGID, (1.45, 1.12, 5.0));
+    const FOAM: Option<Layer> = Some(Layer { thickness_mm: 10.0, modulus_mpa: 0.05, densification_strain: 0.9, loss_tangent: 0.15 });
+    /// KES-FB1 tensile strain EMT and shear rigidity G (gf/(cm·deg)), KES-FB2 bending rigidity
+    /// B (gf·cm²/cm).
+    const fn kes(tensile_strain: f64, shear_rigidity_gf_cm_deg: f64, bending_rigidity_gf_cm2_cm: f64) -> Option<FabricMechanics> {
+        Some(FabricMechanics { tensile_strain, shear_rigidity_gf_cm_deg, bending_rigidity_gf_cm2_cm })
+    }
+    /// Hairs: length (mm), fibre diameter (mm), fibre modulus (MPa), hairs per mm².
+    const fn hairs(hair_length_mm: f64, fibre_diameter_mm: f64, fibre_modulus_mpa: f64, density_per_mm2: f64) -> Option<Pile> {
+        Some(Pile { hair_length_mm, fibre_diameter_mm, fibre_modulus_mpa, density_per_mm2 })
+    }
+    const fn material(fabric: Option<FabricMechanics>, pile: Option<Pile>, friction_spread: f64) -> Material {
+        Material { fabric, pile, friction_spread }
+    }
+    const SOLID: Material = material(Option::None, Option::None, 0.25);
+    const WOOD: Material = material(Option::None, Option::None, 0.15);
+    const CELLULAR: Material = material(Option::None, Option::None, 0.2);
+    const NO_PILE: Option<Pile> = Option::None;
+    let mut acrylic = natural("acrylic", None, (0.0, 0.0), (0.0005, 0.1, 0.8), Option::None, 1.0, RIGID, (1.45, 1.12, 5.0), SOLID);
     // "strong v-weakening": stick-slip at the slide speed needs (μ_s − μ_k)·N/(k_t·v_c) > τ.
     acrylic.weakening_speed_mm_s = 15.0;
     [
-        natural("foam", None, (0.0, 0.0), (0.15, 0.5, 0.6), features(60.0, 0.6, -0.3), 0.1, FOAM, (1.33, 1.11, 40.0)),
-        natural("plywood", Grain, (1.5, 0.02), (0.01, 0.3, 0.7), Option::None, 1.0, RIGID, (0.97, 0.75, 20.0)),
-        natural("mdf", None, (0.0, 0.0), (0.008, 0.2, 0.8), Option::None, 1.0, RIGID, (1.03, 0.79, 15.0)),
+        natural("foam", None, (0.0, 0.0), (0.15, 0.5, 0.6), features(60.0, 0.6, -0.3), 0.1, FOAM, (1.33, 1.11, 40.0), CELLULAR),
+        natural("plywood", Grain, (1.5, 0.02), (0.01, 0.3, 0.7), Option::None, 1.0, RIGID, (0.97, 0.75, 20.0), WOOD),
+        natural("mdf", None, (0.0, 0.0), (0.008, 0.2, 0.8), Option::None, 1.0, RIGID, (1.03, 0.79, 15.0), WOOD),
         acrylic,
-        natural("wool", Plain, (3.5, 0.4), (0.15, 1.0, 0.5), Option::None, 0.3, fabric(2.0, 0.5), (0.76, 0.63, 30.0)),
-        natural("fake fur", None, (0.0, 0.0), (0.5, 2.0, 0.8), Option::None, 0.05, fabric(20.0, 0.72), (1.22, 1.02, 50.0)),
-        natural("liquid satin", Plain, (0.35, 0.01), (0.01, 0.3, 0.8), Option::None, 0.6, fabric(0.22, 0.22), (0.65, 0.54, 5.0)),
-        natural("shimmer organza", Plain, (0.25, 0.02), (0.015, 0.2, 0.8), Option::None, 0.8, fabric(0.14, 0.17), (0.44, 0.37, 10.0)),
-        natural("tweed", Twill, (2.0, 0.25), (0.12, 0.8, 0.5), features(0.5, 3.0, 0.3), 0.5, fabric(1.15, 0.4), (0.53, 0.44, 30.0)),
-        natural("lace", Motif, (6.0, 0.3), (0.05, 1.0, 0.8), features(2.0, 2.0, -0.3), 0.6, fabric(0.55, 0.4), (0.48, 0.40, 20.0)),
-        natural("flarefree net", Hexagonal, (1.2, 0.08), (0.0, 1.0, 0.8), Option::None, 0.8, fabric(0.35, 0.45), (0.42, 0.35, 15.0)),
-        natural("embroidered cotton", Plain, (0.5, 0.04), (0.03, 0.3, 0.8), features(1.56, 3.0, 0.5), 0.6, fabric(0.32, 0.27), (0.51, 0.43, 20.0)),
-        natural("shirt canvas", Plain, (0.6, 0.06), (0.03, 0.3, 0.8), Option::None, 0.7, fabric(0.75, 0.22), (0.60, 0.50, 15.0)),
-        natural("fairydust organza", Plain, (0.25, 0.02), (0.015, 0.2, 0.8), features(5.0, 1.0, 0.05), 0.8, fabric(0.14, 0.17), (0.45, 0.375, 15.0)),
-        natural("sequins allover", Scales, (3.5, 0.25), (0.0, 1.0, 0.8), Option::None, 0.9, fabric(0.55, 0.2), (0.92, 0.71, 10.0)),
-        natural("metallic mesh", Plain, (2.5, 0.5), (0.02, 0.5, 0.8), Option::None, 1.0, RIGID, (0.46, 0.39, 10.0)),
-        natural("felt", None, (0.0, 0.0), (0.06, 0.4, 0.6), Option::None, 0.4, fabric(2.0, 0.3), (0.72, 0.60, 30.0)),
-        natural("needlecord", Wales, (1.6, 0.35), (0.05, 0.3, 0.8), Option::None, 0.5, fabric(1.15, 0.4), (0.55, 0.46, 20.0)),
-        natural("fleece", None, (0.0, 0.0), (0.2, 1.5, 0.5), Option::None, 0.1, fabric(3.0, 0.6), (0.58, 0.48, 35.0)),
-        natural("microdot foil", Plain, (0.45, 0.02), (0.002, 0.1, 0.8), Option::None, 1.0, RIGID, (1.15, 0.89, 10.0)),
+        natural("wool", Plain, (3.5, 0.4), (0.15, 1.0, 0.5), Option::None, 0.3, fabric(2.0, 0.5, 0.4), (0.76, 0.63, 30.0),
+            material(kes(0.25, 0.5, 0.15), hairs(1.5, 0.025, 3000.0, 2.0), 0.2)),
+        natural("fake fur", None, (0.0, 0.0), (0.5, 2.0, 0.8), Option::None, 0.05, fabric(20.0, 0.72, 0.4), (1.22, 1.02, 50.0),
+            material(kes(0.2, 1.0, 1.0), hairs(3.0, 0.04, 3000.0, 20.0), 0.2)),
+        natural("liquid satin", Plain, (0.35, 0.01), (0.01, 0.3, 0.8), Option::None, 0.6, fabric(0.22, 0.22, 0.5), (0.65, 0.54, 5.0),
+            material(kes(0.05, 0.4, 0.03), NO_PILE, 0.2)),
+        natural("shimmer organza", Plain, (0.25, 0.02), (0.015, 0.2, 0.8), Option::None, 0.8, fabric(0.14, 0.17, 0.5), (0.44, 0.37, 10.0),
+            material(kes(0.03, 1.0, 0.03), NO_PILE, 0.2)),
+        natural("tweed", Twill, (2.0, 0.25), (0.12, 0.8, 0.5), features(0.5, 3.0, 0.3), 0.5, fabric(1.15, 0.4, 0.45), (0.53, 0.44, 30.0),
+            material(kes(0.05, 2.0, 0.2), hairs(1.0, 0.03, 3000.0, 2.0), 0.2)),
+        natural("lace", Motif, (6.0, 0.3), (0.05, 1.0, 0.8), features(2.0, 2.0, -0.3), 0.6, fabric(0.55, 0.4, 0.5), (0.48, 0.40, 20.0),
+            material(kes(0.2, 0.5, 0.03), NO_PILE, 0.2)),
+        natural("flarefree net", Hexagonal, (1.2, 0.08), (0.0, 1.0, 0.8), Option::None, 0.8, fabric(0.35, 0.45, 0.5), (0.42, 0.35, 15.0),
+            material(kes(0.3, 0.2, 0.01), NO_PILE, 0.2)),
+        natural("embroidered cotton", Plain, (0.5, 0.04), (0.03, 0.3, 0.8), features(1.56, 3.0, 0.5), 0.6, fabric(0.32, 0.27, 0.5), (0.51, 0.43, 20.0),
+            material(kes(0.04, 1.2, 0.1), NO_PILE, 0.21)),
+        natural("shirt canvas", Plain, (0.6, 0.06), (0.03, 0.3, 0.8), Option::None, 0.7, fabric(0.75, 0.22, 0.5), (0.60, 0.50, 15.0),
+            material(kes(0.03, 3.0, 0.4), NO_PILE, 0.21)),
+        natural("fairydust organza", Plain, (0.25, 0.02), (0.015, 0.2, 0.8), features(5.0, 1.0, 0.05), 0.8, fabric(0.14, 0.17, 0.5), (0.45, 0.375, 15.0),
+            material(kes(0.03, 1.0, 0.03), NO_PILE, 0.2)),
+        natural("sequins allover", Scales, (3.5, 0.25), (0.0, 1.0, 0.8), Option::None, 0.9, fabric(0.55, 0.2, 0.5), (0.92, 0.71, 10.0),
+            material(kes(0.15, 0.8, 0.2), NO_PILE, 0.2)),
+        natural("metallic mesh", Plain, (2.5, 0.5), (0.02, 0.5, 0.8), Option::None, 1.0, RIGID, (0.46, 0.39, 10.0), SOLID),
+        natural("felt", None, (0.0, 0.0), (0.06, 0.4, 0.6), Option::None, 0.4, fabric(2.0, 0.3, 0.35), (0.72, 0.60, 30.0),
+            material(kes(0.1, 4.0, 1.0), hairs(0.5, 0.025, 3000.0, 5.0), 0.2)),
+        natural("needlecord", Wales, (1.6, 0.35), (0.05, 0.3, 0.8), Option::None, 0.5, fabric(1.15, 0.4, 0.45), (0.55, 0.46, 20.0),
+            material(kes(0.05, 1.5, 0.3), hairs(0.3, 0.015, 8000.0, 10.0), 0.21)),
+        natural("fleece", None, (0.0, 0.0), (0.2, 1.5, 0.5), Option::None, 0.1, fabric(3.0, 0.6, 0.4), (0.58, 0.48, 35.0),
+            material(kes(0.25, 0.4, 0.2), hairs(1.0, 0.015, 4000.0, 30.0), 0.2)),
+        natural("microdot foil", Plain, (0.45, 0.02), (0.002, 0.1, 0.8), Option::None, 1.0, RIGID, (1.15, 0.89, 10.0), SOLID),
     ]
 };
 

@@ -13,20 +13,31 @@ pub const PARAMETER_SOURCES: &[(&str, &str)] = &[
     ("kinematics.distance_mm", "[R] paper: 60 mm per sample"),
     (
         "kinematics.acceleration_mm_s2",
-        "[A] spec 2.1: 100-500 mm/s^2 (an ABB IRB120 linear move; explore 100-500)",
+        "[K] ABB IRB 120 product specification: maximum TCP acceleration 28 m/s^2; [R] the paper's five durations show no ramp: fitting T = 65/v + c + k.v gives k = 0.0003 +- 0.0004 s^2/mm, and two moves add k = 2/a, so a >= 1.7 m/s^2 (2 sd); the earlier 300 mm/s^2 [A] is excluded",
     ),
     (
-        "kinematics.rest_before_s",
-        "no source: the paper does not say how long the recording runs before the motion; [A] spec 2.1 0.2-0.5 s (only the rest's noise depends on it)",
+        "kinematics.press_travel_mm",
+        "[R] the lab's slide script (neuromorphic-data-gathering, ABB_slides.py: tap_move z = 5 mm at the linear speed, inside the recording); [R] the paper's durations fit T = 64.93 mm/v + 0.193 s: the 60 mm slide and one 5 mm move",
     ),
     (
-        "kinematics.rest_after_s",
-        "no source: as rest_before_s; [A] spec 2.1 0.2-0.5 s",
+        "kinematics.press_depth_mm",
+        "[A] spec 2.1: 1.5-3 mm; now the depth of the press's end below the set's base surface (position control), so the dome starts press_travel - press_depth = 3 mm above it; explore 1-4 mm",
     ),
-    ("kinematics.press_depth_mm", "[A] spec 2.1: 1.5-3 mm"),
     (
         "kinematics.normal_force_n",
-        "[A] spec 2.1: 1-3 N; Hertz with R = 20 mm gives E* ~ 0.12 MPa for the skin+gel dome, consistent with a TacTip (no measured force-depth curve found)",
+        "[A] spec 2.1: 1-3 N at press_depth_mm on a rigid plate; Hertz with R = 20 mm gives E* ~ 0.12 MPa for the skin+gel dome, consistent with a TacTip (no measured force-depth curve found)",
+    ),
+    (
+        "kinematics.dwell_s",
+        "[R] the lab's slide script: time.sleep(0.1) between the press and the slide; the paper's durations leave 0.193 s beside the moves (one dwell and the loop's latencies)",
+    ),
+    (
+        "kinematics.loop_overhead_s",
+        "[R] derived: the paper's five sample durations (source text, Results) less the 65 mm of moves at v with their ramps (2v/a) and the 0.1 s dwell: 0.0855 s, split equally over the loop's 8 blocking steps [A] (counted in ABB_slides.py: 2 frame commands and a pose query, 2 MoveL starts, 2 fine points with their replies, the logging thread's last batch)",
+    ),
+    (
+        "kinematics.loop_jitter_s",
+        "[R] derived: standard deviation of the paper's five durations about that law (4 degrees of freedom, so uncertain by about 2x): 6.4 ms; independent steps [A], so the slide onset (6 of 8 steps after the recording's zero) spreads by 5.5 ms",
     ),
     (
         "kinematics.lateral_offset_range_mm",
@@ -47,10 +58,6 @@ pub const PARAMETER_SOURCES: &[(&str, &str)] = &[
     (
         "kinematics.press_depth_sd_mm",
         "[A] same order as the arm's repeatability (ABB IRB120, RP = 0.01 mm)",
-    ),
-    (
-        "kinematics.onset_jitter_s",
-        "[A] assumption: a host-commanded motion start jitters by a few controller cycles: ABB EGM streams at 250 Hz (4 ms) [R, abb-motion-program-exec docs], IRC5 I/O timing is not deterministic (12 ms RAPID base rate) [R, weak]; explore 0.004-0.025 s",
     ),
     (
         "contact.skin_depth_mm",
@@ -78,8 +85,12 @@ pub const PARAMETER_SOURCES: &[(&str, &str)] = &[
         "[A] assumption: spec 2.2's radial bulge beta in its range 0-0.3 (no source measures a TacTip's radial pin splay per mm of skin deflection); explore 0-0.3",
     ),
     (
-        "contact.shear_spread",
-        "[A] assumption: spec 2.2, phi(r) = exp(-(r/1.5a)^2): the gel carries the patch's shear to pins outside contact; no source measures a TacTip's shear spread; explore 1-2",
+        "contact.fabric_mount_span_mm",
+        "[A] assumption: a fabric specimen taped along its edges to the base plate, its tape 30 mm beyond the contact's edge (a 70-80 mm coupon); nothing says how the lab mounted its fabrics; explore 10-60 mm (the drag stiffness scales as 1/span)",
+    ),
+    (
+        "contact.fabric_base_friction",
+        "[K] fabric on a smooth polymer plate, mu ~ 0.2-0.4 (textile-on-plastic friction, Das, Kothari & Vandana, AUTEX Res. J. 2005: fabric-to-metal 0.2-0.35 [R abstract]); explore 0.2-0.6",
     ),
     (
         "contact.skin_shear_stiffness_n_mm3",
@@ -130,7 +141,7 @@ pub const PARAMETER_SOURCES: &[(&str, &str)] = &[
     ),
     (
         "contact.edge_catches_per_period",
-        "[A] assumption: one catch of the skin per row of bumps passing the contact's edge (Schallamach-type stick-slip on an edged surface); no source gives a rate; explore 0-4",
+        "[A] assumption: one catch of the skin per row of bumps passing the contact's edge (Schallamach-type stick-slip on an edged surface); no source gives a rate; explore 0-4. Each catch's slip scales with how deep the skin sinks into the gaps (its deepest sag over the bump height): a ridge engages the skin only when the skin reaches below its top (ridge-height threshold for skin friction on ridged surfaces: Darden & Schwartz, Wear 2013 [K], not re-read)",
     ),
     (
         "contact.pin_footprint_radius_mm",
@@ -182,7 +193,7 @@ pub const PARAMETER_SOURCES: &[(&str, &str)] = &[
     ),
     (
         "natural.friction",
-        "20 natural textures (sensor::sim::NATURAL_TEXTURES): mu_k = adhesion (1.0 [K]) x fraction of area in contact [A] + the material class's ploughing friction measured with a rigid tool (Penn Haptic Texture Toolkit, Culbertson et al. 2014 [R]); mu_s/mu_k 1.2 for fabrics and foam (Temel et al. 2022: 1.14-1.24 [R]), 1.3 for smooth adhesive solids [K]; each specimen drawn with a 20 % spread (Temel 2022: 0.90 +- 0.19 [R])",
+        "20 natural textures (sensor::sim::NATURAL_TEXTURES): mu_k = adhesion (1.0 [K]) x fraction of area in contact [A] + the material class's ploughing friction measured with a rigid tool (Penn Haptic Texture Toolkit, Culbertson et al. 2014 [R]); mu_s/mu_k 1.2 for fabrics and foam (Temel et al. 2022: 1.14-1.24 [R]), 1.3 for smooth adhesive solids [K]; each specimen drawn with its class's spread (natural.friction_spread)",
     ),
     (
         "natural.roughness",
@@ -194,7 +205,19 @@ pub const PARAMETER_SOURCES: &[(&str, &str)] = &[
     ),
     (
         "natural.layer",
-        "series compliance: fabrics from Kawabata compression KES-FB3, thickness T0 and compressibility EMC (middle of each fabric class's typical range [K]; E_t = 4.9 kPa / EMC, densifying at EMC); PU foam E ~ 50 kPa from Gibson & Ashby, Cellular Solids 1997 (E*/Es = (rho*/rho_s)^2 [R], 13-110 kPa), 10 mm thick [A]; wood, MDF, acrylic, metal mesh and foil rigid (GPa [K]); layer shear G = E/3 [A]",
+        "series compliance: fabrics from Kawabata compression KES-FB3, thickness T0, compressibility EMC and resilience RC (middle of each fabric class's typical range [K]; E_t = 4.9 kPa / EMC, densifying at EMC, loss tangent (1 - RC)/(2 pi)); PU foam E ~ 50 kPa from Gibson & Ashby, Cellular Solids 1997 (E*/Es = (rho*/rho_s)^2 [R], 13-110 kPa), 10 mm thick [A], loss tangent 0.15 (flexible PU foam 0.1-0.2 at 1-10 Hz [K]); wood, MDF, acrylic, metal mesh and foil rigid (GPa [K]); layer shear G = E/3 [A]; a specimen's surface stands T0 above the base plate (position control)",
+    ),
+    (
+        "natural.fabric",
+        "KES-FB1 tensile strain EMT at 500 gf/cm and shear rigidity G, KES-FB2 bending rigidity B per fabric class (middle of the typical ranges of Kawabata's hand-evaluation data [K], not re-read): wovens EMT 3-5 %, G 0.4-3 gf/(cm.deg), B 0.03-0.4 gf.cm2/cm; knits and nets EMT 15-30 %, G 0.2-0.5; felt G 4, B 1; pile fabrics B 0.2-1; no source separates fabrics of one class",
+    ),
+    (
+        "natural.pile",
+        "hairs standing proud of pile and hairy fabrics: length beyond the fabric's surface (wool knit 1.5 mm, tweed 1 mm, felt 0.5 mm, needlecord 0.3 mm, fleece 1 mm, fake fur guard hairs 3 mm) [A]; fibre diameters wool 25 um, acrylic fur 40 um, fleece PET 15 um, cotton 15 um [K]; moduli wool and acrylic 3 GPa, PET 4 GPa, cotton 8 GPa [K]; densities 2-30 hairs/mm^2 [A] (no source measures hairiness per area for these fabrics); Euler buckling of a clamped-free hair",
+    ),
+    (
+        "natural.friction_spread",
+        "relative spread of each specimen's friction: cotton fabrics 21 % [R] (Temel, Johnson & Lloyd, Tribol. Lett. 70, 2022: cotton on skin 0.90 +- 0.19, between body sites, used as a proxy); smooth adhesive solids (acrylic, foil, metal mesh) 25 % [K] (adhesion friction of elastomers on smooth surfaces varies widely with surface state: Derler & Gerhardt, Tribol. Lett. 2012 review, not re-read); wood and MDF 15 % [A]; every other class 20 % [A] (Temel's cotton as a proxy); Kim et al. (Wear 2013), named for per-fabric spreads, could not be read here",
     ),
     (
         "natural.microslip_rate",

@@ -7,39 +7,60 @@
 //! naming it, so a file never silently falls back to a default.
 
 use super::error::SimulationError;
+use super::kinematics::{Recording, Trapezoid};
 pub use super::parameter_sources::PARAMETER_SOURCES;
 use crate::geometry::{DAVIS240_HEIGHT, DAVIS240_WIDTH};
 use serde::{Deserialize, Serialize};
 
 mod file;
 
-/// Robot kinematics and the variability a robot arm has (spec §2.1; hierarchical, §8).
+/// The recording loop and the robot's kinematics ([`super::kinematics`]), and the variability
+/// a robot arm has (spec §2.1; hierarchical, §8).
+///
+/// A recording is the lab's loop: logging starts, the arm presses `press_travel_mm` down at the
+/// linear speed, dwells, slides `distance_mm`, and logging stops. The press ends at a fixed
+/// height, `press_depth_mm` below the set's base surface (position control): a specimen whose
+/// surface stands higher is pressed deeper ([`super::texture::Surface::press`]).
 ///
 /// Variability is hierarchical, as in a real recording: the texture's **mounting** (lateral
 /// offset y₀ and start phase) is drawn once per texture and rig (dataset) and is the same for
 /// all its slides; each **slide** adds only what the arm does not repeat — positioning jitter at
-/// the arm's stated repeatability, a press-depth jitter of the same order and an onset-timing
-/// jitter. [`per_slide_offsets`](Self::per_slide_offsets) restores independent per-slide offsets
-/// (the first implementation's behaviour) to study that confound.
+/// the arm's stated repeatability, a press-depth jitter of the same order and the loop's timing
+/// ([`super::kinematics::Recording::draw`]). [`per_slide_offsets`](Self::per_slide_offsets)
+/// restores independent per-slide offsets (the first implementation's behaviour) to study that
+/// confound.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct KinematicsParams {
-    /// Cruise speed of the slide (mm/s). Default 15 (paper).
+    /// Cruise speed of the press and the slide (mm/s). Default 15 (paper).
     pub speed_mm_s: f64,
     /// Slide distance (mm). Default 60 (paper).
     pub distance_mm: f64,
-    /// Acceleration and deceleration of the trapezoidal speed profile (mm/s²). Default 300
-    /// (spec: 100–500).
+    /// Acceleration and deceleration of the trapezoidal speed profiles (mm/s²). Default 28 000
+    /// (ABB IRB 120: maximum TCP acceleration 28 m/s²; the paper's durations show no ramp,
+    /// ≥ 1.7 m/s²).
     pub acceleration_mm_s2: f64,
-    /// Rest recorded before the motion starts (s). Default 0.25 (spec: 0.2–0.5).
-    pub rest_before_s: f64,
-    /// Rest recorded after the motion stops (s). Default 0.25 (spec: 0.2–0.5).
-    pub rest_after_s: f64,
-    /// Mean press depth δ (mm). Default 2 (spec: 1.5–3).
+    /// How far the press moves down, at the linear speed (mm). Default 5 (the lab's slide
+    /// script; the paper's durations hold 65 mm of moves).
+    pub press_travel_mm: f64,
+    /// Depth of the press's end below the set's base surface (mm): the flat plate (and the
+    /// grids' floor) of the artificial set, the rigid specimens' surface of the natural set.
+    /// Default 2 (spec: 1.5–3). The dome starts `press_travel_mm − press_depth_mm` above that
+    /// surface.
     pub press_depth_mm: f64,
-    /// Normal force at the mean press depth (N); it scales as δ^{3/2} (Hertz). Default 2
-    /// (spec: 1–3).
+    /// The dome's normal force at `press_depth_mm` on a rigid plate (N); it scales as δ^{3/2}
+    /// (Hertz). Default 2 (spec: 1–3).
     pub normal_force_n: f64,
+    /// The pause between the press and the slide (s). Default 0.1 (the lab's script,
+    /// `time.sleep(0.1)`).
+    pub dwell_s: f64,
+    /// The loop's blocking-step latencies summed over one recording (s): eight steps
+    /// ([`super::kinematics::LOOP_STEPS`]). Default 0.0855 (the paper's five durations, less
+    /// the moves and the dwell).
+    pub loop_overhead_s: f64,
+    /// Standard deviation of a recording's duration about the duration law (s), spread over the
+    /// eight steps. Default 0.0064 (the paper's five durations about their law).
+    pub loop_jitter_s: f64,
     /// Width of the uniform lateral offset y₀ of a texture's mounting (mm), centred on 0.
     /// Default 10.
     pub lateral_offset_range_mm: f64,
@@ -56,11 +77,6 @@ pub struct KinematicsParams {
     /// Per-slide standard deviation of the press depth (mm): of the order of the arm's
     /// repeatability. Default 0.01 (ABB IRB120 product specification, RP = 0.01 mm).
     pub press_depth_sd_mm: f64,
-    /// Per-slide standard deviation of the motion onset relative to the recording start (s):
-    /// the host starts the camera recording and then commands the arm over the network, so
-    /// the delay varies by a few milliseconds. Default 0.004 \[A\]: a few cycles of a
-    /// non-real-time host loop and the IRC5 controller's interpolation cycle (4 ms).
-    pub onset_jitter_s: f64,
 }
 
 impl Default for KinematicsParams {
@@ -68,17 +84,18 @@ impl Default for KinematicsParams {
         Self {
             speed_mm_s: 15.0,
             distance_mm: 60.0,
-            acceleration_mm_s2: 300.0,
-            rest_before_s: 0.25,
-            rest_after_s: 0.25,
+            acceleration_mm_s2: 28_000.0,
+            press_travel_mm: 5.0,
             press_depth_mm: 2.0,
             normal_force_n: 2.0,
+            dwell_s: 0.1,
+            loop_overhead_s: 0.0855,
+            loop_jitter_s: 0.0064,
             lateral_offset_range_mm: 10.0,
             start_phase_range_mm: 10.0,
             per_slide_offsets: false,
             position_repeatability_mm: 0.01,
             press_depth_sd_mm: 0.01,
-            onset_jitter_s: 0.004,
         }
     }
 }
@@ -120,8 +137,12 @@ pub struct ContactParams {
     pub pin_shear_gain: f64,
     /// Radial bulge β: pin displacement β·w·r̂ per mm of skin deflection. Default 0.1 (0–0.3).
     pub bulge: f64,
-    /// Shear spread: φ(r) = exp(−(r / (spread·a))²). Default 1.5 (spec §2.2).
-    pub shear_spread: f64,
+    /// Distance from the contact's edge to where a fabric specimen is taped to the base plate
+    /// (mm): the span its drag stretches, shears and wrinkles ([`super::fabric`]). Default 30.
+    pub fabric_mount_span_mm: f64,
+    /// Friction of a fabric specimen on the base plate, μ_fb: it holds the fabric under the
+    /// dome until the onset's load exceeds μ_fb·N ([`super::fabric`]). Default 0.3.
+    pub fabric_base_friction: f64,
     /// Shear stiffness per area of the skin layer under a pin, κ = G_skin / t_skin (N/mm³): turns
     /// the local traction into local shear. Default 0.35 (Shore A 28 print → E ≈ 1.05 MPa by
     /// Gent's relation, G = E/3; t = 1 mm, spec §1.1).
@@ -203,7 +224,8 @@ impl Default for ContactParams {
             lever_mm: 0.6723,
             pin_shear_gain: 0.5,
             bulge: 0.1,
-            shear_spread: 1.5,
+            fabric_mount_span_mm: 30.0,
+            fabric_base_friction: 0.3,
             skin_shear_stiffness_n_mm3: 0.35,
             bump_height_mm: 1.0,
             period_rule: PeriodRule::Gap,
@@ -462,10 +484,20 @@ impl SimParams {
                 k.acceleration_mm_s2,
                 Positive,
             ),
-            ("kinematics.rest_before_s", k.rest_before_s, NonNegative),
-            ("kinematics.rest_after_s", k.rest_after_s, NonNegative),
+            ("kinematics.press_travel_mm", k.press_travel_mm, NonNegative),
             ("kinematics.press_depth_mm", k.press_depth_mm, Positive),
             ("kinematics.normal_force_n", k.normal_force_n, Positive),
+            ("kinematics.dwell_s", k.dwell_s, NonNegative),
+            (
+                "kinematics.loop_overhead_s",
+                k.loop_overhead_s,
+                Between(0.0, 10.0),
+            ),
+            (
+                "kinematics.loop_jitter_s",
+                k.loop_jitter_s,
+                Between(0.0, 1.0),
+            ),
             (
                 "kinematics.lateral_offset_range_mm",
                 k.lateral_offset_range_mm,
@@ -486,11 +518,6 @@ impl SimParams {
                 k.press_depth_sd_mm,
                 Between(0.0, 0.5),
             ),
-            (
-                "kinematics.onset_jitter_s",
-                k.onset_jitter_s,
-                Between(0.0, 0.1),
-            ),
             ("contact.skin_depth_mm", c.skin_depth_mm, Positive),
             ("contact.gap_conformity_mm", c.gap_conformity_mm, Positive),
             (
@@ -502,7 +529,16 @@ impl SimParams {
             ("contact.lever_mm", c.lever_mm, NonNegative),
             ("contact.pin_shear_gain", c.pin_shear_gain, NonNegative),
             ("contact.bulge", c.bulge, NonNegative),
-            ("contact.shear_spread", c.shear_spread, Positive),
+            (
+                "contact.fabric_mount_span_mm",
+                c.fabric_mount_span_mm,
+                Between(1.0, 1000.0),
+            ),
+            (
+                "contact.fabric_base_friction",
+                c.fabric_base_friction,
+                Between(0.0, 5.0),
+            ),
             (
                 "contact.skin_shear_stiffness_n_mm3",
                 c.skin_shear_stiffness_n_mm3,
@@ -593,7 +629,7 @@ impl SimParams {
                     field,
                     value,
                     self.duration_s() <= 600.0,
-                    "a slide (with its rests) of at most 600 s",
+                    "a recording (press, dwell, slide and the loop's latencies) of at most 600 s",
                 )
             },
             (
@@ -672,78 +708,80 @@ impl SimParams {
         ]
     }
 
-    /// Nominal contact pressure q = N / (π·a²) at the mean press depth on a dome of radius
-    /// `dome_radius_mm` (N/mm² = MPa), a = √(2Rδ).
-    pub fn nominal_pressure_mpa(&self, dome_radius_mm: f64) -> f64 {
-        let k = &self.kinematics;
-        let a2 = 2.0 * dome_radius_mm * k.press_depth_mm;
-        k.normal_force_n / (std::f64::consts::PI * a2)
+    /// The overlap of the dome with a specimen whose surface stands `height_mm` above the
+    /// set's base when the press ends `depth_mm` below the base, at most the press's travel
+    /// (position control, [`super::layer`]): `min(δ₀ + h, travel)`, never negative.
+    pub fn overlap_mm(&self, height_mm: f64, depth_mm: f64) -> f64 {
+        (depth_mm + height_mm).clamp(0.0, self.kinematics.press_travel_mm)
     }
 
-    /// Time from motion onset until the skin's shear reaches its stick limit
+    /// Time from the slide's start until the skin's shear reaches its stick limit
     /// s_s = μ_s·N/k_t (s), on the actual trapezoidal ramp: while sticking the shear follows the
-    /// base, so this is when x_b(t) = s_s — `√(2·s_s/a)` if the stick ends during the
-    /// acceleration, `v/(2a) + s_s/v` after it (≈ s_s/v, i.e. ∝ 1/v, only in the second case).
-    /// N at press depth δ is N₀·(δ/δ₀)^{3/2}.
-    pub fn stick_time_s(&self, mu_static: f64, press_depth_mm: f64) -> f64 {
+    /// base's travel times `shear_share` (the part of it that shears the skin rather than a
+    /// compliant texture, [`super::layer::Press`]), so this is when `share·x_b(t) = s_s` —
+    /// `√(2·x/a)` with `x = s_s/share` if the stick ends during the acceleration,
+    /// `v/(2a) + x/v` after it (≈ x/v, i.e. ∝ 1/v, only in the second case).
+    pub fn stick_time_s(&self, mu_static: f64, normal_force_n: f64, shear_share: f64) -> f64 {
         let k = &self.kinematics;
-        let normal = k.normal_force_n * (press_depth_mm / k.press_depth_mm).powf(1.5);
-        let s_s = mu_static * normal / self.contact.tangential_stiffness_n_mm;
+        let x = mu_static * normal_force_n
+            / self.contact.tangential_stiffness_n_mm
+            / shear_share.max(1e-12);
         let (v, a) = (k.speed_mm_s, k.acceleration_mm_s2);
-        if s_s <= v * v / (2.0 * a) {
-            (2.0 * s_s / a).sqrt()
+        if x <= v * v / (2.0 * a) {
+            (2.0 * x / a).sqrt()
         } else {
-            v / (2.0 * a) + s_s / v
+            v / (2.0 * a) + x / v
         }
     }
 
-    /// Duration of the motion alone (s): trapezoidal profile over the slide distance.
+    /// Duration of the slide alone (s): its trapezoidal profile over the slide distance.
     pub fn motion_duration_s(&self) -> f64 {
         let k = &self.kinematics;
-        let (v, a, d) = (k.speed_mm_s, k.acceleration_mm_s2, k.distance_mm);
-        if d <= 0.0 {
-            return 0.0;
-        }
-        if d >= v * v / a {
-            d / v + v / a
-        } else {
-            2.0 * (d / a).sqrt()
-        }
+        Trapezoid::new(k.distance_mm, k.speed_mm_s, k.acceleration_mm_s2).duration_s()
     }
 
-    /// The kinematics field (and its value) behind the longest part of a trial, to name in an
-    /// error when the trial is too long: a rest, the acceleration ramps `2·min(v/a, √(d/a))`, or
-    /// the cruise at full speed — blamed on the distance or the speed, whichever lies further
-    /// from its default by ratio.
+    /// The kinematics field (and its value) behind the longest part of a recording, to name in
+    /// an error when the recording is too long: the dwell, the loop's latencies, the moves'
+    /// acceleration ramps, or a cruise at full speed — the slide's blamed on the distance or the
+    /// speed, whichever lies further from its default by ratio, the press's on its travel.
     fn longest_part_of_trial(&self) -> (&'static str, f64) {
         let k = &self.kinematics;
         let (v, a, d) = (k.speed_mm_s, k.acceleration_mm_s2, k.distance_mm);
-        let ramps = 2.0 * (v / a).min((d / a).sqrt());
-        let cruise = self.motion_duration_s() - ramps;
+        let ramps = |d: f64| 2.0 * (v / a).min((d / a).sqrt());
+        let slide = Trapezoid::new(d, v, a).duration_s();
+        let press = Trapezoid::new(k.press_travel_mm, v, a).duration_s();
         let default = KinematicsParams::default();
         let cruise_field = if d / default.distance_mm >= default.speed_mm_s / v {
             ("kinematics.distance_mm", d)
         } else {
             ("kinematics.speed_mm_s", v)
         };
+        let latencies =
+            Recording::longest(self).end_s - Recording::nominal(self).end_s + k.loop_overhead_s;
         [
+            (k.dwell_s, ("kinematics.dwell_s", k.dwell_s)),
+            (latencies, ("kinematics.loop_overhead_s", k.loop_overhead_s)),
             (
-                k.rest_before_s,
-                ("kinematics.rest_before_s", k.rest_before_s),
+                ramps(d) + ramps(k.press_travel_mm),
+                ("kinematics.acceleration_mm_s2", a),
             ),
-            (k.rest_after_s, ("kinematics.rest_after_s", k.rest_after_s)),
-            (ramps, ("kinematics.acceleration_mm_s2", a)),
-            (cruise, cruise_field),
+            (slide - ramps(d), cruise_field),
+            (
+                press - ramps(k.press_travel_mm),
+                ("kinematics.press_travel_mm", k.press_travel_mm),
+            ),
         ]
         .into_iter()
         .max_by(|x, y| x.0.total_cmp(&y.0))
         .map(|(_, named)| named)
-        .expect("four parts")
+        .expect("five parts")
     }
 
-    /// Duration of a whole trial (s): rest, motion, rest.
+    /// The longest recording these parameters make (s): every blocking step of the loop at its
+    /// longest latency ([`Recording::longest`]). Every simulated recording ends before it, so a
+    /// dataset's samples all fit in it.
     pub fn duration_s(&self) -> f64 {
-        self.kinematics.rest_before_s + self.motion_duration_s() + self.kinematics.rest_after_s
+        Recording::longest(self).end_s
     }
 }
 

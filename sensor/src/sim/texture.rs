@@ -32,11 +32,11 @@
 
 use super::contact::{ContactLaw, SkinContact, solve};
 use super::error::SimulationError;
+use super::fabric::{FabricMechanics, Pile};
 use super::fft::{Complex, fft2, frequency_index};
 use super::layer::{Layer, Press};
 use super::natural::{
-    FRICTION_PRIOR_SPREAD, NATURAL_DX_MM, NATURAL_NX, NATURAL_NY, NATURAL_TEXTURES, NaturalTexture,
-    natural_heights,
+    NATURAL_DX_MM, NATURAL_NX, NATURAL_NY, NATURAL_TEXTURES, NaturalTexture, natural_heights,
 };
 use super::params::{ContactParams, PeriodRule, SimParams};
 use std::f64::consts::TAU;
@@ -79,17 +79,34 @@ pub struct Surface {
     pub max_sag_mm: f64,
     /// Fraction of the skin in contact.
     pub contact_fraction: f64,
+    /// Height of the specimen's free surface above the set's base (mm): a grid's bump height,
+    /// a layer's thickness, 0 for the flat plate and rigid sheets (position control,
+    /// [`super::layer`]).
+    pub height_mm: f64,
+    /// Mean sag of the skin below the texture's tops at the nominal press (mm).
+    pub mean_sag_mm: f64,
     /// The compliant layer in series with the dome (`None`: rigid), [`super::layer`].
     pub layer: Option<Layer>,
+    /// A fabric's in-plane and bending mechanics (mounting drag, wrinkling), [`super::fabric`].
+    pub fabric: Option<FabricMechanics>,
+    /// Hairs standing proud of the surface, [`super::fabric`].
+    pub pile: Option<Pile>,
     /// Relative spread of the friction prior between specimens (0: friction follows from the
     /// contact, as on the printed grids).
     pub friction_spread: f64,
 }
 
 impl Surface {
-    /// The press of a dome of radius `dome_radius_mm` commanded `depth_mm` into this surface.
+    /// The press of a dome of radius `dome_radius_mm` whose press ends `depth_mm` below the
+    /// set's base, on this surface (position control, [`super::layer`]).
     pub fn press(&self, params: &SimParams, depth_mm: f64, dome_radius_mm: f64) -> Press {
-        Press::of(self.layer.as_ref(), params, depth_mm, dome_radius_mm)
+        Press::of(
+            self.layer.as_ref(),
+            params,
+            params.overlap_mm(self.height_mm, depth_mm),
+            self.mean_sag_mm,
+            dome_radius_mm,
+        )
     }
 }
 
@@ -149,16 +166,42 @@ impl Texture {
         }
     }
 
-    /// Solves the skin's contact on this texture under the nominal pressure `pressure_mpa`
-    /// and builds its field and surface (see the module docs). Deterministic; once per
-    /// texture.
+    /// Height of this texture's free surface above its set's base (mm): the bump height of a
+    /// grid, a natural texture's layer thickness, 0 for the flat plate and rigid sheets.
+    pub fn height_mm(&self, contact: &ContactParams) -> f64 {
+        match self {
+            Texture::Grid { size_mm } if *size_mm > 0.0 => contact.bump_height_mm,
+            Texture::Grid { .. } => 0.0,
+            Texture::Natural(t) => t.layer.map_or(0.0, |l| l.thickness_mm),
+        }
+    }
+
+    /// Solves the skin's contact on this texture under the nominal press (position control,
+    /// [`super::layer`]) and builds its field and surface (see the module docs).
+    /// Deterministic; once per texture.
+    ///
+    /// On a grid the press and the contact depend on each other — the skin's sag into the
+    /// gaps relieves the dome, and the dome's force sets the pressure the skin sags under — so
+    /// the contact is solved [`PRESS_ITERATIONS`] times, each at the press the last one implies
+    /// (the sag barely depends on the pressure: the skin's tension scales with it).
     pub fn prepare(&self, params: &SimParams, dome_radius_mm: f64) -> (TextureField, Surface) {
         let c = &params.contact;
-        let law = ContactLaw::new(c, params.nominal_pressure_mpa(dome_radius_mm));
+        let height_mm = self.height_mm(c);
+        let overlap = params.overlap_mm(height_mm, params.kinematics.press_depth_mm);
         match *self {
             Texture::Grid { size_mm } if size_mm > 0.0 => {
                 let (h, n, dx) = grid_heights(size_mm, c);
-                let contact = solve(&h, (n, n), (dx, dx), &law);
+                let mut sag = 0.0;
+                let mut contact = None;
+                for _ in 0..PRESS_ITERATIONS {
+                    let press = Press::of(None, params, overlap, sag, dome_radius_mm);
+                    let law =
+                        ContactLaw::new(c, contact_pressure_mpa(&press, params, dome_radius_mm));
+                    let solved = solve(&h, (n, n), (dx, dx), &law);
+                    sag = solved.mean_sag_mm;
+                    contact = Some(solved);
+                }
+                let contact = contact.expect("at least one iteration");
                 let adhesion = c.adhesion_mu_kinetic * contact.real_area_ratio;
                 let hysteresis = c.loss_tangent * contact.mean_abs_slope;
                 let interlocking = contact.mean_abs_slope;
@@ -171,6 +214,7 @@ impl Texture {
                     catch_period_mm: (c.edge_catches_per_period > 0.0)
                         .then(|| period / c.edge_catches_per_period),
                     weakening_speed_mm_s: 0.0,
+                    height_mm,
                     ..contact_facts(&contact)
                 };
                 let field = TextureField::from_contact(&contact, mu_kinetic, (n, n), (dx, dx), c);
@@ -186,13 +230,8 @@ impl Texture {
             ),
             Texture::Natural(t) => {
                 // A compliant layer sets the force, so the pressure the contact is solved at.
-                let press = Press::of(
-                    t.layer.as_ref(),
-                    params,
-                    params.kinematics.press_depth_mm,
-                    dome_radius_mm,
-                );
-                let law = ContactLaw::new(c, press.nominal_pressure_mpa());
+                let press = Press::of(t.layer.as_ref(), params, overlap, 0.0, dome_radius_mm);
+                let law = ContactLaw::new(c, contact_pressure_mpa(&press, params, dome_radius_mm));
                 let h = natural_heights(t);
                 let (nx, ny, dx) = (NATURAL_NX, NATURAL_NY, NATURAL_DX_MM);
                 let contact = solve(&h, (nx, ny), (dx, dx), &law);
@@ -202,7 +241,12 @@ impl Texture {
                     microslip_rate_hz: t.microslip_rate_hz,
                     weakening_speed_mm_s: t.weakening_speed_mm_s,
                     layer: t.layer,
-                    friction_spread: FRICTION_PRIOR_SPREAD,
+                    friction_spread: t.material.friction_spread,
+                    fabric: t.material.fabric,
+                    pile: t.material.pile,
+                    height_mm,
+                    // The layer conforms: the relief's sag does not relieve the dome.
+                    mean_sag_mm: 0.0,
                     ..contact_facts(&contact)
                 };
                 let field =
@@ -213,12 +257,29 @@ impl Texture {
     }
 }
 
+/// The pressure a texture's contact is solved at: the press's nominal pressure, or — for a
+/// texture the press never reaches (no travel) — the rigid plate's at the reference depth, so
+/// its surface facts stay defined.
+fn contact_pressure_mpa(press: &Press, params: &SimParams, dome_radius_mm: f64) -> f64 {
+    let q = press.nominal_pressure_mpa();
+    if q > 0.0 {
+        return q;
+    }
+    let k = &params.kinematics;
+    Press::of(None, params, k.press_depth_mm, 0.0, dome_radius_mm).nominal_pressure_mpa()
+}
+
+/// Contact solves of a grid's [`Texture::prepare`]: the press and the skin's sag settle within
+/// a millimetre's thousandth after two.
+pub const PRESS_ITERATIONS: usize = 2;
+
 /// The contact facts of a [`Surface`] (friction left at zero).
 fn contact_facts(contact: &SkinContact) -> Surface {
     Surface {
         real_area_ratio: contact.real_area_ratio,
         mean_abs_slope: contact.mean_abs_slope,
         max_sag_mm: contact.max_sag_mm,
+        mean_sag_mm: contact.mean_sag_mm,
         contact_fraction: contact.contact_fraction,
         ..contact_facts_flat()
     }
@@ -230,6 +291,8 @@ fn contact_facts_flat() -> Surface {
         real_area_ratio: 1.0,
         mean_abs_slope: 0.0,
         max_sag_mm: 0.0,
+        mean_sag_mm: 0.0,
+        height_mm: 0.0,
         contact_fraction: 1.0,
         mu_static: 0.0,
         mu_kinetic: 0.0,
@@ -237,6 +300,8 @@ fn contact_facts_flat() -> Surface {
         catch_period_mm: None,
         weakening_speed_mm_s: 0.0,
         layer: None,
+        fabric: None,
+        pile: None,
         friction_spread: 0.0,
     }
 }
@@ -552,14 +617,15 @@ mod tests {
             .map(|&d| prepared(&format!("grid {d} mm")).1)
             .collect();
         let snap = |s: &Surface| s.mu_static - s.mu_kinetic;
-        // The draped skin interlocks with the bumps: the snap grows from the flat plate to the
-        // 2.5 mm grid (fine grids barely differ: the skin hardly sags into sub-mm gaps).
+        // The draped skin interlocks with the bumps: the snap grows from the finest grid to the
+        // 2.5 mm grid (fine grids barely differ: the skin hardly sags into sub-mm gaps) and
+        // ends above the flat plate's.
         assert!(
             snap(&surfaces[5]) - snap(&surfaces[0]) > 0.02,
             "{surfaces:?}"
         );
         assert!(
-            surfaces[..=5]
+            surfaces[1..=5]
                 .windows(2)
                 .all(|w| snap(&w[1]) >= snap(&w[0])),
             "{surfaces:?}"

@@ -8,8 +8,7 @@ use neurotac_sensor::sim::{SimulationError, Simulator, Texture};
 fn short_params() -> SimParams {
     let mut p = SimParams::default();
     p.kinematics.distance_mm = 6.0;
-    p.kinematics.rest_before_s = 0.05;
-    p.kinematics.rest_after_s = 0.05;
+    p.kinematics.dwell_s = 0.02;
     p
 }
 
