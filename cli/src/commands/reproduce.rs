@@ -8,6 +8,7 @@ use super::progress::Bars;
 use crate::commands::args::{self, Time};
 use clap::{Args, ValueEnum};
 use neurotac_cli::report::class_tables::{paper_confusion_table, phase_table, recall_table};
+use neurotac_cli::report::mountings::mounting_table;
 use neurotac_cli::report::tables::{
     accuracy_table, afferent_table, fitted_grids_mm, intensive_table, parameter_table,
 };
@@ -94,6 +95,11 @@ pub struct ReproduceArgs {
     /// Simulator parameters (JSON, see `neurotac simulate params`); default: the calibrated ones.
     #[arg(long)]
     params: Option<PathBuf>,
+    /// Run each simulated set on this many mountings of its textures (the set itself, then
+    /// copies with every texture mounted afresh) and report each coding's accuracy as mean ± sd
+    /// over them. Each mounting costs a dataset and a pipeline run.
+    #[arg(value_parser = args::positive_count, allow_negative_numbers = true, long, default_value_t = 1)]
+    mountings: usize,
 }
 
 /// On several ranks the simulation, the distance matrices and the searches are split over them
@@ -140,6 +146,7 @@ pub fn run(args: ReproduceArgs, ranks: &dyn Ranks) -> anyhow::Result<()> {
         },
     };
     config.afferents = args.afferents.map(AfferentConfig::of);
+    config.mountings = args.mountings;
     let sources: Vec<Source> = match &args.dataset {
         Some(dir) => vec![Source::Recorded(dir.clone())],
         None => args
@@ -201,6 +208,10 @@ fn print_set(set: &SetReport, fitted_grids_mm: &[f64]) {
         d.time.wall_s
     );
     println!("{}", accuracy_table(set));
+    let mountings = mounting_table(set);
+    if !mountings.is_empty() {
+        println!("{mountings}");
+    }
     println!("{}", parameter_table(d));
     println!("{}", intensive_table(d, fitted_grids_mm));
     println!("{}", phase_table(set));

@@ -10,7 +10,7 @@ use crate::commands::args;
 use anyhow::Context;
 use clap::{Args, Subcommand, ValueEnum};
 use neurotac_cli::simulator_check::{
-    CheckConfig, calibrate, check_trial_count, simulator_check, to_markdown,
+    CheckConfig, calibrate, check_trial_count, mounting_summary, simulator_check, to_markdown,
 };
 use neurotac_core::Ranks;
 use neurotac_core::io::{AtomicFileSet, Replace};
@@ -33,10 +33,12 @@ pub struct SimulateArgs {
 
 #[derive(Debug, Subcommand)]
 enum SimulateCommand {
-    /// Compute the spec's 10 acceptance statistics and the onset-mechanics statistic, and print each with its bound and PASS/FAIL.
+    /// Compute the spec's 10 acceptance statistics, the onset-mechanics statistic and the protocol
+    /// and specimen statistics (12–18), and print each with its bound and PASS/FAIL.
     Check(CheckArgs),
-    /// Calibrate the three global parameters on the paper's three intensive means (onset snap ←
-    /// 0 mm 4.63, conformity gap ← 2.5 mm 9.84, lever ← 5 mm 34.73) and write the parameter file.
+    /// Calibrate the three global parameters on the paper's three intensive means (pins' shear
+    /// gain ← 0 mm 4.63, conformity gap ← 2.5 mm 9.84, lever ← 5 mm 34.73) and write the
+    /// parameter file.
     Calibrate(CalibrateArgs),
     /// Print the default parameter file (JSON; every field required when read back).
     Params,
@@ -114,6 +116,12 @@ struct CheckArgs {
     /// Slides of the 0, 2.5 and 5 mm grids for the variability statistic.
     #[arg(value_parser = args::positive_count, allow_negative_numbers = true, long, default_value_t = 20)]
     variability_trials: usize,
+    /// Slides of every texture of both sets for the protocol and specimen statistics (12–18).
+    #[arg(value_parser = args::positive_count, allow_negative_numbers = true, long, default_value_t = 5)]
+    specimen_trials: usize,
+    /// Mountings of the 4.5 and 5 mm grids for the spread of their count ratio.
+    #[arg(value_parser = args::positive_count, allow_negative_numbers = true, long, default_value_t = 30)]
+    mountings: usize,
     #[command(flatten)]
     seed: SeedOption,
     /// Simulator parameter file (JSON).
@@ -301,6 +309,8 @@ fn check(a: CheckArgs) -> anyhow::Result<()> {
     let config = CheckConfig {
         trials: a.trials.max(2),
         variability_trials: a.variability_trials,
+        specimen_trials: a.specimen_trials,
+        mountings: a.mountings,
         seed: a.seed.seed,
         params: load_params(a.params.as_deref())?,
         ..CheckConfig::default()
@@ -338,6 +348,7 @@ fn check(a: CheckArgs) -> anyhow::Result<()> {
             100.0 * kept
         );
     }
+    println!("{}", mounting_summary(&report.specimens.mounting_ratios));
     let passed = report.statistics.iter().filter(|s| s.pass).count();
     println!(
         "{passed}/{} statistics pass ({} trials in {:.1} s)",

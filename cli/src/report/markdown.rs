@@ -1,6 +1,7 @@
 //! `report.md`: how the run was made, then per set its tables, figures and notes.
 
 use super::class_tables::{paper_confusion_table, phase_table, recall_table};
+use super::mountings::mounting_table;
 use super::tables::{
     accuracy_table, afferent_table, fitted_grids_mm, intensive_table, parameter_table,
 };
@@ -117,6 +118,7 @@ fn markdown_set(set: &SetReport, fitted_grids_mm: &[f64], md: &mut String) {
     }
     md.push_str(&accuracy_table(set));
     md.push('\n');
+    md.push_str(&mounting_table(set));
     if let Some(c) = d.codings.iter().find_map(|c| c.split_refused.as_ref()) {
         let _ = write!(
             md,
@@ -238,7 +240,7 @@ mod tests {
         let md = report_markdown(&report);
         let section = &md[md.find("## Calibration and hold-out").expect("section")..];
         for (name, grid, paper) in [
-            ("contact.static_excess", "0 mm", "4.63"),
+            ("contact.pin_shear_gain", "0 mm", "4.63"),
             ("contact.gap_conformity_mm", "2.5 mm", "9.84"),
             ("contact.lever_mm", "5 mm", "34.73"),
         ] {

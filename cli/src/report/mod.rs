@@ -10,6 +10,7 @@ mod error;
 pub mod figures;
 pub mod folder;
 pub mod markdown;
+pub mod mountings;
 pub mod png;
 pub mod svg;
 pub mod tables;

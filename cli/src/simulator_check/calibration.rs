@@ -3,16 +3,16 @@
 //!
 //! | parameter | anchor | target (spikes/taxel) |
 //! |---|---|---|
-//! | `contact.static_excess` (onset snap) | flat plate | 4.63 |
+//! | `contact.pin_shear_gain` (the onset's size on the pins) | flat plate | 4.63 |
 //! | `contact.gap_conformity_mm` (sag/conformity law) | 2.5 mm grid | 9.84 |
 //! | `contact.lever_mm` (lever gain) | 5 mm grid | 34.73 |
 //!
-//! Each anchor count is the grid's expected count over mountings ([`grid_count`]). The flat
-//! plate has no texture term, so its count depends on the snap alone and is fitted
-//! first. The lever and the conformity gap both move the 2.5 and 5 mm counts, so they are fitted
-//! by alternating bisections (lever on 5 mm, then the gap on 2.5 mm) until both are within
-//! 1 % or `rounds` are spent. Every other parameter, and every accuracy, confusion matrix and
-//! chosen Δt / τ / cos θ, is a held-out prediction.
+//! Each anchor count is the grid's expected count over mountings ([`grid_count`]). Every value
+//! moves every anchor a little — the lever sets the press's splay on the flat plate too, the
+//! shear gain every grid's onset — so they are fitted by alternating bisections (lever on
+//! 5 mm, the gap on 2.5 mm, the shear gain on the flat plate) until all three are within 1 % or
+//! `rounds` are spent. Every other parameter, and every accuracy, confusion matrix and chosen Δt / τ /
+//! cos θ, is a held-out prediction.
 
 use super::statistics::mean;
 use neurotac_experiments::datasets::{
@@ -118,7 +118,7 @@ fn bisect(
 }
 
 /// Calibrates the three parameters of `params` (see the module docs) with `trials` slides per
-/// evaluation; `rounds` alternations of lever and conformity gap (≥ 1).
+/// evaluation; `rounds` alternations of the three fits (≥ 1).
 pub fn calibrate(
     params: &SimParams,
     trials: usize,
@@ -136,22 +136,12 @@ pub fn calibrate(
             grid_count(q, size_mm, trials, seed, progress)
         }
     };
-    let flat_count = count_of(flat.0);
-    let (_, flat_achieved) = bisect(
-        &mut p,
-        |q, v| q.contact.static_excess = v,
-        (0.0, 2.0),
-        true,
-        flat.1,
-        &mut |q| {
-            slides += trials;
-            flat_count(q)
-        },
-    )?;
-    let (mut mid_achieved, mut coarse_achieved) = (f64::NAN, f64::NAN);
-    // Lever on the 5 mm grid, then the conformity gap on the 2.5 mm grid, then re-check 5 mm.
-    let coarse_count = count_of(coarse.0);
-    let mid_count = count_of(mid.0);
+    let (flat_count, mid_count, coarse_count) =
+        (count_of(flat.0), count_of(mid.0), count_of(coarse.0));
+    let (mut flat_achieved, mut mid_achieved, mut coarse_achieved) = (f64::NAN, f64::NAN, f64::NAN);
+    // Each value moves every anchor (the lever also sets the press's splay on the flat plate;
+    // the shear gain every grid's onset), so the three are fitted in turn — lever on 5 mm,
+    // conformity gap on 2.5 mm, shear gain on the flat plate — until the anchors all hold.
     for _ in 0..rounds.max(1) {
         bisect(
             &mut p,
@@ -164,7 +154,7 @@ pub fn calibrate(
                 coarse_count(q)
             },
         )?;
-        mid_achieved = bisect(
+        bisect(
             &mut p,
             |q, v| q.contact.gap_conformity_mm = v,
             (1.0, 20.0),
@@ -174,11 +164,24 @@ pub fn calibrate(
                 slides += trials;
                 mid_count(q)
             },
+        )?;
+        flat_achieved = bisect(
+            &mut p,
+            |q, v| q.contact.pin_shear_gain = v,
+            (0.0, 2.0),
+            true,
+            flat.1,
+            &mut |q| {
+                slides += trials;
+                flat_count(q)
+            },
         )?
         .1;
-        slides += trials;
+        slides += 2 * trials;
+        mid_achieved = mid_count(&p)?;
         coarse_achieved = coarse_count(&p)?;
-        if (coarse_achieved / coarse.1 - 1.0).abs() <= 0.01 {
+        let held = |achieved: f64, target: f64| (achieved / target - 1.0).abs() <= 0.01;
+        if held(coarse_achieved, coarse.1) && held(mid_achieved, mid.1) {
             break;
         }
     }

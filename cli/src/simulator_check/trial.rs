@@ -24,7 +24,7 @@ pub(super) struct Summary {
     pub(super) spikes_per_taxel: f64,
     pub(super) per_taxel: Vec<usize>,
     pub(super) in_contact: Vec<bool>,
-    /// Signal-only transduction split: onset+stop bursts, the rest of the motion.
+    /// Signal-only transduction split: press, onset and stop bursts, the rest of the slide.
     pub(super) signal_burst: f64,
     pub(super) signal_steady: f64,
     pub(super) signal_total: f64,
@@ -41,7 +41,9 @@ pub(super) struct Summary {
     pub(super) predicted_burst_s: f64,
     /// Share of signal events the BA filter keeps.
     pub(super) signal_kept_fraction: f64,
-    pub(super) pixel_events: usize,
+    /// Signal (pin) pixel events: what the speed-scaling statistic compares per distance (noise
+    /// grows with the recording's duration, not its distance).
+    pub(super) signal_events: usize,
     pub(super) raw_noise_hz: f64,
     pub(super) kept_noise_fraction: f64,
     pub(super) min_interval_us: Option<i64>,
@@ -174,8 +176,11 @@ pub(super) fn analyse(
     let pooled = spikes.pooled();
     let signal_taxels = transduce(&trial.signal_events())?;
     let signal = signal_taxels.spikes.pooled();
-    let signal_burst =
-        (count_in(&signal, onset, onset + 0.3) + count_in(&signal, stop, stop + 0.3)) as f64 / 49.0;
+    // The press's burst (from the press's start to the slide's), the onset's and the stop's.
+    let signal_burst = (count_in(&signal, info.press_start_s, onset)
+        + count_in(&signal, onset, onset + 0.3)
+        + count_in(&signal, stop, stop + 0.3)) as f64
+        / 49.0;
     let signal_total = signal.len() as f64 / 49.0;
     let steady_span = (onset + 0.5, (stop - 0.2).max(onset + 0.5));
     let steady_len = (steady_span.1 - steady_span.0).max(1e-9);
@@ -274,7 +279,7 @@ pub(super) fn analyse(
         predicted_burst_s: predicted_stick_s + 3.0 * params.contact.slip_time_s,
         signal_kept_fraction: signal_taxels.counts.after_filters as f64
             / signal_taxels.counts.events_in.max(1) as f64,
-        pixel_events: trial.events.len(),
+        signal_events: trial.events.len() - trial.noise_count(),
         raw_noise_hz: trial.noise_count() as f64 / (240.0 * 180.0 * info.duration_s),
         kept_noise_fraction: if kept == 0 {
             0.0

@@ -36,7 +36,7 @@ use std::path::PathBuf;
 
 /// Version of the simulated-dataset format and generator; bump it whenever the simulator's
 /// output for given parameters changes, so stale caches are not reused.
-pub const SIMULATED_DATASET_VERSION: u32 = 3;
+pub const SIMULATED_DATASET_VERSION: u32 = 4;
 
 /// A simulated dataset and its event statistics.
 #[derive(Debug, Clone)]

@@ -34,8 +34,8 @@ pub mod phases;
 mod run;
 
 pub use run::{
-    AfferentRun, Report, ReproduceConfig, ReproduceError, SetReport, Source, example_samples,
-    load_source, run,
+    AfferentRun, MountingRun, Report, ReproduceConfig, ReproduceError, SetReport, Source,
+    example_samples, load_source, run,
 };
 
 use crate::coding::{CodingName, class_means_of};

@@ -6,6 +6,7 @@ use super::paper;
 use super::phases::Phases;
 use super::{PipelineConfig, SetResult, run_encoded};
 use crate::afferents::AfferentConfig;
+use crate::coding::CodingName;
 use crate::datasets::recorded::{RecordedError, list_recorded, load_recorded, skipped_entries};
 use crate::datasets::simulated::{DatasetsError, TextureSet, load_or_simulate};
 use crate::error::ExperimentError;
@@ -47,6 +48,10 @@ pub struct ReproduceConfig {
     /// `true` for a reduced run ([`ReproduceConfig::quick`]): its tables are not comparable
     /// with the paper's.
     pub quick: bool,
+    /// Mountings each simulated set is run on (≥ 1): the set as simulated (mounting 0) and
+    /// `mountings − 1` copies with every texture mounted afresh (`kinematics.mounting`), each
+    /// through the pipeline, so every coding's accuracy comes with its spread over mountings.
+    pub mountings: usize,
     /// The command line recorded in the report (e.g. `neurotac reproduce --quick`).
     pub command: String,
 }
@@ -63,6 +68,7 @@ impl ReproduceConfig {
             cache,
             afferents: None,
             quick: false,
+            mountings: 1,
             command: String::new(),
         }
     }
@@ -108,6 +114,9 @@ pub enum ReproduceError {
     /// The pipeline's settings are refused before any dataset is built.
     #[error("the pipeline's settings")]
     Settings(#[source] Box<ExperimentError>),
+    /// No mounting to run a simulated set on.
+    #[error("a simulated set runs on at least one mounting (mountings = 0)")]
+    NoMountings,
 }
 
 /// The afferent-network variant of one set.
@@ -146,12 +155,42 @@ pub struct SetReport {
     pub loo_analysis: LooAnalysis,
     /// Taxel spikes → afferent neurons → codings.
     pub afferent: Option<AfferentRun>,
+    /// The set on each mounting ([`ReproduceConfig::mountings`]; the first is `direct`);
+    /// empty for one mounting or a recorded set.
+    pub mountings: Vec<MountingRun>,
     /// A reduced run ([`ReproduceConfig::quick`]): its tables are not comparable with the
     /// paper's.
     pub quick: bool,
     /// One sample of each class shown in the spike-train figure: `(class name, sample)`.
     #[serde(skip)]
     pub examples: Vec<(String, MultiSpikeTrain)>,
+}
+
+/// A simulated set on one mounting through the pipeline: where the rig put each texture (its
+/// lateral offset, phase and specimen friction) changed, nothing else.
+#[derive(Debug, Clone, Serialize)]
+pub struct MountingRun {
+    /// The mounting (`kinematics.mounting`; 0 is the set as simulated).
+    pub mounting: u64,
+    /// Mean spikes per taxel.
+    pub mean_spikes_per_taxel: f64,
+    /// Each coding's leave-one-out accuracy (a fraction) and chosen parameters, in the menu's
+    /// order.
+    pub codings: Vec<(CodingName, f64, String)>,
+}
+
+impl MountingRun {
+    fn of(mounting: u64, result: &SetResult) -> Self {
+        Self {
+            mounting,
+            mean_spikes_per_taxel: result.mean_spikes_per_taxel,
+            codings: result
+                .codings
+                .iter()
+                .map(|c| (c.coding, c.loo.accuracy.mean, c.parameters.clone()))
+                .collect(),
+        }
+    }
 }
 
 /// A whole run.
@@ -201,6 +240,9 @@ pub fn run(
     }
     crate::search::bayes::check(&config.pipeline.bayes)
         .map_err(|e| ReproduceError::Settings(Box::new(e)))?;
+    if config.mountings == 0 {
+        return Err(ReproduceError::NoMountings);
+    }
     let (sets, time) = timed(|| {
         sources
             .iter()
@@ -335,6 +377,31 @@ fn run_source(
     };
     let (encoded, readout_time) = through_graph(None, "readout");
     let direct = pipeline(&(encoded?), "set")?;
+    let mut mountings = Vec::new();
+    if config.mountings > 1 && matches!(source, Source::Simulated(_)) {
+        mountings.push(MountingRun::of(0, &direct));
+        for mounting in 1..config.mountings as u64 {
+            let mut remounted = config.clone();
+            remounted.params.kinematics.mounting = mounting;
+            let (_, _, data, _) = load_source(source, &remounted, progress, ranks)?;
+            progress.stage(
+                &format!("{name}: mounting {mounting} network (taxel input → coding readouts)"),
+                data.len() as u64,
+            );
+            let encoded = encode_through_graph(&data, None, vr_from, &|| progress.advance(1))
+                .map_err(|e| ReproduceError::Afferents(Box::new(e)))?;
+            progress.finish();
+            let name = format!("{name} (mounting {mounting})");
+            let result = run_encoded(&name, &encoded, &config.pipeline, progress, ranks).map_err(
+                |source| ReproduceError::Pipeline {
+                    name: name.clone(),
+                    what: "set",
+                    source: Box::new(source),
+                },
+            )?;
+            mountings.push(MountingRun::of(mounting, &result));
+        }
+    }
     let afferent = match config.afferents {
         None => None,
         Some(a) => {
@@ -358,6 +425,7 @@ fn run_source(
         loo_analysis: loo_analysis(&direct),
         direct,
         afferent,
+        mountings,
         quick: config.quick,
     })
 }

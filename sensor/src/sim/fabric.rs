@@ -217,6 +217,11 @@ impl FabricDrag {
     pub fn wrinkled(&self) -> bool {
         self.wrinkled
     }
+
+    /// How far the fabric under the contact has been dragged at skin shear `s_mm` (mm).
+    pub fn drag_mm(&self, s_mm: f64) -> f64 {
+        (self.skin_n_mm * s_mm - self.hold_n).max(0.0) / self.fabric()
+    }
 }
 
 #[cfg(test)]

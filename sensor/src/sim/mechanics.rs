@@ -80,8 +80,8 @@ impl Mounting {
     }
 
     /// The mounting of the texture with key `texture_key` ([`texture_key`](Self::texture_key))
-    /// on the rig `rig_seed` (a pure function of both: the same texture is mounted once per
-    /// recording).
+    /// on the rig `rig_seed` (a pure function of both and of `kinematics.mounting`: the same
+    /// texture is mounted once per recording).
     pub fn new(params: &SimParams, rig_seed: u64, texture_key: u64) -> Self {
         Self::of_specimen(params, rig_seed, texture_key, 0.0)
     }
@@ -96,6 +96,11 @@ impl Mounting {
     ) -> Self {
         let k = &params.kinematics;
         let name_hash = texture_key;
+        // Mounting k > 0: the same camera, every texture mounted from another draw.
+        let rig_seed = match k.mounting {
+            0 => rig_seed,
+            m => splitmix64(rig_seed ^ splitmix64(m ^ 0x6d6f_756e_7400)),
+        };
         let mut day = ChaCha8Rng::seed_from_u64(splitmix64(rig_seed ^ 0x6461_7900));
         let day_friction = (1.0 + params.contact.friction_day_sd * gaussian(&mut day)).max(0.5);
         let mut rng = ChaCha8Rng::seed_from_u64(splitmix64(rig_seed ^ splitmix64(name_hash)));
@@ -222,6 +227,22 @@ pub struct PinTrajectories {
     pub full_slip_s: Option<f64>,
     /// The press of this slide.
     pub press: Option<Press>,
+    /// How the slide's load reached the pins and what the specimen did at the onset.
+    pub contact: ContactFacts,
+}
+
+/// How a slide's tangential load reached the pins, and what a fabric specimen did at its
+/// onset ([`super::shear_spread`], [`super::fabric`]).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct ContactFacts {
+    /// Forward shift ε of the sliding pressure (0 on a rigid texture).
+    pub forward_shift: f64,
+    /// Pile hairs beyond the contact: their reach (mm) and their share of the load.
+    pub pile: Option<(f64, f64)>,
+    /// How far the fabric had been dragged when the skin first slipped (mm; `None`: no fabric).
+    pub fabric_drag_mm: Option<f64>,
+    /// When the fabric ahead of the contact wrinkled (s from the recording start).
+    pub wrinkle_s: Option<f64>,
 }
 
 impl PinTrajectories {
@@ -519,6 +540,12 @@ impl Mechanics {
             },
         );
         // A fabric dragged on its mounting during the onset (before the first full slip).
+        out.contact = ContactFacts {
+            forward_shift,
+            pile,
+            fabric_drag_mm: None,
+            wrinkle_s: None,
+        };
         let mut drag = surface
             .fabric
             .filter(|_| a > 0.0 && shear_share > 0.0)
@@ -588,12 +615,19 @@ impl Mechanics {
                         match drag.as_mut().filter(|_| !slipped_once) {
                             Some(drag) => {
                                 s += drag.share(s) * base_speed * h;
+                                let was = drag.wrinkled();
                                 s = drag.wrinkle(s);
+                                if !was && drag.wrinkled() {
+                                    out.contact.wrinkle_s = Some(t + h);
+                                }
                             }
                             None => s += vb * h,
                         }
                         if s >= s_static && vb > 0.0 {
                             stuck = false;
+                            if !slipped_once {
+                                out.contact.fabric_drag_mm = drag.map(|d| d.drag_mm(s));
+                            }
                             slipped_once = true;
                         }
                     } else {

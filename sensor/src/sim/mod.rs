@@ -1,22 +1,34 @@
 //! The NeuroTac simulator (`shared/specs/simulator.md`): a TacTip-style dome with 49 pins
-//! sliding over a texture, filmed by a simulated DAVIS240, producing pixel events in the same
-//! form as the real camera — so the very same transduction ([`crate::taxel::Transducer`]) runs
-//! on them.
+//! pressed into and slid over a texture, filmed by a simulated DAVIS240, producing pixel events
+//! in the same form as the real camera — so the very same transduction
+//! ([`crate::taxel::Transducer`]) runs on them.
 //!
 //! | stage (spec §) | module | main types |
 //! |---|---|---|
-//! | parameters (§1–3, §7) | [`params`] | [`SimParams`] |
+//! | parameters and their sources (§1–3, §7) | [`params`], [`parameter_sources`] | [`SimParams`] |
+//! | the recording loop: press, dwell, slide, the loop's latencies (§2.1) | [`kinematics`] | [`kinematics::Recording`] |
+//! | the press under position control, compliant layers | [`layer`] | [`layer::Layer`], [`layer::Press`] |
 //! | skin-on-texture contact (§2.2, §8) | [`contact`] | [`SkinContact`] |
 //! | textures, friction (§2.1, §2.4) | [`texture`] | [`Texture`], [`TextureField`], [`Surface`] |
 //! | natural textures as materials (§2.4) | [`natural`] | [`NATURAL_TEXTURES`], [`NaturalTexture`] |
-//! | the press under position control, compliant layers | [`layer`] | [`layer::Layer`], [`layer::Press`] |
-//! | the recording loop: press, dwell, slide (§2.1) | [`kinematics`] | [`kinematics::Recording`] |
+//! | fabric drag and wrinkling, pile hairs | [`fabric`] | [`fabric::FabricMechanics`], [`fabric::Pile`] |
 //! | stick-slip, pins, variability (§2.1–2.2) | [`mechanics`] | [`PinTrajectories`], [`Mounting`], [`TrialDraw`] |
 //! | partial-slip front of the onset (§9) | [`slip_front`] | [`slip_front::SlipFront`], [`slip_front::PinShear`] |
+//! | how the load reaches the pins through the gel | [`shear_spread`] | [`shear_spread::ShearSpread`] |
 //! | camera fixed-pattern noise (§3.2) | [`camera`] | [`Camera`] |
 //! | rendering, DVS pixels, noise (§3.1–3.2) | [`pixel`] | [`PixelModel`], [`EventLabel`] |
 //! | pixel-level diagnostics (§5.7) | [`diagnostics`] | [`edge_pass`], [`pixel_sanity`] |
 //! | one trial, transduction | here | [`Simulator`], [`SimulatedTrial`], [`taxel_spikes`] |
+//!
+//! **What a recording is** (a decision from the lab's slide script and the paper's durations,
+//! [`kinematics`]): logging starts (t = 0 is the host's clock then), the arm presses 5 mm down
+//! at the slide's speed, dwells 0.1 s, slides 60 mm, and logging stops; between them the loop's
+//! blocking calls take their latencies. The press ends at a fixed height below the set's base
+//! ([`layer`]), so a grid's 1 mm bumps or a fabric's thickness deepen it: force, contact radius
+//! and the pins in contact differ per texture, and the press itself splays the pins it covers.
+//! Sliding, the skin's load reaches the pins through the gel ([`shear_spread`]) with a pressure
+//! shifted forward on compliant layers; a fabric is dragged on its mounting and wrinkles at the
+//! onset, pile hairs drag beyond the contact ([`fabric`]).
 //!
 //! Seeds: a [`Camera`] (fixed-pattern noise) is drawn once from a camera seed and records every
 //! trial; the same seed names the rig, which fixes each texture's [`Mounting`] (offset, phase,
@@ -79,7 +91,7 @@ pub fn check_trials(trials: usize, textures: usize) -> Result<(), SimulationErro
         }),
     }
 }
-pub use mechanics::{Mounting, PinTrajectories, TrialDraw};
+pub use mechanics::{ContactFacts, Mounting, PinTrajectories, TrialDraw};
 pub use natural::{NATURAL_TEXTURES, NaturalTexture};
 pub use params::{CalibratedParameter, PAPER_INTENSIVE_MEANS, PeriodRule, SimParams};
 pub use pixel::{EventLabel, PixelModel, PixelRunStats};
@@ -151,6 +163,8 @@ pub struct TrialInfo {
     pub motion_end_s: f64,
     /// The press: overlap, force, contact radius, shear share ([`layer::Press`]).
     pub press: layer::Press,
+    /// How the load reached the pins; the fabric's drag and wrinkling.
+    pub contact: mechanics::ContactFacts,
     /// Pixel-model effort.
     pub pixel_stats: PixelRunStats,
     /// Largest pin displacement from rest (px).
@@ -363,6 +377,7 @@ impl Simulator {
                     .trajectories
                     .press
                     .expect("the mechanics set the press"),
+                contact: self.trajectories.contact,
                 pixel_stats,
                 max_displacement_px: self.trajectories.max_displacement_px(),
                 in_contact: self.trajectories.in_contact.clone(),

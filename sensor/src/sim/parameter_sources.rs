@@ -52,6 +52,10 @@ pub const PARAMETER_SOURCES: &[(&str, &str)] = &[
         "[A] off: a robot arm repeats its path to 0.01 mm (ABB IRB120 RP), so offsets belong to the mounting; on restores independent per-slide offsets to study that confound",
     ),
     (
+        "kinematics.mounting",
+        "a selector, not a physical value: 0 = the rig's own mounting of every texture, k > 0 = another draw of the mountings (lateral offset, phase, specimen friction, friction day and drift) with the same camera",
+    ),
+    (
         "kinematics.position_repeatability_mm",
         "[R] ABB IRB120 product specification: position repeatability RP = 0.01 mm",
     ),
@@ -79,7 +83,10 @@ pub const PARAMETER_SOURCES: &[(&str, &str)] = &[
         "contact.lever_mm",
         "CALIBRATED on the 5 mm grid (34.73 spikes/taxel)",
     ),
-    ("contact.pin_shear_gain", "[A] spec 2.2: g_pin ~ 0.5"),
+    (
+        "contact.pin_shear_gain",
+        "CALIBRATED on the flat plate (4.63 spikes/taxel): the onset's size on the pins; spec 2.2 g_pin ~ 0.5 [A]",
+    ),
     (
         "contact.bulge",
         "[A] assumption: spec 2.2's radial bulge beta in its range 0-0.3 (no source measures a TacTip's radial pin splay per mm of skin deflection); explore 0-0.3",
@@ -116,7 +123,7 @@ pub const PARAMETER_SOURCES: &[(&str, &str)] = &[
     ),
     (
         "contact.static_excess",
-        "CALIBRATED on the flat plate (4.63 spikes/taxel)",
+        "[K] mu_s/mu_k = 1.3 for a smooth adhesive solid, the prior the natural catalogue gives acrylic and foil (a printed plate is one); calibrated on the flat plate before the press and the gel's traction profile were simulated, but even 0 then leaves the flat plate at 5.6-6.3 spikes/taxel, above the paper's 4.63, so the flat plate now calibrates contact.pin_shear_gain",
     ),
     (
         "contact.loss_tangent",

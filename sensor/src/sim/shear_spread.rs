@@ -38,7 +38,7 @@
 //! stuck one: a pin's displacement per unit shear blends the two profiles by f, and follows the
 //! sliding profile from the first full slip on.
 //!
-//! **Pile outside the contact** ([`super::natural::Pile`]): hairs standing proud of a fabric's
+//! **Pile outside the contact** ([`super::fabric::Pile`]): hairs standing proud of a fabric's
 //! surface touch the dome beyond the contact radius and drag on it while it slides; they carry a
 //! share of the load over the annulus they reach, spreading shear to rim pins no contact
 //! touches.
