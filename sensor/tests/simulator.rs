@@ -57,14 +57,15 @@ fn a_slide_is_pinned_bit_for_bit() {
     // Every event (time, address, polarity, label) of two full default slides — a grid with
     // its edge catches and a soft natural texture with micro-slips — folded into one 64-bit
     // FNV-style hash each: any change to what the simulator outputs (a faster path that rounds
-    // differently, a reordered random draw) shows here. The values are those of the scalar
-    // simulator (main at aab19e7), whose cached datasets must stay valid.
+    // differently, a reordered random draw) shows here. The values are those of the simulator of
+    // simulated-dataset version 4 (the recording loop, position control), whose cached
+    // datasets must stay valid.
     let params = SimParams::default();
     let camera = Camera::new(&params, 7);
     let mut sim = Simulator::new(params, &camera).unwrap();
     for (texture, expected) in [
-        ("grid 5.0 mm", 0x1279_51c9_5be7_1ec0u64),
-        ("fake fur", 0x9d20_f6fb_2521_a205),
+        ("grid 5.0 mm", 0x644a_f5ec_c7ed_5660u64),
+        ("fake fur", 0x27f6_fc68_cc99_fae7),
     ] {
         let prepared = sim.prepare(Texture::from_name(texture).unwrap());
         let trial = sim.simulate_slide(&prepared, 0, 1000);
@@ -252,6 +253,7 @@ fn each_slide_starts_its_pixels_anywhere_between_their_thresholds() {
     // pixels at other times, with a count of the same size.
     let mut still = SimParams::default();
     still.kinematics.distance_mm = 0.0;
+    still.kinematics.press_travel_mm = 0.0;
     let camera = Camera::new(&still, 11);
     let mut sim = Simulator::new(still, &camera).unwrap();
     let flat = sim.prepare(Texture::grid(0.0).unwrap());

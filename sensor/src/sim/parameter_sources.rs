@@ -184,7 +184,7 @@ pub const PARAMETER_SOURCES: &[(&str, &str)] = &[
     ),
     (
         "pixel",
-        "spec 3.3: v2e defaults (sigma 0.03 [R v2e; DVS128 2.1 %, Lichtsteiner 2008], refractory 0.5 ms, 300 Hz, latency)",
+        "[R] v2e defaults (spec 3.3): threshold mismatch sigma 0.03 (DVS128: 2.1 %, Lichtsteiner 2008 [K]), refractory 0.5 ms, photoreceptor bandwidth 300 Hz; [A] latency 15 us + exponential jitter of mean 30 us (spec 3.2: 10-50 us)",
     ),
     (
         "pixel.random_initial_reference",
@@ -192,11 +192,11 @@ pub const PARAMETER_SOURCES: &[(&str, &str)] = &[
     ),
     (
         "noise",
-        "spec 3.3: total background activity 0.1-0.3 Hz per pixel",
+        "[A] spec 3.3: total background activity 0.1-0.3 Hz per pixel (v2e's leak and shot noise model [R]; DVS128 background activity ~0.1 Hz at room temperature [K])",
     ),
     (
         "solver",
-        "numerical settings (neurotac tradeoff simulator); step tolerance C+/3 (ESIM)",
+        "numerical settings, not physical values (the speed/accuracy knobs `neurotac tradeoff` studies); step tolerance C+/3 [R] (ESIM's adaptive sampling)",
     ),
     (
         "natural.friction",
