@@ -103,7 +103,8 @@ fn time_flags_read_bare_milliseconds_and_refuse_old_seconds_with_a_hint() {
                 "--tau",
                 "0.076",
             ][..],
-            "--tau",
+            // τ = 76 µs is computed (exactly) but warned about, with the same hint.
+            "warning: τ = 0.076ms is outside",
             "write 0.076s for seconds",
         ),
         (
@@ -131,7 +132,7 @@ fn time_flags_read_bare_milliseconds_and_refuse_old_seconds_with_a_hint() {
         (
             &["filter", "a.csv", "b.csv", "--ba-window", "5000"][..],
             "--ba-window",
-            "5s is above the largest, 100ms",
+            "5000ms is above the largest, 100ms",
         ),
     ] {
         let (ok, _, stderr) = neurotac(args);
