@@ -189,11 +189,13 @@ pub enum GraphError {
         /// The bytes it needs (∞ when the count overflows).
         bytes: f64,
     },
-    /// A plastic projection's initial weight outside its STDP bounds.
-    #[error("{what}: synapse {synapse} has weight {}, outside the STDP bounds [{}, {}]", crate::Compact(*weight), crate::Compact(*w_min), crate::Compact(*w_max))]
+    /// A plastic projection's weight (initial, or set) outside its STDP bounds.
+    #[error("{what}: {kind} weight {} of synapse {synapse} is outside the STDP bounds [{}, {}]", crate::Compact(*weight), crate::Compact(*w_min), crate::Compact(*w_max))]
     WeightOutsideBounds {
         /// The projection.
         what: String,
+        /// `initial` (at connect) or `new` (set).
+        kind: &'static str,
         /// The synapse (0 for a connectivity with one weight).
         synapse: usize,
         /// Its weight.

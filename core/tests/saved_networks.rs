@@ -690,6 +690,15 @@ fn stdp_whose_updates_overflow_and_weights_outside_the_bounds_are_refused_plainl
     let e = plastic(rule, 7.0, DT).unwrap();
     assert_eq!(
         e,
-        "projection 'in' → 'out': synapse 0 has weight 7, outside the STDP bounds [0, 6]"
+        "projection 'in' → 'out': initial weight 7 of synapse 0 is outside the STDP bounds [0, 6]"
+    );
+    // Weights set later: said once, with the bounds they are outside.
+    let (mut net, parts) = network();
+    let mut w = net.weights(parts.plastic).unwrap();
+    w.weight[3] = 0.9;
+    let e = net.set_weights(parts.plastic, &w).unwrap_err().to_string();
+    assert_eq!(
+        e,
+        "set_weights of projection 0: new weight 0.9 of synapse 3 is outside the STDP bounds [0, 0.4]"
     );
 }

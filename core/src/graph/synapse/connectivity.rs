@@ -150,6 +150,7 @@ impl Connectivity {
         match bad {
             Some((synapse, weight)) => Err(GraphError::WeightOutsideBounds {
                 what: what.to_owned(),
+                kind: "initial",
                 synapse,
                 weight,
                 w_min,
