@@ -267,16 +267,24 @@ impl Network {
         }
     }
 
-    /// [`run_steps`](Self::run_steps) of a network built for one process.
-    fn run_steps_in_one_process(&mut self, steps: u64) -> Result<RunSummary, GraphError> {
+    /// [`run_steps`](Self::run_steps) of a network built for one process, asking
+    /// `interrupted` every 256 steps.
+    fn run_steps_in_one_process(
+        &mut self,
+        steps: u64,
+        interrupted: &mut dyn FnMut() -> bool,
+    ) -> Result<RunSummary, GraphError> {
         if !self.begun {
             self.begin_readouts();
         }
         let mut done = 0;
         let mut stopped_early = false;
         while done < steps {
-            let stop = self.step_once();
+            let mut stop = self.step_once();
             done += 1;
+            if done % 256 == 0 && done < steps && interrupted() {
+                stop = true;
+            }
             if stop || done == steps || done % 256 == 0 {
                 for n in &self.nodes {
                     if let RunningKind::Population(m) = &n.kind {
@@ -382,10 +390,23 @@ impl Network {
     /// exchange on each rank, and reported to all: the rank that diverged returns its
     /// [`GraphError::Model`], the others [`GraphError::PeerDiverged`].
     pub fn run_steps(&mut self, steps: u64, ranks: &dyn Ranks) -> Result<RunSummary, GraphError> {
+        self.run_steps_until(steps, ranks, &mut || false)
+    }
+
+    /// [`run_steps`](Self::run_steps) that can be interrupted: in one process `interrupted` is
+    /// asked every 256 steps, and the run ends there (as a readout's stop request ends it,
+    /// [`RunSummary::stopped_early`]) when it answers `true` — Ctrl-C in a binding. Over
+    /// several ranks it is not asked (the ranks could not agree where to stop).
+    pub fn run_steps_until(
+        &mut self,
+        steps: u64,
+        ranks: &dyn Ranks,
+        interrupted: &mut dyn FnMut() -> bool,
+    ) -> Result<RunSummary, GraphError> {
         self.check_ranks(ranks.rank(), ranks.size())?;
         self.check_step_budget(steps)?;
         if self.partition.size == 1 {
-            return self.run_steps_in_one_process(steps);
+            return self.run_steps_in_one_process(steps, interrupted);
         }
         if !self.begun {
             self.begin_readouts();
