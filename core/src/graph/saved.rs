@@ -180,6 +180,15 @@ impl Network {
     /// a typed error naming the file, never a different network. Numbers are stored as they are
     /// (CBOR floats are exact). Written through [`AtomicFile`](crate::AtomicFile): never half-written.
     ///
+    /// Reading checks the state against the description before anything is built: one state per
+    /// population (its model's arrays, at least as long as the population) and per spike source
+    /// (its position; a Poisson source's, its channels + 2 numbers), spikes in the delay lines of
+    /// neurons that exist, finite synaptic currents, finite traces ≥ 0 of steps not after the
+    /// saved one. The description keeps the [limits](super::limits) of any network: at most
+    /// 2³² − 1 neurons or channels per node, delays of at most 2²⁰ steps, at most 2⁵³ steps
+    /// done; a part whose memory cannot be reserved is refused before it is built. Every error
+    /// names the file, those of the build included ([`GraphError::Saved`]).
+    ///
     pub fn save(&self, path: impl AsRef<Path>) -> Result<(), NetworkFileError> {
         let path = path.as_ref();
         let graph = |source| NetworkFileError::Graph {
@@ -341,7 +350,16 @@ impl NetworkBuilder {
             action: IoAction::Read,
             source,
         })?;
-        let saved = decode(&bytes, path)?;
+        Self::from_saved_bytes(&bytes, path, models)
+    }
+
+    /// [`load`](Self::load) of a saved network's bytes (`path` names them in errors).
+    pub fn from_saved_bytes(
+        bytes: &[u8],
+        path: &Path,
+        models: &dyn ModelFactory,
+    ) -> Result<NetworkBuilder, NetworkFileError> {
+        let saved = decode(bytes, path)?;
         check_state_fits(&saved).map_err(|what| NetworkFileError::Graph {
             path: path.to_owned(),
             source: Box::new(GraphError::Description(format!("saved state: {what}"))),
@@ -359,6 +377,16 @@ impl NetworkBuilder {
             path: path.to_owned(),
         });
         Ok(b)
+    }
+
+    /// The description in a saved network's bytes, checked as [`load`](Self::load) checks the
+    /// file (header, length, checksum, decoding) but not built: what a tool reads to look at a
+    /// saved network before making it.
+    pub fn saved_description(
+        bytes: &[u8],
+        path: &Path,
+    ) -> Result<NetworkDescription, NetworkFileError> {
+        Ok(decode(bytes, path)?.description)
     }
 
     /// The time step of the saved network this builder was loaded from ([`load`](Self::load)).
