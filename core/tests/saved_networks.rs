@@ -478,8 +478,7 @@ fn refused_naming_the_file(
                 .map(|_| ())
                 .map_err(|e| neurotac_core::error_chain(&e))
         })
-        .err()
-        .expect("the damaged file was accepted");
+        .expect_err("the damaged file was accepted");
     assert!(
         e.contains(&bad.display().to_string()),
         "the file is not named: {e}"

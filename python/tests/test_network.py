@@ -284,3 +284,27 @@ def test_a_crafted_saved_network_is_an_error_not_an_abort(tmp_path):
     with pytest.raises(neurotac.NeurotacError) as e:
         neurotac.Network.load(bad)
     assert "bad.ntnet" in str(e.value)
+
+
+def test_descriptions_of_what_cannot_be_held_are_refused_not_aborted():
+    cases = [
+        (lambda d: d["projections"][1].update(delay_steps=2**32 - 1), "delay_steps"),
+        (
+            lambda d: d["nodes"][0]["source"]["poisson"].update(size=2**40),
+            "at most 2³² − 1",
+        ),
+        (lambda d: d["nodes"][1]["model"].update(size=2**32 - 1), "more than can be allocated"),
+    ]
+    for edit, expected in cases:
+        description = recurrent()
+        edit(description)
+        with pytest.raises(neurotac.NeurotacValueError, match=expected):
+            neurotac.Network.from_description(json.dumps(description))
+    # A plastic 200 000 × 200 000 all-to-all projection: 4·10¹⁰ synapses.
+    description = recurrent()
+    description["nodes"][0]["source"]["poisson"]["size"] = 200_000
+    description["nodes"][1]["model"]["size"] = 200_000
+    description["projections"][0]["wiring"] = {"all_to_all": {"weight": 0.2}}
+    description["projections"][0]["plasticity"] = STDP
+    with pytest.raises(neurotac.NeurotacValueError, match="more than can be allocated"):
+        neurotac.Network.from_description(json.dumps(description))

@@ -68,8 +68,14 @@ impl Speed {
 
 impl Control {
     /// The controls, as an error message lists them.
-    pub const SYNTAX: &'static str =
-        "pause, play, step, seek SECONDS (0 to 9e12), speed realtime|max|N (N from 0.001 to 1e6)";
+    pub fn syntax() -> String {
+        format!(
+            "pause, play, step, seek SECONDS (0 to {:e}), speed realtime|max|N (N from {} to {:e})",
+            Self::MAX_SEEK_S,
+            Speed::MIN_FACTOR,
+            Speed::MAX_FACTOR
+        )
+    }
 
     /// The latest seek target (s): its time in µs still fits an `i64` (292 000 years).
     pub const MAX_SEEK_S: f64 = 9.2e12;

@@ -1,9 +1,9 @@
-//! One HTTP/1.1 request read from a viewer within a deadline ([`read_request`]), and the
-//! checks the server makes of it before it answers: the `Host` it names ([`AllowedHosts`]),
-//! the `Origin` of a request that changes something. A request that is not HTTP (not UTF-8, no
-//! request line, a header without a colon, a bad `Content-Length`) is [`Refusal::Malformed`];
-//! one that takes longer than its deadline to arrive, whatever it sends meanwhile, is
-//! [`Refusal::TimedOut`].
+//! One HTTP/1.1 request read from a viewer within a deadline, and the checks the server makes
+//! of it before it answers: the `Host` it names ([`AllowedHosts`]), the `Origin` of a request
+//! that changes something. A request that is not HTTP (not UTF-8, no request line, a header
+//! without a colon, a bad `Content-Length`) is answered `400`; one longer than
+//! [`MAX_REQUEST_BYTES`] `413`; one that takes longer than its deadline to arrive, whatever it
+//! sends meanwhile, `408`.
 
 use std::io::{BufRead, BufReader, Read};
 use std::net::{IpAddr, TcpStream};

@@ -253,7 +253,7 @@ fn control(request: &Request, hosts: &AllowedHosts) -> Result<Control, (&'static
             format!(
                 "not a control: {:?} ({})",
                 body.chars().take(80).collect::<String>(),
-                Control::SYNTAX
+                Control::syntax()
             ),
         )
     })

@@ -187,8 +187,8 @@ pub fn time_window(s: &str) -> Result<Time, String> {
 const USUAL_TAU: (Time, Time) = (Time(1e-3), Time(10.0));
 
 /// A Van Rossum kernel time constant τ (`--tau`, `--tau-min`, `--tau-max`): any finite time
-/// > 0, as the library computes the distance exactly at every τ; outside 1 ms … 10 s it warns
-/// ([`unusual_tau`]).
+/// above 0, as the library computes the distance exactly at every τ; outside 1 ms … 10 s it
+/// warns ([`unusual_tau`]).
 pub fn time_tau(s: &str) -> Result<Time, String> {
     let t = time_in(s, Time(f64::MIN_POSITIVE), Time(f64::MAX))?;
     if let Some(warning) = unusual_tau(s, t) {
