@@ -222,7 +222,7 @@ fn absurd_speeds_and_times_are_refused_in_one_line_naming_the_value() {
     assert!(!stderr.contains("infs"), "{stderr}");
 }
 
-/// Starts `neurotac view ARGS`, returns its first stderr line once it serves, and kills it.
+/// Starts `neurotac view ARGS`, kills it once it serves, and returns what it printed to stderr.
 fn first_warning(args: &[&str]) -> String {
     let mut child = Command::new(env!("CARGO_BIN_EXE_neurotac"))
         .arg("view")

@@ -35,8 +35,8 @@ pub enum Speed {
 }
 
 impl Speed {
-    /// The slowest paced speed: a thousandth of real time.
-    pub const MIN_FACTOR: f64 = 1e-3;
+    /// The slowest paced speed: a millionth of real time.
+    pub const MIN_FACTOR: f64 = 1e-6;
     /// The fastest paced speed: a million times real time (faster is `max`).
     pub const MAX_FACTOR: f64 = 1e6;
 
@@ -70,7 +70,7 @@ impl Control {
     /// The controls, as an error message lists them.
     pub fn syntax() -> String {
         format!(
-            "pause, play, step, seek SECONDS (0 to {:e}), speed realtime|max|N (N from {} to {:e})",
+            "pause, play, step, seek SECONDS (0 to {:e}), speed realtime|max|N (N from {:e} to {:e})",
             Self::MAX_SEEK_S,
             Speed::MIN_FACTOR,
             Speed::MAX_FACTOR

@@ -89,7 +89,7 @@ pub struct ViewArgs {
 fn speed(text: &str) -> Result<Speed, String> {
     Speed::parse(text).ok_or_else(|| {
         format!(
-            "{text:?} is not a speed: realtime, max, or a factor from {} to {} such as 2, 0.5x",
+            "{text:?} is not a speed: realtime, max, or a factor from {:e} to {:e} such as 2, 0.5x",
             Speed::MIN_FACTOR,
             Speed::MAX_FACTOR
         )
