@@ -10,6 +10,8 @@
 # NaN/Infinity/1e999 times, huge and "negative" (all ones) counts and lengths, labels beyond the
 # class limit, deep nesting, duplicate keys, wrong types. For the parameter-file reader
 # (`sim_params`): `neurotac simulate params` (the defaults) and the same crash-like cases.
+# For the saved-network and description readers (`saved_network`, `description`): the seeds
+# neurotac-neurons' replay test writes (see the end).
 # The committed corpus is these seeds plus what the fuzzers found, minimised with
 # `cargo fuzz cmin` (fuzz/README.md).
 set -euo pipefail
@@ -203,4 +205,10 @@ printf 'null' > "$p/null.json"
 : > "$p/empty_file.json"
 { printf '\xef\xbb\xbf'; cat "$def"; } > "$p/bom.json"
 { cat "$def"; printf 'x'; } > "$p/trailing_text.json"
+# ---- Saved networks and descriptions (targets `saved_network`, `description`) ----
+# Written by a test of neurotac-neurons (a network of the built-in models saved and described,
+# clock- and event-driven; bodies cut at several offsets; every crafted case that made loading
+# validation: huge delays, sizes and steps, a population saved without its state, spikes of
+# neurons that do not exist, NaN currents and traces, overflowing STDP, dt = 1e-300).
+cargo test --release -q -p neurotac-neurons --test fuzz_corpus_replay -- --ignored write_the_named_seeds > /dev/null
 echo "seeds written to $c/"

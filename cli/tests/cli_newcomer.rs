@@ -103,7 +103,8 @@ fn time_flags_read_bare_milliseconds_and_refuse_old_seconds_with_a_hint() {
                 "--tau",
                 "0.076",
             ][..],
-            "--tau",
+            // τ = 76 µs is computed (exactly) but warned about, with the same hint.
+            "warning: τ = 0.076ms is outside",
             "write 0.076s for seconds",
         ),
         (
@@ -131,7 +132,7 @@ fn time_flags_read_bare_milliseconds_and_refuse_old_seconds_with_a_hint() {
         (
             &["filter", "a.csv", "b.csv", "--ba-window", "5000"][..],
             "--ba-window",
-            "5s is above the largest, 100ms",
+            "5000ms is above the largest, 100ms",
         ),
     ] {
         let (ok, _, stderr) = neurotac(args);
@@ -396,4 +397,44 @@ fn an_unusable_cache_is_said_before_simulating_and_the_run_goes_on_without_it() 
     );
     assert!(out.join("artificial.bin").is_file());
     assert_eq!(std::fs::read_to_string(&cache).unwrap(), "not a folder");
+}
+
+#[test]
+fn a_tau_below_a_millisecond_is_computed_with_a_warning() {
+    let dir = tempfile::tempdir().unwrap();
+    let data = dir.path().join("d.json");
+    let out = dir.path().join("m.json");
+    let (ok, _, stderr) = neurotac(&[
+        "synth",
+        "--output",
+        data.to_str().unwrap(),
+        "--samples",
+        "4",
+        "--classes",
+        "2",
+        "--channels",
+        "3",
+    ]);
+    assert!(ok, "{stderr}");
+    // The fixtures' τ = 1 µs: the library computes it exactly.
+    let (ok, _, stderr) = neurotac(&[
+        "distances",
+        "--input",
+        data.to_str().unwrap(),
+        "--metric",
+        "van-rossum",
+        "--tau",
+        "1us",
+        "--cos",
+        "0.5",
+        "--output",
+        out.to_str().unwrap(),
+    ]);
+    assert!(ok, "{stderr}");
+    assert!(
+        stderr.contains("warning: τ = 1us is outside 1ms … 10s"),
+        "{stderr}"
+    );
+    let matrix: serde_json::Value = serde_json::from_slice(&std::fs::read(&out).unwrap()).unwrap();
+    assert_eq!(matrix["matrix"].as_array().unwrap().len(), 4);
 }

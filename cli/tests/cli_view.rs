@@ -37,7 +37,7 @@ fn the_server_prints_its_address_and_stops_cleanly_on_ctrl_c() {
     // The page answers, then Ctrl-C.
     let mut s = std::net::TcpStream::connect(&address).unwrap();
     use std::io::{Read, Write};
-    write!(s, "GET / HTTP/1.1\r\nHost: x\r\n\r\n").unwrap();
+    write!(s, "GET / HTTP/1.1\r\nHost: {address}\r\n\r\n").unwrap();
     let mut page = String::new();
     s.read_to_string(&mut page).unwrap();
     assert!(page.starts_with("HTTP/1.1 200") && page.contains("neurotac view"));
@@ -167,4 +167,101 @@ fn bad_sources_are_one_line_each() {
     assert_eq!(stderr.trim().lines().count(), 1, "{stderr}");
     let (ok, _, stderr) = neurotac(&["view", "--device", "--snapshot", "x.png"]);
     assert!(!ok && stderr.contains("--snapshot"), "{stderr}");
+}
+
+/// A small CSV recording: a burst at the first taxels.
+fn small_recording(dir: &std::path::Path) -> std::path::PathBuf {
+    let mut text = String::from("t,x,y,on\n");
+    for i in 0..400 {
+        text += &format!("{},{},{},{}\n", i * 100, 60 + i % 7, 40 + i % 5, i % 2);
+    }
+    let path = dir.join("small.csv");
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+#[test]
+fn a_snapshot_extension_is_read_in_any_case_and_another_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = small_recording(dir.path());
+    let input = input.to_str().unwrap();
+    for name in ["x.jpg", "x", "x.svg.txt"] {
+        let out = dir.path().join(name);
+        let (ok, _, stderr) = neurotac(&["view", input, "--snapshot", out.to_str().unwrap()]);
+        assert!(!ok && stderr.contains(".svg or .png"), "{name}: {stderr}");
+        assert_eq!(stderr.trim().lines().count(), 1, "{stderr}");
+        assert!(!out.exists(), "{name} was written");
+    }
+    let png = dir.path().join("x.PNG");
+    let (ok, _, stderr) = neurotac(&["view", input, "--snapshot", png.to_str().unwrap()]);
+    assert!(ok, "{stderr}");
+    assert!(std::fs::read(&png).unwrap().starts_with(b"\x89PNG"));
+    let svg = dir.path().join("x.Svg");
+    let (ok, _, stderr) = neurotac(&["view", input, "--snapshot", svg.to_str().unwrap()]);
+    assert!(ok, "{stderr}");
+    assert!(std::fs::read_to_string(&svg).unwrap().starts_with("<svg"));
+}
+
+#[test]
+fn absurd_speeds_and_times_are_refused_in_one_line_naming_the_value() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = small_recording(dir.path());
+    let input = input.to_str().unwrap();
+    let (ok, _, stderr) = neurotac(&["view", input, "--speed", "1e-300", "--port", "0"]);
+    assert!(!ok && stderr.contains("1e-300"), "{stderr}");
+    let out = dir.path().join("late.svg");
+    let (ok, _, stderr) = neurotac(&[
+        "view",
+        input,
+        "--snapshot",
+        out.to_str().unwrap(),
+        "--at",
+        "1e300s",
+    ]);
+    assert!(!ok && stderr.contains("1e300s is above"), "{stderr}");
+    assert!(!stderr.contains("infs"), "{stderr}");
+}
+
+/// Starts `neurotac view ARGS`, kills it once it serves, and returns what it printed to stderr.
+fn first_warning(args: &[&str]) -> String {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_neurotac"))
+        .arg("view")
+        .args(args)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut stdout = BufReader::new(child.stdout.take().unwrap());
+    let mut line = String::new();
+    stdout.read_line(&mut line).unwrap();
+    assert!(line.starts_with("serving http://"), "{line}");
+    let _ = child.kill();
+    let _ = child.wait();
+    let mut stderr = String::new();
+    use std::io::Read;
+    child
+        .stderr
+        .take()
+        .unwrap()
+        .read_to_string(&mut stderr)
+        .unwrap();
+    stderr
+}
+
+#[test]
+fn a_host_that_is_not_loopback_gets_one_warning_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = small_recording(dir.path());
+    let input = input.to_str().unwrap();
+    let stderr = first_warning(&[input, "--port", "0", "--host", "0.0.0.0", "--paused"]);
+    let warnings: Vec<&str> = stderr
+        .lines()
+        .filter(|l| l.starts_with("warning"))
+        .collect();
+    assert_eq!(warnings.len(), 1, "{stderr}");
+    assert!(warnings[0].contains("not a loopback address"), "{stderr}");
+    for host in ["127.0.0.1", "localhost"] {
+        let stderr = first_warning(&[input, "--port", "0", "--host", host, "--paused"]);
+        assert!(!stderr.contains("warning"), "{host}: {stderr}");
+    }
 }

@@ -180,6 +180,39 @@ pub enum GraphError {
     /// version builds: another format or version, a reference to a node that does not exist.
     #[error("network description: {0}")]
     Description(String),
+    /// A part of a network whose memory the machine cannot give (see
+    /// [`limits`](crate::graph::limits)).
+    #[error("{what} needs {} bytes, more than can be allocated", crate::Compact(*bytes))]
+    TooLarge {
+        /// The part.
+        what: String,
+        /// The bytes it needs (∞ when the count overflows).
+        bytes: f64,
+    },
+    /// A plastic projection's weight (initial, or set) outside its STDP bounds.
+    #[error("{what}: {kind} weight {} of synapse {synapse} is outside the STDP bounds [{}, {}]", crate::Compact(*weight), crate::Compact(*w_min), crate::Compact(*w_max))]
+    WeightOutsideBounds {
+        /// The projection.
+        what: String,
+        /// `initial` (at connect) or `new` (set).
+        kind: &'static str,
+        /// The synapse (0 for a connectivity with one weight).
+        synapse: usize,
+        /// Its weight.
+        weight: f64,
+        /// The lower bound.
+        w_min: f64,
+        /// The upper bound.
+        w_max: f64,
+    },
+    /// The saved network `path` does not fit the network built from it.
+    #[error("saved network {}", path.display())]
+    Saved {
+        /// The file.
+        path: std::path::PathBuf,
+        /// What does not fit.
+        source: Box<GraphError>,
+    },
     /// A projection that is not plastic, asked for something only plastic ones have.
     #[error("projection {projection} is not plastic (connect it with connect_plastic)")]
     NotPlastic {

@@ -403,14 +403,18 @@ fn a_damaged_or_foreign_file_is_a_typed_error_naming_it() {
     let mut b = load(&renamed, &bad).unwrap();
     b.record_spikes(b.population("out").unwrap()).unwrap();
     let e = b.build(NetworkConfig { dt_s: DT }).err().unwrap();
+    let GraphError::Saved { path, source } = &e else {
+        panic!("{e}")
+    };
+    assert_eq!(path, &bad);
     assert!(
         matches!(
-            e,
+            **source,
             GraphError::Model {
                 source: ModelError::State { .. },
                 ..
             }
-        ) && e.to_string().contains("hidden"),
+        ) && source.to_string().contains("hidden"),
         "{e}"
     );
     // And the saved time step is the only one it builds at.
@@ -448,5 +452,252 @@ fn a_saved_size_larger_than_its_state_is_refused_before_anything_is_allocated() 
     refused(
         &|v| drop(at(v, "state.nodes").as_array_mut().unwrap().pop()),
         "node and",
+    );
+}
+
+/// A saved network after a short run, its bytes and a path for the damaged copy.
+fn saved_file(dir: &Path) -> (Vec<u8>, std::path::PathBuf) {
+    let good = dir.join("good.ntnet");
+    let (mut net, _) = network();
+    net.run(0.05, &OneProcess).unwrap();
+    net.save(&good).unwrap();
+    (std::fs::read(&good).unwrap(), dir.join("bad.ntnet"))
+}
+
+/// `file` changed by `edit`, loaded and built: the error, which names the file.
+fn refused_naming_the_file(
+    file: &[u8],
+    bad: &Path,
+    edit: impl FnOnce(&mut ciborium::Value),
+) -> String {
+    let loaded = load(&with_body(file, edit), bad).map_err(|e| e.to_string());
+    let e = loaded
+        .and_then(|mut b| {
+            b.record_spikes(b.population("out").unwrap()).unwrap();
+            b.build(NetworkConfig { dt_s: DT })
+                .map(|_| ())
+                .map_err(|e| neurotac_core::error_chain(&e))
+        })
+        .expect_err("the damaged file was accepted");
+    assert!(
+        e.contains(&bad.display().to_string()),
+        "the file is not named: {e}"
+    );
+    e
+}
+
+#[test]
+fn a_huge_size_delay_or_step_in_a_saved_network_is_refused_before_it_is_allocated() {
+    let dir = tempfile::tempdir().unwrap();
+    let (file, bad) = saved_file(dir.path());
+    // A delay of 2³² − 1 steps would size the spike history of 'hidden'.
+    let e = refused_naming_the_file(&file, &bad, |v| {
+        *at(v, "description.projections.2.delay_steps") = ciborium::Value::Integer(u32::MAX.into())
+    });
+    assert!(e.contains("delay_steps") && e.contains("2²⁰"), "{e}");
+    // A population of 2³² − 1 neurons whose saved state is missing.
+    let e = refused_naming_the_file(&file, &bad, |v| {
+        *at(v, "description.nodes.2.model.size") = ciborium::Value::Integer(u32::MAX.into());
+        *at(v, "state.nodes.2.model") = ciborium::Value::Null;
+    });
+    assert!(
+        e.contains("'hidden' is saved without its model's state"),
+        "{e}"
+    );
+    // A spike source saved without its position.
+    let e = refused_naming_the_file(&file, &bad, |v| {
+        *at(v, "state.nodes.0.position") = ciborium::Value::Null;
+    });
+    assert!(
+        e.contains("'noise' is saved without its source's position"),
+        "{e}"
+    );
+    // A saved step near 2⁶⁴.
+    let e = refused_naming_the_file(&file, &bad, |v| {
+        *at(v, "state.step") = ciborium::Value::Integer((u64::MAX - 5).into())
+    });
+    assert!(e.contains("step 18446744073709551610"), "{e}");
+}
+
+#[test]
+fn a_spike_in_the_delay_lines_of_a_neuron_that_does_not_exist_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let (file, bad) = saved_file(dir.path());
+    let spike = |index: u64, fraction: f64| {
+        ciborium::Value::Array(vec![
+            ciborium::Value::Array(vec![ciborium::Value::Integer(index.into())]),
+            ciborium::Value::Array(vec![ciborium::Value::Float(fraction)]),
+        ])
+    };
+    // 'hidden' (12 neurons) feeds all-to-all (phantom spike) and is fed sparsely (a panic).
+    for node in [2, 0] {
+        let e = refused_naming_the_file(&file, &bad, |v| {
+            *at(v, &format!("state.nodes.{node}.history.0")) = spike(999, 0.0);
+        });
+        assert!(e.contains("neuron 999 of"), "{e}");
+    }
+    let e = refused_naming_the_file(&file, &bad, |v| {
+        *at(v, "state.nodes.2.history.0") = spike(1, f64::NAN);
+    });
+    assert!(e.contains("fraction NaN"), "{e}");
+}
+
+#[test]
+fn non_finite_currents_and_traces_are_refused_naming_them() {
+    let dir = tempfile::tempdir().unwrap();
+    let (file, bad) = saved_file(dir.path());
+    let e = refused_naming_the_file(&file, &bad, |v| {
+        *at(v, "state.projections.2.current.1") = ciborium::Value::Float(f64::NAN)
+    });
+    assert!(e.contains("projection 2: synaptic current 1 is NaN"), "{e}");
+    for (side, value) in [("pre", f64::NAN), ("post", f64::INFINITY), ("pre", -1.0)] {
+        let e = refused_naming_the_file(&file, &bad, |v| {
+            *at(v, &format!("state.projections.0.plasticity.{side}.0.3")) =
+                ciborium::Value::Float(value)
+        });
+        assert!(
+            e.contains(&format!("STDP {side} trace 3 is {value}")),
+            "{e}"
+        );
+    }
+    let e = refused_naming_the_file(&file, &bad, |v| {
+        *at(v, "state.projections.0.plasticity.post.1.0") =
+            ciborium::Value::Integer(u64::MAX.into())
+    });
+    assert!(e.contains("after the saved step"), "{e}");
+}
+
+#[test]
+fn a_state_of_another_shape_names_the_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let (file, bad) = saved_file(dir.path());
+    let e = refused_naming_the_file(&file, &bad, |v| {
+        at(v, "state.projections.2.current")
+            .as_array_mut()
+            .unwrap()
+            .pop();
+    });
+    assert!(e.contains("projection 2 has 2 currents, expected 3"), "{e}");
+}
+
+/// The description of [`network`] with `edit` made to its JSON.
+fn described(edit: impl FnOnce(&mut serde_json::Value)) -> NetworkDescription {
+    let (net, _) = network();
+    let mut json = serde_json::to_value(net.describe().unwrap()).unwrap();
+    edit(&mut json);
+    serde_json::from_value(json).unwrap()
+}
+
+/// The error of building `description` (with every population's spikes recorded).
+fn build_error(description: &NetworkDescription, dt_s: f64) -> String {
+    let built = NetworkBuilder::from_description(description, &LeakyFactory).and_then(|mut b| {
+        for name in ["hidden", "out"] {
+            if let Ok(p) = b.population(name) {
+                b.record_spikes(p)?;
+            }
+        }
+        b.build(NetworkConfig { dt_s })
+    });
+    neurotac_core::error_chain(&built.err().expect("the description was accepted"))
+}
+
+#[test]
+fn a_description_of_what_the_machine_cannot_hold_is_an_error_not_an_abort() {
+    let e = build_error(
+        &described(|d| d["projections"][2]["delay_steps"] = u32::MAX.into()),
+        DT,
+    );
+    assert!(e.contains("delay_steps") && e.contains("4294967295"), "{e}");
+    let e = build_error(
+        &described(|d| d["nodes"][0]["source"]["poisson"]["size"] = (1u64 << 40).into()),
+        DT,
+    );
+    assert!(e.contains("'noise'") && e.contains("2³² − 1"), "{e}");
+    // A plastic 200 000 × 200 000 all-to-all projection: 4·10¹⁰ synapses.
+    let e = build_error(
+        &described(|d| {
+            d["nodes"][0]["source"]["poisson"]["size"] = 200_000.into();
+            d["nodes"][2]["model"]["size"] = 200_000.into();
+            d["projections"][0]["wiring"] = serde_json::json!({"all_to_all": {"weight": 0.2}});
+        }),
+        DT,
+    );
+    assert!(
+        e.contains("projection 'noise' → 'hidden'") && e.contains("more than can be allocated"),
+        "{e}"
+    );
+}
+
+#[test]
+fn a_run_of_more_steps_than_can_be_done_is_refused_not_spun() {
+    let (b, _) = builder();
+    let mut net = b.build(NetworkConfig { dt_s: 1e-300 }).unwrap();
+    let e = net.run(0.01, &OneProcess).unwrap_err().to_string();
+    assert!(e.contains("2⁴⁰ steps"), "{e}");
+    assert_eq!(net.steps_done(), 0);
+    let (b, _) = builder();
+    let mut net = b.build(NetworkConfig { dt_s: DT }).unwrap();
+    assert!(net.run_steps(u64::MAX, &OneProcess).is_err());
+    assert_eq!(net.steps_for(0.01).unwrap(), 100);
+}
+
+#[test]
+fn stdp_whose_updates_overflow_and_weights_outside_the_bounds_are_refused_plainly() {
+    let plastic = |rule: Stdp, weight: f64, dt_s: f64| {
+        let mut b = NetworkBuilder::new();
+        let input = b
+            .add_spike_input("in", PoissonInput::new(4, 10.0, 1))
+            .unwrap();
+        let out = b.add_population("out", Leaky::new(2, 0.01)).unwrap();
+        let connected = b.connect_plastic(
+            input,
+            out,
+            Connectivity::AllToAll { weight },
+            ExpSynapse::new(5e-3),
+            rule,
+        );
+        connected
+            .and_then(|_| {
+                b.record_spikes(out)?;
+                b.build(NetworkConfig { dt_s })
+            })
+            .err()
+            .map(|e| e.to_string())
+    };
+    let rule = Stdp::additive(0.02, 0.02, 0.01, 0.011, 6.0);
+    assert_eq!(plastic(rule, 0.5, DT), None);
+    let e = plastic(
+        Stdp {
+            a_plus: 1e308,
+            ..rule.multiplicative()
+        },
+        0.5,
+        DT,
+    )
+    .unwrap();
+    assert!(e.contains("a_plus"), "{e}");
+    let e = plastic(
+        Stdp {
+            tau_plus_s: 5e-324,
+            ..rule
+        },
+        0.5,
+        DT,
+    )
+    .unwrap();
+    assert!(e.contains("tau_plus_s") && e.contains("dt/τ"), "{e}");
+    let e = plastic(rule, 7.0, DT).unwrap();
+    assert_eq!(
+        e,
+        "projection 'in' → 'out': initial weight 7 of synapse 0 is outside the STDP bounds [0, 6]"
+    );
+    // Weights set later: said once, with the bounds they are outside.
+    let (mut net, parts) = network();
+    let mut w = net.weights(parts.plastic).unwrap();
+    w.weight[3] = 0.9;
+    let e = net.set_weights(parts.plastic, &w).unwrap_err().to_string();
+    assert_eq!(
+        e,
+        "set_weights of projection 0: new weight 0.9 of synapse 3 is outside the STDP bounds [0, 0.4]"
     );
 }

@@ -216,10 +216,12 @@ impl SongAbbottRun {
     }
 }
 
-/// The output rate in the last tenth of `[0, duration_s)` (Hz).
+/// The output rate in the last tenth of `[0, duration_s)`, the window `[0.9·T, T)` (Hz): a
+/// spike stamped at `T` or later (after the run) is not counted.
 pub fn final_rate_hz(spike_times_s: &[f64], duration_s: f64) -> f64 {
     let from = 0.9 * duration_s;
-    spike_times_s.iter().filter(|&&t| t >= from).count() as f64 / (duration_s - from)
+    let window = from..duration_s;
+    spike_times_s.iter().filter(|t| window.contains(t)).count() as f64 / (duration_s - from)
 }
 
 /// The output rate in consecutive bins of `bin_s` over `[0, duration_s)`: `(bin centre s,
@@ -300,6 +302,20 @@ pub fn compare_weights(ours: &[f64], peer: &[f64]) -> Result<WeightComparison, E
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_final_rate_counts_the_window_before_the_end_only() {
+        // A neuron spiking every step of dt = 0.1 ms for 1 s, and once more at t = T.
+        let dt = 1e-4;
+        let times: Vec<f64> = (0..=10_000).map(|k| k as f64 * dt).collect();
+        let rate = final_rate_hz(&times, 1.0);
+        assert!(
+            (9_990.0..=10_000.0 * (1.0 + 1e-12)).contains(&rate),
+            "{rate} Hz at dt = 0.1 ms"
+        );
+        assert_eq!(final_rate_hz(&[1.0, 1.5], 1.0), 0.0, "spikes at or after T");
+        assert!((final_rate_hz(&[0.95], 1.0) - 10.0).abs() < 1e-9);
+    }
 
     /// 60 s of the default network, long enough for the weights to split (release builds).
     fn learned() -> SongAbbottRun {

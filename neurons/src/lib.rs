@@ -60,6 +60,7 @@ pub mod lif;
 pub mod population;
 pub mod real;
 pub mod run;
+pub mod testing;
 
 pub use builtin::BuiltinModels;
 pub use family::{AfferentPreset, Benchmark, FamilyVisitor, ModelFamily, UpdateCost, check_family};

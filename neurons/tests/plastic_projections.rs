@@ -386,7 +386,7 @@ fn weights_read_write_and_refuse_what_does_not_fit() {
     outside.weight[3] = 0.31;
     let e = net.set_weights(p, &outside).unwrap_err();
     assert!(
-        matches!(e, GraphError::InvalidParameter { .. }) && e.to_string().contains("synapse 3"),
+        matches!(e, GraphError::WeightOutsideBounds { .. }) && e.to_string().contains("synapse 3"),
         "{e}"
     );
     let mut short = w.clone();

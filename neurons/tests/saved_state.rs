@@ -309,7 +309,13 @@ fn states_that_do_not_fit_are_refused_and_leave_the_population_as_it_was() {
             .1 = steps + 1;
         s
     };
+    let far_steps = {
+        let mut s = good.clone();
+        s.counters.iter_mut().find(|(n, _)| n == "steps").unwrap().1 = u64::MAX;
+        s
+    };
     let cases: Vec<(&str, ModelState)> = vec![
+        ("'steps' is 18446744073709551615, beyond", far_steps),
         ("'v'", without_v),
         ("'steps'", without_steps),
         ("'v' holds 41 values", edit_array("v", &|v| v.push(0.5))),

@@ -42,6 +42,13 @@ backend); an ``Output`` must read a spiking node (a population or an ``Input``).
 except when ``v`` lands exactly on the threshold). The metadata never overrides a NIR field, so
 a graph edited in another tool imports with its edits.
 
+**Limits and checks on import.** A graph is checked before anything is made from it: every
+edge a ``(source, target)`` pair of node names the graph has, listed once, never into an
+``Input`` nor out of an ``Output`` (an Output ends a path); the neurotac metadata, when present,
+of the types :func:`to_nir` writes; every time constant > 0; every weight finite after scaling;
+at most :data:`MAX_SIZE` neurons or channels per node and :data:`MAX_DELAY_STEPS` steps of
+delay. Whatever a malformed graph breaks raises :class:`NirError` naming the node or edge.
+
 What one side cannot express is refused with :class:`NirError` naming the node: Izhikevich
 populations, plastic (STDP) projections, a refractory period or a potential floor ``v_min``
 (no NIR neuron has them); NIR nodes neurotac cannot run (``Conv1d``, ``Conv2d``, pooling,
@@ -79,6 +86,12 @@ _VERSION = 1
 _META_FORMAT = "neurotac-nir"
 _META_VERSION = 1
 _LIF = "lif"
+#: The most neurons of a population, or channels of an ``Input``, an imported graph may have (a
+#: spike train, and parameter values, are made for each).
+MAX_SIZE = 2**22
+#: The longest delay of an imported projection, in steps (the library's
+#: ``graph::limits::MAX_DELAY_STEPS``).
+MAX_DELAY_STEPS = 2**20
 #: Node types :func:`graph_to_description` understands.
 _NEURONS = ("CubaLIF", "LIF")
 _CHAIN = ("Linear", "Affine", "Delay", "LI")
@@ -288,7 +301,11 @@ def from_nir(graph, dt_s=None):
     """
     from . import Network
 
-    return Network.from_description(_json.dumps(graph_to_description(graph, dt_s)))
+    description = _json.dumps(graph_to_description(graph, dt_s))
+    try:
+        return Network.from_description(description)
+    except NeurotacValueError as e:
+        raise NirError("graph", f"its network does not build: {e}") from e
 
 
 def _metadata(graph):
@@ -310,11 +327,91 @@ def _metadata(graph):
             f"'{METADATA_KEY}' has version {meta.get('version')}, "
             f"this neurotac reads {_META_VERSION}",
         )
+    _check_metadata_types(meta)
     return meta
+
+
+def _check_metadata_types(meta):
+    """Refuses metadata fields of other types than :func:`description_to_graph` writes."""
+
+    def refuse(field, value, expected):
+        raise NirError("graph metadata", f"'{field}' is {value!r}, expected {expected}")
+
+    dt_s = meta.get("dt_s")
+    if dt_s is not None and (isinstance(dt_s, bool) or not isinstance(dt_s, (int, float))):
+        refuse("dt_s", dt_s, "a number of seconds")
+    stepping = meta.get("stepping")
+    if stepping is not None and not isinstance(stepping, (str, dict)):
+        refuse("stepping", stepping, "a stepping (\"clock\", \"event\" or {\"auto\": …})")
+    for field in ("order", "unfed"):
+        names = meta.get(field, [])
+        if not isinstance(names, list) or not all(isinstance(n, str) for n in names):
+            refuse(field, names, "a list of node names")
+    nodes = meta.get("nodes", {})
+    if not isinstance(nodes, dict):
+        refuse("nodes", nodes, "an object of node records")
+    for name, record in nodes.items():
+        field = f"nodes.{name}"
+        if not isinstance(record, dict):
+            refuse(field, record, "an object")
+        for key, kind, expected in (
+            ("source", dict, "a source description"),
+            ("model", str, "a model name"),
+            ("settings", dict, "an object of settings"),
+        ):
+            if key in record and not isinstance(record[key], kind):
+                refuse(f"{field}.{key}", record[key], expected)
 
 
 def _label(name, node):
     return f"NIR node '{name}' ({type(node).__name__})"
+
+
+def _edges(graph):
+    """The graph's edges as ``(source, target)`` pairs, checked (see the module docs)."""
+    nodes = graph.nodes
+    if not isinstance(nodes, dict) or not all(isinstance(n, str) for n in nodes):
+        raise NirError("graph", "nodes is not a dict from node names to nodes")
+    try:
+        edges = list(graph.edges)
+    except TypeError as e:
+        raise NirError("graph", "edges is not a list of (source, target) pairs") from e
+    seen = set()
+    for k, edge in enumerate(edges):
+        label = f"edge {k} {edge!r}"
+        try:
+            a, b = edge
+        except (TypeError, ValueError) as e:
+            raise NirError(label, "is not a (source, target) pair") from e
+        if isinstance(edge, (str, bytes)):
+            raise NirError(label, "is not a (source, target) pair")
+        for end in (a, b):
+            if not isinstance(end, str):
+                raise NirError(label, f"endpoint {end!r} is not a node name")
+            if end not in nodes:
+                raise NirError(label, f"names node '{end}', which the graph does not have")
+        if (a, b) in seen:
+            raise NirError(label, "is listed twice (its input would count twice)")
+        if isinstance(nodes[b], _nir.Input):
+            raise NirError(label, f"leads into Input '{b}', which receives nothing")
+        if isinstance(nodes[a], _nir.Output):
+            raise NirError(label, f"leaves Output '{a}', which ends a path")
+        seen.add((a, b))
+    return [tuple(e) for e in edges]
+
+
+def _checked_size(name, node, size):
+    """``size`` (neurons or channels of a node) as an int, refused beyond :data:`MAX_SIZE`."""
+    if not 1 <= size <= MAX_SIZE:
+        raise NirError(_label(name, node), f"size {size}, expected 1 to {MAX_SIZE}")
+    return int(size)
+
+
+def _positive(name, node, field, value):
+    """A time constant, refused unless > 0."""
+    if not value > 0:
+        raise NirError(_label(name, node), f"{field} = {value}, expected > 0")
+    return value
 
 
 def _values(name, node, field, n=None):
@@ -344,6 +441,17 @@ def _uniform(name, node, field, n=None):
     return float(values[0])
 
 
+def _shape_size(name, node, shape):
+    """The number of values of an input or output ``shape`` (exact, never overflowing)."""
+    dims = _np.asarray(shape).ravel().tolist()
+    if not dims or not all(isinstance(d, int) and not isinstance(d, bool) and d >= 0 for d in dims):
+        raise NirError(_label(name, node), f"shape {shape!r} is not a list of sizes")
+    size = 1
+    for d in dims:
+        size *= d
+    return _checked_size(name, node, size)
+
+
 def _neuron_size(name, node):
     size = _np.asarray(node.v_threshold).size
     if _np.asarray(node.v_threshold).ndim == 0:
@@ -352,8 +460,8 @@ def _neuron_size(name, node):
             raise NirError(
                 _label(name, node), "scalar parameters and no output shape: size unknown"
             )
-        size = int(_np.prod(shape))
-    return int(size)
+        return _shape_size(name, node, shape)
+    return _checked_size(name, node, size)
 
 
 def _initial_at(v):
@@ -364,7 +472,8 @@ def _initial_at(v):
 def _population(name, node, meta_node):
     """A description's population node from a NIR CubaLIF or LIF."""
     n = _neuron_size(name, node)
-    tau_m = _uniform(name, node, "tau_mem" if isinstance(node, _nir.CubaLIF) else "tau", n)
+    tau_field = "tau_mem" if isinstance(node, _nir.CubaLIF) else "tau"
+    tau_m = _positive(name, node, tau_field, _uniform(name, node, tau_field, n))
     v_leak = _uniform(name, node, "v_leak", n)
     params = {
         "tau_m_s": tau_m,
@@ -392,9 +501,21 @@ def _population(name, node, meta_node):
 
 def _input(name, node, meta_node):
     """A description's spike source from a NIR Input (trains or Poisson from the metadata)."""
-    size = int(_np.prod(node.input_type["input"]))
+    shape = node.input_type.get("input") if isinstance(node.input_type, dict) else None
+    if shape is None:
+        raise NirError(_label(name, node), "input_type has no 'input' shape")
+    size = _shape_size(name, node, shape)
     source = meta_node.get("source") or {"spike_array": {"trains": [[] for _ in range(size)]}}
-    return {"kind": "source", "name": name, "source": source}
+    described = {"kind": "source", "name": name, "source": source}
+    try:
+        stated = _size(described)
+    except (KeyError, TypeError, ValueError, AttributeError) as e:
+        raise NirError(_label(name, node), f"its metadata source is malformed ({e!r})") from e
+    if stated != size:
+        raise NirError(
+            _label(name, node), f"its metadata source has {stated!r} channels, the Input {size}"
+        )
+    return described
 
 
 def _wiring(m):
@@ -436,13 +557,14 @@ def graph_to_description(graph, dt_s=None):
     dt_s = float(dt_s)
     if not (_np.isfinite(dt_s) and dt_s > 0):
         raise NirError("graph", f"dt_s = {dt_s}, expected finite and > 0")
+    edges = _edges(graph)
     nodes = graph.nodes
     for name, node in nodes.items():
         kind = type(node).__name__
         if kind not in ("Input", "Output") + _NEURONS + _CHAIN:
             raise NirError(_label(name, node), "neurotac cannot run this node type")
     preds = {name: [] for name in nodes}
-    for a, b in graph.edges:
+    for a, b in edges:
         preds[b].append(a)
     meta_nodes = meta.get("nodes", {})
     order = [n for n in meta.get("order", []) if n in nodes]
@@ -453,7 +575,7 @@ def graph_to_description(graph, dt_s=None):
     unfed = set(meta.get("unfed", []))
     added = {
         a
-        for a, b in graph.edges
+        for a, b in edges
         if b in unfed and a not in meta.get("order", []) and isinstance(nodes[a], _nir.Input)
     }
     order = [n for n in order if n not in added]
@@ -461,17 +583,19 @@ def graph_to_description(graph, dt_s=None):
     described = {}
     for name in order:
         node = nodes[name]
-        if isinstance(node, _nir.Input):
-            described[name] = _input(name, node, meta_nodes.get(name, {}))
-        elif isinstance(node, _NEURON_TYPES):
-            described[name] = _population(name, node, meta_nodes.get(name, {}))
+        with _malformed(_label(name, node)):
+            if isinstance(node, _nir.Input):
+                described[name] = _input(name, node, meta_nodes.get(name, {}))
+            elif isinstance(node, _NEURON_TYPES):
+                described[name] = _population(name, node, meta_nodes.get(name, {}))
     visited = set(described) | added
 
     projections = []
-    for src, post in graph.edges:
+    for src, post in edges:
         if src in added or not isinstance(nodes[post], _NEURON_TYPES):
             continue
-        projection, chain = _projection(graph, preds, described, src, post, dt_s)
+        with _malformed(f"edge ('{src}', '{post}')"):
+            projection, chain = _projection(graph, preds, described, src, post, dt_s)
         projections.append(projection)
         visited.update(chain)
 
@@ -500,6 +624,24 @@ def graph_to_description(graph, dt_s=None):
         "nodes": [described[n] for n in order if n in described],
         "projections": projections,
     }
+
+
+class _malformed:
+    """Turns what a malformed node's fields break (a missing attribute, a wrong type) into a
+    :class:`NirError` naming ``where``."""
+
+    def __init__(self, where):
+        self.where = where
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, kind, error, trace):
+        if kind is not None and issubclass(kind, (AttributeError, KeyError, TypeError, ValueError)):
+            if isinstance(error, NirError):
+                return False
+            raise NirError(self.where, f"is malformed ({kind.__name__}: {error})") from error
+        return False
 
 
 _NEURON_TYPES = (_nir.CubaLIF, _nir.LIF)
@@ -541,7 +683,7 @@ def _projection(graph, preds, described, src, post, dt_s):
                 _label(chain["LI"], nodes[chain["LI"]]),
                 f"is a second synapse before CubaLIF '{post}'",
             )
-        tau_s = _uniform(post, target, "tau_syn", n_post)
+        tau_s = _positive(post, target, "tau_syn", _uniform(post, target, "tau_syn", n_post))
         factor = (
             _values(post, target, "r", n_post) * _values(post, target, "w_in", n_post)
         ) / tau_s
@@ -554,7 +696,7 @@ def _projection(graph, preds, described, src, post, dt_s):
             )
         li_name = chain["LI"]
         li = nodes[li_name]
-        tau_s = _uniform(li_name, li, "tau", n_post)
+        tau_s = _positive(li_name, li, "tau", _uniform(li_name, li, "tau", n_post))
         if _np.any(_values(li_name, li, "v_leak", n_post) != 0):
             raise NirError(
                 _label(li_name, li),
@@ -598,14 +740,24 @@ def _projection(graph, preds, described, src, post, dt_s):
                 f"delay {delay_s} s is not a whole number of steps of {dt_s} s",
             )
         delay_steps = int(steps)
+        if delay_steps > MAX_DELAY_STEPS:
+            raise NirError(
+                _label(delay_name, delay),
+                f"delay {delay_s} s is {delay_steps} steps of {dt_s} s, "
+                f"more than the {MAX_DELAY_STEPS} a projection may have",
+            )
     if isinstance(nodes[pre], _NEURON_TYPES):
         delay_steps = max(delay_steps, 1)
+    with _np.errstate(over="ignore"):
+        effective = weight * factor[:, None]
+    if not _np.all(_np.isfinite(effective)):
+        raise NirError(label, f"the weights from '{pre}' scaled by r·w_in/τ_syn are not finite")
     projection = {
         "pre": pre,
         "post": post,
         "tau_s": tau_s,
         "delay_steps": delay_steps,
-        "wiring": _wiring(weight * factor[:, None]),
+        "wiring": _wiring(effective),
         "plasticity": None,
     }
     return projection, chain.values()

@@ -79,7 +79,11 @@ pub(crate) fn contiguous<'py, T: Element, D: Dimension>(
     // NumPy's cast truncates fractions, wraps out-of-range integers and turns NaN into
     // INT64_MIN: an integer array must hold exactly the values given.
     let integer: bool = dtype.getattr("kind")?.extract::<String>()? != "f";
-    if integer && !numpy.call_method1("array_equal", (&array, &original))?.is_truthy()? {
+    if integer
+        && !numpy
+            .call_method1("array_equal", (&array, &original))?
+            .is_truthy()?
+    {
         return Err(invalid(format!(
             "expected integers that fit {} (no fractions, NaN or values out of its range), got {}",
             dtype.str()?,

@@ -85,6 +85,34 @@ impl Network {
     }
 }
 
+/// How often a run looks for Ctrl-C.
+const SIGNAL_CHECK_EVERY: std::time::Duration = std::time::Duration::from_millis(50);
+
+/// Runs `net` for `steps` steps without the interpreter lock, checking for signals every
+/// [`SIGNAL_CHECK_EVERY`] (Ctrl-C: the run ends there, with the steps done kept, and
+/// `KeyboardInterrupt` is raised); the steps done.
+fn run_interruptibly(py: Python<'_>, net: &mut CoreNetwork, steps: u64) -> PyResult<u64> {
+    let mut signal: Option<PyErr> = None;
+    let mut last_check = std::time::Instant::now();
+    let summary = py
+        .detach(|| {
+            let mut interrupted = || {
+                if last_check.elapsed() < SIGNAL_CHECK_EVERY {
+                    return false;
+                }
+                last_check = std::time::Instant::now();
+                signal = Python::attach(|py| py.check_signals().err());
+                signal.is_some()
+            };
+            net.run_steps_until(steps, &OneProcess, &mut interrupted)
+        })
+        .or_raise()?;
+    match signal {
+        Some(e) => Err(e),
+        None => Ok(summary.steps),
+    }
+}
+
 /// The id called `name` in `list`, or a `NeurotacValueError` listing the names there are.
 fn find<T: Copy>(list: &[(String, T)], name: &str, what: &str) -> PyResult<T> {
     list.iter()
@@ -212,8 +240,9 @@ impl Network {
             }
         }
         let net = self.net_mut();
-        let summary = py.detach(|| net.run(duration_s, &OneProcess)).or_raise()?;
-        Ok(summary.steps)
+        // Refused up front: a duration that is not finite, or more steps than a run may take.
+        let steps = net.steps_for(duration_s).or_value_error()?;
+        run_interruptibly(py, net, steps)
     }
 
     /// Returns to time 0: potentials and synaptic currents start anew, inputs replay from
@@ -256,11 +285,7 @@ impl Network {
     /// The spikes of population or spike input `name` since time 0 (or since loading), in
     /// time order: ``(times, indices)``,
     /// float64 seconds and uint32 neuron (channel) indices.
-    fn spikes<'py>(
-        &self,
-        py: Python<'py>,
-        name: &str,
-    ) -> PyResult<SpikeArrays<'py>> {
+    fn spikes<'py>(&self, py: Python<'py>, name: &str) -> PyResult<SpikeArrays<'py>> {
         let id = find(&self.recorders, name, "population or spike input")?;
         let net = self.net();
         let spikes = net.readout(id).or_raise()?.spikes();

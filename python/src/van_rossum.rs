@@ -25,7 +25,9 @@ fn square(
     tau: f64,
 ) -> Result<Array2<f64>, DistanceError> {
     check_cos(cos)?;
-    VanRossum::new(tau)?.matrices(observations, &neurotac_core::OneProcess)?.distances(cos)
+    VanRossum::new(tau)?
+        .matrices(observations, &neurotac_core::OneProcess)?
+        .distances(cos)
 }
 
 /// pymuvr's `square_distance_matrix(observations, cos, tau)`: the `N × N` matrix (float64) of

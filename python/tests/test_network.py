@@ -231,3 +231,80 @@ def test_plastic_projection_learns_until_frozen():
     with pytest.raises(neurotac.NeurotacValueError, match="STDP bounds"):
         net.set_weights(1, learned + 2.0)
     assert np.array_equal(net.weights(1, dense=False)[2], learned)
+
+
+def test_a_run_of_absurdly_many_steps_is_refused_at_once():
+    description = recurrent()
+    description["dt_s"] = 1e-300
+    net = neurotac.Network.from_description(json.dumps(description))
+    with pytest.raises(neurotac.NeurotacValueError, match="2⁴⁰ steps"):
+        net.run(0.01)
+    assert net.time_s == 0.0
+
+
+def test_a_long_run_stops_on_ctrl_c_keeping_the_steps_done():
+    import _thread
+    import threading
+    import time
+
+    net = neurotac.Network.from_description(json.dumps(recurrent()))
+    timer = threading.Timer(0.5, _thread.interrupt_main)
+    start = time.monotonic()
+    timer.start()
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            net.run(1e6)  # 10¹⁰ steps: hours, unless interrupted
+    finally:
+        timer.cancel()
+    assert time.monotonic() - start < 30
+    assert 0 < net.time_s < 1e6
+    # It goes on from there.
+    before = net.time_s
+    net.run(0.01)
+    assert net.time_s == pytest.approx(before + 0.01)
+
+
+def test_a_crafted_saved_network_is_an_error_not_an_abort(tmp_path):
+    net = neurotac.Network.from_description(json.dumps(recurrent()))
+    net.run(0.01)
+    good = tmp_path / "net.ntnet"
+    net.save(good)
+    data = good.read_bytes()
+    # The saved step (a CBOR u64) set near 2⁶⁴, length and checksum made right.
+    import zlib
+
+    body = data[20:-4]
+    at = body.find(b"\x64step") + 5  # the key "step", then its CBOR unsigned integer
+    width = {0x18: 2, 0x19: 3, 0x1A: 5, 0x1B: 9}.get(body[at], 1)
+    body = body[:at] + b"\x1b" + (2**64 - 6).to_bytes(8, "big") + body[at + width :]
+    crafted = data[:12] + len(body).to_bytes(8, "little") + body
+    crafted += zlib.crc32(crafted).to_bytes(4, "little")
+    bad = tmp_path / "bad.ntnet"
+    bad.write_bytes(crafted)
+    with pytest.raises(neurotac.NeurotacError) as e:
+        neurotac.Network.load(bad)
+    assert "bad.ntnet" in str(e.value)
+
+
+def test_descriptions_of_what_cannot_be_held_are_refused_not_aborted():
+    cases = [
+        (lambda d: d["projections"][1].update(delay_steps=2**32 - 1), "delay_steps"),
+        (
+            lambda d: d["nodes"][0]["source"]["poisson"].update(size=2**40),
+            "at most 2³² − 1",
+        ),
+        (lambda d: d["nodes"][1]["model"].update(size=2**32 - 1), "more than can be allocated"),
+    ]
+    for edit, expected in cases:
+        description = recurrent()
+        edit(description)
+        with pytest.raises(neurotac.NeurotacValueError, match=expected):
+            neurotac.Network.from_description(json.dumps(description))
+    # A plastic 200 000 × 200 000 all-to-all projection: 4·10¹⁰ synapses.
+    description = recurrent()
+    description["nodes"][0]["source"]["poisson"]["size"] = 200_000
+    description["nodes"][1]["model"]["size"] = 200_000
+    description["projections"][0]["wiring"] = {"all_to_all": {"weight": 0.2}}
+    description["projections"][0]["plasticity"] = STDP
+    with pytest.raises(neurotac.NeurotacValueError, match="more than can be allocated"):
+        neurotac.Network.from_description(json.dumps(description))

@@ -378,3 +378,114 @@ def test_the_readme_nir_example_runs_and_round_trips(tmp_path, monkeypatch):
     again = scope["again"]
     again.run(0.05)
     assert [a.tolist() for a in again.spikes("lif")] == [times.tolist(), neurons.tolist()]
+
+
+def test_malformed_edges_are_refused_naming_the_edge():
+    cases = [
+        (lambda g: g.edges.append(("input", "nowhere")), "names node 'nowhere'"),
+        (lambda g: g.edges.append(("ghost", "lif")), "names node 'ghost'"),
+        (lambda g: g.edges.append(("input",)), "is not a (source, target) pair"),
+        (lambda g: g.edges.append("ab"), "is not a (source, target) pair"),
+        (lambda g: g.edges.append((1, "lif")), "endpoint 1 is not a node name"),
+        (lambda g: g.edges.append(("input", "linear")), "is listed twice"),
+        (lambda g: g.edges.append(("lif", "input")), "leads into Input 'input'"),
+    ]
+    for edit, expected in cases:
+        graph = built_with_nir(1.0)
+        edit(graph)
+        message = refused_on_import(graph)
+        assert message.startswith("edge ") and expected in message, message
+
+
+def test_an_output_mid_path_is_refused():
+    graph = built_with_nir(1.0)
+    graph.nodes["lif2"] = graph.nodes["lif"]
+    graph.edges += [("output", "lif2")]
+    assert "leaves Output 'output'" in refused_on_import(graph)
+
+
+def test_metadata_of_the_wrong_types_is_refused_naming_the_field():
+    description = two_layers()
+    for field, value in [
+        ("dt_s", "0.1ms"),
+        ("dt_s", True),
+        ("order", 5),
+        ("order", [1, 2]),
+        ("unfed", "out"),
+        ("nodes", []),
+        ("stepping", 3),
+    ]:
+        graph = to_nir(description)
+        meta = json.loads(graph.metadata["neurotac"])
+        meta[field] = value
+        graph.metadata["neurotac"] = json.dumps(meta)
+        message = refused_on_import(graph)
+        assert message.startswith(f"graph metadata: '{field}' is"), message
+    graph = to_nir(description)
+    meta = json.loads(graph.metadata["neurotac"])
+    meta["nodes"]["in"]["source"] = "spikes"
+    graph.metadata["neurotac"] = json.dumps(meta)
+    assert refused_on_import(graph).startswith("graph metadata: 'nodes.in.source' is")
+    # A metadata source with another channel count than its Input.
+    graph = to_nir(description)
+    meta = json.loads(graph.metadata["neurotac"])
+    meta["nodes"]["in"]["source"] = {"poisson": {"size": 10**12, "rate_hz": 1.0, "seed": 1}}
+    graph.metadata["neurotac"] = json.dumps(meta)
+    assert "has 1000000000000 channels, the Input 3" in refused_on_import(graph)
+
+
+def test_sizes_and_delays_beyond_the_limits_are_refused_before_anything_is_made():
+    # A Delay of 3·10⁹ steps (it would size a spike history of 3·10⁹ slots).
+    graph = built_with_nir(1.0)
+    graph.nodes["delay"] = nir.Delay(delay=np.array([3e9 * DT_S]))
+    graph.edges[0] = ("input", "delay")
+    graph.edges.insert(1, ("delay", "linear"))
+    message = refused_on_import(graph)
+    assert message.startswith("NIR node 'delay' (Delay)") and "3000000000 steps" in message
+    # An Input of 10⁹ channels (a spike train each).
+    graph = built_with_nir(1.0)
+    graph.nodes["input"].input_type = {"input": np.array([1000, 1000, 1000])}
+    message = refused_on_import(graph)
+    assert message.startswith("NIR node 'input' (Input): size 1000000000"), message
+    graph.nodes["input"].input_type = {"input": np.array([-1])}
+    assert "is not a list of sizes" in refused_on_import(graph)
+    graph.nodes["input"].input_type = {}
+    assert "no 'input' shape" in refused_on_import(graph)
+
+
+def test_a_zero_time_constant_is_refused_naming_it():
+    message = refused_on_import(built_with_nir(1.0, tau_syn=0.0))
+    assert message.startswith("NIR node 'lif' (CubaLIF): tau_syn = 0.0, expected > 0"), message
+    graph = built_with_nir(1.0)
+    graph.nodes["lif"].tau_mem = np.array([-0.01])
+    assert "tau_mem = -0.01, expected > 0" in refused_on_import(graph)
+    # Weights that overflow once scaled by r·w_in/τ_syn.
+    message = refused_on_import(built_with_nir(1e308, w_in=1e10))
+    assert "are not finite" in message
+
+
+def test_a_malformed_node_is_refused_naming_it():
+    graph = built_with_nir(1.0)
+    del graph.nodes["lif"].v_threshold
+    message = refused_on_import(graph)
+    assert "'lif'" in message and "malformed" in message, message
+    graph = built_with_nir(1.0)
+    graph.nodes["linear"].weight = "heavy"
+    message = refused_on_import(graph)
+    assert "('linear', 'lif')" in message or "'linear'" in message, message
+
+
+def test_what_the_library_refuses_is_a_nir_error_too():
+    graph = built_with_nir(1.0)
+    meta = {
+        "format": "neurotac-nir",
+        "version": 1,
+        "dt_s": DT_S,
+        "stepping": "sideways",
+        "order": [],
+        "unfed": [],
+        "nodes": {},
+    }
+    graph.metadata = {"neurotac": json.dumps(meta)}
+    with pytest.raises(NirError, match="does not build"):
+        from_nir(graph)

@@ -25,7 +25,7 @@ pub enum ViewError {
         source: std::io::Error,
     },
     /// The source failed (a read error names the file and offset; a camera, what happened).
-    #[error("{0}")]
+    #[error(transparent)]
     Source(crate::source::SourceError),
     /// A snapshot time after the stream's last event.
     #[error("--at {at_s} s is after the stream's end ({end_s:.3} s)")]

@@ -35,7 +35,13 @@ pub enum Speed {
 }
 
 impl Speed {
-    /// Parses `realtime`, `max`, `2`, `2x`, `0.5×`.
+    /// The slowest paced speed: a millionth of real time.
+    pub const MIN_FACTOR: f64 = 1e-6;
+    /// The fastest paced speed: a million times real time (faster is `max`).
+    pub const MAX_FACTOR: f64 = 1e6;
+
+    /// Parses `realtime`, `max`, `2`, `2x`, `0.5×`: a factor from [`MIN_FACTOR`](Self::MIN_FACTOR)
+    /// to [`MAX_FACTOR`](Self::MAX_FACTOR).
     pub fn parse(text: &str) -> Option<Speed> {
         let t = text.trim();
         match t {
@@ -45,7 +51,9 @@ impl Speed {
         }
         let number = t.trim_end_matches(['x', '×']);
         let factor: f64 = number.parse().ok()?;
-        (factor.is_finite() && factor > 0.0 && factor <= 1e6).then_some(Speed::Paced(factor))
+        (Self::MIN_FACTOR..=Self::MAX_FACTOR)
+            .contains(&factor)
+            .then_some(Speed::Paced(factor))
     }
 
     /// As the page shows it: `realtime`, `2×`, `max`.
@@ -59,7 +67,21 @@ impl Speed {
 }
 
 impl Control {
-    /// Parses a `POST /control` body: `pause`, `play`, `step`, `seek <s>`, `speed <speed>`.
+    /// The controls, as an error message lists them.
+    pub fn syntax() -> String {
+        format!(
+            "pause, play, step, seek SECONDS (0 to {:e}), speed realtime|max|N (N from {:e} to {:e})",
+            Self::MAX_SEEK_S,
+            Speed::MIN_FACTOR,
+            Speed::MAX_FACTOR
+        )
+    }
+
+    /// The latest seek target (s): its time in µs still fits an `i64` (292 000 years).
+    pub const MAX_SEEK_S: f64 = 9.2e12;
+
+    /// Parses a `POST /control` body: `pause`, `play`, `step`, `seek <s>` (0 to
+    /// [`MAX_SEEK_S`](Self::MAX_SEEK_S)), `speed <speed>` ([`Speed::parse`]).
     pub fn parse(body: &str) -> Option<Control> {
         let mut words = body.split_whitespace();
         let control = match (words.next()?, words.next()) {
@@ -68,7 +90,9 @@ impl Control {
             ("step", None) => Control::Step,
             ("seek", Some(t)) => {
                 let t: f64 = t.parse().ok()?;
-                (t.is_finite() && t >= 0.0).then_some(Control::Seek(t))?
+                (0.0..=Self::MAX_SEEK_S)
+                    .contains(&t)
+                    .then_some(Control::Seek(t))?
             }
             ("speed", Some(s)) => Control::Speed(Speed::parse(s)?),
             _ => return None,

@@ -35,7 +35,8 @@
 //! | [`source`] | [`StreamSource`]: a recorded file ([`FileSource`]), a DAVIS camera ([`CameraSource`]) |
 //! | [`player`] | [`Player`]: pacing (`realtime`, `N×`, `max`), pause, step, seek; a frame every [`FRAME_INTERVAL`](player::FRAME_INTERVAL) |
 //! | [`hub`] | [`Hub`]: frames drawn on their own thread and handed to every viewer; [`Control`]s back |
-//! | [`server`] | [`Server`]: the embedded HTTP server, the page and its Server-Sent Events |
+//! | [`server`] | [`Server`]: the embedded HTTP server, the page and its Server-Sent Events, and its security model |
+//! | [`request`] | reading one request within a deadline; [`AllowedHosts`], the `Host` values it answers |
 //! | [`draw`] | [`draw_frame`]: a [`Frame`] as one standalone SVG (event image with fields, taxel hexagons, raster and population rate, decisions, what is left out); [`event_image_png`] |
 //! | [`snapshot`] | [`frame_at`]: the frame at a chosen time, without a browser (`--snapshot`) |
 //! | [`error`] | [`ViewError`] |
@@ -47,6 +48,7 @@ pub mod frame;
 pub mod hub;
 pub mod monitor;
 pub mod player;
+pub mod request;
 pub mod server;
 pub mod snapshot;
 pub mod source;
@@ -59,6 +61,7 @@ pub use frame::{
 pub use hub::{Control, Hub, Speed};
 pub use monitor::{MonitorConfig, StreamMonitor};
 pub use player::{NoObserver, Player, PlayerEnd, PlayerOptions, StreamObserver};
-pub use server::Server;
+pub use request::AllowedHosts;
+pub use server::{CONTROL_CONTENT_TYPE, Server, ServerLimits};
 pub use snapshot::frame_at;
 pub use source::{CameraSource, FileSource, SourceError, SourceRead, StreamSource};

@@ -183,21 +183,24 @@ impl<'s> Player<'s> {
         let (end, due) = match (self.is_live(), self.speed) {
             (false, Speed::Paced(f)) => {
                 let (wall, stream) = *self.anchor.get_or_insert((now, first));
-                let stream_now = stream + ((now - wall).as_secs_f64() * f * 1e6) as i64;
+                // Saturating: a stream with far-apart times (or a slow speed) cannot overflow.
+                let stream_now =
+                    stream.saturating_add(((now - wall).as_secs_f64() * f * 1e6) as i64);
                 let rest = &self.pending.t[self.cursor..];
                 let end = self.cursor + rest.partition_point(|&t| t <= stream_now);
                 if end == self.cursor {
                     // Quiet: let the clock close a pooling window, then wait for the next event.
-                    self.monitor.advance_to(stream_now.min(first - 1));
-                    let wait = Duration::from_secs_f64((first - stream_now) as f64 / f * 1e-6);
+                    self.monitor
+                        .advance_to(stream_now.min(first.saturating_sub(1)));
+                    let wait = wall_time(first.saturating_sub(stream_now), f);
                     std::thread::sleep(
                         wait.min(until.saturating_duration_since(now))
                             .min(Duration::from_millis(5)),
                     );
                     return false;
                 }
-                let due = wall + Duration::from_secs_f64((first - stream).max(0) as f64 / f * 1e-6);
-                (end, due)
+                let after = wall_time(first.saturating_sub(stream).max(0), f);
+                (end, wall.checked_add(after).unwrap_or(now))
             }
             _ => (self.pending.len(), now),
         };
@@ -217,7 +220,7 @@ impl<'s> Player<'s> {
                 false
             }
             Err(e) => {
-                self.fail(format!("{}: {e}", self.label));
+                self.fail_with(&*e);
                 false
             }
         }
@@ -240,7 +243,7 @@ impl<'s> Player<'s> {
         let result = self.monitor.push(events);
         self.observer.push(events);
         if let Err(e) = result {
-            self.fail(format!("{}: {e}", self.label));
+            self.fail_with(&e);
         }
     }
 
@@ -255,8 +258,14 @@ impl<'s> Player<'s> {
                 self.restart();
             }
             Ok(false) => self.state = PlayState::Ended,
-            Err(e) => self.fail(format!("{}: {e}", self.label)),
+            Err(e) => self.fail_with(&*e),
         }
+    }
+
+    /// Fails with the source's error `e` and its causes (the OS reason of a file that went).
+    fn fail_with(&mut self, e: &(dyn std::error::Error + 'static)) {
+        let why = format!("{}: {}", self.label, neurotac_core::error_chain(e));
+        self.fail(why);
     }
 
     fn fail(&mut self, why: String) {
@@ -296,7 +305,8 @@ impl<'s> Player<'s> {
             }
             Control::Step if self.state != PlayState::Failed && !self.is_live() => {
                 let window = self.options.monitor.transduction.pool_window_us;
-                let target = self.monitor.elapsed_us().map_or(window, |t| t + window);
+                let target =
+                    (self.monitor.elapsed_us()).map_or(window, |t| t.saturating_add(window));
                 self.state = PlayState::Paused;
                 self.fast_forward(target);
                 self.publish();
@@ -307,7 +317,7 @@ impl<'s> Player<'s> {
                     || self.state == PlayState::Ended
                 {
                     if let Err(e) = self.source.rewind() {
-                        return self.fail(format!("{}: {e}", self.label));
+                        return self.fail_with(&*e);
                     }
                     self.restart();
                 }
@@ -334,14 +344,15 @@ impl<'s> Player<'s> {
             }
             let origin = self.monitor_origin();
             let rest = &self.pending.t[self.cursor..];
-            let end = self.cursor + rest.partition_point(|&t| t - origin <= target_us);
+            let end =
+                self.cursor + rest.partition_point(|&t| t.saturating_sub(origin) <= target_us);
             let now = self.clock.unix_ms(Instant::now());
             if end > self.cursor {
                 self.push_range(end, now);
             }
             if end < self.pending.len() || self.state == PlayState::Failed {
                 let origin = self.monitor_origin();
-                self.monitor.advance_to(origin + target_us);
+                self.monitor.advance_to(origin.saturating_add(target_us));
                 return;
             }
         }
@@ -385,6 +396,12 @@ impl<'s> Player<'s> {
         frame.oldest_new_event_due_unix_ms = self.oldest_due.take();
         self.hub.publish(frame);
     }
+}
+
+/// The wall time `stream_us` of stream time takes at speed `factor` (> 0), as long as the
+/// largest [`Duration`] at most (a slow speed and far-apart events cannot overflow it).
+fn wall_time(stream_us: i64, factor: f64) -> Duration {
+    Duration::try_from_secs_f64(stream_us as f64 / factor * 1e-6).unwrap_or(Duration::MAX)
 }
 
 /// Wall-clock milliseconds since the Unix epoch for [`Instant`]s (which the page's clock is

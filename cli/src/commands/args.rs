@@ -160,7 +160,17 @@ fn time_in(s: &str, min: Time, max: Time) -> Result<Time, String> {
         true => format!("; a bare number means milliseconds, write {number}s for seconds"),
         false => String::new(),
     };
-    Err(format!("{t} is {side}{hint}"))
+    // The value as given: a huge one has no readable form in another unit.
+    Err(format!("{} is {side}{hint}", given(s)))
+}
+
+/// `s` as it was typed (a bare number with its unit, ms, added), cut to 40 characters.
+fn given(s: &str) -> String {
+    let text: String = s.chars().take(40).collect();
+    match TIME_UNITS.iter().any(|(suffix, _)| s.ends_with(suffix)) {
+        true => text,
+        false => format!("{text}ms"),
+    }
 }
 
 /// A simulation time step (`neuron --dt`, `bench --dt`, `--trace-dt`): 1 µs … 100 ms.
@@ -173,9 +183,43 @@ pub fn time_window(s: &str) -> Result<Time, String> {
     time_in(s, Time(1e-3), Time(10.0))
 }
 
-/// A Van Rossum kernel time constant τ (`--tau`, `--tau-min`, `--tau-max`): 1 ms … 10 s.
+/// The τ range of touch codings (the paper's searches): outside it `--tau` warns.
+const USUAL_TAU: (Time, Time) = (Time(1e-3), Time(10.0));
+
+/// A Van Rossum kernel time constant τ (`--tau`, `--tau-min`, `--tau-max`): any finite time
+/// above 0, as the library computes the distance exactly at every τ; outside 1 ms … 10 s it
+/// warns ([`unusual_tau`]).
 pub fn time_tau(s: &str) -> Result<Time, String> {
-    time_in(s, Time(1e-3), Time(10.0))
+    let t = time_in(s, Time(f64::MIN_POSITIVE), Time(f64::MAX))?;
+    if let Some(warning) = unusual_tau(s, t) {
+        eprintln!("warning: {warning}");
+    }
+    Ok(t)
+}
+
+/// Why τ `t` (typed as `s`) is unusual, if it is outside 1 ms … 10 s; a bare number gets the
+/// hint that it means milliseconds.
+pub fn unusual_tau(s: &str, t: Time) -> Option<String> {
+    let (min, max) = USUAL_TAU;
+    if (min..=max).contains(&t) {
+        return None;
+    }
+    let number = s.trim();
+    let bare = !TIME_UNITS
+        .iter()
+        .any(|(suffix, _)| number.ends_with(suffix));
+    let hint = match bare
+        && number
+            .parse()
+            .is_ok_and(|x: f64| (min..=max).contains(&Time(x)))
+    {
+        true => format!("; a bare number means milliseconds, write {number}s for seconds"),
+        false => String::new(),
+    };
+    Some(format!(
+        "τ = {} is outside {min} … {max}, the range of touch codings{hint}",
+        given(s)
+    ))
 }
 
 /// The step of a τ grid (`--tau-step`): 0.1 ms … 1 s.
@@ -264,13 +308,41 @@ mod tests {
     }
 
     #[test]
+    fn an_out_of_range_time_is_echoed_as_given() {
+        let e = time_duration("1e300s").unwrap_err();
+        assert!(e.starts_with("1e300s is above the largest, 86400s"), "{e}");
+        assert!(!e.contains("inf"), "{e}");
+        let e = time_step("1e-300s").unwrap_err();
+        assert!(e.starts_with("1e-300s is below the smallest, 1µs"), "{e}");
+    }
+
+    #[test]
+    fn every_tau_the_library_computes_is_accepted_and_an_unusual_one_warned_about() {
+        // The fixtures' τ = 1 µs, which the library (and pymuvr) compute exactly.
+        assert_eq!(time_tau("1us").map(Time::s), Ok(1e-6));
+        assert_eq!(time_tau("0.076").map(Time::s), Ok(76e-6));
+        assert_eq!(time_tau("100s").map(Time::s), Ok(100.0));
+        let warning = unusual_tau("0.076", Time(76e-6)).unwrap();
+        assert!(
+            warning.contains("0.076ms is outside 1ms … 10s"),
+            "{warning}"
+        );
+        assert!(warning.contains("write 0.076s for seconds"), "{warning}");
+        assert!(!unusual_tau("1us", Time(1e-6)).unwrap().contains("bare"));
+        assert_eq!(unusual_tau("76ms", Time(0.076)), None);
+        for bad in ["0", "-1ms", "nan", "inf", "1e999s"] {
+            assert!(time_tau(bad).is_err(), "{bad}");
+        }
+    }
+
+    #[test]
     fn a_bare_value_in_seconds_is_refused_with_a_hint() {
-        let e = time_tau("0.076").unwrap_err();
-        assert!(e.contains("76µs is below the smallest, 1ms"), "{e}");
+        let e = time_window("0.076").unwrap_err();
+        assert!(e.contains("0.076ms is below the smallest, 1ms"), "{e}");
         assert!(e.contains("write 0.076s for seconds"), "{e}");
         assert_eq!(time_tau("0.076s").map(Time::ms), Ok(76.0));
         // With a unit the value is what the user meant: no hint.
-        let e = time_tau("20s").unwrap_err();
+        let e = time_window("20s").unwrap_err();
         assert!(
             e.contains("above the largest, 10s") && !e.contains("bare"),
             "{e}"

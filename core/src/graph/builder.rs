@@ -6,6 +6,7 @@ use super::ids::{
     ReadoutSource, SpikingNode, checked_index, fresh_brand,
 };
 use super::input::{CurrentInput, SpikeSource};
+use super::limits::{MAX_DELAY_STEPS, check_allocatable, check_node_size};
 use super::network::{DEFAULT_EPOCH_STEPS, ExchangeStats, Network, Partition};
 use super::readout::{Readout, SpikeRecorder, StateRecorder, SynapticTraceRecorder};
 use super::running::{RunningKind, RunningNode, RunningSource};
@@ -16,7 +17,6 @@ use crate::error::GraphError;
 use crate::model::{NeuronModel, SpikeBuffer};
 use crate::ranks::even_block;
 use std::marker::PhantomData;
-use std::ops::Range;
 
 pub(super) enum NodeKind {
     Spikes(Box<dyn SpikeSource>),
@@ -36,13 +36,13 @@ impl NodeKind {
 
 pub(super) struct NodeSpec {
     pub(super) name: String,
-    size: usize,
+    pub(super) size: usize,
     pub(super) kind: NodeKind,
 }
 
 pub(super) struct ProjectionSpec {
-    pre: usize,
-    post: usize,
+    pub(super) pre: usize,
+    pub(super) post: usize,
     connectivity: Connectivity,
     synapse: ExpSynapse,
     plasticity: Option<Stdp>,
@@ -59,10 +59,17 @@ pub struct NetworkBuilder {
     pub(super) projections: Vec<ProjectionSpec>,
     /// `(current node, population)` injections.
     injections: Vec<(usize, usize)>,
-    readouts: Vec<(ReadoutSource, Box<dyn Readout>)>,
+    pub(super) readouts: Vec<(ReadoutSource, Box<dyn Readout>)>,
     stepping: Stepping,
-    /// The time step and state of the saved network this builder was loaded from.
-    pub(super) saved: Option<(f64, Box<NetworkState>)>,
+    /// The saved network this builder was loaded from.
+    pub(super) saved: Option<Saved>,
+}
+
+/// A saved network's time step and state, and its file (named in every error of its restore).
+pub(super) struct Saved {
+    pub(super) dt_s: f64,
+    pub(super) state: Box<NetworkState>,
+    pub(super) path: std::path::PathBuf,
 }
 
 impl Default for NetworkBuilder {
@@ -170,6 +177,7 @@ impl NetworkBuilder {
         model: Box<dyn NeuronModel>,
     ) -> Result<PopulationId, GraphError> {
         let size = model.len();
+        check_node_size(name, size)?;
         self.add(name, size, NodeKind::Population(model))
             .map(|n| PopulationId {
                 index: n.index,
@@ -193,6 +201,7 @@ impl NetworkBuilder {
         source: Box<dyn SpikeSource>,
     ) -> Result<InputId, GraphError> {
         let size = source.len();
+        check_node_size(name, size)?;
         self.add(name, size, NodeKind::Spikes(source))
             .map(|n| InputId {
                 index: n.index,
@@ -297,6 +306,13 @@ impl NetworkBuilder {
                 what: format!("{what} tau_s"),
                 value: synapse.tau_s,
                 expected: "finite and > 0",
+            });
+        }
+        if synapse.delay_steps > MAX_DELAY_STEPS {
+            return Err(GraphError::InvalidParameter {
+                what: format!("{what} delay_steps"),
+                value: f64::from(synapse.delay_steps),
+                expected: "at most 2²⁰ steps (limits::MAX_DELAY_STEPS)",
             });
         }
         if matches!(src.kind, NodeKind::Population(_)) && synapse.delay_steps == 0 {
@@ -476,7 +492,7 @@ impl NetworkBuilder {
             self.check_partitionable_readouts(size)?;
         }
         let saved = self.saved.take();
-        if let Some((saved_dt, _)) = &saved {
+        if let Some(Saved { dt_s: saved_dt, .. }) = &saved {
             if *saved_dt != dt_s {
                 return Err(GraphError::InvalidParameter {
                     what: format!("NetworkConfig dt_s of a network saved at dt = {saved_dt} s"),
@@ -536,6 +552,8 @@ impl NetworkBuilder {
                 continue;
             }
             let mut local = 0..spec.size;
+            // Its input, spike buffer and (a population's) state: a few numbers per neuron.
+            check_allocatable(|| format!("node '{}'", spec.name), spec.size as u64, 64)?;
             let kind = match spec.kind {
                 NodeKind::Current(c) => {
                     runtime_index[i] = Some(currents.len());
@@ -596,6 +614,18 @@ impl NetworkBuilder {
             }
             let history = &mut nodes[pre].history;
             if history.len() < delay + 1 {
+                let slots = (delay + 1 - history.len()) as u64;
+                check_allocatable(
+                    || {
+                        format!(
+                            "the spike history of '{}' ({delay} steps of delay)",
+                            nodes[pre].name
+                        )
+                    },
+                    slots,
+                    size_of::<SpikeBuffer>() as u64,
+                )?;
+                let history = &mut nodes[pre].history;
                 history.resize(delay + 1, SpikeBuffer::new());
             }
             // A projection kept only for a trace readout may have a pruned target.
@@ -606,11 +636,26 @@ impl NetworkBuilder {
             let post_block = block(sizes[p.post]);
             projection_index[i] = Some(projections.len());
             let n_local = post_block.len();
+            let what = || {
+                format!(
+                    "projection '{}' → '{}'",
+                    nodes[pre].name,
+                    runtime_index[p.post].map_or("(pruned)", |j| nodes[j].name.as_str())
+                )
+            };
+            // Explicit synapses (4-byte target, 8-byte weight; a plastic one's two indices too).
+            let (synapses, per_synapse) = match p.plasticity {
+                Some(_) => (p.connectivity.max_synapses(sizes[p.pre], n_local), 36),
+                None => (p.connectivity.stored_synapses(sizes[p.pre], n_local), 12),
+            };
+            check_allocatable(what, synapses, per_synapse)?;
+            check_allocatable(what, (sizes[p.pre] + n_local) as u64, 24)?;
             let mut wiring = p
                 .connectivity
                 .compile(sizes[p.pre], sizes[p.post], post_block);
             let mut plasticity = None;
             if let Some(rule) = p.plasticity {
+                rule.validate_at(&what(), dt_s)?;
                 wiring = wiring.explicit(sizes[p.pre], n_local);
                 if let Wiring::Csr { offsets, post, .. } = &wiring {
                     plasticity = Some(Box::new(Plasticity::new(
@@ -718,67 +763,14 @@ impl NetworkBuilder {
             current_names,
             stepping: self.stepping,
         };
-        if let Some((_, state)) = saved {
-            network.restore(&state)?;
+        if let Some(saved) = saved {
+            network
+                .restore(&saved.state)
+                .map_err(|source| GraphError::Saved {
+                    path: saved.path,
+                    source: Box::new(source),
+                })?;
         }
         Ok(network)
-    }
-
-    /// `model` cut to `block` (see [`NeuronModel::restrict`]).
-    fn restricted(
-        model: Box<dyn NeuronModel>,
-        block: Range<usize>,
-        name: &str,
-    ) -> Result<Box<dyn NeuronModel>, GraphError> {
-        let not_partitionable = || GraphError::ModelNotPartitionable {
-            population: name.to_owned(),
-            model: model.model_name(),
-        };
-        let part = model
-            .restrict(block.clone())
-            .ok_or_else(not_partitionable)?;
-        if part.len() != block.len() {
-            return Err(GraphError::SizeMismatch {
-                what: format!("population '{name}' restricted to neurons {block:?}"),
-                expected: block.len(),
-                got: part.len(),
-            });
-        }
-        Ok(part)
-    }
-
-    /// Refuses the readouts that need state only one rank holds (see
-    /// [`build_partitioned`](Self::build_partitioned)).
-    fn check_partitionable_readouts(&self, size: usize) -> Result<(), GraphError> {
-        for (source, r) in &self.readouts {
-            let (node, reason) = match *source {
-                ReadoutSource::Projection(p) => {
-                    let p = &self.projections[p.index];
-                    (
-                        format!(
-                            "projection '{}' → '{}'",
-                            self.nodes[p.pre].name, self.nodes[p.post].name
-                        ),
-                        "it reads synaptic currents, which each rank holds only for its own neurons",
-                    )
-                }
-                ReadoutSource::Node(n) => {
-                    let n = &self.nodes[n.index];
-                    if !(matches!(n.kind, NodeKind::Population(_)) && r.reads_population_state()) {
-                        continue;
-                    }
-                    (
-                        format!("population '{}'", n.name),
-                        "it reads the population's state, which each rank holds only for its own neurons",
-                    )
-                }
-            };
-            return Err(GraphError::ReadoutNotPartitionable {
-                node,
-                ranks: size,
-                reason,
-            });
-        }
-        Ok(())
     }
 }

@@ -219,7 +219,8 @@ impl NetworkBuilder {
     /// is checked as when a network is defined in code; errors: another format or a newer
     /// version, a reference to a node that does not exist ([`GraphError::Description`]), a
     /// model the factory refuses ([`GraphError::Model`]), and every error of the builder's
-    /// own checks.
+    /// own checks — the [limits](super::limits) on sizes and delays among them; a part the
+    /// machine cannot hold is refused at build ([`GraphError::TooLarge`]).
     pub fn from_description(
         description: &NetworkDescription,
         models: &dyn ModelFactory,

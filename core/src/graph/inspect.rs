@@ -81,12 +81,21 @@ impl Network {
                 });
             }
             let w = weights.weight[s];
-            let inside = bounds.is_none_or(|(lo, hi)| (lo..=hi).contains(&w));
-            if !(w.is_finite() && inside) {
+            if !w.is_finite() {
                 return Err(GraphError::InvalidParameter {
                     what: format!("{what}: weight of synapse {s}"),
                     value: w,
-                    expected: "finite (and within the STDP bounds of a plastic projection)",
+                    expected: "finite",
+                });
+            }
+            if let Some((w_min, w_max)) = bounds.filter(|(lo, hi)| !(lo..=hi).contains(&&w)) {
+                return Err(GraphError::WeightOutsideBounds {
+                    what: what.clone(),
+                    kind: "new",
+                    synapse: s,
+                    weight: w,
+                    w_min,
+                    w_max,
                 });
             }
         }

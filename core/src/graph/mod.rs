@@ -72,8 +72,10 @@ mod exchange;
 mod ids;
 mod input;
 mod inspect;
+pub mod limits;
 mod names;
 mod network;
+mod partitioned;
 mod readout;
 mod running;
 mod saved;
@@ -101,7 +103,8 @@ pub use readout::{
 pub use saved::{NETWORK_FILE_MAGIC, NETWORK_FILE_VERSION, NetworkFileError};
 pub use stepping::{
     CLOCK_SAMPLE_STEPS, CROSSOVER_FILE_NAME, Crossovers, DECISION_WINDOW_STEPS, EVENT_CHECK_STEPS,
-    HYSTERESIS, PopulationStepping, Stepping, SteppingFileError, SteppingMode,
+    HYSTERESIS, MAX_CROSSOVER_FILE_BYTES, PopulationStepping, Stepping, SteppingFileError,
+    SteppingMode,
 };
 pub use synapse::{
     Connectivity, ExpSynapse, Stdp, Synapse, TraceInteraction, WeightDependence, Weights,

@@ -4,6 +4,7 @@
 use super::exchange::{pack_epoch, unpack_epoch};
 use super::ids::{InputId, NodeId, ReadoutId, checked_index};
 use super::input::{CurrentInput, SpikeSource};
+use super::limits::{MAX_RUN_STEPS, MAX_STEPS};
 use super::readout::{Readout, ReadoutContext, StepView};
 use super::running::{RunningKind, RunningNode, RunningSource};
 use super::stepping::{ActiveSet, EventStepping, PopulationStepping, SteppingMode};
@@ -266,16 +267,24 @@ impl Network {
         }
     }
 
-    /// [`run_steps`](Self::run_steps) of a network built for one process.
-    fn run_steps_in_one_process(&mut self, steps: u64) -> Result<RunSummary, GraphError> {
+    /// [`run_steps`](Self::run_steps) of a network built for one process, asking
+    /// `interrupted` every 256 steps.
+    fn run_steps_in_one_process(
+        &mut self,
+        steps: u64,
+        interrupted: &mut dyn FnMut() -> bool,
+    ) -> Result<RunSummary, GraphError> {
         if !self.begun {
             self.begin_readouts();
         }
         let mut done = 0;
         let mut stopped_early = false;
         while done < steps {
-            let stop = self.step_once();
+            let mut stop = self.step_once();
             done += 1;
+            if done % 256 == 0 && done < steps && interrupted() {
+                stop = true;
+            }
             if stop || done == steps || done % 256 == 0 {
                 for n in &self.nodes {
                     if let RunningKind::Population(m) = &n.kind {
@@ -316,15 +325,45 @@ impl Network {
     /// [`NetworkBuilder::build_partitioned`](super::NetworkBuilder::build_partitioned) otherwise,
     /// every rank of which must call it with the same duration.
     pub fn run(&mut self, duration_s: f64, ranks: &dyn Ranks) -> Result<RunSummary, GraphError> {
-        let steps = duration_s / self.dt_s;
-        if !(steps.is_finite() && steps >= 0.0) {
+        let steps = self.steps_for(duration_s)?;
+        self.run_steps(steps, ranks)
+    }
+
+    /// The steps [`run`](Self::run) takes for `duration_s` (rounded to whole steps): refused
+    /// when the duration is not finite and ≥ 0, or the steps are more than one run may take
+    /// ([`MAX_RUN_STEPS`]: a `dt` of 10⁻³⁰⁰ s makes any duration such a run) or than the
+    /// network may do in all ([`MAX_STEPS`]).
+    pub fn steps_for(&self, duration_s: f64) -> Result<u64, GraphError> {
+        let steps = (duration_s / self.dt_s).round();
+        if !(duration_s.is_finite() && steps >= 0.0) {
             return Err(GraphError::InvalidParameter {
                 what: "run duration_s".into(),
                 value: duration_s,
                 expected: "finite and ≥ 0",
             });
         }
-        self.run_steps(steps.round() as u64, ranks)
+        if steps > MAX_RUN_STEPS as f64 {
+            return Err(GraphError::InvalidParameter {
+                what: format!("run of {duration_s} s at dt = {} s: steps", self.dt_s),
+                value: steps,
+                expected: "at most 2⁴⁰ steps in one run (limits::MAX_RUN_STEPS)",
+            });
+        }
+        let steps = steps as u64;
+        self.check_step_budget(steps)?;
+        Ok(steps)
+    }
+
+    /// Refuses `steps` more steps when they would take the network past [`MAX_STEPS`].
+    fn check_step_budget(&self, steps: u64) -> Result<(), GraphError> {
+        match self.step.checked_add(steps) {
+            Some(end) if end <= MAX_STEPS => Ok(()),
+            _ => Err(GraphError::InvalidParameter {
+                what: format!("{steps} more steps after step {}: steps", self.step),
+                value: self.step as f64 + steps as f64,
+                expected: "at most 2⁵³ steps in all (limits::MAX_STEPS)",
+            }),
+        }
     }
 
     /// Runs `steps` steps (fewer if a readout asks to stop), then calls every readout's `finish`.
@@ -351,9 +390,23 @@ impl Network {
     /// exchange on each rank, and reported to all: the rank that diverged returns its
     /// [`GraphError::Model`], the others [`GraphError::PeerDiverged`].
     pub fn run_steps(&mut self, steps: u64, ranks: &dyn Ranks) -> Result<RunSummary, GraphError> {
+        self.run_steps_until(steps, ranks, &mut || false)
+    }
+
+    /// [`run_steps`](Self::run_steps) that can be interrupted: in one process `interrupted` is
+    /// asked every 256 steps, and the run ends there (as a readout's stop request ends it,
+    /// [`RunSummary::stopped_early`]) when it answers `true` — Ctrl-C in a binding. Over
+    /// several ranks it is not asked (the ranks could not agree where to stop).
+    pub fn run_steps_until(
+        &mut self,
+        steps: u64,
+        ranks: &dyn Ranks,
+        interrupted: &mut dyn FnMut() -> bool,
+    ) -> Result<RunSummary, GraphError> {
         self.check_ranks(ranks.rank(), ranks.size())?;
+        self.check_step_budget(steps)?;
         if self.partition.size == 1 {
-            return self.run_steps_in_one_process(steps);
+            return self.run_steps_in_one_process(steps, interrupted);
         }
         if !self.begun {
             self.begin_readouts();

@@ -9,6 +9,7 @@
 use super::builder::NetworkBuilder;
 use super::description::{NetworkDescription, NodeDescription};
 use super::input::SourceDescription;
+use super::limits::MAX_STEPS;
 use super::network::{Network, active_neurons};
 use super::running::RunningKind;
 use super::snapshot::{NetworkState, NodeState, ProjectionState, TraceState};
@@ -179,6 +180,15 @@ impl Network {
     /// a typed error naming the file, never a different network. Numbers are stored as they are
     /// (CBOR floats are exact). Written through [`AtomicFile`](crate::AtomicFile): never half-written.
     ///
+    /// Reading checks the state against the description before anything is built: one state per
+    /// population (its model's arrays, at least as long as the population) and per spike source
+    /// (its position; a Poisson source's, its channels + 2 numbers), spikes in the delay lines of
+    /// neurons that exist, finite synaptic currents, finite traces ≥ 0 of steps not after the
+    /// saved one. The description keeps the [limits](super::limits) of any network: at most
+    /// 2³² − 1 neurons or channels per node, delays of at most 2²⁰ steps, at most 2⁵³ steps
+    /// done; a part whose memory cannot be reserved is refused before it is built. Every error
+    /// names the file, those of the build included ([`GraphError::Saved`]).
+    ///
     pub fn save(&self, path: impl AsRef<Path>) -> Result<(), NetworkFileError> {
         let path = path.as_ref();
         let graph = |source| NetworkFileError::Graph {
@@ -340,7 +350,16 @@ impl NetworkBuilder {
             action: IoAction::Read,
             source,
         })?;
-        let saved = decode(&bytes, path)?;
+        Self::from_saved_bytes(&bytes, path, models)
+    }
+
+    /// [`load`](Self::load) of a saved network's bytes (`path` names them in errors).
+    pub fn from_saved_bytes(
+        bytes: &[u8],
+        path: &Path,
+        models: &dyn ModelFactory,
+    ) -> Result<NetworkBuilder, NetworkFileError> {
+        let saved = decode(bytes, path)?;
         check_state_fits(&saved).map_err(|what| NetworkFileError::Graph {
             path: path.to_owned(),
             source: Box::new(GraphError::Description(format!("saved state: {what}"))),
@@ -352,21 +371,57 @@ impl NetworkBuilder {
                     source: Box::new(source),
                 }
             })?;
-        b.saved = Some((saved.description.dt_s, Box::new(saved.state)));
+        b.saved = Some(super::builder::Saved {
+            dt_s: saved.description.dt_s,
+            state: Box::new(saved.state),
+            path: path.to_owned(),
+        });
         Ok(b)
+    }
+
+    /// The description in a saved network's bytes, checked as [`load`](Self::load) checks the
+    /// file (header, length, checksum, decoding) but not built: what a tool reads to look at a
+    /// saved network before making it.
+    pub fn saved_description(
+        bytes: &[u8],
+        path: &Path,
+    ) -> Result<NetworkDescription, NetworkFileError> {
+        Ok(decode(bytes, path)?.description)
     }
 
     /// The time step of the saved network this builder was loaded from ([`load`](Self::load)).
     pub fn saved_dt_s(&self) -> Option<f64> {
-        self.saved.as_ref().map(|(dt, _)| *dt)
+        self.saved.as_ref().map(|saved| saved.dt_s)
     }
 }
 
-/// Checks, before anything is made, that the saved state has one entry per described node
-/// (populations and spike sources) and projection, and that no population is larger than its
-/// longest saved array: a corrupt size never sizes an allocation (the arrays are in the file).
+/// The neurons or channels of a described node (a current source: its values).
+fn node_size(node: &NodeDescription) -> usize {
+    match node {
+        NodeDescription::Population { model, .. } => model.size,
+        NodeDescription::Source { source, .. } => match source {
+            SourceDescription::SpikeArray { trains } => trains.len(),
+            SourceDescription::Poisson { size, .. } => *size,
+        },
+        NodeDescription::Current { current, .. } => current.len(),
+    }
+}
+
+/// Checks, before anything is made, that the saved state fits its description: one entry per
+/// described node (populations with their model's state, spike sources with their position)
+/// and projection; no population larger than its longest saved array, no Poisson source with
+/// more channels than its saved position (a corrupt size never sizes an allocation: the arrays
+/// are in the file); a step count within [`MAX_STEPS`]; spikes in the delay lines of neurons
+/// that exist, at fractions of a step in [0, 1]; finite synaptic currents; plastic traces
+/// finite, ≥ 0 and last updated no later than the saved step.
 fn check_state_fits(saved: &SavedNetwork) -> Result<(), String> {
     let (d, s) = (&saved.description, &saved.state);
+    if s.step > MAX_STEPS {
+        return Err(format!(
+            "step {} is beyond the {MAX_STEPS} steps a network may do",
+            s.step
+        ));
+    }
     let nodes = (d.nodes.iter())
         .filter(|n| !matches!(n, NodeDescription::Current { .. }))
         .count();
@@ -378,7 +433,71 @@ fn check_state_fits(saved: &SavedNetwork) -> Result<(), String> {
             d.projections.len()
         ));
     }
-    for (node, state) in d.nodes.iter().zip(&s.nodes) {
+    let described = (d.nodes.iter()).filter(|n| !matches!(n, NodeDescription::Current { .. }));
+    for (node, state) in described.clone().zip(&s.nodes) {
+        let name = node.name();
+        let kind_fits = match node {
+            NodeDescription::Population { .. } => state.model.is_some() && state.position.is_none(),
+            _ => state.model.is_none() && state.position.is_some(),
+        };
+        if !kind_fits {
+            return Err(format!(
+                "node '{name}' is saved without its {} (or with another kind's)",
+                match node {
+                    NodeDescription::Population { .. } => "model's state",
+                    _ => "source's position",
+                }
+            ));
+        }
+        let size = node_size(node);
+        for (back, (indices, fractions)) in (1..).zip(&state.history) {
+            let spikes = || format!("the spikes of '{name}' {back} steps back");
+            if indices.len() != fractions.len() {
+                return Err(format!(
+                    "{}: {} indices and {} fractions",
+                    spikes(),
+                    indices.len(),
+                    fractions.len()
+                ));
+            }
+            if let Some(&j) = indices.iter().find(|&&j| j as usize >= size) {
+                return Err(format!("{}: neuron {j} of {size}", spikes()));
+            }
+            if let Some(phi) = fractions.iter().find(|f| !(0.0..=1.0).contains(*f)) {
+                return Err(format!(
+                    "{}: in-step fraction {phi}, expected in [0, 1]",
+                    spikes()
+                ));
+            }
+        }
+    }
+    for (i, p) in s.projections.iter().enumerate() {
+        if let Some((j, c)) = p.current.iter().enumerate().find(|(_, c)| !c.is_finite()) {
+            return Err(format!(
+                "projection {i}: synaptic current {j} is {c}, expected finite"
+            ));
+        }
+        if let Some(t) = &p.plasticity {
+            for (side, (value, at)) in [("pre", &t.pre), ("post", &t.post)] {
+                if let Some((j, x)) = value
+                    .iter()
+                    .enumerate()
+                    .find(|(_, x)| !(x.is_finite() && **x >= 0.0))
+                {
+                    return Err(format!(
+                        "projection {i}: STDP {side} trace {j} is {x}, expected finite and ≥ 0"
+                    ));
+                }
+                if let Some((j, k)) = at.iter().enumerate().find(|(_, k)| **k > s.step) {
+                    return Err(format!(
+                        "projection {i}: STDP {side} trace {j} was updated at step {k}, after the saved step {}",
+                        s.step
+                    ));
+                }
+            }
+        }
+    }
+    for (node, state) in described.zip(&s.nodes) {
         // A firing Poisson source's position holds each channel's next spike.
         if let (
             NodeDescription::Source {

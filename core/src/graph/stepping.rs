@@ -180,10 +180,11 @@ impl Crossovers {
     }
 
     /// Reads the crossover file `path`: `Ok(None)` when it does not exist, a
-    /// [`SteppingFileError`] naming the file when it cannot be read, is not the JSON above, or
-    /// holds a crossover outside `(0, 1]`.
+    /// [`SteppingFileError`] naming the file when it cannot be read, is not a regular file of at
+    /// most [`MAX_CROSSOVER_FILE_BYTES`] (a FIFO, a device, a folder: never waited on or read
+    /// without end), is not the JSON above, or holds a crossover outside `(0, 1]`.
     pub fn load(path: &Path) -> Result<Option<Self>, SteppingFileError> {
-        let text = match std::fs::read_to_string(path) {
+        let text = match read_bounded(path) {
             Ok(t) => t,
             Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
             Err(source) => {
@@ -222,6 +223,38 @@ impl Crossovers {
             source,
         })
     }
+}
+
+/// The largest crossover file read (a few models' numbers take a hundred bytes).
+pub const MAX_CROSSOVER_FILE_BYTES: u64 = 64 * 1024;
+
+/// The text of `path` if it is a regular file of at most [`MAX_CROSSOVER_FILE_BYTES`]. Opened
+/// without waiting (a FIFO is not waited for), then checked on the open handle.
+fn read_bounded(path: &Path) -> std::io::Result<String> {
+    use std::io::Read;
+    let mut options = std::fs::OpenOptions::new();
+    options.read(true);
+    #[cfg(unix)]
+    std::os::unix::fs::OpenOptionsExt::custom_flags(&mut options, libc::O_NONBLOCK);
+    let file = options.open(path)?;
+    let meta = file.metadata()?;
+    let refuse = |what: String| std::io::Error::new(std::io::ErrorKind::InvalidData, what);
+    if !meta.is_file() {
+        return Err(refuse("not a regular file".into()));
+    }
+    if meta.len() > MAX_CROSSOVER_FILE_BYTES {
+        return Err(refuse(format!(
+            "{} bytes, more than the {MAX_CROSSOVER_FILE_BYTES} a crossover file may have",
+            meta.len()
+        )));
+    }
+    let mut text = String::new();
+    file.take(MAX_CROSSOVER_FILE_BYTES + 1)
+        .read_to_string(&mut text)?;
+    if text.len() as u64 > MAX_CROSSOVER_FILE_BYTES {
+        return Err(refuse("it grew while it was read".into()));
+    }
+    Ok(text)
 }
 
 /// A stored crossover file ([`Crossovers`]) that cannot be read,
@@ -449,6 +482,28 @@ mod tests {
         assert_eq!(back, c);
         assert_eq!(back.get("LIF"), Some(0.021));
         assert_eq!(back.get("QIF"), None);
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn a_crossover_file_that_is_not_a_small_regular_file_is_refused_without_waiting() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join(CROSSOVER_FILE_NAME);
+        // A FIFO nobody writes to: opening it to read would wait for ever.
+        let c = std::ffi::CString::new(path.to_str().unwrap()).unwrap();
+        assert_eq!(unsafe { libc::mkfifo(c.as_ptr(), 0o600) }, 0);
+        let e = Crossovers::load(&path).unwrap_err().to_string();
+        assert!(e.contains(&path.display().to_string()), "{e}");
+        std::fs::remove_file(&path).unwrap();
+        // A link to an endless device.
+        std::os::unix::fs::symlink("/dev/zero", &path).unwrap();
+        let e = crate::error_chain(&Crossovers::load(&path).unwrap_err());
+        assert!(e.contains("not a regular file"), "{e}");
+        std::fs::remove_file(&path).unwrap();
+        // A regular file too large to be one.
+        std::fs::write(&path, vec![b' '; MAX_CROSSOVER_FILE_BYTES as usize + 1]).unwrap();
+        let e = crate::error_chain(&Crossovers::load(&path).unwrap_err());
+        assert!(e.contains("more than"), "{e}");
     }
 
     #[test]

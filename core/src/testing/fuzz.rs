@@ -13,7 +13,20 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// The name a fuzzed input goes by in errors.
-const FUZZ_PATH: &str = "<fuzz>";
+pub const FUZZ_PATH: &str = "<fuzz>";
+
+/// `body` as a saved network file ([`Network::save`](crate::Network::save)'s format): magic,
+/// version, length, `body`, and its CRC-32 — how a fuzzer, which cannot forge the checksum,
+/// reaches the decoder behind it.
+pub fn saved_network_file(body: &[u8]) -> Vec<u8> {
+    let mut file = crate::graph::NETWORK_FILE_MAGIC.to_vec();
+    file.extend_from_slice(&crate::graph::NETWORK_FILE_VERSION.to_le_bytes());
+    file.extend_from_slice(&(body.len() as u64).to_le_bytes());
+    file.extend_from_slice(body);
+    let crc = crc32fast::hash(&file);
+    file.extend_from_slice(&crc.to_le_bytes());
+    file
+}
 
 /// Reads `bytes` as a spike-dataset file ([`SpikeDataset::from_bytes`], the reader of
 /// `neurotac distances`, `classify` and `export`) and checks what it gives; see

@@ -15,6 +15,7 @@ use crate::integrate::{Integrator, UnknownIntegrator};
 use crate::real::Real;
 #[cfg(doc)]
 use neurotac_core::NeuronModel;
+use neurotac_core::graph::limits::MAX_STEPS;
 use neurotac_core::{ModelDescription, ModelError, ModelState};
 use serde_json::{Value, json};
 
@@ -180,6 +181,11 @@ impl<M: BlockModel> BlockPopulation<M> {
             )));
         }
         let steps = state.counter(model, "steps")?;
+        if steps > MAX_STEPS {
+            return Err(misfit(format!(
+                "'steps' is {steps}, beyond the {MAX_STEPS} steps a network may do"
+            )));
+        }
         let diverged = state.counter(model, "diverged_at")?;
         if diverged > steps {
             return Err(misfit(format!(

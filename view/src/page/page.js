@@ -9,8 +9,13 @@ let skipped = 0;
 let latencyMax = 0;
 let state = "connecting";
 
+// The server obeys only its own content type (a page of another site cannot send it).
 function control(body) {
-  return fetch("/control", { method: "POST", body });
+  return fetch("/control", {
+    method: "POST",
+    body,
+    headers: { "Content-Type": "application/x-neurotac-control" },
+  });
 }
 
 $("pause").addEventListener("click", () =>

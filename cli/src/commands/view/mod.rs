@@ -55,7 +55,8 @@ pub struct ViewArgs {
     #[arg(long, default_value_t = 8240)]
     port: u16,
     /// Address to listen on (the page has no authentication: keep it on this machine unless
-    /// the network is yours).
+    /// the network is yours; a non-loopback address gets a warning). The page answers only
+    /// requests naming localhost, 127.0.0.1, [::1] or this address.
     #[arg(long, default_value = "127.0.0.1")]
     host: String,
     /// Recognise the texture online with every coding: a labelled spike dataset (as
@@ -87,7 +88,11 @@ pub struct ViewArgs {
 
 fn speed(text: &str) -> Result<Speed, String> {
     Speed::parse(text).ok_or_else(|| {
-        format!("{text:?} is not a speed: realtime, max, or a factor such as 2, 0.5x")
+        format!(
+            "{text:?} is not a speed: realtime, max, or a factor from {:e} to {:e} such as 2, 0.5x",
+            Speed::MIN_FACTOR,
+            Speed::MAX_FACTOR
+        )
     })
 }
 
@@ -101,6 +106,7 @@ pub fn run(a: ViewArgs) -> anyhow::Result<()> {
     if a.device && a.snapshot.is_some() {
         bail!("--snapshot draws a recording or a simulated slide, not the live camera");
     }
+    let snapshot_kind = a.snapshot.as_deref().map(snapshot_kind).transpose()?;
     if let Some(out) = &a.snapshot {
         if let Some(input) = &a.input {
             check_distinct(input, out)?;
@@ -146,11 +152,11 @@ pub fn run(a: ViewArgs) -> anyhow::Result<()> {
         let at_s = a.at.map(Time::s);
         let frame = frame_at(&mut *source, observer, &layout, monitor, at_s)?;
         let svg = draw_frame(&frame);
-        let bytes = match out.extension().is_some_and(|e| e == "png") {
-            true => PngRenderer::new()
+        let bytes = match snapshot_kind {
+            Some(SnapshotKind::Png) => PngRenderer::new()
                 .render(&svg, 1.5)
                 .with_context(|| format!("drawing {}", out.display()))?,
-            false => svg.into_bytes(),
+            _ => svg.into_bytes(),
         };
         neurotac_core::io::write(out, bytes, Replace::when(a.force.force))
             .with_context(|| format!("writing {}", out.display()))?;
@@ -183,6 +189,12 @@ fn serve(
         Err(e) => return Err(e.into()),
     };
     let address = server.local_addr();
+    if !address.ip().is_loopback() {
+        eprintln!(
+            "warning: --host {} is not a loopback address: anyone who can reach {address} can watch the stream (and its file's path) and control it; the page has no login",
+            a.host
+        );
+    }
     server.spawn();
     let stopper = hub.clone();
     ctrlc::set_handler(move || stopper.stop()).context("catching Ctrl-C")?;
@@ -198,6 +210,26 @@ fn serve(
     match end.failure {
         Some(why) => bail!("{why}"),
         None => Ok(()),
+    }
+}
+
+/// What `--snapshot` writes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum SnapshotKind {
+    Svg,
+    Png,
+}
+
+/// The kind `--snapshot`'s extension names (in any case); another extension is refused.
+fn snapshot_kind(out: &std::path::Path) -> anyhow::Result<SnapshotKind> {
+    let extension = out.extension().and_then(|e| e.to_str()).unwrap_or("");
+    match extension.to_ascii_lowercase().as_str() {
+        "svg" => Ok(SnapshotKind::Svg),
+        "png" => Ok(SnapshotKind::Png),
+        _ => bail!(
+            "--snapshot {}: the file must end in .svg or .png (the picture is written as one of them)",
+            out.display()
+        ),
     }
 }
 

@@ -142,16 +142,47 @@ impl Connectivity {
         let bad = match self {
             Connectivity::OneToOne { weight }
             | Connectivity::AllToAll { weight }
-            | Connectivity::Random { weight, .. } => outside(*weight).then_some(*weight),
-            Connectivity::Sparse(list) => list.iter().map(|s| s.weight).find(|&w| outside(w)),
+            | Connectivity::Random { weight, .. } => outside(*weight).then_some((0, *weight)),
+            Connectivity::Sparse(list) => {
+                (list.iter().map(|s| s.weight).enumerate()).find(|&(_, w)| outside(w))
+            }
         };
         match bad {
-            Some(value) => Err(GraphError::InvalidParameter {
-                what: format!("{what} initial weight"),
-                value,
-                expected: "within the STDP bounds [w_min, w_max]",
+            Some((synapse, weight)) => Err(GraphError::WeightOutsideBounds {
+                what: what.to_owned(),
+                kind: "initial",
+                synapse,
+                weight,
+                w_min,
+                w_max,
             }),
             None => Ok(()),
+        }
+    }
+
+    /// The most synapses onto `n_post` targets from `n_pre` sources this connectivity can
+    /// hold (all pairs for all-to-all and random ones, saturating).
+    pub(crate) fn max_synapses(&self, n_pre: usize, n_post: usize) -> u64 {
+        match self {
+            Connectivity::OneToOne { .. } => n_post as u64,
+            Connectivity::AllToAll { .. } | Connectivity::Random { .. } => {
+                (n_pre as u64).saturating_mul(n_post as u64)
+            }
+            Connectivity::Sparse(list) => list.len() as u64,
+        }
+    }
+
+    /// The synapses a fixed projection of this connectivity stores one by one (none for
+    /// one-to-one and all-to-all, which keep one weight; random ones: their expected number
+    /// and a margin).
+    pub(crate) fn stored_synapses(&self, n_pre: usize, n_post: usize) -> u64 {
+        match self {
+            Connectivity::OneToOne { .. } | Connectivity::AllToAll { .. } => 0,
+            Connectivity::Random { probability, .. } => {
+                let pairs = self.max_synapses(n_pre, n_post) as f64;
+                (pairs * probability * 1.1) as u64
+            }
+            Connectivity::Sparse(list) => list.len() as u64,
         }
     }
 

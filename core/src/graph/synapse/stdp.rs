@@ -152,12 +152,85 @@ impl Stdp {
         if !(self.w_max.is_finite() && self.w_max > self.w_min) {
             return Err(bad("w_max", self.w_max, "finite and > w_min"));
         }
+        let span = self.w_max - self.w_min;
+        if !span.is_finite() {
+            return Err(bad("w_max", self.w_max, "w_max − w_min finite"));
+        }
+        if self.dependence == WeightDependence::Multiplicative {
+            for (field, a) in [("a_plus", self.a_plus), ("a_minus", self.a_minus)] {
+                if !(a * span).is_finite() {
+                    return Err(bad(field, a, "a·(w_max − w_min) finite (multiplicative)"));
+                }
+            }
+        }
         Ok(())
     }
 
+    /// The largest value a trace of time constant `tau_s` reaches at time step `dt_s`: 1 with
+    /// nearest-spike traces; with all-to-all ones, one spike every step,
+    /// `Σ e^{−k·dt/τ} = 1/(1 − e^{−dt/τ})`.
+    fn trace_max(&self, tau_s: f64, dt_s: f64) -> f64 {
+        match self.interaction {
+            TraceInteraction::Nearest => 1.0,
+            TraceInteraction::AllToAll => -1.0 / (-dt_s / tau_s).exp_m1(),
+        }
+    }
+
+    /// Checks the rule at time step `dt_s` (`what` names the projection): the decay exponent
+    /// `dt/τ` of each trace finite, and every product a weight update forms — `a·x` with the
+    /// largest trace `x`, times `w_max − w_min` when multiplicative, added to a bound — finite,
+    /// so no update overflows to ±∞ or NaN.
+    pub(crate) fn validate_at(&self, what: &str, dt_s: f64) -> Result<(), GraphError> {
+        self.validate(what)?;
+        let bad = |field: &str, value: f64, expected: &'static str| GraphError::InvalidParameter {
+            what: format!("{what} STDP {field} at dt = {dt_s} s"),
+            value,
+            expected,
+        };
+        let span = self.w_max - self.w_min;
+        for (tau_field, tau, a_field, a, bound) in [
+            (
+                "tau_plus_s",
+                self.tau_plus_s,
+                "a_plus",
+                self.a_plus,
+                self.w_max,
+            ),
+            (
+                "tau_minus_s",
+                self.tau_minus_s,
+                "a_minus",
+                self.a_minus,
+                self.w_min,
+            ),
+        ] {
+            let x_max = self.trace_max(tau, dt_s);
+            if !(dt_s / tau).is_finite() || !x_max.is_finite() {
+                return Err(bad(
+                    tau_field,
+                    tau,
+                    "dt/τ and the largest trace 1/(1 − e^(−dt/τ)) finite",
+                ));
+            }
+            let change = match self.dependence {
+                WeightDependence::Additive => a * x_max,
+                WeightDependence::Multiplicative => a * span * x_max,
+            };
+            if !(change.is_finite() && (bound.abs() + change).is_finite()) {
+                return Err(bad(
+                    a_field,
+                    a,
+                    "a weight change (with the largest trace) finite",
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// `w` within the bounds; a NaN stays NaN (it is never turned into a bound).
     #[inline]
     fn clip(&self, w: f64) -> f64 {
-        w.max(self.w_min).min(self.w_max)
+        w.clamp(self.w_min, self.w_max)
     }
 
     /// `w` after a postsynaptic spike with presynaptic trace `x`.
@@ -315,5 +388,60 @@ impl Plasticity {
     pub fn clear(&mut self) {
         self.pre.clear();
         self.post.clear();
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn products_that_overflow_and_decays_that_are_infinite_are_refused() {
+        let rule = Stdp::additive(0.02, 0.02, 0.01, 0.011, 1.0);
+        assert!(rule.validate_at("p", 1e-4).is_ok());
+        // a₊ = 1e308, multiplicative: a₊·(w_max − w_min) overflows.
+        let huge = Stdp {
+            a_plus: 1e308,
+            w_max: 6.0,
+            ..rule.multiplicative()
+        };
+        let e = huge.validate("p").unwrap_err().to_string();
+        assert!(e.contains("a_plus") && e.contains("finite"), "{e}");
+        let huge = Stdp {
+            a_plus: 1e308,
+            ..rule.multiplicative()
+        };
+        assert!(huge.validate("p").is_ok() && huge.validate_at("p", 1e-4).is_err());
+        // τ₊ = 5e-324 passes "finite and > 0" but dt/τ is infinite.
+        let tiny = Stdp {
+            tau_plus_s: 5e-324,
+            ..rule
+        };
+        assert!(tiny.validate("p").is_ok());
+        let e = tiny.validate_at("p", 1e-4).unwrap_err().to_string();
+        assert!(e.contains("tau_plus_s") && e.contains("dt/τ"), "{e}");
+        // Bounds whose span overflows.
+        let wide = Stdp {
+            w_min: -1e308,
+            w_max: 1e308,
+            ..rule
+        };
+        assert!(wide.validate("p").is_err());
+        // An additive change that overflows with the largest trace (τ/dt ≈ 10⁸).
+        let big = Stdp {
+            a_plus: 1e301,
+            tau_plus_s: 1e4,
+            ..rule
+        };
+        assert!(big.validate("p").is_ok() && big.validate_at("p", 1e-4).is_err());
+    }
+
+    #[test]
+    fn a_nan_is_never_clipped_into_a_bound() {
+        let rule = Stdp::additive(0.02, 0.02, 0.01, 0.011, 1.0);
+        assert!(rule.potentiated(0.5, f64::NAN).is_nan());
+        assert!(rule.depressed(0.5, f64::NAN).is_nan());
+        assert_eq!(rule.potentiated(0.5, 1e3), 1.0);
+        assert_eq!(rule.depressed(0.5, 1e3), 0.0);
     }
 }
