@@ -12,7 +12,8 @@
 //! | textures, friction (§2.1, §2.4) | [`texture`] | [`Texture`], [`TextureField`], [`Surface`] |
 //! | natural textures as materials (§2.4) | [`natural`] | [`NATURAL_TEXTURES`], [`NaturalTexture`] |
 //! | fabric drag and wrinkling, pile hairs | [`fabric`] | [`fabric::FabricMechanics`], [`fabric::Pile`] |
-//! | stick-slip, pins, variability (§2.1–2.2) | [`mechanics`] | [`PinTrajectories`], [`Mounting`], [`TrialDraw`] |
+//! | stick-slip, the press, pins (§2.2) | [`mechanics`] | [`PinTrajectories`] |
+//! | variability: mountings and per-slide draws (§2.1, §8) | [`mounting`] | [`Mounting`], [`TrialDraw`] |
 //! | partial-slip front of the onset (§9) | [`slip_front`] | [`slip_front::SlipFront`], [`slip_front::PinShear`] |
 //! | how the load reaches the pins through the gel | [`shear_spread`] | [`shear_spread::ShearSpread`] |
 //! | camera fixed-pattern noise (§3.2) | [`camera`] | [`Camera`] |
@@ -58,6 +59,7 @@ mod fft;
 pub mod kinematics;
 pub mod layer;
 pub mod mechanics;
+pub mod mounting;
 pub mod natural;
 pub mod parameter_sources;
 pub mod params;
@@ -91,7 +93,8 @@ pub fn check_trials(trials: usize, textures: usize) -> Result<(), SimulationErro
         }),
     }
 }
-pub use mechanics::{ContactFacts, Mounting, PinTrajectories, TrialDraw};
+pub use mechanics::{ContactFacts, PinTrajectories};
+pub use mounting::{Mounting, TrialDraw};
 pub use natural::{NATURAL_TEXTURES, NaturalTexture};
 pub use params::{CalibratedParameter, PAPER_INTENSIVE_MEANS, PeriodRule, SimParams};
 pub use pixel::{EventLabel, PixelModel, PixelRunStats};

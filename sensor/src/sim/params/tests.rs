@@ -1,4 +1,5 @@
 use super::*;
+use crate::sim::SimulationError;
 use std::path::Path;
 
 #[test]
