@@ -272,3 +272,74 @@ fn each_slide_starts_its_pixels_anywhere_between_their_thresholds() {
     assert!((0.75..=1.33).contains(&ratio), "{ratio}");
     assert_eq!(drawn.events, slide(true).events);
 }
+
+#[test]
+fn a_recording_presses_dwells_and_slides_where_the_loop_puts_them() {
+    // The lab's loop: nothing moves before the dome touches, the press's contact splays the
+    // pins (a burst before the slide), the dwell is still, and the recording stops right after
+    // the slide, within the longest recording the parameters allow.
+    let p = SimParams::default();
+    let trial = run(p, "grid 0 mm", 21);
+    let i = &trial.info;
+    let clearance = p.kinematics.press_travel_mm - i.press.overlap_mm;
+    let touch = i.press_start_s + clearance / p.kinematics.speed_mm_s;
+    let signal_between = |from: f64, to: f64| {
+        trial
+            .events
+            .iter()
+            .zip(&trial.labels)
+            .filter(|(e, l)| {
+                let t = e.t.0 as f64 / 1e6;
+                !l.is_noise() && t >= from && t < to
+            })
+            .count()
+    };
+    // Before the touch, only a pixel near its threshold can fire, and only because the pixel
+    // model interpolates its input linearly over a step of up to `solver.max_step_s` that ends
+    // just after the touch: a handful of events, none more than one step early.
+    let early = signal_between(0.0, touch - 0.002);
+    assert!(early < 20, "{early} events before the dome touches");
+    assert_eq!(signal_between(0.0, touch - p.solver.max_step_s - 0.002), 0);
+    let burst = signal_between(touch, i.press_end_s);
+    assert!(burst > 200, "no press burst: {burst}");
+    // The dwell is still: what fires there is the photoreceptors settling after the press and
+    // the same step interpolation ahead of the slide.
+    let dwell = signal_between(i.press_end_s + 0.01, i.motion_start_s);
+    assert!(
+        dwell * 10 < burst,
+        "{dwell} events in the dwell, {burst} in the press"
+    );
+    assert!(signal_between(i.motion_start_s, i.motion_start_s + 0.2) > 500);
+    let end = i.motion_end_s;
+    assert!(i.duration_s > end && i.duration_s < end + 0.1);
+    assert!(i.duration_s <= p.duration_s());
+    // The press ends 2 mm into the plate: the rigid plate's contact, a = √(2Rδ).
+    assert!((i.press.overlap_mm - p.kinematics.press_depth_mm).abs() < 0.1);
+    assert!((i.press.contact_radius_mm - (2.0 * 20.0 * i.press.overlap_mm).sqrt()).abs() < 1e-9);
+}
+
+#[test]
+fn position_control_presses_raised_and_thick_specimens_deeper_and_wider() {
+    // One press height for every specimen of a set: the grids' bump tops stand 1 mm above the
+    // flat plate, a felt 2 mm; a satin barely above it. Thicker means more overlap, a wider
+    // contact and more pins in contact.
+    let p = SimParams::default();
+    let press = |name: &str| run(p, name, 3).info;
+    let (flat, grid, satin, felt) = (
+        press("grid 0 mm"),
+        press("grid 1 mm"),
+        press("liquid satin"),
+        press("felt"),
+    );
+    assert!(grid.press.overlap_mm > flat.press.overlap_mm + 0.9);
+    assert!(grid.press.normal_force_n > 1.5 * flat.press.normal_force_n);
+    assert!(satin.press.overlap_mm < flat.press.overlap_mm + 0.3);
+    assert!(felt.press.contact_radius_mm > grid.press.contact_radius_mm);
+    let pins = |i: &neurotac_sensor::sim::TrialInfo| i.in_contact.iter().filter(|&&c| c).count();
+    assert!(
+        pins(&felt) > pins(&flat),
+        "{} vs {}",
+        pins(&felt),
+        pins(&flat)
+    );
+}
