@@ -6,7 +6,7 @@ use super::{ALPHA, FamilyStudy, SetStudy, SettingResult};
 use crate::report::svg::{Axis, Chart, Marker, Series};
 use crate::tradeoff::table::{error_series, write_files, write_trade};
 use crate::tradeoff::{TradeoffError, trade_files};
-use neurotac_core::io::AtomicFileSet;
+use neurotac_core::io::{AtomicFileSet, csv};
 use neurotac_experiments::menu::Menu;
 use std::fmt::Write;
 use std::path::{Path, PathBuf};
@@ -34,12 +34,10 @@ pub struct Rows {
 }
 
 impl Rows {
-    /// CSV (the texts never hold a comma).
-    pub fn to_csv(&self) -> String {
-        std::iter::once(&self.header)
-            .chain(&self.rows)
-            .map(|line| line.join(",") + "\n")
-            .collect()
+    /// CSV ([`neurotac_core::io::csv`]: a text holding a comma, a quote or a line break is
+    /// quoted). Fails when a row has not as many texts as the header.
+    pub fn to_csv(&self) -> Result<String, csv::Error> {
+        csv::table(&self.header, &self.rows)
     }
 
     /// A Markdown table.
@@ -279,7 +277,7 @@ pub fn write_family(
         files,
         dir,
         &study.family,
-        &t.to_csv(),
+        t.to_csv(),
         &markdown,
         &to_svg(&set.name, study),
     )?;
