@@ -7,6 +7,7 @@ use super::error::TradeoffError;
 use super::pareto::pareto_front;
 use crate::report::png::PngRenderer;
 use crate::report::svg::{Marker, PALETTE, Series};
+use crate::report::tables::markdown_cell;
 use neurotac_core::io::{AtomicFileSet, csv};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -165,13 +166,14 @@ impl Table {
         csv::table(header, lines)
     }
 
-    /// A Markdown table.
+    /// A Markdown table (a `|` in a cell escaped, [`markdown_cell`]).
     pub fn to_markdown(&self) -> String {
         let mut out = String::new();
         for (i, line) in self.lines(Format::Markdown).enumerate() {
-            let _ = writeln!(out, "| {} |", line.join(" | "));
+            let cells: Vec<_> = line.into_iter().map(markdown_cell).collect();
+            let _ = writeln!(out, "| {} |", cells.join(" | "));
             if i == 0 {
-                let _ = writeln!(out, "|{}", "---|".repeat(line.len()));
+                let _ = writeln!(out, "|{}", "---|".repeat(cells.len()));
             }
         }
         out

@@ -4,6 +4,7 @@
 
 use super::{ALPHA, FamilyStudy, SetStudy, SettingResult};
 use crate::report::svg::{Axis, Chart, Marker, Series};
+use crate::report::tables::markdown_cell;
 use crate::tradeoff::table::{error_series, write_files, write_trade};
 use crate::tradeoff::{TradeoffError, trade_files};
 use neurotac_core::io::{AtomicFileSet, csv};
@@ -40,15 +41,16 @@ impl Rows {
         csv::table(&self.header, &self.rows)
     }
 
-    /// A Markdown table.
+    /// A Markdown table (a `|` in a text escaped, [`markdown_cell`]).
     pub fn to_markdown(&self) -> String {
-        let mut s = format!(
-            "| {} |\n|{}\n",
-            self.header.join(" | "),
-            "---|".repeat(self.header.len())
-        );
+        let line = |texts: &[String]| {
+            let cells: Vec<_> = texts.iter().map(|t| markdown_cell(t)).collect();
+            format!("| {} |\n", cells.join(" | "))
+        };
+        let mut s = line(&self.header);
+        let _ = writeln!(s, "|{}", "---|".repeat(self.header.len()));
         for r in &self.rows {
-            let _ = writeln!(s, "| {} |", r.join(" | "));
+            s.push_str(&line(r));
         }
         s
     }
