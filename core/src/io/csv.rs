@@ -106,7 +106,7 @@ pub fn reader_builder() -> ::csv::ReaderBuilder {
 }
 
 /// The strict reader of `input`: its first record is the header, every later one must have as
-/// many fields (else [`csv::ErrorKind::UnequalLengths`](::csv::ErrorKind::UnequalLengths)).
+/// many fields (else [`csv::ErrorKind::UnequalLengths`]).
 pub fn reader<R: Read>(input: R) -> ::csv::Reader<R> {
     reader_builder().from_reader(input)
 }

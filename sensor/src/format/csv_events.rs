@@ -14,8 +14,8 @@ use super::contract::{
 };
 use super::input::Input;
 use super::text::{
-    FOUND_MAX_BYTES, MAX_LINE_BYTES, TextEvents, parse_int, parse_pixel, read_sensor_line,
-    sensor_head, text_error, text_reader, text_writer,
+    FOUND_MAX_BYTES, MAX_LINE_BYTES, TextEvents, TextStart, parse_int, parse_pixel,
+    read_sensor_line, sensor_head, text_error, text_reader, text_writer,
 };
 use crate::error::FormatError;
 use neurotac_core::EventBuffer;
@@ -83,30 +83,35 @@ impl<R: Read> Read for LineLimit<R> {
             return Err(io::Error::new(io::ErrorKind::InvalidData, long.clone()));
         }
         let n = self.inner.read(buf)?;
-        for (i, &b) in buf[..n].iter().enumerate() {
-            let at = self.offset + i as u64;
-            if b == b'\n' || b == b'\r' {
-                self.lines += u64::from(b == b'\n');
-                self.line_start = at + 1;
-                self.head.clear();
-                continue;
-            }
-            if self.head.len() <= FOUND_MAX_BYTES {
-                self.head.push(b);
-            }
-            if at - self.line_start >= MAX_LINE_BYTES as u64 {
+        let mut i = 0;
+        // Line by line: the part of the current line in `buf`, then its end, if there.
+        while i < n {
+            let rest = &buf[i..n];
+            let end = memchr::memchr2(b'\n', b'\r', rest);
+            let part = &rest[..end.unwrap_or(rest.len())];
+            let room = (FOUND_MAX_BYTES + 1).saturating_sub(self.head.len());
+            self.head.extend_from_slice(&part[..part.len().min(room)]);
+            let limit = self.line_start + MAX_LINE_BYTES as u64;
+            if self.offset + (i + part.len()) as u64 > limit {
                 self.too_long = Some(LineTooLong {
                     line: self.lines + 1,
                     offset: self.line_start,
                     head: std::mem::take(&mut self.head),
                 });
-                // The bytes before are delivered; the next read fails.
-                self.offset = at;
-                return match i {
+                // The bytes before the first one past the limit are delivered; the next read
+                // fails.
+                let delivered = (limit - self.offset) as usize;
+                self.offset = limit;
+                return match delivered {
                     0 => self.read(buf),
-                    _ => Ok(i),
+                    _ => Ok(delivered),
                 };
             }
+            let Some(end) = end else { break };
+            self.lines += u64::from(rest[end] == b'\n');
+            i += end + 1;
+            self.line_start = self.offset + i as u64;
+            self.head.clear();
         }
         self.offset += n as u64;
         Ok(n)
@@ -131,7 +136,7 @@ impl<R: Read> CsvLines<R> {
     /// A reader of `reader`; reads the `# sensor` line if the input starts with `#`.
     fn new(reader: R, path: PathBuf) -> Result<Self, FormatError> {
         let mut input = Input::new(reader, path);
-        let (stated, ahead) = read_sensor_line(&mut input)?;
+        let TextStart { stated, ahead } = read_sensor_line(&mut input)?;
         let base_offset = input.offset() - ahead.len() as u64;
         let base_line = u64::from(stated.is_some());
         let (inner, path) = input.into_parts();
@@ -364,6 +369,21 @@ mod tests {
             ),
             "{result:?}"
         );
+    }
+
+    #[test]
+    fn a_line_of_the_limit_is_read_and_one_byte_more_is_not() {
+        let fields = "4 fields: t,x,y,on";
+        for (extra, expected) in [(0, fields), (1, "a line shorter than 4096 bytes")] {
+            let mut bytes = b"t,x,y,on\n".to_vec();
+            bytes.extend(std::iter::repeat_n(b'7', MAX_LINE_BYTES + extra));
+            bytes.push(b'\n');
+            let (_, result) = read(&bytes);
+            assert!(
+                matches!(result, Err(FormatError::Text { line: 2, offset: 9, field: "line", expected: e, .. }) if e == expected),
+                "{result:?}"
+            );
+        }
     }
 
     #[test]

@@ -177,18 +177,27 @@ pub(super) fn text_error(path: &Path, line: u64, offset: u64, e: FieldError<'_>)
     }
 }
 
-/// Reads the optional first line `# sensor WIDTHxHEIGHT` of a text input: the size it states
-/// and the bytes read past the start when there is none (the first byte, to be read again). A
-/// first line that starts with `#` and is not a sensor line is an error naming line 1.
-pub(super) fn read_sensor_line<R: Read>(
-    input: &mut Input<R>,
-) -> Result<(Option<(u16, u16)>, Vec<u8>), FormatError> {
+/// The start of a text input, as [`read_sensor_line`] read it.
+pub(super) struct TextStart {
+    /// The size the `# sensor` line states, if the input starts with one.
+    pub(super) stated: Option<(u16, u16)>,
+    /// The bytes read past the start without such a line (its first byte, to be read again).
+    pub(super) ahead: Vec<u8>,
+}
+
+/// Reads the optional first line `# sensor WIDTHxHEIGHT` of a text input. A first line that
+/// starts with `#` and is not a sensor line is an error naming line 1.
+pub(super) fn read_sensor_line<R: Read>(input: &mut Input<R>) -> Result<TextStart, FormatError> {
     let mut byte = [0u8; 1];
+    let without = |ahead: &[u8]| TextStart {
+        stated: None,
+        ahead: ahead.to_vec(),
+    };
     if input.read_full(&mut byte)? == 0 {
-        return Ok((None, Vec::new()));
+        return Ok(without(&[]));
     }
     if byte[0] != b'#' {
-        return Ok((None, byte.to_vec()));
+        return Ok(without(&byte));
     }
     // Byte by byte: the line is short, and what follows is the line reader's.
     let mut line = vec![b'#'];
@@ -202,7 +211,10 @@ pub(super) fn read_sensor_line<R: Read>(
     let expected = "`# sensor WIDTHxHEIGHT` (the one `#` line read, first in the file)";
     let size = parse_sensor_line(line)
         .ok_or_else(|| text_error(input.path(), 1, 0, ("sensor line", expected, line)))?;
-    Ok((Some(size), Vec::new()))
+    Ok(TextStart {
+        stated: Some(size),
+        ahead: Vec::new(),
+    })
 }
 
 /// The line engine of the ECD text reader.
@@ -223,7 +235,7 @@ impl<R: Read> TextReader<R> {
     /// A reader of `reader`; reads the `# sensor` line if the input starts with `#`.
     fn new(reader: R, path: PathBuf) -> Result<Self, FormatError> {
         let mut input = Input::new(reader, path);
-        let (stated, ahead) = read_sensor_line(&mut input)?;
+        let TextStart { stated, ahead } = read_sensor_line(&mut input)?;
         let mut block = vec![0; READ_BLOCK];
         block[..ahead.len()].copy_from_slice(&ahead);
         Ok(Self {
