@@ -34,7 +34,7 @@ fn documented_header(name: &str) -> Option<&'static str> {
             "set,pipeline,coding,parameters,loo_accuracy,loo_std,wilson_low,wilson_high,split_accuracy,paper_accuracy,wall_s"
         }
         "parameters.csv" => "set,quantity,value,paper",
-        "phase_shares.csv" => "set,class,rest,onset,sliding,stop",
+        "phase_shares.csv" => "set,class,press,onset,sliding,stop",
         "loo_recall.csv" => "set,class,intensive,spatial,temporal,spatiotemporal",
         "paper_confusions.csv" => "set,paper_statement,coding,measure,ours,paper",
         "accuracy_vs_time.csv" => "t_s,intensive,spatial,temporal,spatiotemporal",

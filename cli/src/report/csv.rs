@@ -299,7 +299,7 @@ mod tests {
         // A set without motion times has no phase rows.
         assert_eq!(
             phase_shares_csv(&r).unwrap(),
-            "set,class,rest,onset,sliding,stop\n"
+            "set,class,press,onset,sliding,stop\n"
         );
         assert_eq!(
             loo_recall_csv(&r).unwrap(),
