@@ -516,6 +516,7 @@ pub(crate) mod tests {
             direct,
             afferent: None,
             examples: Vec::new(),
+            mountings: Vec::new(),
             quick,
         }
     }
