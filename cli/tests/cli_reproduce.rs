@@ -2,10 +2,10 @@
 
 mod common;
 
-use common::{neurotac, small_reproduce};
+use common::{neurotac, recorded_dataset, small_reproduce};
 use neurotac_experiments::coding::CodingName;
 use neurotac_experiments::menu::Menu;
-use neurotac_sensor::format::{Compression, DAVIS240_SIZE, Format, to_bytes};
+use neurotac_sensor::format::{Compression, Format, to_bytes};
 use std::path::{Path, PathBuf};
 
 /// A fresh, empty scratch folder for one test.
@@ -159,44 +159,6 @@ fn the_afferent_variant_reports_accuracy_and_time_next_to_the_direct_pipeline() 
             .is_file()
     );
     let _ = std::fs::remove_dir_all(&dir);
-}
-
-/// Writes a recorded dataset: class `c` has pins twitching every `30 + 20·c` ms for 1.2 s,
-/// `counts[c]` slides of it (CSV event files), plus a note that is not an event file.
-fn recorded_dataset(dir: &Path, counts: &[usize]) {
-    use neurotac_core::{Event, EventBuffer, Timestamp};
-    use neurotac_sensor::taxel::TaxelLayout;
-    for (c, &n) in counts.iter().enumerate() {
-        let class = dir.join(format!("texture{c}"));
-        std::fs::create_dir_all(&class).unwrap();
-        for trial in 0..n {
-            let period = 30_000 + 20_000 * c as i64;
-            let mut events = Vec::new();
-            for burst in 0..(1_200_000 / period) {
-                for (p, &(cx, cy)) in TaxelLayout::neurotac_default().centres().iter().enumerate() {
-                    for (k, (dx, dy)) in [(0, 0), (1, 0), (0, 1), (-1, 0)].into_iter().enumerate() {
-                        events.push(Event {
-                            t: Timestamp(
-                                5_000_000
-                                    + burst * period
-                                    + p as i64 * 40
-                                    + k as i64 * 150
-                                    + trial as i64 * 7,
-                            ),
-                            x: (cx.round() as i32 + dx) as u16,
-                            y: (cy.round() as i32 + dy) as u16,
-                            polarity: k % 2 == 0,
-                        });
-                    }
-                }
-            }
-            events.sort_by_key(|e| e.t);
-            let buffer: EventBuffer = events.into_iter().collect();
-            let path = class.join(format!("{trial:02}.csv"));
-            neurotac_sensor::format::write_file(&path, &buffer, DAVIS240_SIZE).unwrap();
-        }
-        std::fs::write(class.join("notes.md"), "not an event file").unwrap();
-    }
 }
 
 /// `neurotac reproduce --dataset data --out out`, small search.

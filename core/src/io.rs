@@ -23,6 +23,9 @@
 //! Several outputs of one command are an [`AtomicFileSet`]: every file and folder is written to
 //! its hidden temporary first, then all are renamed in together, or none (see the type).
 //!
+//! Tables and `t,x,y,on` event files are written and read as CSV through [`csv`] (one crate,
+//! one dialect).
+//!
 //! [`check_distinct`] refuses an output that is the same file as an input (same device and
 //! inode: hard links, `./x` and symbolic links are caught), and [`check_not_nested`] an output
 //! that is, holds or lies inside an input (canonical paths), before anything is written.
@@ -43,6 +46,7 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+pub mod csv;
 mod dir;
 mod file;
 mod journal;

@@ -364,6 +364,27 @@ fn a_header_that_never_ends_stops_at_the_limit() {
         matches!(err, FormatError::Text { field: "line", .. }),
         "{err}"
     );
+    let line = Endless {
+        prefix: b"t,x,y,on\n".to_vec(),
+        line: b"1",
+        pos: 0,
+    };
+    let err = CsvReader::new(line)
+        .unwrap()
+        .read_chunk(&mut EventBuffer::new())
+        .unwrap_err();
+    assert!(
+        matches!(
+            err,
+            FormatError::Text {
+                field: "line",
+                line: 2,
+                offset: 9,
+                ..
+            }
+        ),
+        "{err}"
+    );
 }
 
 #[test]

@@ -8,9 +8,10 @@ use super::outputs::{Output, cache_folder, check_outputs, refuse_nested};
 use crate::commands::args::{self, Time};
 use anyhow::{Context, bail};
 use clap::{ArgGroup, Args, ValueEnum};
-use neurotac_cli::report::folder::{write, write_figure, write_folder_atomically};
+use neurotac_cli::report::folder::{write, write_csv, write_figure, write_folder_atomically};
 use neurotac_cli::report::png::PngRenderer;
 use neurotac_cli::report::svg::{Axis, Chart, Marker, PALETTE, Series};
+use neurotac_core::io::csv;
 use neurotac_experiments::afferents::AfferentConfig;
 use neurotac_experiments::coding::{Coding, CodingName, CodingParameters};
 use neurotac_experiments::datasets::metadata::transduction_of;
@@ -354,7 +355,7 @@ fn run_eval(a: &RecogniseArgs) -> anyhow::Result<()> {
             "summary.json",
             &serde_json::to_string_pretty(&json).expect("serialisable"),
         )?;
-        write(dir, "accuracy_vs_time.csv", &accuracy_csv(&eval))?;
+        write_csv(dir, "accuracy_vs_time.csv", accuracy_csv(&eval))?;
         write_figure(
             dir,
             "accuracy_vs_time",
@@ -401,20 +402,17 @@ fn summary_md(e: &OnlineEval) -> String {
     s
 }
 
-fn accuracy_csv(e: &OnlineEval) -> String {
-    let mut s = String::from("t_s");
-    for c in &e.codings {
-        let _ = write!(s, ",{}", c.coding);
-    }
-    s.push('\n');
-    for (w, t) in e.window_end_s.iter().enumerate() {
-        let _ = write!(s, "{t:.3}");
-        for c in &e.codings {
-            let _ = write!(s, ",{:.4}", c.accuracy[w]);
-        }
-        s.push('\n');
-    }
-    s
+/// `accuracy_vs_time.csv`: per window end (`t_s`), the accuracy of each coding (a column each).
+fn accuracy_csv(e: &OnlineEval) -> Result<String, csv::Error> {
+    let header = std::iter::once("t_s").chain(e.codings.iter().map(|c| c.coding));
+    let rows = e.window_end_s.iter().enumerate().map(|(w, t)| {
+        std::iter::once(format!("{t:.3}")).chain(
+            e.codings
+                .iter()
+                .map(move |c| format!("{:.4}", c.accuracy[w])),
+        )
+    });
+    csv::table(header, rows)
 }
 
 fn accuracy_chart(e: &OnlineEval) -> Chart {

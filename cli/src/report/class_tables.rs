@@ -3,7 +3,7 @@
 //! coding ([`recall_table`]), and the confusions the paper names next to ours
 //! ([`paper_confusion_table`]).
 
-use super::tables::pct;
+use super::tables::{markdown_cell, pct};
 use neurotac_experiments::reproduce::SetReport;
 use neurotac_experiments::reproduce::confusions::{GridErrorRates, NamedConfusionRates};
 use neurotac_experiments::reproduce::paper::{self, NEIGHBOURING_ERRORS_QUOTE};
@@ -57,7 +57,7 @@ pub fn phase_table(set: &SetReport) -> String {
     }
     s.push_str("\n|---|---|---|---|---|\n");
     let row = |s: &mut String, class: &str, share: &PhaseShare| {
-        let _ = write!(s, "| {class} |");
+        let _ = write!(s, "| {} |", markdown_cell(class));
         for p in SlidePhase::ALL {
             let _ = write!(s, " {} |", pct(share.of(p)));
         }
@@ -82,7 +82,7 @@ pub fn phase_table(set: &SetReport) -> String {
 pub fn recall_table(set: &SetReport) -> String {
     let mut s = coding_header(&["class (LOO recall, %)"]);
     for (class_index, class) in set.direct.class_names.iter().enumerate() {
-        let _ = write!(s, "| {class} |");
+        let _ = write!(s, "| {} |", markdown_cell(class));
         for r in &set.loo_analysis.recall {
             let _ = write!(
                 s,

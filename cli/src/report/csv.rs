@@ -3,21 +3,13 @@
 //! per class and the paper's named confusions next to ours.
 
 use super::tables::{coding_seconds, paper_column, paper_table, parameter_rows};
+use neurotac_core::io::csv::{Error, records, table};
 use neurotac_experiments::coding::CodingName;
 use neurotac_experiments::menu::Menu;
 use neurotac_experiments::reproduce::paper;
 use neurotac_experiments::reproduce::phases::{Phases, SlidePhase};
 use neurotac_experiments::reproduce::{BayesSearch, DtSearch, Report, SetReport, SetResult};
-use std::fmt::Write as _;
-
-/// A CSV field, quoted when it holds a comma, a quote or a line break.
-pub fn csv_field(s: &str) -> String {
-    if s.contains([',', '"', '\n']) {
-        format!("\"{}\"", s.replace('"', "\"\""))
-    } else {
-        s.to_owned()
-    }
-}
+use serde::Serialize;
 
 /// The runs of a set: `("direct", result)` and, if run, `("afferents", result)`.
 pub(crate) fn runs(set: &SetReport) -> Vec<(&'static str, &SetResult)> {
@@ -28,85 +20,87 @@ pub(crate) fn runs(set: &SetReport) -> Vec<(&'static str, &SetResult)> {
     runs
 }
 
+/// A row of `accuracy.csv`.
+#[derive(Serialize, Default)]
+struct AccuracyRow<'a> {
+    set: &'a str,
+    pipeline: &'static str,
+    coding: &'static str,
+    parameters: &'a str,
+    loo_accuracy: f64,
+    loo_std: f64,
+    wilson_low: f64,
+    wilson_high: f64,
+    split_accuracy: Option<f64>,
+    paper_accuracy: Option<f64>,
+    wall_s: f64,
+}
+
 /// `accuracy.csv`: one row per set, pipeline and coding.
-pub fn accuracy_csv(report: &Report) -> String {
-    let mut out = String::from(
-        "set,pipeline,coding,parameters,loo_accuracy,loo_std,wilson_low,wilson_high,split_accuracy,paper_accuracy,wall_s\n",
-    );
-    for set in &report.sets {
-        accuracy_rows(set, &mut out);
-    }
-    out
+pub fn accuracy_csv(report: &Report) -> Result<String, Error> {
+    records(report.sets.iter().flat_map(accuracy_rows))
 }
 
-/// `parameters.csv`: the chosen parameters and intensive class means of every set.
-pub fn parameters_csv(report: &Report) -> String {
-    let mut parameters = String::from("set,quantity,value,paper\n");
-    for set in &report.sets {
-        for r in parameter_rows(&set.direct) {
-            let _ = writeln!(
-                parameters,
-                "{},{},{},{}",
-                csv_field(&set.direct.name),
-                csv_field(&r.quantity),
-                r.value,
-                r.paper.map(|p| p.to_string()).unwrap_or_default()
-            );
-        }
-    }
-    parameters
-}
-
-/// One CSV row per pipeline and coding.
-fn accuracy_rows(set: &SetReport, out: &mut String) {
+/// The rows of `accuracy.csv` of one set: one per pipeline and coding.
+fn accuracy_rows(set: &SetReport) -> impl Iterator<Item = AccuracyRow<'_>> {
     let paper = paper_table(&set.direct);
-    for (pipeline, r) in runs(set) {
-        for c in &r.codings {
+    runs(set).into_iter().flat_map(move |(pipeline, r)| {
+        r.codings.iter().map(move |c| {
             let a = c.loo.accuracy;
-            let _ = writeln!(
-                out,
-                "{},{pipeline},{},{},{},{},{},{},{},{},{:.3}",
-                csv_field(&r.name),
-                c.coding.key(),
-                csv_field(&c.parameters),
-                a.mean,
-                a.std,
-                a.wilson_low,
-                a.wilson_high,
-                c.split
-                    .as_ref()
-                    .map(|e| e.accuracy.mean.to_string())
-                    .unwrap_or_default(),
-                paper
+            AccuracyRow {
+                set: &r.name,
+                pipeline,
+                coding: c.coding.key(),
+                parameters: &c.parameters,
+                loo_accuracy: a.mean,
+                loo_std: a.std,
+                wilson_low: a.wilson_low,
+                wilson_high: a.wilson_high,
+                split_accuracy: c.split.as_ref().map(|e| e.accuracy.mean),
+                paper_accuracy: paper
                     .filter(|_| pipeline == "direct")
                     // The paper's percentage as a fraction, in its shortest form (0.928, not
                     // 0.9279999999999999).
                     .zip(paper_column(c.coding))
-                    .map(|(p, i)| ((p.accuracy_percent[i] * 1e6).round() / 1e8).to_string())
-                    .unwrap_or_default(),
-                coding_seconds(r, c.coding)
-            );
-        }
-    }
+                    .map(|(p, i)| (p.accuracy_percent[i] * 1e6).round() / 1e8),
+                // To the millisecond.
+                wall_s: (coding_seconds(r, c.coding) * 1e3).round() / 1e3,
+            }
+        })
+    })
+}
+
+/// A row of `parameters.csv`.
+#[derive(Serialize, Default)]
+struct ParameterCsvRow<'a> {
+    set: &'a str,
+    quantity: String,
+    value: f64,
+    paper: Option<f64>,
+}
+
+/// `parameters.csv`: the chosen parameters and intensive class means of every set.
+pub fn parameters_csv(report: &Report) -> Result<String, Error> {
+    records(report.sets.iter().flat_map(|set| {
+        parameter_rows(&set.direct)
+            .into_iter()
+            .map(|r| ParameterCsvRow {
+                set: &set.direct.name,
+                quantity: r.quantity,
+                value: r.value,
+                paper: r.paper,
+            })
+    }))
 }
 
 /// A confusion matrix as CSV (rows: true class, columns: predicted).
-pub fn confusion_csv(counts: &[Vec<usize>], class_names: &[String]) -> String {
-    let mut csv = String::from("true\\predicted");
-    for n in class_names {
-        let _ = write!(csv, ",{}", csv_field(n));
-    }
-    csv.push('\n');
-    for (i, row) in counts.iter().enumerate() {
-        csv.push_str(&csv_field(
-            class_names.get(i).map(String::as_str).unwrap_or(""),
-        ));
-        for v in row {
-            let _ = write!(csv, ",{v}");
-        }
-        csv.push('\n');
-    }
-    csv
+pub fn confusion_csv(counts: &[Vec<usize>], class_names: &[String]) -> Result<String, Error> {
+    let header = std::iter::once("true\\predicted").chain(class_names.iter().map(String::as_str));
+    let rows = counts.iter().enumerate().map(|(i, row)| {
+        let name = class_names.get(i).cloned().unwrap_or_default();
+        std::iter::once(name).chain(row.iter().map(usize::to_string))
+    });
+    table(header, rows)
 }
 
 /// A fraction as a CSV field, empty when there is none.
@@ -116,67 +110,71 @@ fn optional(x: Option<f64>) -> String {
 
 /// `phase_shares.csv`: per set with known motion times, the share of each class's taxel spikes
 /// in each slide phase, then the mean over classes (`class` = `all classes`).
-pub fn phase_shares_csv(report: &Report) -> String {
-    let mut out = String::from("set,class");
-    for p in SlidePhase::ALL {
-        let _ = write!(out, ",{}", p.key());
-    }
-    out.push('\n');
+pub fn phase_shares_csv(report: &Report) -> Result<String, Error> {
+    let header = ["set", "class"]
+        .into_iter()
+        .chain(SlidePhase::ALL.map(|p| p.key()));
+    let mut rows = Vec::new();
     for set in &report.sets {
         let Phases::Known(shares) = &set.phases else {
             continue;
         };
         let classes = set.direct.class_names.iter().map(String::as_str);
-        let rows = shares.per_class.iter().chain([&shares.all_classes]);
-        for (class, share) in classes.chain(["all classes"]).zip(rows) {
-            let _ = write!(out, "{},{}", csv_field(&set.direct.name), csv_field(class));
-            for p in SlidePhase::ALL {
-                let _ = write!(out, ",{}", share.of(p));
-            }
-            out.push('\n');
+        let shares = shares.per_class.iter().chain([&shares.all_classes]);
+        for (class, share) in classes.chain(["all classes"]).zip(shares) {
+            let mut row = vec![set.direct.name.clone(), class.to_owned()];
+            row.extend(SlidePhase::ALL.map(|p| share.of(p).to_string()));
+            rows.push(row);
         }
     }
-    out
+    table(header, rows)
 }
 
 /// `loo_recall.csv`: the leave-one-out recall of every class of every set under each coding
 /// (empty for a class without samples).
-pub fn loo_recall_csv(report: &Report) -> String {
-    let mut out = String::from("set,class");
+pub fn loo_recall_csv(report: &Report) -> Result<String, Error> {
     // The recall is analysed under the paper's codings.
-    for c in paper::CODINGS {
-        let _ = write!(out, ",{}", c.key());
-    }
-    out.push('\n');
+    let header = ["set", "class"]
+        .into_iter()
+        .chain(paper::CODINGS.map(|c| c.key()));
+    let mut rows = Vec::new();
     for set in &report.sets {
         for (i, class) in set.direct.class_names.iter().enumerate() {
-            let _ = write!(out, "{},{}", csv_field(&set.direct.name), csv_field(class));
-            for r in &set.loo_analysis.recall {
-                let _ = write!(out, ",{}", optional(r.per_class.get(i).copied().flatten()));
-            }
-            out.push('\n');
+            let mut row = vec![set.direct.name.clone(), class.clone()];
+            let recall = set.loo_analysis.recall.iter();
+            row.extend(recall.map(|r| optional(r.per_class.get(i).copied().flatten())));
+            rows.push(row);
         }
     }
-    out
+    table(header, rows)
+}
+
+/// A row of `paper_confusions.csv`.
+#[derive(Serialize, Default)]
+struct PaperConfusionRow<'a> {
+    set: &'a str,
+    paper_statement: String,
+    coding: &'static str,
+    measure: String,
+    ours: Option<f64>,
+    paper: String,
 }
 
 /// `paper_confusions.csv`: every confusion the paper names that applies to a set, one row per
 /// coding and measure: what we measure on the leave-one-out predictions (`ours`, a fraction)
 /// and what the paper says.
-pub fn paper_confusions_csv(report: &Report) -> String {
-    let mut out = String::from("set,paper_statement,coding,measure,ours,paper\n");
+pub fn paper_confusions_csv(report: &Report) -> Result<String, Error> {
+    let mut rows = Vec::new();
     for set in &report.sets {
-        let name = csv_field(&set.direct.name);
         let mut row = |statement: &str, coding: CodingName, measure: &str, ours, paper: &str| {
-            let _ = writeln!(
-                out,
-                "{name},{},{},{},{},{}",
-                csv_field(statement),
-                coding.key(),
-                csv_field(measure),
-                optional(ours),
-                csv_field(paper)
-            );
+            rows.push(PaperConfusionRow {
+                set: &set.direct.name,
+                paper_statement: statement.to_owned(),
+                coding: coding.key(),
+                measure: measure.to_owned(),
+                ours,
+                paper: paper.to_owned(),
+            });
         };
         let a = &set.loo_analysis;
         for r in &a.named_confusions {
@@ -207,51 +205,70 @@ pub fn paper_confusions_csv(report: &Report) -> String {
             }
         }
     }
-    out
+    records(rows)
+}
+
+/// A row of `dt_sweep_<set>.csv`.
+#[derive(Serialize, Default)]
+struct DtRow {
+    dt_ms: u32,
+    loo_accuracy: f64,
 }
 
 /// `dt_sweep_<set>.csv`: leave-one-out accuracy at every Δt.
-pub fn dt_sweep_csv(dt: &DtSearch) -> String {
-    let mut dt_csv = String::from("dt_ms,loo_accuracy\n");
-    for (w, a) in dt.sweep.windows_ms.iter().zip(&dt.sweep.accuracy) {
-        let _ = writeln!(dt_csv, "{w},{a}");
-    }
-    dt_csv
+pub fn dt_sweep_csv(dt: &DtSearch) -> Result<String, Error> {
+    let sweep = &dt.sweep;
+    records(
+        sweep
+            .windows_ms
+            .iter()
+            .zip(&sweep.accuracy)
+            .map(|(&w, &a)| DtRow {
+                dt_ms: w,
+                loo_accuracy: a,
+            }),
+    )
+}
+
+/// A row of `bo_convergence_<set>.csv`.
+#[derive(Serialize, Default)]
+struct BayesRow {
+    epoch: usize,
+    tau_s: f64,
+    cos: f64,
+    accuracy: f64,
+    best_accuracy: f64,
+    best_tau_s: f64,
+    best_cos: f64,
 }
 
 /// `bo_convergence_<set>.csv`: every epoch of the Bayesian optimisation.
-pub fn bayes_csv(bayes: &BayesSearch) -> String {
-    let mut bo_csv = String::from("epoch,tau_s,cos,accuracy,best_accuracy,best_tau_s,best_cos\n");
-    for s in &bayes.result.trace {
-        let _ = writeln!(
-            bo_csv,
-            "{},{},{},{},{},{},{}",
-            s.epoch, s.tau_s, s.cos, s.value, s.best_value, s.best_tau_s, s.best_cos
-        );
-    }
-    bo_csv
+pub fn bayes_csv(bayes: &BayesSearch) -> Result<String, Error> {
+    records(bayes.result.trace.iter().map(|s| BayesRow {
+        epoch: s.epoch,
+        tau_s: s.tau_s,
+        cos: s.cos,
+        accuracy: s.value,
+        best_accuracy: s.best_value,
+        best_tau_s: s.best_tau_s,
+        best_cos: s.best_cos,
+    }))
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::report::tables::tests::{report_of, set_result};
+    use neurotac_core::io::csv::read_table;
 
     fn report() -> Report {
         report_of(set_result("artificial"), "test")
     }
 
     #[test]
-    fn fields_with_commas_or_quotes_are_quoted() {
-        assert_eq!(csv_field("plain"), "plain");
-        assert_eq!(csv_field("a, b"), "\"a, b\"");
-        assert_eq!(csv_field("say \"hi\""), "\"say \"\"hi\"\"\"");
-    }
-
-    #[test]
     fn accuracy_and_parameter_tables_have_one_row_per_item() {
         let r = report();
-        let acc = accuracy_csv(&r);
+        let acc = accuracy_csv(&r).unwrap();
         let lines: Vec<&str> = acc.lines().collect();
         assert_eq!(lines.len(), 1 + CodingName::ALL.len());
         assert!(
@@ -262,15 +279,16 @@ mod tests {
         // The paper's intensive accuracy as a fraction; no split for the refused coding.
         assert!(lines[1].contains(",0.785,"), "{}", lines[1]);
         assert!(lines[2].contains(",0.7,,0.955,"), "{}", lines[2]);
-        let params = parameters_csv(&r);
+        let params = parameters_csv(&r).unwrap();
         assert_eq!(params.lines().count(), 1 + 3 + 2);
         assert!(
-            params.contains("artificial,temporal Δt (ms),3,159\n"),
+            params.contains("artificial,temporal Δt (ms),3.0,159.0\n"),
             "{params}"
         );
         assert!(
-            params
-                .contains("artificial,\"intensive mean, grid 0.0 mm (spikes per taxel)\",4,4.63\n"),
+            params.contains(
+                "artificial,\"intensive mean, grid 0.0 mm (spikes per taxel)\",4.0,4.63\n"
+            ),
             "{params}"
         );
     }
@@ -279,20 +297,23 @@ mod tests {
     fn class_tables_have_one_row_per_class_and_measure() {
         let r = report();
         // A set without motion times has no phase rows.
-        assert_eq!(phase_shares_csv(&r), "set,class,rest,onset,sliding,stop\n");
         assert_eq!(
-            loo_recall_csv(&r),
+            phase_shares_csv(&r).unwrap(),
+            "set,class,press,onset,sliding,stop\n"
+        );
+        assert_eq!(
+            loo_recall_csv(&r).unwrap(),
             "set,class,intensive,spatial,temporal,spatiotemporal\n\
              artificial,grid 0.0 mm,0.8,0.8,0.8,0.8\n\
              artificial,grid 2.5 mm,1,1,1,1\n"
         );
         // Two grids: per coding the neighbour share, and the range share where the paper
         // gives a range (intensive, spatial).
-        let confusions = paper_confusions_csv(&r);
+        let confusions = paper_confusions_csv(&r).unwrap();
         assert_eq!(confusions.lines().count(), 1 + 4 + 2, "{confusions}");
         assert!(
             confusions
-                .contains(",intensive,errors on the paper's grids,1,concentrated on 0–2 mm\n"),
+                .contains(",intensive,errors on the paper's grids,1.0,concentrated on 0–2 mm\n"),
             "{confusions}"
         );
     }
@@ -301,17 +322,43 @@ mod tests {
     fn sweep_trace_and_confusion_tables() {
         let s = set_result("x");
         assert_eq!(
-            dt_sweep_csv(s.dt_search().unwrap()),
+            dt_sweep_csv(s.dt_search().unwrap()).unwrap(),
             "dt_ms,loo_accuracy\n1,0.5\n2,0.6\n3,0.7\n"
         );
         assert_eq!(
-            bayes_csv(s.bayes_search().unwrap()).lines().nth(1),
+            bayes_csv(s.bayes_search().unwrap()).unwrap().lines().nth(1),
             Some("1,0.02,0.5,0.8,0.8,0.02,0.5")
         );
         let names = ["a,b".to_string(), "c".to_string()];
         assert_eq!(
-            confusion_csv(&[vec![1, 2], vec![3, 4]], &names),
+            confusion_csv(&[vec![1, 2], vec![3, 4]], &names).unwrap(),
             "true\\predicted,\"a,b\",c\n\"a,b\",1,2\nc,3,4\n"
         );
+    }
+
+    #[test]
+    fn every_table_reads_back_strictly_when_names_hold_commas_and_quotes() {
+        let (set_name, class_name) = ("set \"a\", b", "grid 0.5 mm, \"fine\"");
+        let mut set = set_result(set_name);
+        set.class_names = vec![class_name.into(), "c".into()];
+        let r = report_of(set, "test");
+        let s = &r.sets[0].direct;
+        let confusion = &s.codings[0].loo.confusion.counts;
+        let read = |text: Result<String, Error>| read_table(&text.unwrap()).unwrap().1;
+        assert_eq!(&read(accuracy_csv(&r))[0][0], set_name);
+        assert_eq!(&read(parameters_csv(&r))[0][0], set_name);
+        assert_eq!(&read(loo_recall_csv(&r))[0][1], class_name);
+        assert_eq!(
+            &read(confusion_csv(confusion, &s.class_names))[0][0],
+            class_name
+        );
+        for text in [
+            phase_shares_csv(&r),
+            paper_confusions_csv(&r),
+            dt_sweep_csv(s.dt_search().unwrap()),
+            bayes_csv(s.bayes_search().unwrap()),
+        ] {
+            read(text);
+        }
     }
 }

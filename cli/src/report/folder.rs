@@ -50,6 +50,17 @@ pub fn write(dir: &Path, file: &str, text: &str) -> Result<(), ReportError> {
     neurotac_core::io::write(&path, text, NEW).map_err(io(&path))
 }
 
+/// Writes a CSV table made by `neurotac_core::io::csv` to `dir/file`; a table that could not be
+/// made (a row of another length than the header) is an I/O error of that file.
+pub fn write_csv(
+    dir: &Path,
+    file: &str,
+    table: Result<String, neurotac_core::io::csv::Error>,
+) -> Result<(), ReportError> {
+    let path = dir.join(file);
+    write(dir, file, &table.map_err(|e| io(&path)(e.into()))?)
+}
+
 /// Writes a figure as `<stem>.svg` and `<stem>.png`.
 pub fn write_figure(
     dir: &Path,

@@ -16,7 +16,7 @@ pub mod svg;
 pub mod tables;
 
 use figures::{bayes_charts, dt_chart, set_spike_train_figure};
-use folder::{write, write_figure, write_folder_atomically};
+use folder::{write, write_csv, write_figure, write_folder_atomically};
 use neurotac_experiments::menu::Menu;
 use neurotac_experiments::reproduce::{Report, SetReport};
 use png::PngRenderer;
@@ -38,14 +38,14 @@ fn write_files(dir: &Path, report: &Report) -> Result<(), ReportError> {
     for set in &report.sets {
         write_set_files(dir, set, &png)?;
     }
-    write(dir, "accuracy.csv", &csv::accuracy_csv(report))?;
-    write(dir, "parameters.csv", &csv::parameters_csv(report))?;
-    write(dir, "phase_shares.csv", &csv::phase_shares_csv(report))?;
-    write(dir, "loo_recall.csv", &csv::loo_recall_csv(report))?;
-    write(
+    write_csv(dir, "accuracy.csv", csv::accuracy_csv(report))?;
+    write_csv(dir, "parameters.csv", csv::parameters_csv(report))?;
+    write_csv(dir, "phase_shares.csv", csv::phase_shares_csv(report))?;
+    write_csv(dir, "loo_recall.csv", csv::loo_recall_csv(report))?;
+    write_csv(
         dir,
         "paper_confusions.csv",
-        &csv::paper_confusions_csv(report),
+        csv::paper_confusions_csv(report),
     )?;
     write(dir, "report.md", &markdown::report_markdown(report))
 }
@@ -56,13 +56,16 @@ fn write_set_files(dir: &Path, set: &SetReport, png: &PngRenderer) -> Result<(),
     let d = &set.direct;
     let name = &d.name;
     if let Some(dt) = d.dt_search() {
-        write(dir, &format!("dt_sweep_{name}.csv"), &csv::dt_sweep_csv(dt))?;
+        write_csv(dir, &format!("dt_sweep_{name}.csv"), csv::dt_sweep_csv(dt))?;
         let svg = dt_chart(d, dt).to_svg();
         write_figure(dir, &format!("dt_sweep_{name}"), &svg, png)?;
     }
     if let Some(bayes) = d.bayes_search() {
-        let csv = csv::bayes_csv(bayes);
-        write(dir, &format!("bo_convergence_{name}.csv"), &csv)?;
+        write_csv(
+            dir,
+            &format!("bo_convergence_{name}.csv"),
+            csv::bayes_csv(bayes),
+        )?;
         // Stacked: one panel per row stays readable when the figure is scaled to a page.
         let svg = panels(&bayes_charts(d, bayes), 1);
         write_figure(dir, &format!("bo_convergence_{name}"), &svg, png)?;
@@ -117,15 +120,15 @@ fn write_set_files(dir: &Path, set: &SetReport, png: &PngRenderer) -> Result<(),
                 ),
                 png,
             )?;
-            write(
+            write_csv(
                 dir,
                 &format!("{file}.csv"),
-                &csv::confusion_csv(&e.confusion.counts, &r.class_names),
+                csv::confusion_csv(&e.confusion.counts, &r.class_names),
             )?;
-            write(
+            write_csv(
                 dir,
                 &format!("confusion_loo_{name}_{}{suffix}.csv", c.coding.key()),
-                &csv::confusion_csv(&c.loo.confusion.counts, &r.class_names),
+                csv::confusion_csv(&c.loo.confusion.counts, &r.class_names),
             )?;
         }
     }

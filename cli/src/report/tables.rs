@@ -8,6 +8,15 @@ use neurotac_experiments::search::bayes::BayesStep;
 use neurotac_experiments::search::{NoiseBand, noise_band};
 use std::fmt::Write as _;
 
+/// A text as one Markdown table cell: a `|` escaped as `\|` (GitHub's tables read it as part of
+/// the cell), a line break as a blank.
+pub fn markdown_cell(text: &str) -> std::borrow::Cow<'_, str> {
+    match text.contains(['|', '\n', '\r']) {
+        true => text.replace('|', "\\|").replace(['\n', '\r'], " ").into(),
+        false => text.into(),
+    }
+}
+
 /// A fraction as a percentage with one decimal (`0.785` → `78.5`).
 pub(crate) fn pct(x: f64) -> String {
     format!("{:.1}", 100.0 * x)
@@ -351,6 +360,7 @@ pub fn intensive_table(set: &SetResult, fitted_grids_mm: &[f64]) -> String {
         marked |= fitted;
         let mark = if fitted { FITTED_MARK } else { "" };
         let paper = r.paper.map_or("—".into(), |p| p.to_string());
+        let name = markdown_cell(name);
         let _ = writeln!(s, "| {name} | {:.2}{mark} | {paper} |", r.value);
     }
     if marked {
@@ -506,6 +516,7 @@ pub(crate) mod tests {
             direct,
             afferent: None,
             examples: Vec::new(),
+            mountings: Vec::new(),
             quick,
         }
     }
@@ -701,5 +712,16 @@ pub(crate) mod tests {
             first.ends_with("| paper, Table 1 (%) — not comparable: --quick run |"),
             "{first}"
         );
+    }
+
+    /// A class name holding a `|` or a line break stays one cell of its row.
+    #[test]
+    fn a_name_holding_a_pipe_or_a_line_break_stays_one_cell() {
+        assert_eq!(markdown_cell("plain"), "plain");
+        assert_eq!(markdown_cell("a|b\nc"), "a\\|b c");
+        let mut set = set_result("textures");
+        set.class_names = vec!["fine|coarse".into(), "denim".into()];
+        let table = intensive_table(&set, &[]);
+        assert!(table.contains("| fine\\|coarse | 4.00 | — |"), "{table}");
     }
 }

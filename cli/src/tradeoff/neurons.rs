@@ -11,7 +11,7 @@ use super::error::TradeoffError;
 use super::table::{Cell, Column, Table, mark_front, write_trade};
 use crate::bench::BenchError;
 use crate::report::svg::{Axis, Chart, Marker, PALETTE, Series, panels};
-use neurotac_core::io::AtomicFileSet;
+use neurotac_core::io::{AtomicFileSet, csv};
 use neurotac_experiments::menu::Menu;
 use neurotac_experiments::neuron_setup::{NeuronKind, NeuronSetup, Precision};
 use neurotac_experiments::threads::with_threads;
@@ -197,7 +197,7 @@ pub fn report(
         files,
         out,
         "neurons",
-        &to_csv(&rows),
+        to_csv(&rows),
         &to_markdown(&rows, config.speed_neurons),
         &to_svg(&rows),
     )?;
@@ -271,7 +271,7 @@ fn table<'a>(rows: impl IntoIterator<Item = &'a NeuronTradeoffRow>) -> Table {
 }
 
 /// CSV with one line per point.
-pub fn to_csv(rows: &[NeuronTradeoffRow]) -> String {
+pub fn to_csv(rows: &[NeuronTradeoffRow]) -> Result<String, csv::Error> {
     table(rows).to_csv()
 }
 
@@ -413,7 +413,7 @@ mod tests {
             rows.iter()
                 .all(|r| r.updates_per_s.is_finite() && r.updates_per_s > 0.0)
         );
-        let csv = to_csv(&rows);
+        let csv = to_csv(&rows).unwrap();
         assert_eq!(csv.lines().count(), rows.len() + 1);
         assert!(to_markdown(&rows, 1000).contains("## Pareto front"));
         assert!(to_svg(&rows).contains("lif: spike-time error vs speed"));
@@ -496,7 +496,7 @@ Truth: LIF closed form (I = 1.04); Izhikevich RS (I = 10) by RK4 at 1 µs. Speed
     #[test]
     fn the_tables_keep_their_format() {
         let rows = rows();
-        assert_eq!(to_csv(&rows), CSV);
+        assert_eq!(to_csv(&rows).unwrap(), CSV);
         assert_eq!(pareto_table(&rows), PARETO);
         assert_eq!(to_markdown(&rows, 1234), MD);
     }
@@ -509,7 +509,7 @@ Truth: LIF closed form (I = 1.04); Izhikevich RS (I = 10) by RK4 at 1 µs. Speed
         let report = to_markdown(&rows, 1234);
         let (_, every_point) = report.split_once("## Every point").unwrap();
         assert_eq!(
-            columns_written_differently(&COLUMNS, &to_csv(&rows), every_point),
+            columns_written_differently(&COLUMNS, &to_csv(&rows).unwrap(), every_point),
             ["mean_time_error_s", "max_time_error_s", "updates_per_s"]
         );
     }

@@ -10,7 +10,7 @@
 use super::error::TradeoffError;
 use super::table::{Table, error_series, mark_front, write_trade};
 use crate::report::svg::{Axis, Chart, Marker, panels};
-use neurotac_core::io::AtomicFileSet;
+use neurotac_core::io::{AtomicFileSet, csv};
 use neurotac_experiments::datasets::{DatasetsError, TextureSet, camera_seed, trial_seed};
 use neurotac_experiments::threads::{ThreadPoolError, with_threads};
 use neurotac_sensor::sim::{Camera, SimParams, SimulatedTrial, Simulator, Texture, taxel_spikes};
@@ -232,7 +232,7 @@ fn table<'a>(rows: impl IntoIterator<Item = &'a SimulatorTradeoffRow>) -> Table 
 }
 
 /// The rows as CSV.
-pub fn to_csv(rows: &[SimulatorTradeoffRow]) -> String {
+pub fn to_csv(rows: &[SimulatorTradeoffRow]) -> Result<String, csv::Error> {
     table(rows).to_csv()
 }
 
@@ -269,7 +269,7 @@ pub fn report(
     let rows = simulator_tradeoff(config)?;
     let markdown = to_markdown(&rows, config);
     let (csv, svg) = (to_csv(&rows), to_svg(&rows));
-    write_trade(files, out, "simulator", &csv, &markdown, &svg)?;
+    write_trade(files, out, "simulator", csv, &markdown, &svg)?;
     Ok(rows)
 }
 
@@ -343,7 +343,7 @@ mod tests {
         assert_eq!(
             columns_written_differently(
                 &COLUMNS.map(Column::from),
-                &to_csv(&rows),
+                &to_csv(&rows).unwrap(),
                 &to_markdown(&rows, &config)
             ),
             none

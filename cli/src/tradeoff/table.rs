@@ -7,7 +7,8 @@ use super::error::TradeoffError;
 use super::pareto::pareto_front;
 use crate::report::png::PngRenderer;
 use crate::report::svg::{Marker, PALETTE, Series};
-use neurotac_core::io::AtomicFileSet;
+use crate::report::tables::markdown_cell;
+use neurotac_core::io::{AtomicFileSet, csv};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -156,20 +157,23 @@ impl Table {
         std::iter::once(header).chain(rows)
     }
 
-    /// CSV: the column names, then one line per row (cells are written as given).
-    pub fn to_csv(&self) -> String {
-        self.lines(Format::Csv)
-            .map(|line| line.join(",") + "\n")
-            .collect()
+    /// CSV ([`neurotac_core::io::csv`]): the column names, then one record per row (a cell
+    /// holding a comma, a quote or a line break is quoted). Fails when a row has not as many
+    /// cells as there are columns.
+    pub fn to_csv(&self) -> Result<String, csv::Error> {
+        let mut lines = self.lines(Format::Csv);
+        let header = lines.next().unwrap_or_default();
+        csv::table(header, lines)
     }
 
-    /// A Markdown table.
+    /// A Markdown table (a `|` in a cell escaped, [`markdown_cell`]).
     pub fn to_markdown(&self) -> String {
         let mut out = String::new();
         for (i, line) in self.lines(Format::Markdown).enumerate() {
-            let _ = writeln!(out, "| {} |", line.join(" | "));
+            let cells: Vec<_> = line.into_iter().map(markdown_cell).collect();
+            let _ = writeln!(out, "| {} |", cells.join(" | "));
             if i == 0 {
-                let _ = writeln!(out, "|{}", "---|".repeat(line.len()));
+                let _ = writeln!(out, "|{}", "---|".repeat(cells.len()));
             }
         }
         out
@@ -209,20 +213,26 @@ pub fn trade_files(dir: &Path, stem: &str) -> [PathBuf; 4] {
 }
 
 /// Creates `dir` and adds a trade's files ([`trade_files`]) to `files`, committed by the
-/// caller with the command's other outputs (the figure rasterised as the report's figures are).
+/// caller with the command's other outputs (the figure rasterised as the report's figures are);
+/// a CSV table that could not be made is an I/O error of its file.
 pub fn write_trade(
     files: &mut AtomicFileSet,
     dir: &Path,
     stem: &str,
-    csv: &str,
+    csv: Result<String, csv::Error>,
     markdown: &str,
     svg: &str,
 ) -> Result<(), TradeoffError> {
+    let csv_name = format!("{stem}.csv");
+    let csv = csv.map_err(|e| TradeoffError::Io {
+        path: dir.join(&csv_name),
+        source: e.into(),
+    })?;
     write_files(
         files,
         dir,
         &[
-            (&format!("{stem}.csv"), csv),
+            (&csv_name, &csv),
             (&format!("{stem}.md"), markdown),
             (&format!("{stem}.svg"), svg),
         ],
@@ -266,7 +276,8 @@ pub(crate) fn columns_written_differently(
     csv: &str,
     markdown: &str,
 ) -> Vec<&'static str> {
-    let csv: Vec<Vec<&str>> = csv.lines().map(|l| l.split(',').collect()).collect();
+    let (header, rows) = csv::read_table(csv).expect("a CSV table");
+    let csv: Vec<Vec<String>> = std::iter::once(header).chain(rows).collect();
     let markdown: Vec<Vec<&str>> = markdown
         .lines()
         .skip_while(|l| !l.starts_with('|'))
@@ -283,7 +294,8 @@ pub(crate) fn columns_written_differently(
         .iter()
         .filter_map(|c| Some((c.csv?, c.markdown?)))
         .filter(|&(csv_name, markdown_name)| {
-            let i = position(&csv[0], csv_name);
+            let names: Vec<&str> = csv[0].iter().map(String::as_str).collect();
+            let i = position(&names, csv_name);
             let j = position(&markdown[0], markdown_name);
             csv.iter().zip(&markdown).skip(1).any(|(a, b)| a[i] != b[j])
         })
@@ -300,10 +312,14 @@ mod tests {
         let mut t = Table::new(["a", "b"]);
         t.push(["1", "x"]);
         t.push(["2", ""]);
-        assert_eq!(t.to_csv(), "a,b\n1,x\n2,\n");
+        t.push(["3", "pool 20 ms, BA 5 ms"]);
+        assert_eq!(
+            t.to_csv().unwrap(),
+            "a,b\n1,x\n2,\n3,\"pool 20 ms, BA 5 ms\"\n"
+        );
         assert_eq!(
             t.to_markdown(),
-            "| a | b |\n|---|---|\n| 1 | x |\n| 2 |  |\n"
+            "| a | b |\n|---|---|\n| 1 | x |\n| 2 |  |\n| 3 | pool 20 ms, BA 5 ms |\n"
         );
     }
 
@@ -315,7 +331,7 @@ mod tests {
             Column::markdown_only("note"),
         ]);
         t.push([Cell::split("1.25e-3", "1.3e-3"), "4".into(), "four".into()]);
-        assert_eq!(t.to_csv(), "x_s,n\n1.25e-3,4\n");
+        assert_eq!(t.to_csv().unwrap(), "x_s,n\n1.25e-3,4\n");
         assert_eq!(
             t.to_markdown(),
             "| x (s) | note |\n|---|---|\n| 1.3e-3 | four |\n"
@@ -337,7 +353,7 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let sub = dir.path().join("t");
         let mut files = AtomicFileSet::new(neurotac_core::io::Replace::No);
-        write_trade(&mut files, &sub, "x", "c", "m", "<svg/>").unwrap();
+        write_trade(&mut files, &sub, "x", Ok("c".into()), "m", "<svg/>").unwrap();
         assert_eq!(
             neurotac_core::testing::folder_names(&sub).len(),
             4,

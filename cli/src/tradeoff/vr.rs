@@ -11,6 +11,7 @@
 use super::table::{Cell, Column, Table, mark_front};
 use neurotac_core::coding::TraceRecord;
 use neurotac_core::distance::check_cos;
+use neurotac_core::io::csv;
 use neurotac_core::{CodingError, Knn, SpikeDataset};
 use neurotac_experiments::error::ExperimentError;
 use neurotac_experiments::neuron_setup::Precision;
@@ -230,7 +231,7 @@ fn table<'a>(rows: impl IntoIterator<Item = &'a VrTradeoffRow>) -> Table {
 }
 
 /// CSV: one line per method.
-pub fn to_csv(sweep: &VrTradeoff) -> String {
+pub fn to_csv(sweep: &VrTradeoff) -> Result<String, csv::Error> {
     table(&sweep.rows).to_csv()
 }
 
@@ -300,7 +301,9 @@ mod tests {
         assert!(f64_errors[2] < 1e-3, "{f64_errors:?}");
         // At a 10 µs step the traces rank the neighbours as the exact distance does.
         assert_eq!(t.rows.last().unwrap().loo.mean, t.rows[0].loo.mean);
-        assert!(to_csv(&t).lines().count() == 8 && to_markdown(&t).contains("Pareto front"));
+        assert!(
+            to_csv(&t).unwrap().lines().count() == 8 && to_markdown(&t).contains("Pareto front")
+        );
     }
 
     /// Hand-made rows: the exact distance and trace steps of both precisions, with and without
@@ -395,7 +398,7 @@ Pareto front (matrix speed, LOO accuracy):
     #[test]
     fn the_tables_keep_their_format() {
         let s = sweep();
-        assert_eq!(to_csv(&s), CSV);
+        assert_eq!(to_csv(&s).unwrap(), CSV);
         assert_eq!(pareto_table(&s), PARETO);
         assert_eq!(
             to_markdown(&s),
@@ -409,7 +412,7 @@ Pareto front (matrix speed, LOO accuracy):
     fn the_csv_and_markdown_tables_have_the_same_cells() {
         let s = sweep();
         assert_eq!(
-            columns_written_differently(&COLUMNS, &to_csv(&s), &to_markdown(&s)),
+            columns_written_differently(&COLUMNS, &to_csv(&s).unwrap(), &to_markdown(&s)),
             [
                 "trace_dt_s",
                 "loo_accuracy",

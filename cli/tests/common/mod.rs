@@ -137,3 +137,157 @@ pub fn neurotac_per_rank(mpirun: &Path, per_rank: &[Vec<&str>]) -> (bool, String
         String::from_utf8_lossy(&out.stderr).into_owned(),
     )
 }
+
+/// Writes a recorded dataset: class `c` (folder `texture<c>`) has pins twitching every
+/// `30 + 20·c` ms for 1.2 s, `counts[c]` slides of it (CSV event files), plus a note that is
+/// not an event file.
+pub fn recorded_dataset(dir: &Path, counts: &[usize]) {
+    let classes: Vec<(String, usize)> = (counts.iter().enumerate())
+        .map(|(c, &n)| (format!("texture{c}"), n))
+        .collect();
+    recorded_classes(dir, &classes);
+}
+
+/// [`recorded_dataset`] with the classes' folder names given: `(name, slides)` per class.
+pub fn recorded_classes(dir: &Path, classes: &[(String, usize)]) {
+    use neurotac_core::{Event, EventBuffer, Timestamp};
+    use neurotac_sensor::taxel::TaxelLayout;
+    for (c, (name, n)) in classes.iter().enumerate() {
+        let class = dir.join(name);
+        std::fs::create_dir_all(&class).unwrap();
+        for trial in 0..*n {
+            let period = 30_000 + 20_000 * c as i64;
+            let mut events = Vec::new();
+            for burst in 0..(1_200_000 / period) {
+                for (p, &(cx, cy)) in TaxelLayout::neurotac_default().centres().iter().enumerate() {
+                    for (k, (dx, dy)) in [(0, 0), (1, 0), (0, 1), (-1, 0)].into_iter().enumerate() {
+                        events.push(Event {
+                            t: Timestamp(
+                                5_000_000
+                                    + burst * period
+                                    + p as i64 * 40
+                                    + k as i64 * 150
+                                    + trial as i64 * 7,
+                            ),
+                            x: (cx.round() as i32 + dx) as u16,
+                            y: (cy.round() as i32 + dy) as u16,
+                            polarity: k % 2 == 0,
+                        });
+                    }
+                }
+            }
+            events.sort_by_key(|e| e.t);
+            let buffer: EventBuffer = events.into_iter().collect();
+            let path = class.join(format!("{trial:02}.csv"));
+            let sensor = neurotac_sensor::format::DAVIS240_SIZE;
+            neurotac_sensor::format::write_file(&path, &buffer, sensor).unwrap();
+        }
+        std::fs::write(class.join("notes.md"), "not an event file").unwrap();
+    }
+}
+
+/// A CSV file read back by the `csv` crate in strict mode: the header's names (each non-empty,
+/// no two alike) and every record, each with as many fields as the header (else the test
+/// fails, naming the file).
+pub fn read_csv_strict(path: &Path) -> (Vec<String>, Vec<Vec<String>>) {
+    let mut reader = csv::ReaderBuilder::new()
+        .has_headers(true)
+        .flexible(false)
+        .from_path(path)
+        .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let header: Vec<String> = (reader.headers())
+        .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+        .iter()
+        .map(String::from)
+        .collect();
+    let mut names = header.clone();
+    names.sort();
+    names.dedup();
+    assert!(
+        names.len() == header.len() && names.iter().all(|n| !n.is_empty()),
+        "{}: header {header:?}",
+        path.display()
+    );
+    let rows = reader
+        .records()
+        .map(|r| {
+            let r = r.unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+            r.iter().map(String::from).collect()
+        })
+        .collect();
+    (header, rows)
+}
+
+/// The tables of a Markdown text (runs of lines starting with `|`), each as its rows of cells
+/// (split at every `|` not escaped as `\|`); the separator line is a row too.
+pub fn markdown_tables(text: &str) -> Vec<Vec<Vec<String>>> {
+    let mut tables: Vec<Vec<Vec<String>>> = Vec::new();
+    let mut in_table = false;
+    for line in text.lines() {
+        let Some(inner) = line.trim_end().strip_prefix('|') else {
+            in_table = false;
+            continue;
+        };
+        let mut cells = vec![String::new()];
+        let mut escaped = false;
+        for c in inner.chars() {
+            match c {
+                '|' if !escaped => cells.push(String::new()),
+                _ => cells.last_mut().unwrap().push(c),
+            }
+            escaped = c == '\\' && !escaped;
+        }
+        // The closing `|` leaves an empty last cell.
+        if cells.last().is_some_and(|c| c.is_empty()) {
+            cells.pop();
+        }
+        let row = cells.into_iter().map(|c| c.trim().to_owned()).collect();
+        match in_table {
+            true => tables.last_mut().unwrap().push(row),
+            false => tables.push(vec![row]),
+        }
+        in_table = true;
+    }
+    tables
+}
+
+/// Fails unless every table of the Markdown file at `path` has, in every row, as many cells as
+/// its header, and a separator line right under the header.
+pub fn assert_markdown_tables_are_whole(path: &Path) {
+    let text = std::fs::read_to_string(path).unwrap();
+    for table in markdown_tables(&text) {
+        let width = table[0].len();
+        assert!(
+            table.len() >= 2 && table[1].iter().all(|c| c.starts_with("---")),
+            "{}: a table without its separator line: {table:?}",
+            path.display()
+        );
+        for row in &table {
+            assert_eq!(
+                row.len(),
+                width,
+                "{}: a row of another width than the header {:?}: {row:?}",
+                path.display(),
+                table[0]
+            );
+        }
+    }
+}
+
+/// Every file under `dir` (recursively) whose name ends with `.ext`, sorted.
+pub fn files_with_extension(dir: &Path, ext: &str) -> Vec<std::path::PathBuf> {
+    let mut found = Vec::new();
+    let mut folders = vec![dir.to_path_buf()];
+    while let Some(folder) = folders.pop() {
+        for entry in std::fs::read_dir(&folder).unwrap() {
+            let path = entry.unwrap().path();
+            if path.is_dir() {
+                folders.push(path);
+            } else if path.extension().is_some_and(|e| e == ext) {
+                found.push(path);
+            }
+        }
+    }
+    found.sort();
+    found
+}

@@ -80,7 +80,9 @@ mod tests {
     use super::super::transport::{DeviceInfo, ReplayEnd, ReplayTransport};
     use super::super::{Davis, StartOptions, UsbDecoder};
     use super::*;
-    use crate::format::{Aedat4Reader, Aedat4Writer, Compression, DAVIS240_SIZE, EventReader};
+    use crate::format::{
+        Aedat4Reader, Aedat4Writer, Compression, CsvWriter, DAVIS240_SIZE, EventReader,
+    };
     use std::io::Cursor;
 
     fn stream(end: ReplayEnd) -> (Vec<u8>, DavisStream<ReplayTransport>) {
@@ -129,6 +131,28 @@ mod tests {
         UsbDecoder::davis240().decode(&bytes, &mut want);
         assert_eq!(rec.events, 30_000);
         assert_eq!(read_back(file.get_ref()), want);
+    }
+
+    /// What `neurotac record out.csv` writes: valid CSV of the `t,x,y,on` layout, every event.
+    #[test]
+    fn a_recording_written_as_csv_reads_back_strictly_with_every_event() {
+        let (bytes, mut s) = stream(ReplayEnd::Unplug);
+        let mut file = Vec::new();
+        let mut writer = CsvWriter::new(&mut file, DAVIS240_SIZE).unwrap();
+        record(&mut s, &mut writer, Duration::from_secs(30), 0).unwrap();
+        drop(writer);
+        let text = std::str::from_utf8(&file).unwrap();
+        let (header, rows) = neurotac_core::io::csv::read_table(text).unwrap();
+        assert_eq!(header, ["t", "x", "y", "on"]);
+        let mut want = EventBuffer::new();
+        UsbDecoder::davis240().decode(&bytes, &mut want);
+        let want: Vec<[String; 4]> = (want.iter())
+            .map(|e| {
+                [e.t.0, i64::from(e.x), i64::from(e.y), i64::from(e.polarity)]
+                    .map(|v| v.to_string())
+            })
+            .collect();
+        assert_eq!(rows, want);
     }
 
     #[test]

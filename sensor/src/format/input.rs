@@ -20,6 +20,11 @@ impl<R: Read> Input<R> {
         }
     }
 
+    /// The reader and the label, for a reader that takes over the input.
+    pub(crate) fn into_parts(self) -> (R, PathBuf) {
+        (self.inner, self.path)
+    }
+
     pub(crate) fn path(&self) -> &Path {
         &self.path
     }

@@ -7,7 +7,7 @@
 //! | AEDAT 3.1 (polarity packets) | [`aedat3`] | [`Aedat3Reader`] / [`Aedat3Writer`] | `#!AER-DAT3.1` / `.aedat3` |
 //! | AEDAT 4.0 (LZ4 / Zstd / none) | [`aedat4`] | [`Aedat4Reader`] / [`Aedat4Writer`] | `#!AER-DAT4.0` / `.aedat4` |
 //! | Event Camera Dataset text (`t x y p`, t in s) | [`text`] | [`EcdTextReader`] / [`EcdTextWriter`] | a `t x y p` line / `.txt` |
-//! | CSV (`t,x,y,on`, t in µs) | [`text`] | [`CsvReader`] / [`CsvWriter`] | a `t,x,y,on` header / `.csv` |
+//! | CSV (`t,x,y,on`, t in µs; the `csv` crate) | [`csv_events`] | [`CsvReader`] / [`CsvWriter`] | a `t,x,y,on` header / `.csv` |
 //!
 //! Readers pull fixed-size blocks from any [`Read`] and hand out events chunk by chunk into a
 //! caller's [`EventBuffer`] ([`EventReader::read_chunk`]): a 10 GB file is never loaded whole, and
@@ -46,6 +46,7 @@ pub mod aedat3;
 pub mod aedat4;
 pub mod camera;
 mod contract;
+pub mod csv_events;
 mod escape;
 mod flatbuffer;
 mod header;
@@ -57,7 +58,8 @@ pub use aedat3::{Aedat3Reader, Aedat3Writer};
 pub use aedat4::{Aedat4Reader, Aedat4Writer, Compression};
 pub use camera::{CAMERAS, Camera, parse_sensor_size};
 pub use contract::{Backwards, DAVIS240_SIZE, EventReader, EventWriter, ReadStats};
-pub use text::{CsvReader, CsvWriter, EcdTextReader, EcdTextWriter};
+pub use csv_events::{CsvReader, CsvWriter};
+pub use text::{EcdTextReader, EcdTextWriter};
 
 use crate::error::FormatError;
 use camera::parse_sensor_line;
@@ -144,7 +146,16 @@ impl Format {
         let line = head[..line_end]
             .strip_suffix(b"\r")
             .unwrap_or(&head[..line_end]);
-        if line.eq_ignore_ascii_case(b"t,x,y,on") || line.eq_ignore_ascii_case(b"t,x,y,p") {
+        // The header as the CSV reader reads it (quoted or not, any letter case).
+        let first_record = neurotac_core::io::csv::reader_builder()
+            .has_headers(false)
+            .flexible(true)
+            .from_reader(line)
+            .into_byte_records()
+            .next();
+        if let Some(Ok(record)) = first_record
+            && csv_events::is_csv_header(&record)
+        {
             return Ok(Self::Csv);
         }
         // A first line of numbers: commas make it CSV (no header), blanks ECD text.

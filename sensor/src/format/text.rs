@@ -1,5 +1,7 @@
 //! Text event files (davis240.md §2.4): the Event Camera Dataset's `events.txt` and the CSV that
-//! faery writes.
+//! faery writes. This module reads and writes ECD text and holds what both readers share (the
+//! sensor line, the checks of a pixel and of the time order); CSV is read and written by the
+//! `csv` crate (`neurotac_core::io::csv`) in [`super::csv_events`].
 //!
 //! | format | line | time |
 //! |---|---|---|
@@ -27,26 +29,19 @@ use super::input::Input;
 use crate::error::FormatError;
 use neurotac_core::EventBuffer;
 use std::io::{Read, Write};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// Longest line accepted (bytes).
 pub const MAX_LINE_BYTES: usize = 4096;
 
 /// Most bytes of a line quoted in an error.
-const FOUND_MAX_BYTES: usize = 64;
+pub(super) const FOUND_MAX_BYTES: usize = 64;
 
-/// Which text dialect a reader parses.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Dialect {
-    Ecd,
-    Csv,
-}
-
-/// A parse failure inside a line: column, what was expected, and the byte range found.
-type FieldError = (&'static str, &'static str, usize, usize);
+/// A parse failure inside a line: the column, what was expected and the bytes found.
+pub(super) type FieldError<'a> = (&'static str, &'static str, &'a [u8]);
 
 /// Parses a decimal integer (optional sign) in `s`.
-fn parse_int(s: &[u8]) -> Option<i64> {
+pub(super) fn parse_int(s: &[u8]) -> Option<i64> {
     let (neg, digits) = match s.first()? {
         b'-' => (true, &s[1..]),
         b'+' => (false, &s[1..]),
@@ -93,135 +88,167 @@ fn parse_seconds_us(s: &[u8]) -> Option<i64> {
     i64::try_from(if neg { -us } else { us }).ok()
 }
 
-/// Parses one non-empty line into `(t, x, y, on)`.
-fn parse_line(dialect: Dialect, line: &[u8]) -> Result<(i64, i64, i64, bool), FieldError> {
-    let sep = match dialect {
-        Dialect::Ecd => b' ',
-        Dialect::Csv => b',',
-    };
-    let mut fields = [(0usize, 0usize); 4];
-    let mut count = 0;
-    let mut start = 0;
-    for (i, &b) in line
-        .iter()
-        .enumerate()
-        .chain(std::iter::once((line.len(), &sep)))
-    {
-        let is_sep = b == sep || (dialect == Dialect::Ecd && b == b'\t');
-        if is_sep {
-            if dialect == Dialect::Ecd && i == start {
-                start = i + 1; // runs of blanks
-                continue;
-            }
-            if count == 4 {
-                return Err(("line", "exactly 4 fields", 0, line.len()));
-            }
-            fields[count] = (start, i);
-            count += 1;
-            start = i + 1;
-        }
-    }
-    if count < 4 {
-        return Err(("line", "4 fields: t x y p", 0, line.len()));
-    }
-    let field = |k: usize| &line[fields[k].0..fields[k].1];
-    let t = match dialect {
-        Dialect::Ecd => parse_seconds_us(field(0)),
-        Dialect::Csv => parse_int(field(0)),
-    }
-    .ok_or(match dialect {
-        Dialect::Ecd => ("t", "decimal seconds", fields[0].0, fields[0].1),
-        Dialect::Csv => ("t", "integer microseconds", fields[0].0, fields[0].1),
-    })?;
-    let coord = |k: usize, name| {
-        parse_int(field(k))
+/// Parses the x, y and polarity fields of an event line: `(x, y, on)`.
+pub(super) fn parse_pixel<'a>(
+    x: &'a [u8],
+    y: &'a [u8],
+    polarity: &'a [u8],
+) -> Result<(i64, i64, bool), FieldError<'a>> {
+    let coord = |field: &'a [u8], name| {
+        parse_int(field)
             .filter(|v| (0..=i64::from(u16::MAX)).contains(v))
-            .ok_or((name, "an integer 0–65535", fields[k].0, fields[k].1))
+            .ok_or((name, "an integer 0–65535", field))
     };
-    let (x, y) = (coord(1, "x")?, coord(2, "y")?);
-    let on = match field(3) {
+    let (x, y) = (coord(x, "x")?, coord(y, "y")?);
+    let on = match polarity {
         b"1" => true,
         b"0" | b"-1" => false,
-        _ => return Err(("polarity", "1 or 0", fields[3].0, fields[3].1)),
+        _ => return Err(("polarity", "1 or 0", polarity)),
     };
+    Ok((x, y, on))
+}
+
+/// Parses one non-empty ECD line (`t x y p`, blanks between) into `(t, x, y, on)`.
+fn parse_line(line: &[u8]) -> Result<(i64, i64, i64, bool), FieldError<'_>> {
+    let mut fields = line
+        .split(|&b| b == b' ' || b == b'\t')
+        .filter(|f| !f.is_empty());
+    let mut next = || fields.next().ok_or(("line", "4 fields: t x y p", line));
+    let (t, x, y, p) = (next()?, next()?, next()?, next()?);
+    if fields.next().is_some() {
+        return Err(("line", "exactly 4 fields", line));
+    }
+    let t = parse_seconds_us(t).ok_or(("t", "decimal seconds", t))?;
+    let (x, y, on) = parse_pixel(x, y, p)?;
     Ok((t, x, y, on))
 }
 
-/// The line engine shared by both text readers.
+/// What both text readers keep of the events read so far: the sensor size (stated or
+/// assumed), the last time and the counters.
+pub(super) struct TextEvents {
+    pub(super) sensor: ReaderSensor,
+    pub(super) stats: ReadStats,
+    previous: i64,
+}
+
+impl TextEvents {
+    /// A file that states `stated` (or nothing).
+    pub(super) fn new(stated: Option<(u16, u16)>) -> Self {
+        Self {
+            sensor: ReaderSensor::new(stated),
+            stats: ReadStats::default(),
+            previous: i64::MIN,
+        }
+    }
+
+    /// Appends the event of the line at `offset` to `out`, or counts it as outside the sensor.
+    #[inline]
+    pub(super) fn push(
+        &mut self,
+        offset: u64,
+        (t, x, y, on): (i64, i64, i64, bool),
+        out: &mut EventBuffer,
+    ) {
+        let (size_x, size_y) = self.sensor.bounds();
+        if x >= i64::from(size_x) || y >= i64::from(size_y) {
+            self.stats.out_of_range += 1;
+            return;
+        }
+        self.stats.check_order(offset, self.previous, t);
+        self.previous = t;
+        out.t.push(t);
+        out.x.push(x as u16);
+        out.y.push(y as u16);
+        out.polarity.push(on);
+        self.stats.events += 1;
+    }
+}
+
+/// The error of a text line: `line` (1-based) at `offset`, and what was wrong in it.
+pub(super) fn text_error(path: &Path, line: u64, offset: u64, e: FieldError<'_>) -> FormatError {
+    let (field, expected, found) = e;
+    FormatError::Text {
+        path: path.to_path_buf(),
+        line,
+        offset,
+        field,
+        found: escape_text(found, FOUND_MAX_BYTES),
+        expected,
+    }
+}
+
+/// The start of a text input, as [`read_sensor_line`] read it.
+pub(super) struct TextStart {
+    /// The size the `# sensor` line states, if the input starts with one.
+    pub(super) stated: Option<(u16, u16)>,
+    /// The bytes read past the start without such a line (its first byte, to be read again).
+    pub(super) ahead: Vec<u8>,
+}
+
+/// Reads the optional first line `# sensor WIDTHxHEIGHT` of a text input. A first line that
+/// starts with `#` and is not a sensor line is an error naming line 1.
+pub(super) fn read_sensor_line<R: Read>(input: &mut Input<R>) -> Result<TextStart, FormatError> {
+    let mut byte = [0u8; 1];
+    let without = |ahead: &[u8]| TextStart {
+        stated: None,
+        ahead: ahead.to_vec(),
+    };
+    if input.read_full(&mut byte)? == 0 {
+        return Ok(without(&[]));
+    }
+    if byte[0] != b'#' {
+        return Ok(without(&byte));
+    }
+    // Byte by byte: the line is short, and what follows is the line reader's.
+    let mut line = vec![b'#'];
+    while line.len() <= MAX_LINE_BYTES && input.read_full(&mut byte)? == 1 {
+        if byte[0] == b'\n' {
+            break;
+        }
+        line.push(byte[0]);
+    }
+    let line = line.strip_suffix(b"\r").unwrap_or(&line);
+    let expected = "`# sensor WIDTHxHEIGHT` (the one `#` line read, first in the file)";
+    let size = parse_sensor_line(line)
+        .ok_or_else(|| text_error(input.path(), 1, 0, ("sensor line", expected, line)))?;
+    Ok(TextStart {
+        stated: Some(size),
+        ahead: Vec::new(),
+    })
+}
+
+/// The line engine of the ECD text reader.
 struct TextReader<R> {
     input: Input<R>,
-    dialect: Dialect,
-    sensor: ReaderSensor,
-    /// The number of the line that may hold the CSV header (1, or 2 after a sensor line).
-    header_line: u64,
+    events: TextEvents,
     block: Vec<u8>,
     start: usize,
     filled: usize,
     /// Offset of `block[0]`.
     block_offset: u64,
     line: u64,
-    previous: i64,
-    stats: ReadStats,
     eof: bool,
     end: ReaderEnd,
 }
 
 impl<R: Read> TextReader<R> {
     /// A reader of `reader`; reads the `# sensor` line if the input starts with `#`.
-    fn new(reader: R, path: PathBuf, dialect: Dialect) -> Result<Self, FormatError> {
-        let mut r = Self {
-            input: Input::new(reader, path),
-            dialect,
-            sensor: ReaderSensor::new(None),
-            header_line: 1,
-            block: vec![0; READ_BLOCK],
+    fn new(reader: R, path: PathBuf) -> Result<Self, FormatError> {
+        let mut input = Input::new(reader, path);
+        let TextStart { stated, ahead } = read_sensor_line(&mut input)?;
+        let mut block = vec![0; READ_BLOCK];
+        block[..ahead.len()].copy_from_slice(&ahead);
+        Ok(Self {
+            block_offset: input.offset() - ahead.len() as u64,
+            input,
+            events: TextEvents::new(stated),
+            block,
             start: 0,
-            filled: 0,
-            block_offset: 0,
-            line: 0,
-            previous: i64::MIN,
-            stats: ReadStats::default(),
+            filled: ahead.len(),
+            line: u64::from(stated.is_some()),
             eof: false,
             end: ReaderEnd::default(),
-        };
-        let mut byte = [0u8; 1];
-        if r.input.read_full(&mut byte)? == 0 {
-            return Ok(r);
-        }
-        if byte[0] != b'#' {
-            r.block[0] = byte[0];
-            r.filled = 1;
-            return Ok(r);
-        }
-        // Byte by byte: the line is short, and what follows is the line engine's.
-        let mut line = vec![b'#'];
-        while line.len() <= MAX_LINE_BYTES && r.input.read_full(&mut byte)? == 1 {
-            if byte[0] == b'\n' {
-                break;
-            }
-            line.push(byte[0]);
-        }
-        r.line = 1;
-        let line = line.strip_suffix(b"\r").unwrap_or(&line);
-        let expected = "`# sensor WIDTHxHEIGHT` (the one `#` line read, first in the file)";
-        let size = parse_sensor_line(line)
-            .ok_or_else(|| r.text_error(0, line, ("sensor line", expected, 0, line.len())))?;
-        r.sensor.stated = Some(size);
-        r.header_line = 2;
-        r.block_offset = r.input.offset();
-        Ok(r)
-    }
-
-    fn text_error(&self, offset: u64, line: &[u8], e: FieldError) -> FormatError {
-        let (field, expected, a, b) = e;
-        FormatError::Text {
-            path: self.input.path().to_path_buf(),
-            line: self.line,
-            offset,
-            field,
-            found: escape_text(&line[a..b], FOUND_MAX_BYTES),
-            expected,
-        }
+        })
     }
 
     /// Handles one line (without its line end).
@@ -231,29 +258,9 @@ impl<R: Read> TextReader<R> {
         if line.is_empty() {
             return Ok(());
         }
-        if self.line == self.header_line
-            && self.dialect == Dialect::Csv
-            && line[0].is_ascii_alphabetic()
-        {
-            if line.eq_ignore_ascii_case(b"t,x,y,on") || line.eq_ignore_ascii_case(b"t,x,y,p") {
-                return Ok(());
-            }
-            return Err(self.text_error(offset, line, ("header", "`t,x,y,on`", 0, line.len())));
-        }
-        let (t, x, y, on) =
-            parse_line(self.dialect, line).map_err(|e| self.text_error(offset, line, e))?;
-        let (size_x, size_y) = self.sensor.bounds();
-        if x >= i64::from(size_x) || y >= i64::from(size_y) {
-            self.stats.out_of_range += 1;
-            return Ok(());
-        }
-        self.stats.check_order(offset, self.previous, t);
-        self.previous = t;
-        out.t.push(t);
-        out.x.push(x as u16);
-        out.y.push(y as u16);
-        out.polarity.push(on);
-        self.stats.events += 1;
+        let event =
+            parse_line(line).map_err(|e| text_error(self.input.path(), self.line, offset, e))?;
+        self.events.push(offset, event, out);
         Ok(())
     }
 
@@ -286,8 +293,8 @@ impl<R: Read> TextReader<R> {
                 None => {
                     if rest.len() > MAX_LINE_BYTES {
                         let offset = self.block_offset + self.start as u64;
-                        let e = ("line", "a line shorter than 4096 bytes", 0, rest.len());
-                        return Err(self.text_error(offset, rest, e));
+                        let e = ("line", "a line shorter than 4096 bytes", rest);
+                        return Err(text_error(self.input.path(), self.line + 1, offset, e));
                     }
                     return Ok(());
                 }
@@ -304,10 +311,12 @@ impl<R: Read> TextReader<R> {
     }
 }
 
+/// The public type `$name` of a text reader over its engine `$engine` (with `new(reader,
+/// path)`, `read_chunk` and its [`TextEvents`] in `events`).
 macro_rules! text_reader {
-    ($name:ident, $dialect:expr, $doc:literal) => {
+    ($name:ident, $engine:ident, $doc:literal) => {
         #[doc = $doc]
-        pub struct $name<R>(TextReader<R>);
+        pub struct $name<R>($engine<R>);
 
         impl<R: Read> $name<R> {
             /// A reader of `reader`, labelled `<input>` in errors; reads its `# sensor` line,
@@ -319,13 +328,13 @@ macro_rules! text_reader {
             /// A reader of `reader`, named `path` in errors; reads its `# sensor` line, if it
             /// has one (another `#` first line is an error).
             pub fn with_name(reader: R, path: PathBuf) -> Result<Self, FormatError> {
-                Ok(Self(TextReader::new(reader, path, $dialect)?))
+                Ok(Self($engine::new(reader, path)?))
             }
 
             /// Reads a file without a `# sensor` line as a `size` sensor (instead of
             /// 240 × 180).
             pub fn assuming(mut self, size: (u16, u16)) -> Self {
-                self.0.sensor.assumed = size;
+                self.0.events.sensor.assumed = size;
                 self
             }
         }
@@ -336,64 +345,57 @@ macro_rules! text_reader {
             }
 
             fn stats(&self) -> ReadStats {
-                self.0.stats
+                self.0.events.stats
             }
 
             fn sensor_size(&self) -> Option<(u16, u16)> {
-                self.0.sensor.stated
+                self.0.events.sensor.stated
             }
         }
     };
 }
+pub(super) use text_reader;
 
 text_reader!(
     EcdTextReader,
-    Dialect::Ecd,
+    TextReader,
     "Streaming reader of Event Camera Dataset text (`t x y p`, t in seconds; davis240.md §2.4)."
 );
-text_reader!(
-    CsvReader,
-    Dialect::Csv,
-    "Streaming reader of CSV events (`t,x,y,on`, t in µs; the header line is optional; davis240.md §2.4)."
-);
 
-/// The line engine shared by both text writers.
+/// The first lines of a text file for a `sensor` (width, height) recording: `# sensor
+/// WIDTHxHEIGHT` for any size but 240 × 180 (module docs); a width or height of 0 is refused
+/// ([`FormatError::UnsupportedSensorSize`]) naming `format`.
+pub(super) fn sensor_head(
+    path: &Path,
+    format: &'static str,
+    sensor: (u16, u16),
+) -> Result<String, FormatError> {
+    if sensor.0 == 0 || sensor.1 == 0 {
+        let supported = "1 … 65535 pixels each way";
+        return Err(unsupported_size(path, format, sensor, supported));
+    }
+    Ok(match sensor == DAVIS240_SIZE {
+        true => String::new(),
+        false => sensor_line(sensor),
+    })
+}
+
+/// The line engine of the ECD text writer.
 struct TextWriter<W: Write> {
     out: W,
     path: PathBuf,
-    dialect: Dialect,
     size: (u16, u16),
     written: u64,
     line: Vec<u8>,
 }
 
 impl<W: Write> TextWriter<W> {
-    fn new(
-        mut out: W,
-        path: PathBuf,
-        dialect: Dialect,
-        sensor: (u16, u16),
-    ) -> Result<Self, FormatError> {
-        if sensor.0 == 0 || sensor.1 == 0 {
-            let format = match dialect {
-                Dialect::Ecd => "ECD text",
-                Dialect::Csv => "CSV",
-            };
-            let supported = "1 … 65535 pixels each way";
-            return Err(unsupported_size(&path, format, sensor, supported));
-        }
-        let mut head = match sensor == DAVIS240_SIZE {
-            true => String::new(),
-            false => sensor_line(sensor),
-        };
-        if dialect == Dialect::Csv {
-            head.push_str("t,x,y,on\n");
-        }
+    fn new(mut out: W, path: PathBuf, sensor: (u16, u16)) -> Result<Self, FormatError> {
+        let head = sensor_head(&path, "ECD text", sensor)?;
         out.write_all(head.as_bytes()).map_err(write_error(&path))?;
         Ok(Self {
             out,
             path,
-            dialect,
             size: sensor,
             written: 0,
             line: Vec::with_capacity(READ_BLOCK),
@@ -405,23 +407,18 @@ impl<W: Write> TextWriter<W> {
         for (i, e) in events.iter().enumerate() {
             check_inside(&self.path, self.written + i as u64, (e.x, e.y), self.size)?;
             let t = e.t.0;
-            let on = u8::from(e.polarity);
+            let sign = if t < 0 { "-" } else { "" };
+            let abs = t.unsigned_abs();
             // Writing into a Vec cannot fail.
-            let _ = match self.dialect {
-                Dialect::Csv => writeln!(self.line, "{t},{},{},{on}", e.x, e.y),
-                Dialect::Ecd => {
-                    let sign = if t < 0 { "-" } else { "" };
-                    let abs = t.unsigned_abs();
-                    writeln!(
-                        self.line,
-                        "{sign}{}.{:06}000 {} {} {on}",
-                        abs / 1_000_000,
-                        abs % 1_000_000,
-                        e.x,
-                        e.y
-                    )
-                }
-            };
+            let _ = writeln!(
+                self.line,
+                "{sign}{}.{:06}000 {} {} {}",
+                abs / 1_000_000,
+                abs % 1_000_000,
+                e.x,
+                e.y,
+                u8::from(e.polarity)
+            );
             if self.line.len() >= READ_BLOCK - 64 {
                 self.flush_line()?;
             }
@@ -443,10 +440,12 @@ impl<W: Write> TextWriter<W> {
     }
 }
 
+/// The public type `$name` of a text writer over its engine `$engine` (with `new(out, path,
+/// sensor)`, `write` and `finish`).
 macro_rules! text_writer {
-    ($name:ident, $dialect:expr, $doc:literal) => {
+    ($name:ident, $engine:ident, $doc:literal) => {
         #[doc = $doc]
-        pub struct $name<W: Write>(TextWriter<W>);
+        pub struct $name<W: Write>($engine<W>);
 
         impl<W: Write> $name<W> {
             /// A writer of a `sensor` (width, height) recording to `out`, labelled `<output>`
@@ -464,7 +463,7 @@ macro_rules! text_writer {
                 path: PathBuf,
                 sensor: (u16, u16),
             ) -> Result<Self, FormatError> {
-                Ok(Self(TextWriter::new(out, path, $dialect, sensor)?))
+                Ok(Self($engine::new(out, path, sensor)?))
             }
         }
 
@@ -479,16 +478,12 @@ macro_rules! text_writer {
         }
     };
 }
+pub(super) use text_writer;
 
 text_writer!(
     EcdTextWriter,
-    Dialect::Ecd,
+    TextWriter,
     "Writer of Event Camera Dataset text: `t x y p` with t in seconds and 9 decimals (davis240.md §2.4)."
-);
-text_writer!(
-    CsvWriter,
-    Dialect::Csv,
-    "Writer of CSV events: header `t,x,y,on`, t in integer µs (davis240.md §2.4)."
 );
 
 #[cfg(test)]
@@ -528,23 +523,20 @@ mod tests {
     #[test]
     fn lines_parse_or_name_the_bad_field() {
         assert_eq!(
-            parse_line(Dialect::Ecd, b"0.000011001 158 145 1"),
+            parse_line(b"0.000011001 158 145 1"),
             Ok((11, 158, 145, true))
         );
         assert_eq!(
-            parse_line(Dialect::Csv, b"11,158,145,0"),
+            parse_line(b" 0.000011\t158  145 0 "),
             Ok((11, 158, 145, false))
         );
+        assert_eq!(parse_line(b"0.1 2 3 7").unwrap_err().0, "polarity");
         assert_eq!(
-            parse_line(Dialect::Ecd, b"0.1 2 3 7").unwrap_err().0,
-            "polarity"
+            parse_line(b"0.1 -2 3 1").unwrap_err(),
+            ("x", "an integer 0–65535", &b"-2"[..])
         );
-        assert_eq!(parse_line(Dialect::Csv, b"0,-2,3,1").unwrap_err().0, "x");
-        assert_eq!(parse_line(Dialect::Csv, b"0,2,3").unwrap_err().0, "line");
-        assert_eq!(
-            parse_line(Dialect::Csv, b"0,2,3,1,5").unwrap_err().0,
-            "line"
-        );
+        assert_eq!(parse_line(b"0.1 2 3").unwrap_err().0, "line");
+        assert_eq!(parse_line(b"0.1 2 3 1 5").unwrap_err().0, "line");
     }
 
     #[test]
@@ -558,11 +550,5 @@ mod tests {
             (out.t.clone(), out.x.clone()),
             (vec![1, 2, 3], vec![1, 3, 5])
         );
-        let mut out = EventBuffer::new();
-        CsvReader::new(&b"7,1,2,1\n8,3,4,0"[..])
-            .unwrap()
-            .read_to_end(&mut out)
-            .unwrap();
-        assert_eq!(out.t, vec![7, 8], "a CSV without header");
     }
 }

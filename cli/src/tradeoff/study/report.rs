@@ -4,9 +4,10 @@
 
 use super::{ALPHA, FamilyStudy, SetStudy, SettingResult};
 use crate::report::svg::{Axis, Chart, Marker, Series};
+use crate::report::tables::markdown_cell;
 use crate::tradeoff::table::{error_series, write_files, write_trade};
 use crate::tradeoff::{TradeoffError, trade_files};
-use neurotac_core::io::AtomicFileSet;
+use neurotac_core::io::{AtomicFileSet, csv};
 use neurotac_experiments::menu::Menu;
 use std::fmt::Write;
 use std::path::{Path, PathBuf};
@@ -34,23 +35,22 @@ pub struct Rows {
 }
 
 impl Rows {
-    /// CSV (the texts never hold a comma).
-    pub fn to_csv(&self) -> String {
-        std::iter::once(&self.header)
-            .chain(&self.rows)
-            .map(|line| line.join(",") + "\n")
-            .collect()
+    /// CSV ([`neurotac_core::io::csv`]: a text holding a comma, a quote or a line break is
+    /// quoted). Fails when a row has not as many texts as the header.
+    pub fn to_csv(&self) -> Result<String, csv::Error> {
+        csv::table(&self.header, &self.rows)
     }
 
-    /// A Markdown table.
+    /// A Markdown table (a `|` in a text escaped, [`markdown_cell`]).
     pub fn to_markdown(&self) -> String {
-        let mut s = format!(
-            "| {} |\n|{}\n",
-            self.header.join(" | "),
-            "---|".repeat(self.header.len())
-        );
+        let line = |texts: &[String]| {
+            let cells: Vec<_> = texts.iter().map(|t| markdown_cell(t)).collect();
+            format!("| {} |\n", cells.join(" | "))
+        };
+        let mut s = line(&self.header);
+        let _ = writeln!(s, "|{}", "---|".repeat(self.header.len()));
         for r in &self.rows {
-            let _ = writeln!(s, "| {} |", r.join(" | "));
+            s.push_str(&line(r));
         }
         s
     }
@@ -279,7 +279,7 @@ pub fn write_family(
         files,
         dir,
         &study.family,
-        &t.to_csv(),
+        t.to_csv(),
         &markdown,
         &to_svg(&set.name, study),
     )?;

@@ -8,8 +8,8 @@ use crate::export::{OutputFormat, dataset_bytes};
 use crate::progress::Progress;
 use neurotac_core::io::AtomicFileSet;
 use neurotac_core::{EventBuffer, Ranks, SpikeDataset};
+use neurotac_sensor::format::csv_events::CSV_HEADER;
 use neurotac_sensor::sim::{EventLabel, SimParams, SimulatedTrial, check_trials};
-use std::io::Write;
 use std::path::{Path, PathBuf};
 
 /// How `generate` writes every trial's pixel events.
@@ -188,8 +188,9 @@ fn events_folder(
     ))
 }
 
-/// Writes pixel events as CSV (replacing an existing file): a header `t,x,y,on` (t in µs, `on`
-/// 1/0), one event per line; with `labels`, a fifth column `pin` (source pin, −1 for noise).
+/// Writes pixel events as CSV (replacing an existing file) through `neurotac_core::io::csv`: a
+/// header `t,x,y,on` (t in µs, `on` 1/0), one event per line; with `labels`, a fifth column
+/// `pin` (source pin, −1 for noise).
 ///
 /// This is the simulator's own minimal writer; the event-file formats of the DAVIS stack
 /// supersede it.
@@ -202,30 +203,24 @@ pub fn write_events_csv(
         path: path.to_owned(),
         source,
     };
-    let mut w =
+    let file =
         neurotac_core::io::AtomicFile::create(path, neurotac_core::io::Replace::Yes).map_err(io)?;
-    let header = if labels.is_some() {
-        "t,x,y,on,pin\n"
-    } else {
-        "t,x,y,on\n"
-    };
-    w.write_all(header.as_bytes()).map_err(io)?;
+    let mut header = CSV_HEADER.to_vec();
+    if labels.is_some() {
+        header.push("pin");
+    }
+    let mut w = neurotac_core::io::csv::writer(file, header).map_err(|e| io(e.into()))?;
     for (i, e) in events.iter().enumerate() {
+        let event = (e.t.0, e.x, e.y, u8::from(e.polarity));
         match labels {
             Some(l) => {
                 let pin = l[i].pin().map_or(-1, |p| p as i64);
-                writeln!(
-                    w,
-                    "{},{},{},{},{pin}",
-                    e.t.0,
-                    e.x,
-                    e.y,
-                    u8::from(e.polarity)
-                )
+                w.serialize((event.0, event.1, event.2, event.3, pin))
             }
-            None => writeln!(w, "{},{},{},{}", e.t.0, e.x, e.y, u8::from(e.polarity)),
+            None => w.serialize(event),
         }
-        .map_err(io)?;
+        .map_err(|e| io(e.into()))?;
     }
-    w.commit().map_err(io)
+    let file = w.into_inner().map_err(|e| io(e.into_error()))?;
+    file.commit().map_err(io)
 }
