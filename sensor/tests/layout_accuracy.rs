@@ -96,8 +96,8 @@ fn magnified(
 
 /// 50 slides per seed: 10 grids × 3 slides and 5 natural textures × 4 slides; each seed is a
 /// camera (its fixed-pattern noise) and a sensor whose pins sit off the nominal position and
-/// scale. The slides are shortened to 8 mm: the first 500 ms (rest, onset, sliding) are the
-/// same as a full slide's.
+/// scale. The slides are shortened to 8 mm: their first second (the loop's latencies, the press,
+/// the dwell, the slide's onset) is a full recording's.
 fn simulated_detections() -> Vec<Scored> {
     let mut params = SimParams::default();
     params.kinematics.distance_mm = 8.0;
@@ -127,17 +127,18 @@ fn simulated_detections() -> Vec<Scored> {
                 slide_seed += 1;
                 let trial = sim.simulate_slide(texture, slide, slide_seed);
                 let events = &trial.events;
-                // The CLI's default calibration window, and a window holding only the rest
-                // before the motion (noise only: nothing to find).
-                let calibration = head(events, 500_000);
+                // The CLI's default calibration window (the press and the slide's onset, when
+                // every pin moves), and a window before the dome touches (noise only: nothing
+                // to find).
+                let calibration = head(events, 1_000_000);
                 let d = TaxelLayout::detect(&calibration, 49, 3.0);
-                scored.push(Scored::new("500 ms (default)", &d, &truth));
-                let d = TaxelLayout::detect(&head(events, 150_000), 49, 3.0);
-                scored.push(Scored::new("150 ms (rest only)", &d, &truth));
+                scored.push(Scored::new("1000 ms (default)", &d, &truth));
+                let d = TaxelLayout::detect(&head(events, 100_000), 49, 3.0);
+                scored.push(Scored::new("100 ms (before the press)", &d, &truth));
                 // Pins spaced unlike the NeuroTac's rings.
                 let (wide, wide_truth) = magnified(&calibration, &truth, 1.4);
                 let d = TaxelLayout::detect(&wide, 49, 3.0);
-                scored.push(Scored::new("500 ms, pins 1.4× apart", &d, &wide_truth));
+                scored.push(Scored::new("1000 ms, pins 1.4× apart", &d, &wide_truth));
             }
         }
     }
@@ -212,7 +213,7 @@ fn the_layout_finder_finds_the_pins_of_sliding_slides_and_its_confidence_is_cali
     // within a pixel and a half on average (the pins move while the window is recorded).
     let default: Vec<&Scored> = scored
         .iter()
-        .filter(|s| s.case.starts_with("500 ms ("))
+        .filter(|s| s.case.starts_with("1000 ms ("))
         .collect();
     assert_eq!(default.len(), 150);
     for s in &default {
@@ -228,7 +229,7 @@ fn the_layout_finder_finds_the_pins_of_sliding_slides_and_its_confidence_is_cali
     assert!(
         scored
             .iter()
-            .filter(|s| !s.case.starts_with("500 ms ("))
+            .filter(|s| !s.case.starts_with("1000 ms ("))
             .all(|s| !s.reliable)
     );
 }

@@ -101,8 +101,10 @@ pub struct TransduceArgs {
     /// Re-centring gain in [0, 1] (0: fixed fields).
     #[arg(value_parser = args::unit_interval, allow_negative_numbers = true, long, default_value_t = 0.5)]
     gain: f64,
-    /// Calibration time for --layout auto (ms, or with a unit: 20ms, 0.02s).
-    #[arg(value_parser = args::time_duration, allow_negative_numbers = true, long, alias = "calibration-ms", default_value = "500ms")]
+    /// Calibration time for --layout auto (ms, or with a unit: 20ms, 0.02s); the default first
+    /// second of a NeuroTac recording holds the press and the slide's onset, when every pin
+    /// moves.
+    #[arg(value_parser = args::time_duration, allow_negative_numbers = true, long, alias = "calibration-ms", default_value = "1s")]
     calibration: Time,
     /// Use a --layout auto layout even when its confidence is below the calibrated threshold
     /// (by default `transduce` then stops).
@@ -273,8 +275,10 @@ pub fn run_filter(a: FilterArgs) -> anyhow::Result<()> {
 pub struct LayoutArgs {
     /// Calibration recording (any event file).
     input: PathBuf,
-    /// Use the first this long of the recording (ms, or with a unit: 20ms, 0.02s).
-    #[arg(value_parser = args::time_duration, allow_negative_numbers = true, long, alias = "calibration-ms", default_value = "500ms")]
+    /// Use the first this long of the recording (ms, or with a unit: 20ms, 0.02s); the default
+    /// first second of a NeuroTac recording holds the press and the slide's onset, when every
+    /// pin moves.
+    #[arg(value_parser = args::time_duration, allow_negative_numbers = true, long, alias = "calibration-ms", default_value = "1s")]
     calibration: Time,
     /// Receptive-field radius (px); the paper's fields are 6 px in diameter.
     #[arg(value_parser = args::positive_f64, allow_negative_numbers = true, long, default_value_t = 3.0)]

@@ -25,11 +25,13 @@
 
 mod calibration;
 mod specimens;
+mod statistic;
 mod statistics;
 mod trial;
 
 pub use calibration::{Calibration, CalibrationEntry, calibrate, grid_count, remounted};
 pub use specimens::{SpecimenReport, SpecimenRow, mounting_summary};
+pub use statistic::Statistic;
 pub use statistics::spearman;
 use statistics::{mean, sd, within_factor};
 use trial::{Summary, analyse};
@@ -83,21 +85,6 @@ impl Default for CheckConfig {
             params: SimParams::default(),
         }
     }
-}
-
-/// One acceptance statistic.
-#[derive(Debug, Clone, Serialize)]
-pub struct Statistic {
-    /// Number in the spec's §5.
-    pub number: u8,
-    /// Name.
-    pub name: &'static str,
-    /// What was measured.
-    pub measured: String,
-    /// The bound it is held to.
-    pub bound: String,
-    /// Whether every part of the bound holds.
-    pub pass: bool,
 }
 
 /// The check's results.

@@ -5,7 +5,7 @@
 //! first burst's timing spread, the pile and the fabric drag; and the spread over mountings of
 //! the 5 mm / 4.5 mm count ratio. Computed from simulated slides alone, before any accuracy.
 
-use super::Statistic;
+use super::statistic::Statistic;
 use super::statistics::{mean, sd, spearman};
 use neurotac_experiments::datasets::{
     DatasetsError, TextureSet, camera_seed, jobs_for, map_trials, prepare_textures,

@@ -46,7 +46,7 @@
 //! two standard deviations, and a 300 mm/s² ramp (k = 0.0067) is excluded. The default is the
 //! IRB 120's maximum TCP acceleration, 28 m/s² (ABB product specification).
 
-use super::params::SimParams;
+use super::params::{KinematicsParams, SimParams};
 use super::random::gaussian;
 use rand_chacha::ChaCha8Rng;
 
@@ -228,6 +228,59 @@ fn mean_latency_s(params: &SimParams) -> f64 {
 /// √[`LOOP_STEPS`] (independent steps).
 fn step_jitter_s(params: &SimParams) -> f64 {
     params.kinematics.loop_jitter_s / (LOOP_STEPS as f64).sqrt()
+}
+
+/// A recording's length and its parts, from the parameters.
+impl SimParams {
+    /// Duration of the slide alone (s): its trapezoidal profile over the slide distance.
+    pub fn motion_duration_s(&self) -> f64 {
+        let k = &self.kinematics;
+        Trapezoid::new(k.distance_mm, k.speed_mm_s, k.acceleration_mm_s2).duration_s()
+    }
+
+    /// The kinematics field (and its value) behind the longest part of a recording, to name in
+    /// an error when the recording is too long: the dwell, the loop's latencies, the moves'
+    /// acceleration ramps, or a cruise at full speed — the slide's blamed on the distance or the
+    /// speed, whichever lies further from its default by ratio, the press's on its travel.
+    pub(crate) fn longest_part_of_trial(&self) -> (&'static str, f64) {
+        let k = &self.kinematics;
+        let (v, a, d) = (k.speed_mm_s, k.acceleration_mm_s2, k.distance_mm);
+        let ramps = |d: f64| 2.0 * (v / a).min((d / a).sqrt());
+        let slide = Trapezoid::new(d, v, a).duration_s();
+        let press = Trapezoid::new(k.press_travel_mm, v, a).duration_s();
+        let default = KinematicsParams::default();
+        let cruise_field = if d / default.distance_mm >= default.speed_mm_s / v {
+            ("kinematics.distance_mm", d)
+        } else {
+            ("kinematics.speed_mm_s", v)
+        };
+        let latencies =
+            Recording::longest(self).end_s - Recording::nominal(self).end_s + k.loop_overhead_s;
+        [
+            (k.dwell_s, ("kinematics.dwell_s", k.dwell_s)),
+            (latencies, ("kinematics.loop_overhead_s", k.loop_overhead_s)),
+            (
+                ramps(d) + ramps(k.press_travel_mm),
+                ("kinematics.acceleration_mm_s2", a),
+            ),
+            (slide - ramps(d), cruise_field),
+            (
+                press - ramps(k.press_travel_mm),
+                ("kinematics.press_travel_mm", k.press_travel_mm),
+            ),
+        ]
+        .into_iter()
+        .max_by(|x, y| x.0.total_cmp(&y.0))
+        .map(|(_, named)| named)
+        .expect("five parts")
+    }
+
+    /// The longest recording these parameters make (s): every blocking step of the loop at its
+    /// longest latency ([`Recording::longest`]). Every simulated recording ends before it, so a
+    /// dataset's samples all fit in it.
+    pub fn duration_s(&self) -> f64 {
+        Recording::longest(self).end_s
+    }
 }
 
 /// The duration law of recordings at speed `speed_mm_s` with every other parameter from

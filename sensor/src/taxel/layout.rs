@@ -176,10 +176,13 @@ impl LayoutDetection {
     /// Confidence at and above which a detected 49-pin layout can be used without checking.
     /// Calibrated by the test `layout_accuracy` on 150 simulated slides (50 across textures ×
     /// 3 cameras with the pins off their nominal position and scale), each detected thrice:
-    /// from the first 500 ms (every layout right, all 49 centres within 3 px, confidence
-    /// 0.33–1.00), from the rest before the motion (noise only) and with the pins magnified
-    /// 1.4× (both always wrong, confidence ≤ 0.02). The real non-tactile DAVIS240 recording in
-    /// `shared/data/davis240` scores 0.
+    /// from the first second — the press and the slide's onset, when every pin moves (every
+    /// layout right, all 49 centres within 3 px, confidence 1.00) —, from the first 100 ms,
+    /// before the dome touches (noise only: never reliable, confidence ≤ 0.18), and with the
+    /// pins magnified 1.4× (always wrong, confidence 0). The real non-tactile DAVIS240
+    /// recording in `shared/data/davis240` scores 0. A window holding the press alone places
+    /// the lattice from the inner rings only, where a wrongly scaled lattice can fit: use one
+    /// that holds the slide's onset.
     pub const RELIABLE_CONFIDENCE: f64 = 0.2;
 
     /// `true` when [`confidence`](Self::confidence) reaches
