@@ -78,8 +78,9 @@ fn recognise_replays_an_event_file_and_reports_every_window_and_bad_input_in_one
             .map(|l| serde_json::from_str(l).unwrap())
             .collect();
         let (windows, last) = lines.split_at(lines.len() - 1);
-        // 4.55 s slides: 228 windows of 20 ms.
-        assert_eq!(windows.len(), 228, "{coding}");
+        // A recording lasts the paper's 4.528 s at 15 mm/s give or take the loop's latencies
+        // (a few ms): about 226 windows of 20 ms.
+        assert!((223..=230).contains(&windows.len()), "{coding}: {}", windows.len());
         assert!((windows[0]["t_s"].as_f64().unwrap() - 0.02).abs() < 1e-12);
         // The sensor is at rest for the first windows: every training prefix is equally far,
         // so the vote is a tie, said as one and never stable.
@@ -183,7 +184,8 @@ fn recognise_eval_writes_accuracy_against_time_for_every_coding() {
         csv.starts_with(&format!("t_s,{}\n0.020,", keys.join(","))),
         "{csv}"
     );
-    assert_eq!(csv.lines().count(), 1 + 228);
+    // A header, then one row per 20 ms window of the recordings (about 4.53 s each).
+    assert!((1 + 223..=1 + 230).contains(&csv.lines().count()), "{csv}");
     let summary: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
     assert_eq!(summary["n_test"], 11);
