@@ -131,56 +131,40 @@ pub fn calibrate(
     let [flat, mid, coarse] = PAPER_INTENSIVE_MEANS;
     let mut p = *params;
     let mut slides = 0usize;
-    let count_of = |size_mm: f64| {
-        move |q: &SimParams| -> Result<f64, DatasetsError> {
-            grid_count(q, size_mm, trials, seed, progress)
-        }
-    };
-    let (flat_count, mid_count, coarse_count) =
-        (count_of(flat.0), count_of(mid.0), count_of(coarse.0));
-    let (mut flat_achieved, mut mid_achieved, mut coarse_achieved) = (f64::NAN, f64::NAN, f64::NAN);
     // Each value moves every anchor (the lever also sets the press's splay on the flat plate;
     // the shear gain every grid's onset), so the three are fitted in turn — lever on 5 mm,
     // conformity gap on 2.5 mm, shear gain on the flat plate — until the anchors all hold.
-    for _ in 0..rounds.max(1) {
-        bisect(
-            &mut p,
-            |q, v| q.contact.lever_mm = v,
-            (0.05, 3.0),
-            true,
-            coarse.1,
-            &mut |q| {
-                slides += trials;
-                coarse_count(q)
-            },
-        )?;
-        bisect(
-            &mut p,
+    /// A fitted value: how to set it, its range, whether the count rises with it, its anchor
+    /// (grid size, target count).
+    type Fit = (fn(&mut SimParams, f64), (f64, f64), bool, (f64, f64));
+    let fits: [Fit; 3] = [
+        (|q, v| q.contact.lever_mm = v, (0.05, 3.0), true, coarse),
+        (
             |q, v| q.contact.gap_conformity_mm = v,
             (1.0, 20.0),
             false,
-            mid.1,
-            &mut |q| {
-                slides += trials;
-                mid_count(q)
-            },
-        )?;
-        flat_achieved = bisect(
-            &mut p,
-            |q, v| q.contact.pin_shear_gain = v,
-            (0.0, 2.0),
-            true,
-            flat.1,
-            &mut |q| {
-                slides += trials;
-                flat_count(q)
-            },
-        )?
-        .1;
-        slides += 2 * trials;
-        mid_achieved = mid_count(&p)?;
-        coarse_achieved = coarse_count(&p)?;
-        let held = |achieved: f64, target: f64| (achieved / target - 1.0).abs() <= 0.01;
+            mid,
+        ),
+        (|q, v| q.contact.pin_shear_gain = v, (0.0, 2.0), true, flat),
+    ];
+    let mut count = |q: &SimParams, size_mm: f64| {
+        slides += trials;
+        grid_count(q, size_mm, trials, seed, progress)
+    };
+    let held = |achieved: f64, target: f64| (achieved / target - 1.0).abs() <= 0.01;
+    let (mut flat_achieved, mut mid_achieved, mut coarse_achieved) = (f64::NAN, f64::NAN, f64::NAN);
+    for _ in 0..rounds.max(1) {
+        for (set, range, rising, (size_mm, target)) in fits {
+            let (_, achieved) = bisect(&mut p, set, range, rising, target, &mut |q| {
+                count(q, size_mm)
+            })?;
+            // The flat plate is fitted last: its count is what the round ends with.
+            if size_mm == flat.0 {
+                flat_achieved = achieved;
+            }
+        }
+        mid_achieved = count(&p, mid.0)?;
+        coarse_achieved = count(&p, coarse.0)?;
         if held(coarse_achieved, coarse.1) && held(mid_achieved, mid.1) {
             break;
         }

@@ -229,9 +229,8 @@ pub(super) fn specimen_check(
         }
         slides.push(runs);
     }
-    let all: Vec<&SpecimenSlide> = slides.iter().flatten().collect();
     let natural: Vec<&SpecimenRow> = rows[11..].iter().collect();
-    let mut statistics = vec![
+    let statistics = vec![
         duration_law(params),
         press_statistic(&rows),
         lead_trail_statistic(&rows),
@@ -240,12 +239,11 @@ pub(super) fn specimen_check(
         first_burst_statistic(params, &slides),
         pile_statistic(params, &natural),
     ];
-    statistics.sort_by_key(|s| s.number);
     let ratios = mounting_ratios(params, seed, mountings, progress)?;
     Ok(SpecimenReport {
         statistics,
         textures: rows,
-        trials_simulated: all.len() + 2 * mountings,
+        trials_simulated: slides.iter().map(Vec::len).sum::<usize>() + 2 * mountings,
         mounting_ratios: ratios,
     })
 }
