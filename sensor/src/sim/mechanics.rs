@@ -37,7 +37,7 @@
 //! shear s_i — the base's travel while its footprint sticks, a twitch back when the partial-slip
 //! front reaches it — and after it the lumped s.
 //!
-//! **Pins** (sensor plane, mm; χ(r) the contact weight of [`contact_weight`], φ_i the pin's
+//! **Pins** (sensor plane, mm; χ(r) the contact weight `contact_weight` below, φ_i the pin's
 //! displacement per unit shear through the gel, stuck or sliding, [`super::shear_spread`]):
 //! `u_i = G_lever·∇w(x_i) + g_pin·φ_i·(s_i + micro) + g_pin·χ_i·τ̃/κ·x̂ + β·w(x_i)·r̂_i + splay`,
 //! with `w = χ·w₀(X, Y)` sampled at the world point under the pin. The world point follows the
