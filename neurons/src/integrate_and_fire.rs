@@ -23,7 +23,8 @@
 //! what the NIR import uses for spikes that jump the membrane.
 //!
 //! ## Spike times and extremes
-//! On the grid: a spike is stamped at the end of the step in which `v` reached `v_th`. After
+//! On the grid: a spike is stamped at the end of the step in which `v` reached `v_th` (with
+//! interpolation too: the in-step fraction is kept at 1). After
 //! each step `v` is kept at or above `max(v_min, lowest finite)`; `v ≥ v_th` resets, so the
 //! state is always finite and nothing can diverge.
 //!
@@ -133,6 +134,10 @@ pub struct IfState<F> {
     pub v: Vec<F>,
     /// 1 where the neuron spiked in the last step.
     spiked: Vec<u8>,
+    /// In-step spike fractions, all 1 (a spike at the step's end) when interpolating: a
+    /// constant input crosses the threshold at the step's end or not at all within it when
+    /// `h·I` is the step's whole move, so the grid time is kept (empty otherwise).
+    phi: Vec<F>,
 }
 
 /// Per-step constants, computed once by `prepare`.
@@ -203,10 +208,20 @@ impl<F: Real> BlockModel for IfModel<F> {
         }
     }
 
-    fn new_block(_params: &IfParams, _k: &IfConstants<F>, v0: &[f64], _: bool) -> IfState<F> {
+    fn new_block(
+        _params: &IfParams,
+        _k: &IfConstants<F>,
+        v0: &[f64],
+        interpolate: bool,
+    ) -> IfState<F> {
         IfState {
             v: v0.iter().map(|&x| F::of(x)).collect(),
             spiked: vec![0; v0.len()],
+            phi: if interpolate {
+                vec![F::one(); v0.len()]
+            } else {
+                Vec::new()
+            },
         }
     }
 
@@ -233,8 +248,8 @@ impl<F: Real> BlockModel for IfModel<F> {
         &s.spiked
     }
 
-    fn spike_fractions(_s: &IfState<F>) -> &[F] {
-        &[]
+    fn spike_fractions(s: &IfState<F>) -> &[F] {
+        &s.phi
     }
 
     fn variable(s: &IfState<F>, _var: usize, j: usize) -> f64 {
@@ -286,7 +301,11 @@ mod tests {
         let mut pop = IntegrateAndFire::<f64>::new(1, p);
         let (dt_s, current) = (1e-4, 0.8);
         let steps_per_spike = (1.0 / (dt_s / p.tau_m_s * current)).ceil() as u64; // 125
-        assert_eq!(pop.run_constant(current, dt_s, 10 * steps_per_spike).unwrap(), 10);
+        assert_eq!(
+            pop.run_constant(current, dt_s, 10 * steps_per_spike)
+                .unwrap(),
+            10
+        );
     }
 
     #[test]

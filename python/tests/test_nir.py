@@ -1,12 +1,8 @@
 """Networks to NIR graphs and back (neurotac.nir): the mapping on descriptions, graphs built
 with the nir package's own constructors, and what either side refuses."""
 
-import contextlib
 import copy
-import io
 import json
-import pathlib
-import re
 
 import numpy as np
 import pytest
@@ -348,30 +344,6 @@ def test_graph_built_with_nir_runs_one_spike_above_the_computed_peak_and_none_be
         assert len(times) == count
         if count:
             assert neurons.tolist() == [0] and 0.003 < times[0] < 0.004
-
-
-README = pathlib.Path(__file__).resolve().parents[2] / "README.md"
-
-
-@pytest.mark.skipif(not README.exists(), reason="the repository's README.md is not beside python/")
-def test_the_readme_nir_example_runs_and_round_trips(tmp_path, monkeypatch):
-    text = README.read_text(encoding="utf-8")
-    section = text[text.index("## Exchanging networks (NIR)") :]
-    code = re.search(r"```python\n(.*?)```", section, re.S).group(1)
-    monkeypatch.chdir(tmp_path)
-    out = io.StringIO()
-    scope = {}
-    with contextlib.redirect_stdout(out):
-        exec(compile(code, str(README), "exec"), scope)
-    # Neuron 0: one spike through 0.03 (a current jump of 6, peak v 1.5) fires once, 2.4 ms
-    # after it (the one-neuron test's hand computation).
-    printed = out.getvalue().strip()
-    assert f"# {printed}\n" in code, "the README shows what its example prints"
-    times, neurons = scope["times"], scope["neurons"]
-    assert neurons.tolist().count(0) == 1 and 3.3 < times[neurons == 0][0] * 1e3 < 3.5
-    again = scope["again"]
-    again.run(0.05)
-    assert [a.tolist() for a in again.spikes("lif")] == [times.tolist(), neurons.tolist()]
 
 
 def test_malformed_edges_are_refused_naming_the_edge():
