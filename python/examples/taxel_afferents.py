@@ -26,10 +26,13 @@ SAMPLE = REPOSITORY / "examples" / "data" / "grid-2.5mm-slide.aedat4"
 
 # %% 1. Pixel events → 49 taxel spike trains
 def taxel_trains(recording):
-    """The 49 taxel spike trains (one array of times in s per taxel) of a recording."""
+    """The 49 taxel spike trains (one array of times in s from the first event per taxel) of
+    a recording, and the recording's duration (s)."""
     data = neurotac.transduce(recording)  # the CLI's defaults: BA 5 ms, r = 3 px, 20 ms pooling
     times, units = data["times"], data["units"]
-    return [times[units == taxel] for taxel in range(data["n_units"])], data["meta"]
+    events = neurotac.read_events(recording)
+    duration_s = (events["t"][-1] - events["t"][0]) * 1e-6
+    return [times[units == taxel] for taxel in range(data["n_units"])], duration_s
 
 
 # %% 2. The network: taxels → exponential synapses → LIF afferents, with monitors
@@ -49,8 +52,8 @@ def main():
     parser.add_argument("--figure", help="write the figure here (PNG or SVG; needs matplotlib)")
     args = parser.parse_args()
 
-    trains, meta = taxel_trains(args.recording)
-    duration_s = float(meta["duration_s"]) + 0.05  # and 50 ms for the last taxel spike's answer
+    trains, recording_s = taxel_trains(args.recording)
+    duration_s = recording_s + 0.05  # and 50 ms for the last taxel spike's answer
     net = afferent_network(trains)
     net.run(duration_s)
 
@@ -69,7 +72,7 @@ def main():
     print(f"population rate: peak {rate_hz.max():.1f} Hz per afferent in a 20 ms bin "
           f"at {bins[np.argmax(rate_hz)]:.2f} s")
     print(f"membrane samples: {v.shape[0]} × {v.shape[1]} (every {t_v[1] - t_v[0]:.3f} s), "
-          f"highest v {v.max():.3f}")
+          f"highest sampled v {v.max():.3f}")
     print(f"weights 'taxels->afferents': {np.count_nonzero(net.weights('taxels'))} synapses of 5.0")
 
     if args.figure:

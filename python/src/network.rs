@@ -426,9 +426,10 @@ impl Network {
     }
 
     /// The population rate of population or spike input ``name``: its spikes since time 0 in
-    /// bins of ``bin_s`` seconds from 0 to the network's time, divided by the bin and the
-    /// number of neurons. ``(bin_start_s, rate_hz)``: float64 arrays, one entry per bin (a last
-    /// partial bin is left out).
+    /// bins ``[k·bin_s, (k + 1)·bin_s)`` from 0 to the network's time, divided by the bin and
+    /// the number of neurons (a population's spikes are stamped at the end of their step; one
+    /// at the run's end counts in the last bin). ``(bin_start_s, rate_hz)``: float64 arrays, one
+    /// entry per whole bin (a last partial bin is left out).
     fn population_rate<'py>(
         &self,
         py: Python<'py>,
@@ -449,9 +450,12 @@ impl Network {
         let size = find(&self.sizes, name, "node")?.max(1) as f64;
         let mut rate_hz = vec![0.0; bins];
         for &(_, t) in net.readout(id).or_raise()?.spikes() {
-            let bin = ((t - 1e-12) / bin_s).floor();
-            if bin >= 0.0 && (bin as usize) < bins {
-                rate_hz[bin as usize] += 1.0 / (bin_s * size);
+            // [k·bin_s, (k + 1)·bin_s), up to rounding; a spike stamped at the run's very end
+            // (a population's, at the end of its last step) in the last bin.
+            let bin = (t / bin_s + 1e-9).floor() as usize;
+            let bin = if bin == bins && bins > 0 { bins - 1 } else { bin };
+            if bin < bins {
+                rate_hz[bin] += 1.0 / (bin_s * size);
             }
         }
         let starts: Vec<f64> = (0..bins).map(|k| k as f64 * bin_s).collect();

@@ -67,7 +67,7 @@ graph's metadata (``"neurotac"``, JSON), so neurotac → NIR → neurotac gives 
 chooses Euler), f64, spike times on the grid, clock-driven stepping, LIF membranes starting at
 ``v_leak`` and IF ones at 0; a delay must be a whole number of steps of ``dt_s``; ``dt_s``
 longer than the graph's shortest time constant is refused, longer than a tenth of it warned
-about. The metadata never overrides a NIR field, so a graph edited in another tool imports with
+about (not with ``input_spikes="step"``: such a graph was made at its own dt). The metadata never overrides a NIR field, so a graph edited in another tool imports with
 its edits.
 
 **Refused** with one line, :class:`NirError` (a ``ValueError``) naming the node: on the way out,

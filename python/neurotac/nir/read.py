@@ -316,9 +316,11 @@ def _time_constants(nodes):
                 yield float(finite.min()), name, field
 
 
-def _check_time_step(nodes, dt_s):
-    """Refuses a step longer than the graph's shortest time constant, and warns above a
-    tenth of it: the network would be stepped more coarsely than its dynamics."""
+def _check_time_step(nodes, dt_s, warn):
+    """Refuses a step longer than the graph's shortest time constant, and (``warn``) warns
+    above a tenth of it: the network would be stepped more coarsely than its dynamics. A graph
+    read with step spikes was made at its own dt (snnTorch's τ = dt/(1 − β)), so it is not
+    warned about."""
     shortest = min(_time_constants(nodes), default=None)
     if shortest is None:
         return
@@ -329,7 +331,7 @@ def _check_time_step(nodes, dt_s):
             f"dt_s = {dt_s} s is longer than its shortest time constant, {field} = {tau} s of "
             f"node '{name}': its dynamics would fall between steps; use dt_s ≤ {tau / 10:g} s",
         )
-    if dt_s > tau / 10:
+    if warn and dt_s > tau / 10:
         _warnings.warn(
             f"dt_s = {dt_s} s is more than a tenth of the graph's shortest time constant "
             f"({field} = {tau} s of node '{name}'); a smaller step follows its dynamics "
@@ -368,7 +370,7 @@ def graph_to_description(graph, dt_s=None, input_spikes="dirac", integrator="exa
         if kind not in ("Input", "Output", "CubaLIF", "LIF", "IF") + _CHAIN:
             raise NirError(label(name, node), "neurotac cannot run this node type")
     if foreign:
-        _check_time_step(nodes, dt_s)
+        _check_time_step(nodes, dt_s, warn=input_spikes == "dirac")
     preds = {name: [] for name in nodes}
     for a, b in edges:
         preds[b].append(a)
