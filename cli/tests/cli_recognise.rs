@@ -80,7 +80,11 @@ fn recognise_replays_an_event_file_and_reports_every_window_and_bad_input_in_one
         let (windows, last) = lines.split_at(lines.len() - 1);
         // A recording lasts the paper's 4.528 s at 15 mm/s give or take the loop's latencies
         // (a few ms): about 226 windows of 20 ms.
-        assert!((223..=230).contains(&windows.len()), "{coding}: {}", windows.len());
+        assert!(
+            (223..=230).contains(&windows.len()),
+            "{coding}: {}",
+            windows.len()
+        );
         assert!((windows[0]["t_s"].as_f64().unwrap() - 0.02).abs() < 1e-12);
         // The sensor is at rest for the first windows: every training prefix is equally far,
         // so the vote is a tie, said as one and never stable.

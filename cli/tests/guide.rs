@@ -164,12 +164,13 @@ fn unchecked(block: &Block) -> Option<String> {
 #[test]
 fn every_code_block_says_where_it_runs() {
     let mut wrong = Vec::new();
-    let (mut run, mut elsewhere, mut hardware) = (0, 0, Vec::new());
+    let (mut run, mut elsewhere, mut outputs, mut hardware) = (0, 0, 0, Vec::new());
     for page in pages() {
         for block in blocks(&read(&page)) {
             match unchecked(&block) {
                 Some(why) => wrong.push(format!("{}:{}: {why}", shown(&page), block.line)),
                 None if block.has("run") => run += 1,
+                None if block.language == "text" => outputs += 1,
                 None if block.has("hardware") => {
                     hardware.push(format!("{}:{}", shown(&page), block.line))
                 }
@@ -179,7 +180,7 @@ fn every_code_block_says_where_it_runs() {
     }
     assert!(wrong.is_empty(), "code blocks:\n{}", wrong.join("\n"));
     println!(
-        "{run} blocks run by the guide's tests, {elsewhere} by the tests or CI steps they name, {} need hardware CI does not have: {}",
+        "{run} blocks run by the guide's tests, {elsewhere} by the tests or CI steps they name, {outputs} show output, {} need hardware CI does not have: {}",
         hardware.len(),
         hardware.join(", ")
     );

@@ -151,7 +151,12 @@ fn an_early_frame_draws_its_raster_from_the_stream_origin_never_before_it() {
     let f = m.frame(1, "", PlayState::Snapshot, None);
     assert!((f.t_s - 0.5).abs() < 1e-9, "{}", f.t_s);
     assert_eq!((f.raster.from_s, f.raster.to_s), (0.0, 2.0));
-    assert!(f.raster.spikes.iter().all(|&(_, t)| (0.0..=0.5).contains(&t)));
+    assert!(
+        f.raster
+            .spikes
+            .iter()
+            .all(|&(_, t)| (0.0..=0.5).contains(&t))
+    );
     let svg = neurotac_view::draw_frame(&f);
     assert!(svg.contains("snapshot"), "the header says what it is");
     assert!(!svg.contains(">-"), "no negative time on the axis");

@@ -232,7 +232,11 @@ impl<R: Read> CsvLines<R> {
                     self.fields = fields;
                     Ok(())
                 }
-                None => Err(error(("header", "`t,x,y,on` (or `t,x,y,on,pin`)", &whole()))),
+                None => Err(error((
+                    "header",
+                    "`t,x,y,on` (or `t,x,y,on,pin`)",
+                    &whole(),
+                ))),
             };
         }
         if r.len() != self.fields {
@@ -386,12 +390,27 @@ mod tests {
         );
         let (_, result) = read(b"t,x,y,on,pin\n5,10,20,1\n");
         assert!(
-            matches!(result, Err(FormatError::Text { line: 2, field: "line", expected: "5 fields: t,x,y,on,pin", .. })),
+            matches!(
+                result,
+                Err(FormatError::Text {
+                    line: 2,
+                    field: "line",
+                    expected: "5 fields: t,x,y,on,pin",
+                    ..
+                })
+            ),
             "{result:?}"
         );
         let (_, result) = read(b"t,x,y,on,label\n5,10,20,1,3\n");
         assert!(
-            matches!(result, Err(FormatError::Text { line: 1, field: "header", .. })),
+            matches!(
+                result,
+                Err(FormatError::Text {
+                    line: 1,
+                    field: "header",
+                    ..
+                })
+            ),
             "{result:?}"
         );
     }

@@ -49,7 +49,8 @@ pub(super) fn panel(
     // Row labels: every ROW_LABEL_EVERY-th taxel and the last (the numbers the hexagons of
     // the taxel panel carry), and the axis name.
     let row_h = area.h / rows as f64;
-    let labelled = (0..rows).filter(|r| r % ROW_LABEL_EVERY == 0 && rows - 1 - r >= ROW_LABEL_EVERY / 2);
+    let labelled =
+        (0..rows).filter(|r| r % ROW_LABEL_EVERY == 0 && rows - 1 - r >= ROW_LABEL_EVERY / 2);
     for row in labelled.chain([rows - 1]) {
         write!(
             out,

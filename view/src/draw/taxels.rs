@@ -102,7 +102,9 @@ pub(super) fn panel(out: &mut String, frame: &Frame, area: Area) -> fmt::Result 
         }
     }
     out.push_str("</g>");
-    numbers(out, frame, radius, |x, y| (cx + (x - mx) * scale, cy + (y - my) * scale))?;
+    numbers(out, frame, radius, |x, y| {
+        (cx + (x - mx) * scale, cy + (y - my) * scale)
+    })?;
     colour_bar(out, area, top_hz)
 }
 
