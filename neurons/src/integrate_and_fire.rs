@@ -35,7 +35,7 @@
 use crate::integrate::Integrator;
 use crate::population::{
     BlockModel, BlockPopulation, BlockStep, Drive, Fields, InitialPotential, check_param,
-    check_representable, floor, number,
+    check_representable, check_reset_and_floor, floor, number,
 };
 use crate::real::Real;
 use neurotac_core::ModelError;
@@ -107,23 +107,7 @@ impl IfParams {
             check_param(MODEL, field, x, positive)?;
             check_representable::<F>(MODEL, field, x)?;
         }
-        if self.v_reset >= self.v_th {
-            return Err(ModelError::InvalidParameter {
-                model: MODEL,
-                field: "v_reset",
-                value: self.v_reset,
-                expected: "< v_th",
-            });
-        }
-        if self.v_min.is_nan() || self.v_min > self.v_reset {
-            return Err(ModelError::InvalidParameter {
-                model: MODEL,
-                field: "v_min",
-                value: self.v_min,
-                expected: "≤ v_reset (−∞ allowed)",
-            });
-        }
-        Ok(())
+        check_reset_and_floor(MODEL, self.v_th, self.v_reset, self.v_min)
     }
 }
 
