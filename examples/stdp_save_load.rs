@@ -37,10 +37,13 @@ pub fn run(duration_s: f64, path: &Path) -> Result<Learned, Box<dyn Error>> {
     let learned = net.weights(synapses)?; // sparse (pre, post, weight) lists; .dense() is the matrix
     net.set_learning(synapses, false)?; // frozen for evaluation
     net.save(path)?; // versioned, checksummed, bit-exact
-    let again = NetworkBuilder::load(path, &BuiltinModels)?; // add readouts, build, run on
+    let mut again = NetworkBuilder::load(path, &BuiltinModels)?; // add readouts, build, run on
+    // Ids are per builder: the loaded network's own, found by name.
+    let plastic = again.projections()[0];
+    again.record_spikes(again.population("neuron")?)?;
     let loaded = again.build(NetworkConfig { dt_s: 1e-4 })?;
     let output_spikes = net.readout(spikes)?.spikes().len();
-    Ok((initial, learned, loaded.weights(synapses)?, output_spikes))
+    Ok((initial, learned, loaded.weights(plastic)?, output_spikes))
 }
 
 #[allow(dead_code)]
