@@ -58,6 +58,13 @@ else
     echo "nir could not be installed ($(tail -n 1 "$work/nir.log")); the NIR tests are skipped"
 fi
 
+echo "== matplotlib (optional: the Python tutorial's figure, python/examples/taxel_afferents.py)"
+if "$py" -m pip install -q --disable-pip-version-check matplotlib >"$work/mpl.log" 2>&1; then
+    echo "matplotlib installed"
+else
+    echo "matplotlib could not be installed ($(tail -n 1 "$work/mpl.log")); the tutorial draws no figure"
+fi
+
 echo "== pytest"
 # From the temporary folder, so that the installed package is imported, not the source folder.
 cd "$work"

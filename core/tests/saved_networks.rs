@@ -272,6 +272,46 @@ fn a_description_through_json_builds_the_same_network() {
     );
 }
 
+#[test]
+fn random_wiring_in_a_description_draws_the_synapses_of_the_same_connectivity_in_code() {
+    let (probability, weight, seed) = (0.3, 0.25, 17);
+    let mut code = NetworkBuilder::new();
+    let pre = code.add_population("pre", Leaky::new(20, 0.01)).unwrap();
+    let post = code.add_population("post", Leaky::new(15, 0.01)).unwrap();
+    let random = Connectivity::Random {
+        probability,
+        weight,
+        seed,
+    };
+    let p = code
+        .connect(pre, post, random, ExpSynapse::new(5e-3))
+        .unwrap();
+    code.record_spikes(post).unwrap();
+    let code = code.build(NetworkConfig { dt_s: DT }).unwrap();
+    let drawn = code.weights(p).unwrap();
+    assert!(drawn.len() > 40 && drawn.len() < 140, "{}", drawn.len());
+
+    let json = format!(
+        r#"{{"format": "neurotac-network", "version": 1, "dt_s": {DT}, "stepping": "clock",
+            "nodes": [{{"kind": "population", "name": "pre", "model": {{"model": "leaky", "size": 20, "settings": {{"tau_s": 0.01}}}}}},
+                      {{"kind": "population", "name": "post", "model": {{"model": "leaky", "size": 15, "settings": {{"tau_s": 0.01}}}}}}],
+            "projections": [{{"pre": "pre", "post": "post", "tau_s": 0.005, "delay_steps": 1, "plasticity": null,
+                              "wiring": {{"random": {{"probability": {probability}, "weight": {weight}, "seed": {seed}}}}}}}]}}"#
+    );
+    let description: NetworkDescription = serde_json::from_str(&json).unwrap();
+    let mut b = NetworkBuilder::from_description(&description, &LeakyFactory).unwrap();
+    let p = b.projections()[0];
+    b.record_spikes(b.population("post").unwrap()).unwrap();
+    let described = b.build(NetworkConfig { dt_s: DT }).unwrap();
+    assert_eq!(described.weights(p).unwrap(), drawn);
+    // Described again, the drawn synapses are explicit.
+    let again = described.describe().unwrap();
+    assert!(matches!(
+        again.projections[0].wiring,
+        neurotac_core::WiringDescription::Sparse { .. }
+    ));
+}
+
 /// `bytes` with a fresh CRC-32 in their last 4 bytes.
 fn with_checksum(mut bytes: Vec<u8>) -> Vec<u8> {
     let n = bytes.len() - 4;

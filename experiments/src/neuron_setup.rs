@@ -129,6 +129,11 @@ impl NeuronKind {
         self.facts().integrators
     }
 
+    /// The names of the model's parameter presets ([`ModelFamily::PRESETS`]; LIF has none).
+    pub fn presets(self) -> Vec<&'static str> {
+        self.visit(Presets).1
+    }
+
     /// The benchmark input current (LIF 1.04, Izhikevich 10).
     pub fn benchmark_current(self) -> f64 {
         self.facts().benchmark_current

@@ -2,12 +2,14 @@
 //! [`ModelDescription`]s, for loading saved networks.
 
 use crate::family::ModelFamily;
+use crate::integrate_and_fire::IfModel;
 use crate::izhikevich::IzhikevichFamily;
 use crate::lif::LifFamily;
-use crate::population::{BlockPopulation, precision};
+use crate::population::{BlockModel, BlockPopulation, precision};
 use neurotac_core::{ModelDescription, ModelError, ModelFactory, NeuronModel};
 
-/// Makes LIF and Izhikevich populations, `f32` or `f64`, with any integrator they support,
+/// Makes LIF, Izhikevich and integrate-and-fire (`"if"`) populations, `f32` or `f64`, with any
+/// integrator they support,
 /// from the descriptions their [`NeuronModel::describe`] writes (the settings are
 /// [`BlockPopulation::from_description`]'s). Another model name is a
 /// [`ModelError::UnknownModel`], as are settings that are missing, unknown or wrong (named).
@@ -30,12 +32,16 @@ impl ModelFactory for BuiltinModels {
         match description.model.as_str() {
             LifFamily::KEY => make::<LifFamily>(description),
             IzhikevichFamily::KEY => make::<IzhikevichFamily>(description),
+            <IfModel<f64> as BlockModel>::NAME => {
+                make_population::<IfModel<f32>, IfModel<f64>>(description)
+            }
             _ => Err(ModelError::UnknownModel {
                 model: description.model.clone(),
                 reason: format!(
-                    "not a built-in model (built in: {}, {})",
+                    "not a built-in model (built in: {}, {}, {})",
                     LifFamily::KEY,
-                    IzhikevichFamily::KEY
+                    IzhikevichFamily::KEY,
+                    <IfModel<f64> as BlockModel>::NAME,
                 ),
             }),
         }
@@ -46,17 +52,20 @@ impl ModelFactory for BuiltinModels {
 fn make<Fam: ModelFamily>(
     description: &ModelDescription,
 ) -> Result<Box<dyn NeuronModel>, ModelError> {
+    make_population::<Fam::Model<f32>, Fam::Model<f64>>(description)
+}
+
+/// A population of the model `M32` or `M64`, as the settings' precision names.
+fn make_population<M32: BlockModel, M64: BlockModel>(
+    description: &ModelDescription,
+) -> Result<Box<dyn NeuronModel>, ModelError> {
     let refuse = |reason| ModelError::UnknownModel {
         model: description.model.clone(),
         reason,
     };
     Ok(match precision(&description.settings).map_err(refuse)? {
-        "f32" => Box::new(BlockPopulation::<Fam::Model<f32>>::from_description(
-            description,
-        )?),
-        "f64" => Box::new(BlockPopulation::<Fam::Model<f64>>::from_description(
-            description,
-        )?),
+        "f32" => Box::new(BlockPopulation::<M32>::from_description(description)?),
+        "f64" => Box::new(BlockPopulation::<M64>::from_description(description)?),
         other => {
             return Err(refuse(format!(
                 "settings.precision: '{other}', expected f32 or f64"

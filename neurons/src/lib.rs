@@ -6,6 +6,7 @@
 //! |---|---|---|---|
 //! | leaky integrate-and-fire ([`lif`]) | [`Lif`] | [`LifParams`] | exact, exp-euler, euler, rk2, rk4 |
 //! | Izhikevich 2003 ([`izhikevich`]) | [`Izhikevich`] | [`IzhikevichParams`] (rs, ib, ch, fs, lts, tc, rz) | izhikevich2003, euler, exp-euler, rk2, rk4 |
+//! | integrate-and-fire, no leak ([`integrate_and_fire`]; NIR's `IF`) | [`IntegrateAndFire`] | [`IfParams`] | exact, euler |
 //!
 //! Every population computes in `f32` or `f64` ([`Real`]), picks its [`Integrator`] and
 //! optionally interpolates spike times inside the step. The integrators are written once in
@@ -55,6 +56,7 @@ mod avx512;
 mod builtin;
 pub mod family;
 pub mod integrate;
+pub mod integrate_and_fire;
 pub mod izhikevich;
 pub mod lif;
 pub mod population;
@@ -65,6 +67,7 @@ pub mod testing;
 pub use builtin::BuiltinModels;
 pub use family::{AfferentPreset, Benchmark, FamilyVisitor, ModelFamily, UpdateCost, check_family};
 pub use integrate::{Integrator, UnknownIntegrator};
+pub use integrate_and_fire::{IfModel, IfParams, IfState, IntegrateAndFire};
 pub use izhikevich::{
     Izhikevich, IzhikevichFamily, IzhikevichModel, IzhikevichParams, IzhikevichState,
 };

@@ -90,7 +90,9 @@ fn small(d: &NetworkDescription) -> bool {
     };
     let nodes: u64 = d.nodes.iter().map(|n| size(n.name())).sum();
     let synapses = d.projections.iter().map(|p| match &p.wiring {
-        WiringDescription::AllToAll { .. } => size(&p.pre).saturating_mul(size(&p.post)),
+        WiringDescription::AllToAll { .. } | WiringDescription::Random { .. } => {
+            size(&p.pre).saturating_mul(size(&p.post))
+        }
         _ => size(&p.post),
     });
     let delays = d.projections.iter().map(|p| u64::from(p.delay_steps));

@@ -12,10 +12,14 @@ module ``neurotac._native``.
   ``meta``; :func:`to_pymuvr` / :func:`from_pymuvr` convert to and from pymuvr's nested lists.
 - :mod:`neurotac.van_rossum`: pymuvr's ``square_distance_matrix`` and ``distance_matrix``.
 - :mod:`neurotac.coding`: the paper's four codings; :class:`Knn`: the KNN head.
-- :class:`Network`: a spiking network loaded from a saved file or a JSON description, run with
-  input spike trains, its spikes, weights and learning switch read and set, saved again;
-  :mod:`neurotac.nir` (``import neurotac.nir``, needs the ``nir`` package) turns it into a NIR
-  graph and back.
+- :class:`NetworkBuilder`: define a spiking network — LIF and Izhikevich populations, spike,
+  Poisson and current inputs, projections with exponential synapses, delays and STDP, state
+  monitors — and build it; :class:`Network`: a built network (or one loaded from a saved file
+  or a JSON description), run with input spike trains, its spikes, population rates, sampled
+  state, weights and learning switch read and set, saved again; :mod:`neurotac.nir`
+  (``import neurotac.nir``, needs the ``nir`` package) turns it into a NIR graph and back.
+- Units: every time is in seconds and named ``…_s`` (``dt_s``, ``tau_s``, ``pool_s``), every
+  rate ``…_hz``; older names still work with a ``DeprecationWarning``.
 - Errors: :class:`NeurotacError` (and its subclasses :class:`NeurotacValueError`, also a
   ``ValueError``, and :class:`NeurotacOSError`, also an ``OSError``), carrying the message the
   ``neurotac`` CLI prints.
@@ -40,6 +44,8 @@ from ._native import (
     to_pymuvr,
 )
 from . import coding, van_rossum
+from ._units import renamed, seconds
+from .network import NetworkBuilder, Stdp
 
 #: The structured dtype of events: t (int64 µs), x and y (uint16, top-left), p (bool, ON).
 EVENT_DTYPE = _np.dtype([("t", "<i8"), ("x", "<u2"), ("y", "<u2"), ("p", "?")])
@@ -48,6 +54,7 @@ __all__ = [
     "EVENT_DTYPE",
     "Knn",
     "Network",
+    "NetworkBuilder",
     "NeurotacError",
     "NeurotacOSError",
     "NeurotacValueError",
@@ -57,6 +64,7 @@ __all__ = [
     "read_events",
     "save_dataset",
     "simulate",
+    "Stdp",
     "to_pymuvr",
     "transduce",
     "van_rossum",
@@ -107,14 +115,31 @@ def transduce(source, layout=None, **settings):
     ``source`` is an event-file path (as ``neurotac transduce FILE``) or events in memory (a
     structured array or a dict with t, x, y, p). ``layout``: ``None``/``"default"`` (the
     NeuroTac pins), ``"auto"`` (detected from the head of a file) or a JSON file of ``[x, y]``
-    centres. Keyword settings, with the CLI's defaults: ``label=None``, ``ba_window_us=5000``
-    (0 disables the background-activity filter), ``ba_empty_start=False``,
-    ``rf_radius_px=3.0``, ``pool_ms=20.0``, ``gain=0.5`` (re-centring) and, for files,
-    ``calibration_ms=500.0`` and ``accept_uncertain_layout=False`` (``layout="auto"``: a
-    layout whose confidence is below the calibrated threshold raises ``NeurotacValueError``
-    unless accepted).
+    centres. Keyword settings, with the CLI's defaults (times in seconds): ``label=None``,
+    ``ba_window_s=0.005`` (0 disables the background-activity filter),
+    ``ba_empty_start=False``, ``rf_radius_px=3.0``, ``pool_s=0.02``, ``gain=0.5``
+    (re-centring) and, for files, ``calibration_s=1.0`` and ``accept_uncertain_layout=False``
+    (``layout="auto"``: a layout whose confidence is below the calibrated threshold raises
+    ``NeurotacValueError`` unless accepted). The older ``ba_window_us``, ``pool_ms`` and
+    ``calibration_ms`` still work, with a ``DeprecationWarning``.
     """
-    if isinstance(source, (str, bytes, _os.PathLike)):
-        return _native.transduce_path(source, layout, **settings)
+    renamed(settings, "ba_window_us", "ba_window_s", 1e-6)
+    renamed(settings, "pool_ms", "pool_s", 1e-3)
+    renamed(settings, "calibration_ms", "calibration_s", 1e-3)
+    native = {k: v for k, v in settings.items() if k not in _TRANSDUCE_SECONDS}
+    if "ba_window_s" in settings:
+        native["ba_window_us"] = int(round(seconds("ba_window_s", settings["ba_window_s"], False) * 1e6))
+    if "pool_s" in settings:
+        native["pool_ms"] = seconds("pool_s", settings["pool_s"]) * 1e3
+    is_file = isinstance(source, (str, bytes, _os.PathLike))
+    if is_file:
+        native["calibration_ms"] = seconds("calibration_s", settings.get("calibration_s", 1.0)) * 1e3
+        return _native.transduce_path(source, layout, **native)
+    if "calibration_s" in settings:
+        raise NeurotacValueError("calibration_s: only a file is calibrated (layout='auto' needs a file)")
     t, x, y, p = _fields(source)
-    return _native.transduce_events(t, x, y, p != 0, layout, **settings)
+    return _native.transduce_events(t, x, y, p != 0, layout, **native)
+
+
+#: transduce's settings in seconds, converted to the native call's units.
+_TRANSDUCE_SECONDS = ("ba_window_s", "pool_s", "calibration_s")

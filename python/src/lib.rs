@@ -12,7 +12,8 @@
 //! | multi-unit Van Rossum (pymuvr's API) | [`van_rossum`] | `neurotac.van_rossum.square_distance_matrix`, `distance_matrix`, `square_distance_matrix_flat` |
 //! | the four codings | [`coding`] | `neurotac.coding.intensive`, `spatial`, `temporal`, `spatiotemporal`, `distances` |
 //! | KNN | [`knn`] | `neurotac.Knn` |
-//! | spiking networks: load, describe, run, spikes, weights, save | [`network`] | `neurotac.Network` (and `neurotac.nir`, in Python) |
+//! | spiking networks: load, describe, run, spikes, state traces, rates, weights, save | [`network`] | `neurotac.Network` (and `neurotac.NetworkBuilder`, `neurotac.nir`, in Python) |
+//! | neuron models' descriptions, defaults and presets | [`models`] | `neurotac.NetworkBuilder.add_population` |
 //! | errors | [`errors`] | `NeurotacError`, `NeurotacValueError`, `NeurotacOSError` |
 //!
 //! Every library error becomes an exception whose message is the one the `neurotac` CLI prints
@@ -24,6 +25,7 @@ pub mod dataset;
 pub mod errors;
 pub mod events;
 pub mod knn;
+pub mod models;
 pub mod network;
 pub mod simulate;
 pub mod threads;
@@ -45,6 +47,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(events::transduce_path, m)?)?;
     m.add_function(wrap_pyfunction!(events::transduce_events, m)?)?;
     m.add_function(wrap_pyfunction!(simulate::simulate, m)?)?;
+    m.add_function(wrap_pyfunction!(models::model_description, m)?)?;
     m.add_function(wrap_pyfunction!(dataset::load_dataset, m)?)?;
     m.add_function(wrap_pyfunction!(dataset::save_dataset, m)?)?;
     m.add_function(wrap_pyfunction!(dataset::to_pymuvr, m)?)?;

@@ -1,15 +1,16 @@
 //! Networks from Python: `neurotac.Network`, made from a saved network file or a JSON network
-//! description (what `neurotac.nir.from_nir` builds), run with input spike trains, its recorded
-//! spikes, its weights and its learning switch.
+//! description (what `neurotac.NetworkBuilder` and `neurotac.nir.from_nir` build), run with
+//! input spike trains; its recorded spikes, sampled state variables and population rates, its
+//! weights (projections by index or by name) and its learning switch.
 
 use crate::errors::{OrRaise, invalid};
 use neurotac_core::{
     GraphError, InputId, MultiSpikeTrain, Network as CoreNetwork, NetworkBuilder, NetworkConfig,
     NetworkDescription, OneProcess, PopulationId, ProjectionId, ReadoutId, SpikeArrayInput,
-    SpikeRecorder, Weights,
+    SpikeRecorder, StateRecorder, Weights,
 };
 use neurotac_neurons::BuiltinModels;
-use numpy::{IntoPyArray, PyArray1, PyReadonlyArrayDyn};
+use numpy::{IntoPyArray, PyArray1, PyArray2, PyReadonlyArrayDyn};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
 use std::path::PathBuf;
@@ -17,12 +18,15 @@ use std::sync::{Mutex, MutexGuard, PoisonError};
 
 /// A runnable spiking network (populations, spike inputs, projections, recorded nodes).
 ///
-/// Made with ``Network.load(path)`` (a file ``Network::save`` wrote, in Rust or Python) or
-/// ``Network.from_description(json)`` (the JSON of ``description()``; ``neurotac.nir.from_nir``
-/// makes one from a NIR graph). ``run(duration_s, inputs=...)`` advances it, continuing from
-/// where the last run stopped (``reset()`` returns to time 0); ``spikes(name)`` gives the spikes
-/// of any population or spike input since time 0 (or since loading); projections are numbered
-/// in the order of the description's ``projections``.
+/// Made with ``NetworkBuilder(...).build()``, ``Network.load(path)`` (a file ``Network::save``
+/// wrote, in Rust or Python) or ``Network.from_description(json)`` (the JSON of
+/// ``description()``; ``neurotac.nir.from_nir`` makes one from a NIR graph).
+/// ``run(duration_s, inputs=...)`` advances it, continuing from where the last run stopped
+/// (``reset()`` returns to time 0); ``spikes(name)`` gives the spikes of any population or
+/// spike input since time 0 (or since loading), ``population_rate(name, bin_s)`` their rate,
+/// ``state_trace(name, variable)`` a state variable sampled by a monitor. A projection is named
+/// by its index in the description's ``projections``, by ``"pre->post"`` (``projections`` lists
+/// the names) or by the name of its presynaptic node when that node has only one.
 #[pyclass(name = "Network", module = "neurotac")]
 pub(crate) struct Network {
     /// The network (behind a lock: a Python object may be shared between threads, a network
@@ -34,14 +38,53 @@ pub(crate) struct Network {
     populations: Vec<(String, PopulationId)>,
     /// A spike recorder on every population and spike source (so nothing is pruned), by name.
     recorders: Vec<(String, ReadoutId<SpikeRecorder>)>,
-    /// The projections, in the description's order.
-    projections: Vec<ProjectionId>,
+    /// The state monitors, by `(population, variable)`.
+    monitors: Vec<((String, String), ReadoutId<StateRecorder>)>,
+    /// The projections, in the description's order, with their names (`pre->post`, `_2`… for
+    /// a repeated pair).
+    projections: Vec<(String, ProjectionId)>,
+    /// The presynaptic node's name of each projection.
+    projection_pre: Vec<String>,
+    /// The number of neurons (channels) of every node, by name.
+    sizes: Vec<(String, usize)>,
+}
+
+/// A state variable to sample: population, variable, every how many steps, which neurons
+/// (all: `None`).
+pub(crate) type StateMonitor = (String, String, u64, Option<Vec<u32>>);
+
+/// The names of projections from `pairs` of `(pre, post)`: `pre->post`, and `pre->post_2`,
+/// `_3`… for a pair connected again.
+fn projection_names(pairs: &[(String, String)]) -> Vec<String> {
+    let mut names: Vec<String> = Vec::with_capacity(pairs.len());
+    for (pre, post) in pairs {
+        let base = format!("{pre}->{post}");
+        let mut name = base.clone();
+        let mut k = 2;
+        while names.contains(&name) {
+            name = format!("{base}_{k}");
+            k += 1;
+        }
+        names.push(name);
+    }
+    names
 }
 
 impl Network {
-    /// Builds `b` at `dt_s`, recording the spikes of every population and spike source.
-    fn assemble(mut b: NetworkBuilder, dt_s: f64) -> Result<Self, GraphError> {
+    /// Builds `b` at `dt_s`, recording the spikes of every population and spike source and
+    /// sampling the `monitors`' state variables.
+    fn assemble(
+        mut b: NetworkBuilder,
+        dt_s: f64,
+        monitors: &[StateMonitor],
+    ) -> Result<Self, GraphError> {
         let names: Vec<String> = b.node_names().into_iter().map(str::to_owned).collect();
+        let sizes = (names.iter())
+            .map(|n| Ok((n.clone(), b.node_size(n)?)))
+            .collect::<Result<Vec<_>, GraphError>>()?;
+        let pairs: Vec<(String, String)> = (b.projection_ends().into_iter())
+            .map(|(pre, post)| (pre.to_owned(), post.to_owned()))
+            .collect();
         let (mut inputs, mut populations, mut recorders) = (Vec::new(), Vec::new(), Vec::new());
         for name in names {
             if let Ok(p) = b.population(&name) {
@@ -52,16 +95,29 @@ impl Network {
                 inputs.push((name, i));
             }
         }
-        let projections = b.projections();
+        let mut recorded_state = Vec::new();
+        for (population, variable, every_steps, neurons) in monitors {
+            let id = b.population(population)?;
+            let readout = b.record_state(id, variable, neurons.clone(), *every_steps)?;
+            recorded_state.push(((population.clone(), variable.clone()), readout));
+        }
+        let projections = projection_names(&pairs)
+            .into_iter()
+            .zip(b.projections())
+            .collect();
         let net = b.build(NetworkConfig { dt_s })?;
         Ok(Self {
             net: Mutex::new(net),
             inputs,
             populations,
             recorders,
+            monitors: recorded_state,
             projections,
+            projection_pre: pairs.into_iter().map(|(pre, _)| pre).collect(),
+            sizes,
         })
     }
+
 
     /// The network, for a method that only reads it.
     fn net(&self) -> MutexGuard<'_, CoreNetwork> {
@@ -73,15 +129,43 @@ impl Network {
         self.net.get_mut().unwrap_or_else(PoisonError::into_inner)
     }
 
-    /// Projection `index` of the description, or a `NeurotacValueError` saying how many there are.
-    fn projection(&self, index: usize) -> PyResult<ProjectionId> {
-        self.projections.get(index).copied().ok_or_else(|| {
-            invalid(format!(
-                "projection {index}: the network has {} projections (0 to {})",
+    /// The projection `which` names — an index of the description's order, a name
+    /// (`"pre->post"`), or the name of a node that is the presynaptic node of exactly one
+    /// projection — or a `NeurotacValueError` listing the projections there are.
+    fn projection(&self, which: &Bound<'_, PyAny>) -> PyResult<ProjectionId> {
+        let listed = || {
+            format!(
+                "the network has {} projections: {}",
                 self.projections.len(),
-                self.projections.len().saturating_sub(1)
-            ))
-        })
+                names(&self.projections)
+            )
+        };
+        if let Ok(index) = which.extract::<usize>() {
+            return (self.projections.get(index).map(|(_, id)| *id)).ok_or_else(|| {
+                invalid(format!("projection {index}: {} (0 to {})", listed(), self.projections.len().saturating_sub(1)))
+            });
+        }
+        let Ok(name) = which.extract::<String>() else {
+            return Err(invalid(format!(
+                "projection: expected an index or a name (str), got {}",
+                which.get_type().name()?
+            )));
+        };
+        if let Some((_, id)) = self.projections.iter().find(|(n, _)| *n == name) {
+            return Ok(*id);
+        }
+        let from: Vec<usize> = (0..self.projection_pre.len())
+            .filter(|&i| self.projection_pre[i] == name)
+            .collect();
+        match from[..] {
+            [one] => Ok(self.projections[one].1),
+            [] => Err(invalid(format!("projection '{name}': no such projection; {}", listed()))),
+            _ => Err(invalid(format!(
+                "projection '{name}': '{name}' feeds {} projections, name one: {}",
+                from.len(),
+                from.iter().map(|&i| self.projections[i].0.as_str()).collect::<Vec<_>>().join(", ")
+            ))),
+        }
     }
 }
 
@@ -177,17 +261,29 @@ impl Network {
         let dt_s = b
             .saved_dt_s()
             .expect("a loaded builder has its saved time step");
-        Self::assemble(b, dt_s).or_raise()
+        Self::assemble(b, dt_s, &[]).or_raise()
     }
 
     /// The network a JSON network description describes (the schema of ``description()``),
-    /// at time 0.
+    /// at time 0. ``state_monitors``: state variables to sample, as ``(population, variable,
+    /// every_steps, neurons)`` tuples (``neurons`` a list of indices, or ``None`` for all);
+    /// ``NetworkBuilder.monitor_state`` makes them.
     #[staticmethod]
-    fn from_description(description: &str) -> PyResult<Self> {
+    #[pyo3(signature = (description, state_monitors=None))]
+    fn from_description(
+        description: &str,
+        state_monitors: Option<Vec<StateMonitor>>,
+    ) -> PyResult<Self> {
         let d: NetworkDescription = serde_json::from_str(description)
             .map_err(|e| invalid(format!("the network description is not valid: {e}")))?;
         let b = NetworkBuilder::from_description(&d, &BuiltinModels).or_value_error()?;
-        Self::assemble(b, d.dt_s).or_value_error()
+        let monitors = state_monitors.unwrap_or_default();
+        if let Some((p, v, _, _)) = monitors.iter().find(|m| m.2 == 0) {
+            return Err(invalid(format!(
+                "state monitor of '{p}'.{v}: every_steps = 0, expected ≥ 1"
+            )));
+        }
+        Self::assemble(b, d.dt_s, &monitors).or_value_error()
     }
 
     /// The network's JSON description: nodes, projections with their current weights,
@@ -282,6 +378,90 @@ impl Network {
         self.projections.len()
     }
 
+    /// The names of the projections, in order (``"pre->post"``; ``weights`` takes them).
+    #[getter]
+    fn projections(&self) -> Vec<String> {
+        self.projections.iter().map(|(n, _)| n.clone()).collect()
+    }
+
+    /// The nodes whose spikes are recorded (every population and spike input: ``spikes``
+    /// and ``population_rate`` take them).
+    #[getter]
+    fn recorded(&self) -> Vec<String> {
+        self.recorders.iter().map(|(n, _)| n.clone()).collect()
+    }
+
+    /// The sampled state variables, as ``(population, variable)`` pairs (``state_trace``
+    /// takes them).
+    #[getter]
+    fn state_monitors(&self) -> Vec<(String, String)> {
+        self.monitors.iter().map(|(k, _)| k.clone()).collect()
+    }
+
+    /// State variable ``variable`` of population ``name`` as its monitor sampled it since time
+    /// 0 (at the end of every ``every_steps``-th step): ``(times, values)``, float64 seconds
+    /// of shape ``(samples,)`` and the values of shape ``(samples, neurons)`` (the monitor's
+    /// neurons, in its order).
+    fn state_trace<'py>(
+        &self,
+        py: Python<'py>,
+        name: &str,
+        variable: &str,
+    ) -> PyResult<(Bound<'py, PyArray1<f64>>, Bound<'py, PyArray2<f64>>)> {
+        let key = (name.to_owned(), variable.to_owned());
+        let Some((_, id)) = self.monitors.iter().find(|(k, _)| *k == key) else {
+            let sampled: Vec<String> = self.monitors.iter().map(|((p, v), _)| format!("{p}.{v}")).collect();
+            return Err(invalid(format!(
+                "'{name}'.{variable} has no state monitor (sampled: {}); add one with NetworkBuilder.monitor_state",
+                if sampled.is_empty() { "none".to_owned() } else { sampled.join(", ") }
+            )));
+        };
+        let net = self.net();
+        let r = net.readout(*id).or_raise()?;
+        let columns = r.neurons().len();
+        let rows = r.times().len();
+        let values = ndarray::Array2::from_shape_vec((rows, columns), r.values().to_vec())
+            .map_err(|e| invalid(format!("state trace of '{name}'.{variable}: {e}")))?;
+        Ok((r.times().to_vec().into_pyarray(py), values.into_pyarray(py)))
+    }
+
+    /// The population rate of population or spike input ``name``: its spikes since time 0 in
+    /// bins ``[k·bin_s, (k + 1)·bin_s)`` from 0 to the network's time, divided by the bin and
+    /// the number of neurons (a population's spikes are stamped at the end of their step; one
+    /// at the run's end counts in the last bin). ``(bin_start_s, rate_hz)``: float64 arrays, one
+    /// entry per whole bin (a last partial bin is left out).
+    fn population_rate<'py>(
+        &self,
+        py: Python<'py>,
+        name: &str,
+        bin_s: f64,
+    ) -> PyResult<(Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>)> {
+        let id = find(&self.recorders, name, "population or spike input")?;
+        let net = self.net();
+        let bins = net.time_s() / bin_s;
+        if !(bin_s.is_finite() && bin_s > 0.0 && bins <= 1e8) {
+            return Err(invalid(format!(
+                "bin_s = {bin_s}: expected a number of seconds > 0, at most 10⁸ bins over the {} s run",
+                net.time_s()
+            )));
+        }
+        // A whole bin up to a rounding of the network's time (k steps × dt).
+        let bins = (bins + 1e-9).floor() as usize;
+        let size = find(&self.sizes, name, "node")?.max(1) as f64;
+        let mut rate_hz = vec![0.0; bins];
+        for &(_, t) in net.readout(id).or_raise()?.spikes() {
+            // [k·bin_s, (k + 1)·bin_s), up to rounding; a spike stamped at the run's very end
+            // (a population's, at the end of its last step) in the last bin.
+            let bin = (t / bin_s + 1e-9).floor() as usize;
+            let bin = if bin == bins && bins > 0 { bins - 1 } else { bin };
+            if bin < bins {
+                rate_hz[bin] += 1.0 / (bin_s * size);
+            }
+        }
+        let starts: Vec<f64> = (0..bins).map(|k| k as f64 * bin_s).collect();
+        Ok((starts.into_pyarray(py), rate_hz.into_pyarray(py)))
+    }
+
     /// The spikes of population or spike input `name` since time 0 (or since loading), in
     /// time order: ``(times, indices)``,
     /// float64 seconds and uint32 neuron (channel) indices.
@@ -303,13 +483,11 @@ impl Network {
     fn weights<'py>(
         &self,
         py: Python<'py>,
-        projection: usize,
+        projection: &Bound<'py, PyAny>,
         dense: bool,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let w = self
-            .net()
-            .weights(self.projection(projection)?)
-            .or_raise()?;
+        let id = self.projection(projection)?;
+        let w = self.net().weights(id).or_raise()?;
         if dense {
             return Ok(w.dense().into_pyarray(py).into_any());
         }
@@ -334,7 +512,7 @@ impl Network {
     /// bounds. Nothing changes when a weight is refused.
     fn set_weights(
         &mut self,
-        projection: usize,
+        projection: &Bound<'_, PyAny>,
         weights: PyReadonlyArrayDyn<'_, f64>,
     ) -> PyResult<()> {
         let id = self.projection(projection)?;
@@ -374,7 +552,8 @@ impl Network {
                     .find(|((i, j), x)| **x != 0.0 && !covered[(*i, *j)])
                 {
                     return Err(invalid(format!(
-                        "set_weights: W[{i}, {j}] = {x}, but projection {projection} has no synapse {i} → {j}"
+                        "set_weights: W[{i}, {j}] = {x}, but projection {projection} has no synapse {i} → {j}",
+                        projection = projection.str()?
                     )));
                 }
             }
@@ -389,7 +568,7 @@ impl Network {
 
     /// Turns learning of the plastic projection `projection` on or off (off: its weights stay
     /// as they are, its traces still follow the spikes).
-    fn set_learning(&mut self, projection: usize, on: bool) -> PyResult<()> {
+    fn set_learning(&mut self, projection: &Bound<'_, PyAny>, on: bool) -> PyResult<()> {
         let id = self.projection(projection)?;
         self.net_mut().set_learning(id, on).or_value_error()
     }

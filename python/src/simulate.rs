@@ -5,7 +5,7 @@ use crate::errors::{OrRaise, invalid};
 use crate::threads::detached;
 use neurotac_core::OneProcess;
 use neurotac_experiments::datasets::simulated::{
-    DatasetsError, TextureSet, load_or_simulate, simulate_set,
+    DatasetsError, TextureSet, default_cache_dir, load_or_simulate, simulate_set,
 };
 use neurotac_sensor::sim::{SimParams, check_trials};
 use pyo3::prelude::*;
@@ -19,11 +19,15 @@ use std::path::PathBuf;
 /// every parameter and `duration_s`).
 ///
 /// `params` is a simulator parameter file (JSON, see `neurotac simulate params`; default the
-/// calibrated parameters). With `cache_dir`, the dataset is read from that folder when it was
-/// simulated before with exactly the same settings, else simulated and stored there (the cache
-/// of `neurotac simulate --cache`). `threads`: worker threads (default: one per core).
+/// calibrated parameters). The dataset is read from the cache when it was simulated before
+/// with exactly the same settings, else simulated and stored there: the cache of `neurotac
+/// simulate` and `reproduce` (`cache_dir`, default `$NEUROTAC_CACHE`, else
+/// `$XDG_CACHE_HOME/neurotac`, else `~/.cache/neurotac`). A default cache that cannot be made
+/// gives a `UserWarning` and the dataset is simulated; `cache=False` never reads nor writes
+/// one. `threads`: worker threads (default: one per core).
 #[pyfunction]
-#[pyo3(signature = (set, trials=None, seed=1, *, params=None, cache_dir=None, threads=None))]
+#[pyo3(signature = (set, trials=None, seed=1, *, params=None, cache_dir=None, cache=true, threads=None))]
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn simulate<'py>(
     py: Python<'py>,
     set: &str,
@@ -31,8 +35,14 @@ pub(crate) fn simulate<'py>(
     seed: u64,
     params: Option<PathBuf>,
     cache_dir: Option<PathBuf>,
+    cache: bool,
     threads: Option<usize>,
 ) -> PyResult<Bound<'py, PyDict>> {
+    if !cache && cache_dir.is_some() {
+        return Err(invalid(
+            "cache=False with a cache_dir: give one or the other",
+        ));
+    }
     let set = match set {
         "artificial" => TextureSet::Artificial,
         "natural" => TextureSet::Natural,
@@ -47,6 +57,25 @@ pub(crate) fn simulate<'py>(
     let params = match params {
         Some(path) => py.detach(|| SimParams::from_json_file(&path)).or_raise()?,
         None => SimParams::default(),
+    };
+    let cache_dir = match (cache, cache_dir) {
+        (false, _) => None,
+        (true, Some(dir)) => Some(dir),
+        (true, None) => {
+            let dir = default_cache_dir();
+            match std::fs::create_dir_all(&dir) {
+                Ok(()) => Some(dir),
+                Err(e) => {
+                    let message = format!(
+                        "the cache folder {} is unusable ({e}); simulating without it (cache_dir= chooses another)",
+                        dir.display()
+                    );
+                    let c_message = std::ffi::CString::new(message).or_raise()?;
+                    PyErr::warn(py, &py.get_type::<pyo3::exceptions::PyUserWarning>(), &c_message, 1)?;
+                    None
+                }
+            }
+        }
     };
     let data = detached(py, threads, || -> Result<_, DatasetsError> {
         match &cache_dir {

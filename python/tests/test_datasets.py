@@ -73,3 +73,18 @@ def test_simulated_set_is_seeded_and_cached(tmp_path):
         neurotac.simulate("rough")
     with pytest.raises(neurotac.NeurotacError):
         neurotac.simulate("natural", trials=0)
+
+
+def test_simulate_keeps_its_datasets_in_the_clis_cache_by_default(tmp_path, monkeypatch):
+    monkeypatch.setenv("NEUROTAC_CACHE", str(tmp_path / "cache"))
+    first = neurotac.simulate("artificial", trials=1, seed=4)
+    cached = list((tmp_path / "cache").iterdir())
+    assert len(cached) == 1, cached  # the file neurotac simulate --cache would write
+    again = neurotac.simulate("artificial", trials=1, seed=4)
+    assert np.array_equal(first["times"], again["times"])
+    # cache=False neither reads nor writes one.
+    monkeypatch.setenv("NEUROTAC_CACHE", str(tmp_path / "other"))
+    neurotac.simulate("artificial", trials=1, seed=4, cache=False)
+    assert not (tmp_path / "other").exists()
+    with pytest.raises(neurotac.NeurotacValueError, match="cache=False with a cache_dir"):
+        neurotac.simulate("artificial", trials=1, cache=False, cache_dir=str(tmp_path))

@@ -117,8 +117,16 @@ def test_transducing_a_file_or_its_events_gives_the_same_trains(davis240, tmp_pa
 
 def test_transduction_settings_are_checked():
     events = random_events(50)
-    with pytest.raises(neurotac.NeurotacValueError, match="pool_ms 0 must be finite and > 0"):
-        neurotac.transduce(events, pool_ms=0.0)
+    with pytest.raises(neurotac.NeurotacValueError, match="pool_s = 0.0: expected a finite number of seconds > 0"):
+        neurotac.transduce(events, pool_s=0.0)
+    # The old name in ms still works (with a DeprecationWarning), checked the same way.
+    with pytest.warns(DeprecationWarning, match="pool_ms= is deprecated: use pool_s="):
+        with pytest.raises(neurotac.NeurotacValueError, match="pool_s = 0.0"):
+            neurotac.transduce(events, pool_ms=0.0)
+    with pytest.warns(DeprecationWarning):
+        old = neurotac.transduce(events, pool_ms=40.0, ba_window_us=2000)
+    new = neurotac.transduce(events, pool_s=0.04, ba_window_s=0.002)
+    assert np.array_equal(old["times"], new["times"]) and old["meta"] == new["meta"]
     with pytest.raises(neurotac.NeurotacError, match="re-centring gain = 2: in \\[0, 1\\]"):
         neurotac.transduce(events, gain=2.0)
     with pytest.raises(neurotac.NeurotacValueError, match="layout='auto'"):

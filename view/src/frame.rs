@@ -35,9 +35,11 @@ pub struct EventImage {
 /// The scrolling raster of taxel spikes over the last `window_s` of the stream.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct Raster {
-    /// Stream time (s since the stream origin) of the raster's left edge.
+    /// Stream time (s since the stream origin) of the raster's left edge: the frame time less
+    /// the raster window, or 0 while the stream is shorter than the window.
     pub from_s: f64,
-    /// Stream time of its right edge (the frame time).
+    /// Stream time of its right edge: `from_s` + the raster window (the frame time once the
+    /// stream is longer than the window).
     pub to_s: f64,
     /// Every taxel spike in the window: `(taxel, t_s)` (49 taxels pooled every 20 ms give at
     /// most a few thousand, so none is left out).
@@ -85,6 +87,8 @@ pub enum PlayState {
     Paused,
     /// The source ended (a recording's end).
     Ended,
+    /// A still picture of the stream at a chosen time (`neurotac view --snapshot --at T`).
+    Snapshot,
     /// The source failed; [`Frame::notice`] says why.
     Failed,
 }

@@ -221,7 +221,9 @@ impl StreamMonitor {
         let n = self.layout.len();
         let rate_from = t_s - self.config.rate_window_s;
         let mut taxel_rate_hz = vec![0.0; n];
-        let from_s = t_s - self.config.raster_window_s;
+        // The window ends at the frame time once the stream is longer than it; before, it
+        // starts at the stream origin (no negative times), spikes filling it from the left.
+        let from_s = (t_s - self.config.raster_window_s).max(0.0);
         let bin_s = t.pool_window_us as f64 * 1e-6;
         let bins = (self.config.raster_window_s / bin_s).ceil() as usize;
         let mut population = vec![0.0; bins];
@@ -253,7 +255,7 @@ impl StreamMonitor {
             rate_window_s: self.config.rate_window_s,
             raster: Raster {
                 from_s,
-                to_s: t_s,
+                to_s: from_s + self.config.raster_window_s,
                 spikes: self.spikes.iter().copied().collect(),
                 population_rate_hz: population,
                 bin_s,

@@ -60,7 +60,7 @@ pub fn frame_at(
     }
     let state = match ended {
         true => PlayState::Ended,
-        false => PlayState::Paused,
+        false => PlayState::Snapshot,
     };
     let mut frame = monitor.frame(1, &source.label(), state, None);
     frame.class_names = observer.class_names();

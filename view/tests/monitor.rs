@@ -142,6 +142,33 @@ fn the_event_image_decays_from_each_pixels_last_event() {
 }
 
 #[test]
+fn an_early_frame_draws_its_raster_from_the_stream_origin_never_before_it() {
+    let mut m = monitor();
+    let events = bursts();
+    let early: EventBuffer = events.iter().filter(|e| e.t.0 < 500_000).collect();
+    m.push(&early).unwrap();
+    m.advance_to(500_000);
+    let f = m.frame(1, "", PlayState::Snapshot, None);
+    assert!((f.t_s - 0.5).abs() < 1e-9, "{}", f.t_s);
+    assert_eq!((f.raster.from_s, f.raster.to_s), (0.0, 2.0));
+    assert!(
+        f.raster
+            .spikes
+            .iter()
+            .all(|&(_, t)| (0.0..=0.5).contains(&t))
+    );
+    let svg = neurotac_view::draw_frame(&f);
+    assert!(svg.contains("snapshot"), "the header says what it is");
+    assert!(!svg.contains(">-"), "no negative time on the axis");
+    // Past the window's length the window ends at the frame time.
+    let late: EventBuffer = events.iter().filter(|e| e.t.0 >= 500_000).collect();
+    m.push(&late).unwrap();
+    m.advance_to(2_500_000);
+    let f = m.frame(2, "", PlayState::Playing, None);
+    assert_eq!((f.raster.from_s, f.raster.to_s), (0.5, 2.5));
+}
+
+#[test]
 fn the_drawn_share_says_how_many_new_events_the_image_shows() {
     let mut m = monitor();
     // 100 events on 10 pixels since the last frame: the image shows 10 of them.

@@ -42,7 +42,8 @@ pub struct NeuronArgs {
     /// Interpolate spike times inside the step (linear threshold crossing).
     #[arg(long)]
     interpolate: bool,
-    /// Print `{"spike_times_s": [...]}` instead of one time per line.
+    /// Print `{"spike_times_s": [...]}` (seconds) instead of one time per line (`11 ms`: the
+    /// unit the time flags read bare).
     #[arg(long)]
     json: bool,
 }
@@ -66,6 +67,17 @@ fn to_the_picosecond(t_s: f64) -> f64 {
         ps.round() / 1e12
     } else {
         t_s
+    }
+}
+
+/// `t_s` in milliseconds, the unit the time flags read bare, rounded to the picosecond as
+/// [`to_the_picosecond`] (a spike at step 110 of 0.1 ms prints as 11, not 11.000000000000002).
+fn in_ms(t_s: f64) -> f64 {
+    let ps = t_s * 1e12;
+    if ps.abs() < 2f64.powi(53) {
+        ps.round() / 1e9
+    } else {
+        t_s * 1e3
     }
 }
 
@@ -98,13 +110,12 @@ pub fn run(args: NeuronArgs) -> anyhow::Result<()> {
     let mut written: std::io::Result<()> = Ok(());
     let mut times = Vec::new();
     stream_spike_times(pop.as_mut(), args.current, dt_s, steps, &mut |_, t| {
-        let t = to_the_picosecond(t);
         written = match args.json {
             true => {
-                times.push(t);
+                times.push(to_the_picosecond(t));
                 Ok(())
             }
-            false => writeln!(out, "{t}"),
+            false => writeln!(out, "{} ms", in_ms(t)),
         };
         match written.is_ok() {
             true => ControlFlow::Continue(()),

@@ -102,6 +102,17 @@ pub enum WiringDescription {
         /// The weight of every synapse.
         weight: f64,
     },
+    /// Each (pre, post) pair independently with `probability`, one weight, drawn from `seed`
+    /// when the network is built ([`Connectivity::Random`]). Read only: a built network
+    /// describes its drawn synapses as [`Sparse`](Self::Sparse).
+    Random {
+        /// Connection probability in [0, 1].
+        probability: f64,
+        /// The weight of every synapse.
+        weight: f64,
+        /// Seed of the generator that draws the pairs.
+        seed: u64,
+    },
     /// Explicit synapses `pre[s] → post[s]` with `weight[s]`.
     Sparse {
         /// Presynaptic indices.
@@ -282,6 +293,15 @@ impl NetworkBuilder {
                 WiringDescription::AllToAll { weight } => {
                     Connectivity::AllToAll { weight: *weight }
                 }
+                WiringDescription::Random {
+                    probability,
+                    weight,
+                    seed,
+                } => Connectivity::Random {
+                    probability: *probability,
+                    weight: *weight,
+                    seed: *seed,
+                },
                 WiringDescription::Sparse { pre, post, weight } => {
                     if pre.len() != weight.len() || post.len() != weight.len() {
                         return Err(GraphError::Description(format!(

@@ -1,6 +1,7 @@
 //! Finding a builder's nodes and projections by name ([`NetworkBuilder::population`],
 //! [`NetworkBuilder::spike_input`], [`NetworkBuilder::projections`],
-//! [`NetworkBuilder::node_names`]): how code that did not build a network (a loaded one, one
+//! [`NetworkBuilder::projection_ends`], [`NetworkBuilder::node_names`],
+//! [`NetworkBuilder::node_size`]): how code that did not build a network (a loaded one, one
 //! read from a description) reaches its parts.
 
 use super::builder::NetworkBuilder;
@@ -48,6 +49,25 @@ impl NetworkBuilder {
     /// network with [`population`](Self::population) and [`spike_input`](Self::spike_input).
     pub fn node_names(&self) -> Vec<&str> {
         self.nodes.iter().map(|n| n.name.as_str()).collect()
+    }
+
+    /// The number of neurons (or channels) of the node named `name`.
+    pub fn node_size(&self, name: &str) -> Result<usize, GraphError> {
+        let (index, _) = self.named(name)?;
+        Ok(self.nodes[index].size)
+    }
+
+    /// The presynaptic and postsynaptic node names of every projection, in the order of
+    /// [`projections`](Self::projections).
+    pub fn projection_ends(&self) -> Vec<(&str, &str)> {
+        (self.projections.iter())
+            .map(|p| {
+                (
+                    self.nodes[p.pre].name.as_str(),
+                    self.nodes[p.post].name.as_str(),
+                )
+            })
+            .collect()
     }
 
     /// Every projection, in the order they were connected (a loaded network's: in the order

@@ -2,7 +2,9 @@
 //! neuron, CUBA's), the checks `prepare` runs on it, and the closed-form spike times of a neuron
 //! under constant input. The equations are in the [parent module](super).
 
-use crate::population::{Fields, check_param, check_representable, floor, number};
+use crate::population::{
+    Fields, check_param, check_representable, check_reset_and_floor, floor, number,
+};
 use crate::real::Real;
 use neurotac_core::ModelError;
 use serde_json::{Value, json};
@@ -138,23 +140,7 @@ impl LifParams {
                 expected: "≥ 0",
             });
         }
-        if self.v_reset >= self.v_th {
-            return Err(ModelError::InvalidParameter {
-                model: MODEL,
-                field: "v_reset",
-                value: self.v_reset,
-                expected: "< v_th",
-            });
-        }
-        if self.v_min.is_nan() || self.v_min > self.v_reset {
-            return Err(ModelError::InvalidParameter {
-                model: MODEL,
-                field: "v_min",
-                value: self.v_min,
-                expected: "≤ v_reset (−∞ allowed)",
-            });
-        }
-        Ok(())
+        check_reset_and_floor(MODEL, self.v_th, self.v_reset, self.v_min)
     }
 }
 

@@ -38,3 +38,30 @@ pub fn check_param(
     }
     Ok(())
 }
+
+/// Validates a threshold-and-reset pair and a potential floor: `v_reset < v_th`, and `v_min`
+/// (−∞ allowed) at or below `v_reset`.
+pub fn check_reset_and_floor(
+    model: &'static str,
+    v_th: f64,
+    v_reset: f64,
+    v_min: f64,
+) -> Result<(), ModelError> {
+    if v_reset >= v_th {
+        return Err(ModelError::InvalidParameter {
+            model,
+            field: "v_reset",
+            value: v_reset,
+            expected: "< v_th",
+        });
+    }
+    if v_min.is_nan() || v_min > v_reset {
+        return Err(ModelError::InvalidParameter {
+            model,
+            field: "v_min",
+            value: v_min,
+            expected: "≤ v_reset (−∞ allowed)",
+        });
+    }
+    Ok(())
+}

@@ -23,7 +23,7 @@ pub use active::{ActiveNeurons, ActiveStep};
 pub use block_population::BlockPopulation;
 pub use blocks::{BLOCK, BlockStep, PARALLEL_MIN, for_each_spike, unit_fraction};
 pub(crate) use blocks::{DIVERGED_BIT, count_ones, take_diverged};
-pub use checks::{check_param, check_representable};
+pub use checks::{check_param, check_representable, check_reset_and_floor};
 pub use inputs::{Drive, InitialPotential};
 pub use model::BlockModel;
 pub(crate) use saving::precision;

@@ -4,7 +4,8 @@
 //! what the writer writes is byte for byte the faery layout (numbers are never quoted, lines end
 //! with LF), and the reader reads any valid CSV of that layout — quoted fields, CRLF line ends,
 //! empty lines, no header (as the first line of a file says, see [`super::text`] for the
-//! `# sensor` line).
+//! `# sensor` line). A fifth column `pin` (the source pin of every event, as `neurotac simulate
+//! --pixel-events --labels` writes it) is read past when the header names it.
 //!
 //! A line is at most [`MAX_LINE_BYTES`] long: the reader stops at a longer one with an error
 //! naming it, so a line that never ends is never held whole.
@@ -25,14 +26,20 @@ use std::path::PathBuf;
 /// The header of the layout, written as it is and read in any letter case (or `p` for `on`).
 pub const CSV_HEADER: [&str; 4] = ["t", "x", "y", "on"];
 
-/// Whether a record is the layout's header.
-pub(super) fn is_csv_header(fields: &csv::ByteRecord) -> bool {
-    let names: [&[&[u8]]; 4] = [&[b"t"], &[b"x"], &[b"y"], &[b"on", b"p"]];
-    fields.len() == 4
-        && fields
+/// The number of fields of the layout's records when a record is its header: 4 for
+/// `t,x,y,on`, 5 for the labelled layout `t,x,y,on,pin`; `None` for any other record.
+pub(super) fn csv_header_fields(fields: &csv::ByteRecord) -> Option<usize> {
+    let names: [&[&[u8]]; 5] = [&[b"t"], &[b"x"], &[b"y"], &[b"on", b"p"], &[b"pin"]];
+    let named = |n: usize| {
+        fields
             .iter()
-            .zip(names)
+            .zip(&names[..n])
             .all(|(f, allowed)| allowed.iter().any(|a| f.eq_ignore_ascii_case(a)))
+    };
+    match fields.len() {
+        n @ (4 | 5) if named(n) => Some(n),
+        _ => None,
+    }
 }
 
 /// Most events appended per chunk (one per shortest line, `0,0,0,1\n`, of a block).
@@ -128,6 +135,8 @@ struct CsvLines<R> {
     base_line: u64,
     /// Whether a record was read (the first one may be the header).
     started: bool,
+    /// Fields per record: 4, or 5 after a `t,x,y,on,pin` header (the pin is not read).
+    fields: usize,
     events: TextEvents,
     end: ReaderEnd,
 }
@@ -159,6 +168,7 @@ impl<R: Read> CsvLines<R> {
             base_offset,
             base_line,
             started: false,
+            fields: 4,
             events: TextEvents::new(stated),
             end: ReaderEnd::default(),
         })
@@ -217,15 +227,24 @@ impl<R: Read> CsvLines<R> {
                 .and_then(|f| f.first())
                 .is_some_and(u8::is_ascii_alphabetic)
         {
-            return match is_csv_header(r) {
-                true => Ok(()),
-                false => Err(error(("header", "`t,x,y,on`", &whole()))),
+            return match csv_header_fields(r) {
+                Some(fields) => {
+                    self.fields = fields;
+                    Ok(())
+                }
+                None => Err(error((
+                    "header",
+                    "`t,x,y,on` (or `t,x,y,on,pin`)",
+                    &whole(),
+                ))),
             };
         }
-        if r.len() != 4 {
-            let expected = match r.len() < 4 {
-                true => "4 fields: t,x,y,on",
-                false => "exactly 4 fields",
+        if r.len() != self.fields {
+            let expected = match (self.fields, r.len() < self.fields) {
+                (4, true) => "4 fields: t,x,y,on",
+                (4, false) => "exactly 4 fields",
+                (_, true) => "5 fields: t,x,y,on,pin",
+                (_, false) => "exactly 5 fields",
             };
             return Err(error(("line", expected, &whole())));
         }
@@ -354,6 +373,46 @@ mod tests {
         let (out, result) = read(b"# sensor 346x260\nt,x,y,on\n5,300,250,1\n");
         result.unwrap();
         assert_eq!(out.x, vec![300], "inside the stated sensor");
+    }
+
+    #[test]
+    fn the_labelled_layout_of_the_simulator_is_read_past_its_pin_column() {
+        let labelled = b"t,x,y,on,pin\n5,10,20,1,3\n6,11,21,0,-1\n";
+        assert_eq!(
+            super::super::Format::detect(labelled),
+            Ok(super::super::Format::Csv)
+        );
+        let (out, result) = read(labelled);
+        result.unwrap();
+        assert_eq!(
+            (out.t, out.x, out.y, out.polarity),
+            (vec![5, 6], vec![10, 11], vec![20, 21], vec![true, false])
+        );
+        let (_, result) = read(b"t,x,y,on,pin\n5,10,20,1\n");
+        assert!(
+            matches!(
+                result,
+                Err(FormatError::Text {
+                    line: 2,
+                    field: "line",
+                    expected: "5 fields: t,x,y,on,pin",
+                    ..
+                })
+            ),
+            "{result:?}"
+        );
+        let (_, result) = read(b"t,x,y,on,label\n5,10,20,1,3\n");
+        assert!(
+            matches!(
+                result,
+                Err(FormatError::Text {
+                    line: 1,
+                    field: "header",
+                    ..
+                })
+            ),
+            "{result:?}"
+        );
     }
 
     #[test]

@@ -154,7 +154,7 @@ impl Format {
             .into_byte_records()
             .next();
         if let Some(Ok(record)) = first_record
-            && csv_events::is_csv_header(&record)
+            && csv_events::csv_header_fields(&record).is_some()
         {
             return Ok(Self::Csv);
         }

@@ -112,6 +112,7 @@ fn header(out: &mut String, frame: &Frame) -> fmt::Result {
         PlayState::Paused => "paused",
         PlayState::Ended => "ended",
         PlayState::Failed => "failed",
+        PlayState::Snapshot => "snapshot",
     };
     let c = &frame.counts;
     write!(
@@ -322,6 +323,12 @@ mod tests {
         assert_eq!(count(&svg, "class=\"spike\""), 5000);
         assert_eq!(count(&svg, "class=\"taxel\""), 49);
         assert_eq!(count(&svg, "class=\"field\""), 49);
+        // Every hexagon carries its taxel's number, the raster's row.
+        let numbers = svg.split("class=\"taxel-numbers\"").nth(1).unwrap();
+        let numbers = &numbers[..numbers.find("</g>").unwrap()];
+        for i in 0..49 {
+            assert!(numbers.contains(&format!(">{i}</text>")), "taxel {i}");
+        }
         assert_eq!(count(&svg, "<image class=\"events\" "), 1);
         assert!(svg.contains("href=\"data:image/png;base64,"));
         assert!(svg.contains("t = 10.000 s"));

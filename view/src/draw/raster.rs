@@ -12,6 +12,9 @@ use super::svg::{
 };
 use crate::frame::Raster;
 
+/// Rows labelled with their taxel number: every this many (and the last).
+const ROW_LABEL_EVERY: usize = 8;
+
 /// The panel: title, spikes, rate polyline, axes.
 pub(super) fn panel(
     out: &mut String,
@@ -43,16 +46,22 @@ pub(super) fn panel(
         r##"<rect x="{:.1}" y="{:.1}" width="{:.1}" height="{:.1}" fill="none" stroke="#e0e0e0" stroke-width="0.6"/>"##,
         area.x, area.y, area.w, area.h
     )?;
-    // Row labels: first and last taxel, and the axis name.
+    // Row labels: every ROW_LABEL_EVERY-th taxel and the last (the numbers the hexagons of
+    // the taxel panel carry), and the axis name.
     let row_h = area.h / rows as f64;
+    let labelled =
+        (0..rows).filter(|r| r % ROW_LABEL_EVERY == 0 && rows - 1 - r >= ROW_LABEL_EVERY / 2);
+    for row in labelled.chain([rows - 1]) {
+        write!(
+            out,
+            r#"<text x="{:.1}" y="{:.1}" text-anchor="end" {LABEL_STYLE}>{row}</text>"#,
+            area.x - 5.0,
+            area.y + (row as f64 + 0.5) * row_h + 3.5,
+        )?;
+    }
     write!(
         out,
-        r#"<text x="{:.1}" y="{:.1}" text-anchor="end" {LABEL_STYLE}>0</text><text x="{:.1}" y="{:.1}" text-anchor="end" {LABEL_STYLE}>{}</text><text transform="translate({:.1} {:.1}) rotate(-90)" text-anchor="middle" {LABEL_STYLE}>taxel</text>"#,
-        area.x - 5.0,
-        area.y + row_h / 2.0 + 3.5,
-        area.x - 5.0,
-        area.y + area.h - row_h / 2.0 + 3.5,
-        rows - 1,
+        r#"<text transform="translate({:.1} {:.1}) rotate(-90)" text-anchor="middle" {LABEL_STYLE}>taxel</text>"#,
         area.x - 30.0,
         area.y + area.h / 2.0,
     )?;

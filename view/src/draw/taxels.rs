@@ -1,5 +1,6 @@
 //! The taxel panel: a hexagon per taxel at its home position (the sensor's layout, scaled to
-//! fit), filled by its spike rate on the sequential colour map, with a colour bar in Hz.
+//! fit), filled by its spike rate on the sequential colour map and labelled with its number
+//! (its row in the raster), with a colour bar in Hz.
 //!
 //! The scale tops at the smallest 1–2–5 value (10, 20, 50, 100, … Hz) at or above the highest
 //! rate and at least 10 Hz, so a quiet sensor does not look busy and rates above the top
@@ -101,7 +102,41 @@ pub(super) fn panel(out: &mut String, frame: &Frame, area: Area) -> fmt::Result 
         }
     }
     out.push_str("</g>");
+    numbers(out, frame, radius, |x, y| {
+        (cx + (x - mx) * scale, cy + (y - my) * scale)
+    })?;
     colour_bar(out, area, top_hz)
+}
+
+/// Each taxel's number (its row in the raster) at the centre of its hexagon, dark on a white
+/// halo so that it reads on every colour of the map; left out when the hexagons are too small
+/// to hold it.
+fn numbers(
+    out: &mut String,
+    frame: &Frame,
+    radius: f64,
+    at: impl Fn(f64, f64) -> (f64, f64),
+) -> fmt::Result {
+    let size = (0.8 * radius).min(11.0);
+    if size < 5.0 {
+        return Ok(());
+    }
+    write!(
+        out,
+        r##"<g class="taxel-numbers" font-size="{size:.1}" text-anchor="middle" fill="#222" stroke="#ffffff" stroke-width="2" paint-order="stroke">"##
+    )?;
+    for (i, &(x, y)) in frame.taxel_home.iter().enumerate() {
+        if x.is_finite() && y.is_finite() {
+            let (px, py) = at(x, y);
+            write!(
+                out,
+                r#"<text x="{px:.1}" y="{:.1}">{i}</text>"#,
+                py + 0.35 * size
+            )?;
+        }
+    }
+    out.push_str("</g>");
+    Ok(())
 }
 
 /// A horizontal colour bar under the hexagons, 0 to `top_hz`, three ticks.

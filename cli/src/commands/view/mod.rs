@@ -40,7 +40,7 @@ pub struct ViewArgs {
     /// Show the first DAVIS240 attached over USB, live.
     #[arg(long)]
     device: bool,
-    /// Show the bundled simulator's slides over this texture (e.g. "grid 5 mm", "denim"),
+    /// Show the bundled simulator's slides over this texture (e.g. "grid 5 mm", "tweed"; an unknown name lists them all),
     /// one after another.
     #[arg(long, value_name = "TEXTURE")]
     simulate: Option<String>,
